@@ -1,0 +1,242 @@
+"""Safe formulas for everything a user types: u(t), V(t), coefficients, curves.
+
+The text is tokenized and parsed by Python's ``ast`` *only as a syntax tree*; the tree
+is walked against a whitelist and turned into a sympy expression built node by node
+(no ``eval``, no ``sympify`` of user text).  Allowed: numbers, the declared variables
+(``t`` by default), ``+ - * / ^ **``, parentheses, the functions
+``sin cos tan asin acos atan sinh cosh tanh exp log sqrt abs`` and the constants
+``pi`` and ``e``.  Limits: length, nesting depth, node count, number magnitude and
+exponent size.  Every message names what is wrong and where (column, 1-based).
+"""
+
+from __future__ import annotations
+
+import ast
+import math
+from dataclasses import dataclass, field
+from typing import Callable, Sequence
+
+import numpy as np
+import sympy as sp
+
+MAX_LENGTH = 400
+MAX_DEPTH = 24
+MAX_NODES = 300
+MAX_NUMBER = 1e12
+MAX_EXPONENT = 64
+MAX_VALUE = 1e15
+
+FUNCTIONS: dict[str, Callable[[sp.Basic], sp.Basic]] = {
+    "sin": sp.sin,
+    "cos": sp.cos,
+    "tan": sp.tan,
+    "asin": sp.asin,
+    "acos": sp.acos,
+    "atan": sp.atan,
+    "sinh": sp.sinh,
+    "cosh": sp.cosh,
+    "tanh": sp.tanh,
+    "exp": sp.exp,
+    "log": sp.log,
+    "sqrt": sp.sqrt,
+    "abs": sp.Abs,
+}
+CONSTANTS: dict[str, sp.Basic] = {"pi": sp.pi, "e": sp.E}
+_ALLOWED_CHARS = set("0123456789.+-*/^() \t_abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ,")
+
+
+class FormulaError(ValueError):
+    """A formula was refused; the message says what and where."""
+
+
+@dataclass(frozen=True)
+class Formula:
+    """A parsed formula: its text, its sympy expression and a vectorized evaluator."""
+
+    text: str
+    expr: sp.Expr
+    variables: tuple[str, ...] = ("t",)
+    _fn: Callable[..., np.ndarray] | None = field(default=None, compare=False, repr=False)
+
+    @property
+    def is_constant(self) -> bool:
+        return not (self.expr.free_symbols & {sp.Symbol(v, real=True) for v in self.variables})
+
+    def __call__(self, *args: float | np.ndarray) -> np.ndarray | float:
+        """Evaluate (numpy broadcasting).  Non-finite results are returned as they are;
+        callers that integrate check finiteness with :meth:`check_finite`."""
+        fn = self._fn
+        if fn is None:
+            fn = sp.lambdify([sp.Symbol(v, real=True) for v in self.variables], self.expr, modules="numpy")
+            object.__setattr__(self, "_fn", fn)
+        with np.errstate(all="ignore"):
+            out = fn(*args)
+        if np.ndim(out) == 0 and any(np.ndim(a) > 0 for a in args):
+            out = np.full(np.broadcast(*args).shape, float(out))
+        return out
+
+    def value(self, *args: float) -> float:
+        return float(self(*args))
+
+    def check_finite(self, t: np.ndarray) -> None:
+        """Raise :class:`FormulaError` naming the first sample where the value is not finite."""
+        vals = np.asarray(self(t), dtype=float) * np.ones_like(t, dtype=float)
+        bad = ~np.isfinite(vals)
+        if bad.any():
+            t_bad = float(np.asarray(t, dtype=float).ravel()[np.argmax(bad.ravel())])
+            raise FormulaError(f"{self.text!r} is not finite at t = {t_bad:g}")
+
+    def __str__(self) -> str:
+        return self.text
+
+
+def _fail(text: str, col: int | None, message: str) -> FormulaError:
+    where = f" at column {col}" if col is not None else ""
+    return FormulaError(f"{message}{where} in {text[:60]!r}")
+
+
+def parse_formula(text: str, variables: Sequence[str] = ("t",)) -> Formula:
+    """Parse ``text`` as a whitelisted formula of ``variables``; raise :class:`FormulaError`."""
+    if not isinstance(text, str):
+        raise FormulaError(f"expected text, got {type(text).__name__}")
+    if len(text) > MAX_LENGTH:
+        raise FormulaError(f"formula is {len(text)} characters long; the limit is {MAX_LENGTH}")
+    src = text.strip()
+    if not src:
+        raise FormulaError("formula is empty")
+    for i, ch in enumerate(src):
+        if ch not in _ALLOWED_CHARS:
+            raise _fail(src, i + 1, f"character {ch!r} is not allowed")
+    depth = 0
+    for i, ch in enumerate(src):
+        if ch == "(":
+            depth += 1
+            if depth > MAX_DEPTH:
+                raise _fail(src, i + 1, f"parentheses nested deeper than {MAX_DEPTH}")
+        elif ch == ")":
+            depth -= 1
+            if depth < 0:
+                raise _fail(src, i + 1, "unmatched ')'")
+    if depth:
+        raise _fail(src, None, "unclosed '('")
+    try:
+        tree = ast.parse(src.replace("^", "**"), mode="eval")
+    except SyntaxError as exc:
+        raise _fail(src, exc.offset, "syntax error") from None
+    except (RecursionError, MemoryError, ValueError):
+        raise _fail(src, None, "formula too complex") from None
+    nodes = sum(1 for _ in ast.walk(tree))
+    if nodes > MAX_NODES:
+        raise FormulaError(f"formula has {nodes} syntax nodes; the limit is {MAX_NODES}")
+    symbols = {v: sp.Symbol(v, real=True) for v in variables}
+    expr = _build(tree.body, src, symbols, 0)
+    if not isinstance(expr, sp.Expr):
+        raise _fail(src, None, "not a numeric expression")
+    if expr.free_symbols - set(symbols.values()):
+        raise _fail(src, None, "unknown symbols")
+    if expr.is_number:
+        try:
+            val = complex(sp.N(expr))
+        except (TypeError, ValueError, OverflowError):
+            raise _fail(src, None, "value cannot be computed") from None
+        if abs(val.imag) > 1e-12 * max(1.0, abs(val.real)) or not math.isfinite(val.real):
+            raise _fail(src, None, "value is not a finite real number")
+    return Formula(text=src, expr=expr, variables=tuple(variables))
+
+
+def _num(value: sp.Basic) -> float | None:
+    if value.is_number:
+        try:
+            return float(sp.N(value))
+        except (TypeError, ValueError, OverflowError):
+            return None
+    return None
+
+
+def _build(node: ast.AST, src: str, symbols: dict[str, sp.Symbol], depth: int) -> sp.Expr:
+    expr = _build_node(node, src, symbols, depth)
+    if expr.is_number and not isinstance(node, ast.Constant):
+        v = _num(expr)
+        if v is not None and (not math.isfinite(v) or abs(v) > MAX_VALUE):
+            col = getattr(node, "col_offset", 0) + 1
+            raise _fail(src, col, f"value {v:.3g} is larger than {MAX_VALUE:g}")
+    return expr
+
+
+def _build_node(node: ast.AST, src: str, symbols: dict[str, sp.Symbol], depth: int) -> sp.Expr:
+    col = getattr(node, "col_offset", None)
+    col = None if col is None else col + 1
+    if depth > 3 * MAX_DEPTH:
+        raise _fail(src, col, "formula too deeply nested")
+    if isinstance(node, ast.Constant):
+        v = node.value
+        if isinstance(v, bool) or not isinstance(v, (int, float)):
+            raise _fail(src, col, f"only numbers are allowed, not {type(v).__name__}")
+        if not math.isfinite(float(v)) or abs(v) > MAX_NUMBER:
+            raise _fail(src, col, f"number {v!r} is larger than {MAX_NUMBER:g}")
+        if isinstance(v, int):
+            return sp.Integer(v)
+        return sp.Rational(str(v)) if len(str(v)) <= 20 else sp.Float(v)
+    if isinstance(node, ast.Name):
+        if node.id in symbols:
+            return symbols[node.id]
+        if node.id in CONSTANTS:
+            return CONSTANTS[node.id]
+        if node.id in FUNCTIONS:
+            raise _fail(src, col, f"function {node.id!r} needs an argument in parentheses")
+        allowed = ", ".join([*symbols, *CONSTANTS])
+        raise _fail(src, col, f"unknown name {node.id[:20]!r} (allowed: {allowed})")
+    if isinstance(node, ast.UnaryOp) and isinstance(node.op, (ast.UAdd, ast.USub)):
+        inner = _build(node.operand, src, symbols, depth + 1)
+        return -inner if isinstance(node.op, ast.USub) else inner
+    if isinstance(node, ast.BinOp):
+        left = _build(node.left, src, symbols, depth + 1)
+        right = _build(node.right, src, symbols, depth + 1)
+        op = node.op
+        if isinstance(op, ast.Add):
+            return left + right
+        if isinstance(op, ast.Sub):
+            return left - right
+        if isinstance(op, ast.Mult):
+            return left * right
+        if isinstance(op, ast.Div):
+            if right.is_number and right.is_zero:
+                raise _fail(src, col, "division by zero")
+            return left / right
+        if isinstance(op, (ast.Pow, ast.BitXor)):
+            e = _num(right)
+            if right.is_number and (e is None or abs(e) > MAX_EXPONENT):
+                raise _fail(src, col, f"exponent is larger than {MAX_EXPONENT}")
+            b = _num(left)
+            if b is not None and e is not None and b != 0 and abs(e * math.log10(abs(b))) > 300:
+                raise _fail(src, col, "power overflows")
+            if b == 0 and e is not None and e < 0:
+                raise _fail(src, col, "zero to a negative power")
+            return sp.Pow(left, right)
+        raise _fail(src, col, f"operator {type(op).__name__} is not allowed")
+    if isinstance(node, ast.Call):
+        if not isinstance(node.func, ast.Name) or node.func.id not in FUNCTIONS:
+            name = node.func.id if isinstance(node.func, ast.Name) else "this call"
+            raise _fail(src, col, f"function {str(name)[:20]!r} is not allowed (allowed: {', '.join(FUNCTIONS)})")
+        if node.keywords or len(node.args) != 1:
+            raise _fail(src, col, f"{node.func.id} takes exactly one argument")
+        arg = _build(node.args[0], src, symbols, depth + 1)
+        return FUNCTIONS[node.func.id](arg)
+    kind = type(node).__name__
+    raise _fail(src, col, f"{kind} is not allowed in a formula")
+
+
+def parse_number(text: str) -> float:
+    """A constant formula (``2.5``, ``pi/2``, ``sqrt(2)``) as a finite float."""
+    f = parse_formula(text, variables=())
+    try:
+        value = float(sp.N(f.expr))
+    except (TypeError, ValueError, OverflowError):
+        raise FormulaError(f"{text[:60]!r} is not a real number") from None
+    if not math.isfinite(value):
+        raise FormulaError(f"{text[:60]!r} is not finite")
+    return value
+
+
+#: The time symbol every formula of ``t`` uses (lessons build derivations with it).
+t_symbol = sp.Symbol("t", real=True)
