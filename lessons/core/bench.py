@@ -1,0 +1,94 @@
+"""Integrator benchmark: the default Gauss–Legendre integrator against scipy's ``solve_ivp``.
+
+For the same problems in one run: invariant drift max|F - F0| / scale, error along the
+curve against a tight reference (max |r - r_ref| over samples every 0.1 s), wall time,
+right-hand-side evaluations, and the wall-time ratio at equal accuracy along the curve
+(the largest GL step whose error is at most DOP853's at rtol = atol = 1e-12).
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass
+
+import numpy as np
+
+from lessons.core.analyzer import AnalyzerModel, Controls, integrate
+from lessons.core.formula import parse_formula
+from lessons.core.quadric import Quadric
+
+
+@dataclass
+class BenchRow:
+    problem: str
+    method: str
+    drift: float
+    error: float
+    seconds: float
+    nfev: int
+    note: str = ""
+
+
+def problems() -> list[tuple[str, Quadric, Controls, np.ndarray]]:
+    """The benchmark problems: an ellipsoid and a one-sheet hyperboloid, time-varying u, both speed modes."""
+    ell = Quadric.ellipsoid(10.0, 5.0, 1.0)
+    hyp = Quadric.hyperboloid_one_sheet(1.0, 1.0, 1.0)
+    f = parse_formula
+    u_ell = (f("1 + 0.5*sin(t)"), f("0.2"), f("2*cos(t/3)"))
+    u_hyp = (f("1"), f("0.5*cos(t)"), f("0.3"))
+    start_ell = np.array([0.0, -5.0, 0.0])
+    start_hyp = np.array([1.0, 0.0, 0.0])
+    return [
+        ("ellipsoid 10,5,1, u(t)", ell, Controls(*u_ell), start_ell),
+        ("ellipsoid 10,5,1, u(t), V = 1", ell, Controls(*u_ell, V=1.0), start_ell),
+        ("hyperboloid 1 sheet, u(t)", hyp, Controls(*u_hyp), start_hyp),
+    ]
+
+
+def _timed(model: AnalyzerModel, r0: np.ndarray, t_end: float, **kw: object):
+    t0 = time.perf_counter()
+    run = integrate(model, r0, t_end, **kw)  # type: ignore[arg-type]
+    return run, time.perf_counter() - t0
+
+
+def run_benchmark(t_end: float = 100.0, quick: bool = False) -> list[BenchRow]:
+    if quick:
+        t_end = min(t_end, 20.0)
+    samples = int(round(t_end / 0.1)) + 1
+    rows: list[BenchRow] = []
+    for name, q, controls, r0 in problems():
+        model = AnalyzerModel.of(q.coeffs(), controls)
+        scale = q.scale
+        ref, _ = _timed(model, r0, t_end, method="DOP853", rtol=1e-13, atol=1e-14, samples=samples)
+
+        def row(method: str, run, sec: float, note: str = "") -> BenchRow:
+            err = float(np.max(np.abs(run.r - ref.r)))
+            return BenchRow(name, method, float(run.drift.max() / scale), err, sec, int(run.nfev), note)
+
+        rk45, s_rk45 = _timed(model, r0, t_end, method="RK45", samples=samples)
+        rows.append(row("RK45 (default tol)", rk45, s_rk45))
+        dop, s_dop = _timed(model, r0, t_end, method="DOP853", rtol=1e-12, atol=1e-12, samples=samples)
+        dop_row = row("DOP853 (rtol=atol=1e-12)", dop, s_dop)
+        rows.append(dop_row)
+        chosen: BenchRow | None = None
+        hs = (0.05, 0.025, 0.0125, 0.00625) if controls.V is None else (0.05, 0.025, 0.0125)
+        for h in hs:
+            gl, s_gl = _timed(model, r0, t_end, method="gauss-legendre-3", h=h, samples=samples)
+            r = row(f"Gauss-Legendre 3 (h={h:g})", gl, s_gl)
+            rows.append(r)
+            if chosen is None and r.error <= dop_row.error:
+                chosen = r
+        if chosen is not None:
+            chosen.note = f"equal accuracy: {chosen.seconds / dop_row.seconds:.2f}x DOP853's time"
+        else:
+            rows[-1].note = "did not reach DOP853's accuracy at these steps"
+    return rows
+
+
+def format_table(rows: list[BenchRow]) -> str:
+    head = f"| problem | method | max drift/scale | max error along curve | wall s | RHS evals | note |\n|---|---|---|---|---|---|---|"
+    body = [
+        f"| {r.problem} | {r.method} | {r.drift:.2e} | {r.error:.2e} | {r.seconds:.3f} | {r.nfev or '-'} | {r.note} |"
+        for r in rows
+    ]
+    return "\n".join([head, *body])

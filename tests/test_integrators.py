@@ -1,0 +1,66 @@
+"""Gauss-Legendre integrators: tableau order, quadratic invariants, accuracy."""
+
+import numpy as np
+import pytest
+
+from lessons.core.integrators import GLStepper, gauss_legendre, gl_linear, solve_ivp_reference
+
+
+@pytest.mark.parametrize("s", [1, 2, 3])
+def test_tableau_order_conditions(s):
+    a, b, c = gauss_legendre(s)
+    assert b.sum() == pytest.approx(1.0)
+    assert np.allclose(a.sum(axis=1), c)
+    for k in range(1, 2 * s + 1):  # quadrature exact to degree 2s - 1
+        assert b @ c ** (k - 1) == pytest.approx(1.0 / k)
+
+
+def rotation_coeffs(omega):
+    def coeffs(t):
+        A = np.zeros((len(t), 1, 2, 2))
+        A[:, 0, 0, 1] = omega(t)
+        A[:, 0, 1, 0] = -omega(t)
+        return A, np.zeros((len(t), 1, 2))
+
+    return coeffs
+
+
+@pytest.mark.parametrize("s, order", [(2, 4), (3, 6)])
+def test_linear_convergence_order(s, order):
+    omega = lambda t: 1.0 + t  # exact: angle = t + t^2/2
+    errs = []
+    for h in (0.1, 0.05):
+        t, r = gl_linear(rotation_coeffs(omega), np.array([[1.0, 0.0]]), 0.0, 2.0, h, s)
+        ang = 2.0 + 2.0
+        exact = np.array([np.cos(ang), -np.sin(ang)])
+        errs.append(np.abs(r[-1, 0] - exact).max())
+    rate = np.log2(errs[0] / errs[1])
+    assert rate == pytest.approx(order, abs=0.3)
+
+
+def test_linear_keeps_circle_over_1e5_steps():
+    t, r = gl_linear(rotation_coeffs(lambda t: 3.0 + np.sin(t)), np.array([[1.0, 0.0], [0.0, 2.0]]), 0.0, 100.0, 1e-3, 3)
+    assert len(t) == 100_001
+    drift = np.abs((r**2).sum(-1) - (r[0] ** 2).sum(-1)).max()
+    assert drift < 1e-13
+
+
+def test_last_step_shortened():
+    t, _ = gl_linear(rotation_coeffs(lambda t: 1.0 + 0 * t), np.array([[1.0, 0.0]]), 0.0, 1.05, 0.1, 2)
+    assert t[-1] == pytest.approx(1.05) and len(t) == 12
+
+
+def test_nonlinear_stepper_keeps_quadratic_invariant():
+    # normalized rotation field r' = J r / |r| (nonlinear); |r| is a quadratic invariant
+    def field(t, R):
+        return np.stack([R[:, 1], -R[:, 0]], axis=1) / np.linalg.norm(R, axis=1)[:, None] * (2 + np.cos(t))
+
+    def jac(t, R):
+        return np.broadcast_to(np.array([[0.0, 1.0], [-1.0, 0.0]]), (len(R), 2, 2)) * 2
+
+    st = GLStepper(field, jac, 3)
+    t, r = st.integrate(np.array([[1.0, 0.0]]), 0.0, 50.0, 0.01)
+    assert np.abs(np.linalg.norm(r, axis=-1) - 1.0).max() < 1e-14
+    # explicit reference drifts at default tolerances
+    _, rr, _ = solve_ivp_reference(field, np.array([[1.0, 0.0]]), 0.0, 50.0, t, method="RK45")
+    assert np.abs(np.linalg.norm(rr, axis=-1) - 1.0).max() > 1e-6
