@@ -1037,7 +1037,7 @@ def _mesh_quadric(q: Quadric, bounds: Bounds, resolution: int):
             g[fx] = 0.0
             gg = np.einsum("ij,ij->i", g, g)
             Fv = q.F(R)
-            ok = gg > 1e-24 * q.scale**2 / max(q.length, 1e-300) ** 2
+            ok = (gg > 1e-16 * q.scale**2 / max(q.length, 1e-300) ** 2) & (np.abs(Fv) > 1e-15 * q.scale)
             step = np.zeros_like(R)
             step[ok] = -(Fv[ok] / (2 * gg[ok]))[:, None] * g[ok]
             small = np.linalg.norm(step, axis=1) <= 0.05 * np.max(hi - lo)
