@@ -16,6 +16,7 @@ from __future__ import annotations
 import json
 import math
 import threading
+import time
 from collections import deque
 from dataclasses import asdict, dataclass, field
 from typing import Any, Callable, Mapping, Sequence
@@ -35,6 +36,9 @@ SUBSTEP_DT = 1.0 / 30.0
 MAX_SUBSTEPS = 8
 #: Samples of the recorded run kept for export (older ones are thinned out).
 MAX_LOG = 20000
+#: Parameter groups whose changes do not redraw the scene at once (debounced).
+LIVE_GROUPS = frozenset({"controls", "method"})
+SCENE_DEBOUNCE = 0.3
 #: Size limit of a saved state (bytes of JSON) accepted from a browser.
 MAX_STATE_BYTES = 20000
 
@@ -133,6 +137,40 @@ class RunLog:
         return len(self.samples)
 
 
+def _arrays_equal(a: Any, b: Any) -> bool:
+    try:
+        return bool(np.array_equal(np.asarray(a), np.asarray(b)))
+    except Exception:
+        return False
+
+
+def scenes_equal(a: SceneSpec, b: SceneSpec) -> bool:
+    """Same drawing (static items, moving item names/colours, bounds)."""
+    if a is b:
+        return True
+    if not _arrays_equal(a.bounds, b.bounds) or a.planar != b.planar:
+        return False
+    if a.moving_points != b.moving_points or a.moving_vectors != b.moving_vectors:
+        return False
+    for xs, ys in ((a.meshes, b.meshes), (a.bodies, b.bodies)):
+        if len(xs) != len(ys):
+            return False
+        for x, y in zip(xs, ys):
+            if (x.name, tuple(x.color), x.opacity, x.wireframe) != (y.name, tuple(y.color), y.opacity, y.wireframe):
+                return False
+            if not (_arrays_equal(x.vertices, y.vertices) and _arrays_equal(x.faces, y.faces)):
+                return False
+    if len(a.curves) != len(b.curves) or len(a.markers) != len(b.markers):
+        return False
+    for x, y in zip(a.curves, b.curves):
+        if (x.name, tuple(x.color), x.width) != (y.name, tuple(y.color), y.width) or not _arrays_equal(x.points, y.points):
+            return False
+    for x, y in zip(a.markers, b.markers):
+        if (x.name, tuple(x.color), x.size, x.label) != (y.name, tuple(y.color), y.size, y.label) or not _arrays_equal(x.points, y.points):
+            return False
+    return True
+
+
 def lesson_label(lesson: Lesson) -> str:
     """Picker label: chapter, problem, title."""
     bits = []
@@ -162,6 +200,8 @@ class Session:
         self.pause_at_end = True
         self.visible_vectors: set[str] | None = None
         self.log = RunLog()
+        self.max_substeps = MAX_SUBSTEPS  # lowered by the server under load
+        self.scene_due: float | None = None  # when a deferred scene rebuild is due (monotonic time)
         self.revision = 0  # bumped on any change of lesson/params (the view re-renders what it needs)
         self.scene_revision = 0  # bumped when the static scene must be redrawn
         self.reset_revision = 0  # bumped when the run restarts (trail cleared)
@@ -258,8 +298,9 @@ class Session:
         if not changed:
             return
         groups = {self.lesson.param(n).group for n in changed}
+        live_only = groups <= LIVE_GROUPS
         try:
-            scene = self.lesson.scene(params)
+            scene = self.scene if live_only else self.lesson.scene(params)
             if "initial" in groups:
                 stepper = self.lesson.stepper(params)
             else:
@@ -273,7 +314,12 @@ class Session:
         self.stepper = stepper
         self.scene = scene
         self.revision += 1
-        self.scene_revision += 1
+        if live_only:
+            # controls rarely change the drawing: rebuild it later, off the hot path
+            self.scene_due = time.monotonic() + SCENE_DEBOUNCE
+        else:
+            self.scene_revision += 1
+            self.scene_due = None
         if "initial" in groups:
             self.frame = stepper.reset()
             self.log.clear()
@@ -282,6 +328,19 @@ class Session:
         else:
             self.frame = stepper.frame()
         self._messages_of(self.lesson, params)
+
+    def accept_scene(self, spec: SceneSpec) -> bool:
+        """Take a (deferred) scene; redraw only if it differs from the one shown."""
+        if scenes_equal(spec, self.scene):
+            return False
+        self.scene = spec
+        self.scene_revision += 1
+        return True
+
+    def refresh_scene(self) -> bool:
+        """Rebuild the deferred scene now (tests; the server does it off the lock)."""
+        self.scene_due = None
+        return self.accept_scene(self.lesson.scene(self.params))
 
     def set_value(self, name: str, raw: Any) -> None:
         self.set_values({name: raw})
@@ -342,7 +401,7 @@ class Session:
         frames: list[Frame] = []
         if dt <= 0 or not math.isfinite(dt):
             return frames
-        n = max(1, min(MAX_SUBSTEPS, int(math.ceil(dt / SUBSTEP_DT - 1e-9))))
+        n = max(1, min(self.max_substeps, int(math.ceil(dt / SUBSTEP_DT - 1e-9))))
         piece = dt / n
         for _ in range(n):
             remaining = self.t_end - self.stepper.t if self.pause_at_end else math.inf

@@ -701,7 +701,7 @@ class SessionView:
         center = (lo + hi) / 2
         direction = np.array([1.0, 0.75, 0.6])
         direction /= np.linalg.norm(direction)
-        dist = 1.6 * float(np.linalg.norm(hi - lo)) + 1e-6
+        dist = 1.05 * float(np.linalg.norm(hi - lo)) + 1e-6
         try:
             cam = self.client.camera
             cam.up_direction = (0.0, 0.0, 1.0)
@@ -845,8 +845,6 @@ class SessionView:
             content = f'<div class="al-preset-note" style="font-size:0.85em">{note}</div>'
             if self.preset_note.content != content:
                 self.preset_note.content = content
-        if self.derivation_due is not None and heavy and time.monotonic() >= self.derivation_due:
-            self.render_derivation()
         if self._frame_dirty:
             self._frame_dirty = False
             self._push_frames([s.frame])
@@ -857,14 +855,17 @@ class SessionView:
         self._update_texts()
 
     def render_derivation(self) -> None:
-        """The derivation with the current parameters, as MathML (caller holds the lock)."""
+        """The derivation with the current parameters, as MathML (caller holds the lock;
+        the server renders it off the lock and calls :meth:`set_derivation`)."""
         s = self.session
         self.derivation_due = None
         try:
-            steps = s.lesson.derivation(s.params)
-            content = derivation_to_html(steps)
+            content = derivation_to_html(s.lesson.derivation(s.params))
         except Exception as exc:
             content = f'<div class="al-error">The derivation could not be built: {html.escape(str(exc))}</div>'
+        self.set_derivation(content)
+
+    def set_derivation(self, content: str) -> None:
         if self.derivation_html.content != content:
             self.derivation_html.content = content
 
