@@ -23,11 +23,12 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Sequence
 
-from app.session import LabError, Session, SessionState
+from app.session import LabError, LRUCache, Session, SessionState, lesson_scene, params_key
 from app.view import STORAGE_KEY, SessionView, ViewConfig
 from lessons.core.contract import Lesson
 
 PAGE_TITLE = "Analyzer Lab"
+DERIVATION_CACHE = LRUCache(64)
 _PATCH_LOCK = threading.Lock()
 
 
@@ -75,6 +76,45 @@ def _make_viser_server(host: str, port: int, verbose: bool) -> Any:
     return server
 
 
+class _WakeBatch:
+    """Groups the messages of one loop tick for every client and wakes viser's event
+    loop once for all of them (instead of once per client: each wake-up is a write to
+    the loop's self-pipe).  Uses viser's message buffers directly; when they are not
+    reachable, :meth:`hold` returns False and the view uses ``client.atomic()``."""
+
+    def __init__(self, server: Any) -> None:
+        self.loop = getattr(server._websock_server, "_background_event_loop", None)
+        self.held: list[tuple[Any, int]] = []
+
+    def hold(self, client: Any) -> bool:
+        try:
+            buf = client._websock_connection._state.message_buffer
+            buf.atomic_start()
+        except Exception:
+            return False
+        self.held.append((buf, buf.message_counter))
+        return True
+
+    def release(self) -> None:
+        woken = []
+        for buf, before in self.held:
+            with buf.buffer_lock:
+                buf.atomic_counter -= 1
+                ready = buf.atomic_counter == 0
+            if ready and buf.message_counter != before:
+                woken.append(buf)
+        self.held = []
+        if woken and self.loop is not None:
+            def wake() -> None:
+                for b in woken:
+                    b.message_event.set()
+
+            try:
+                self.loop.call_soon_threadsafe(wake)
+            except RuntimeError:
+                pass
+
+
 @dataclass
 class LoopStats:
     """Frame-loop figures (for the load test and the log)."""
@@ -112,6 +152,10 @@ class LabServer:
         self._views_lock = threading.Lock()
         self.stats = LoopStats()
         self._stop = threading.Event()
+        every = os.environ.get("ANALYZER_LAB_STATS", "")
+        self._report_every = int(float(every) * self.fps) if every.replace(".", "", 1).isdigit() else 0
+        self._report_t, self._report_busy, self._report_steps, self._report_ticks = time.monotonic(), 0.0, 0.0, 0
+        self._report_draws = 0.0
         self.server.on_client_connect(self._on_connect)
         self.server.on_client_disconnect(self._on_disconnect)
         self._loop_thread = threading.Thread(target=self._loop, name="analyzer-lab-frames", daemon=True)
@@ -171,6 +215,7 @@ class LabServer:
             with self._views_lock:
                 views = list(self.views.values())
             substeps = 8 if self.stats.load < 0.5 else 4 if self.stats.load < 0.8 else 1
+            batch = _WakeBatch(self.server)
             for view in views:
                 session = view.session
                 if not session.lock.acquire(blocking=False):
@@ -181,14 +226,18 @@ class LabServer:
                     dt = now - getattr(view, "last_tick", now)
                     view.last_tick = now  # type: ignore[attr-defined]
                     session.max_substeps = substeps
-                    view.tick(dt)
+                    grouped = batch.hold(view.client)
+                    view.tick(dt, atomic=not grouped)
                 except Exception as exc:
                     traceback.print_exc()
                     session.playing = False
                     session.notify(f"internal error, playback paused: {type(exc).__name__}: {exc}", "error")
                 finally:
                     session.lock.release()
+            batch.release()
             busy = time.monotonic() - start
+            if self._report_every and self.stats.ticks % self._report_every == 0 and self.stats.ticks:
+                self._report(views)
             self.stats.ticks += 1
             self.stats.busy += busy
             self.stats.load = 0.9 * self.stats.load + 0.1 * (busy / period)
@@ -198,6 +247,19 @@ class LabServer:
                 next_t = time.monotonic()  # behind: do not try to catch up with a burst
                 delay = 0.0
             self._stop.wait(max(0.0, delay))
+
+    def _report(self, views: list[SessionView]) -> None:
+        """One line of loop figures on stderr (ANALYZER_LAB_STATS=seconds)."""
+        now = time.monotonic()
+        span = now - self._report_t
+        steps = sum(v.step_seconds for v in views)
+        draws = sum(v.draw_seconds for v in views)
+        busy = self.stats.busy - self._report_busy
+        print(f"[loop] sessions {len(views)} ticks/s {(self.stats.ticks - self._report_ticks) / span:.1f} "
+              f"busy {busy / span:.0%} stepping {(steps - self._report_steps) / span:.0%} drawing {(draws - self._report_draws) / span:.0%} load {self.stats.load:.2f} "
+              f"skipped {self.stats.skipped}", file=sys.stderr, flush=True)
+        self._report_t, self._report_busy, self._report_steps, self._report_ticks = now, self.stats.busy, steps, self.stats.ticks
+        self._report_draws = draws
 
     def _slow_loop(self) -> None:
         """Derivations and deferred scenes, computed outside the session locks."""
@@ -219,7 +281,7 @@ class LabServer:
             with session.lock:
                 lesson, params, rev = session.lesson, session.params, session.revision
             try:
-                spec = lesson.scene(params)
+                spec = lesson_scene(lesson, params)
             except Exception as exc:
                 spec = None
                 with session.lock:
@@ -233,7 +295,7 @@ class LabServer:
             with session.lock:
                 lesson, params, rev = session.lesson, session.params, session.revision
             try:
-                content = derivation_to_html(lesson.derivation(params))
+                content = DERIVATION_CACHE.get_or_make(params_key(lesson, params), lambda: derivation_to_html(lesson.derivation(params)))
             except Exception as exc:
                 import html
 
@@ -252,8 +314,10 @@ class LabServer:
                 params = lesson.resolve()
                 st = lesson.stepper(params)
                 st.advance(0.01)
-                lesson.scene(params)
-                lesson.derivation(params)
+                lesson_scene(lesson, params)
+                from app.math_render import derivation_to_html
+
+                DERIVATION_CACHE.get_or_make(params_key(lesson, params), lambda: derivation_to_html(lesson.derivation(params)))
             except Exception:
                 pass
 

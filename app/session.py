@@ -137,6 +137,43 @@ class RunLog:
         return len(self.samples)
 
 
+class LRUCache:
+    """A small thread-safe LRU cache (scenes and derivations are pure functions of
+    the lesson and its parameters; many students share the same values)."""
+
+    def __init__(self, maxsize: int = 64) -> None:
+        from collections import OrderedDict
+
+        self.maxsize = maxsize
+        self._data: "OrderedDict[Any, Any]" = OrderedDict()
+        self._lock = threading.Lock()
+
+    def get_or_make(self, key: Any, make: Callable[[], Any]) -> Any:
+        with self._lock:
+            if key in self._data:
+                self._data.move_to_end(key)
+                return self._data[key]
+        value = make()
+        with self._lock:
+            self._data[key] = value
+            while len(self._data) > self.maxsize:
+                self._data.popitem(last=False)
+        return value
+
+
+def params_key(lesson: Lesson, params: Mapping[str, Any]) -> tuple:
+    """A hashable key of a lesson's validated parameters."""
+    return (lesson.id, tuple(sorted((k, repr(raw_value(v))) for k, v in params.items())))
+
+
+SCENE_CACHE = LRUCache(64)
+
+
+def lesson_scene(lesson: Lesson, params: Params) -> SceneSpec:
+    """``lesson.scene(params)``, shared between sessions with the same values."""
+    return SCENE_CACHE.get_or_make(params_key(lesson, params), lambda: lesson.scene(params))
+
+
 def _arrays_equal(a: Any, b: Any) -> bool:
     try:
         return bool(np.array_equal(np.asarray(a), np.asarray(b)))
@@ -227,7 +264,7 @@ class Session:
         params = lesson.resolve(values, preset)
         try:
             stepper = lesson.stepper(params)
-            scene = lesson.scene(params)
+            scene = lesson_scene(lesson, params)
         except ParamError:
             raise
         except (ValueError, ArithmeticError) as exc:
@@ -300,7 +337,7 @@ class Session:
         groups = {self.lesson.param(n).group for n in changed}
         live_only = groups <= LIVE_GROUPS
         try:
-            scene = self.scene if live_only else self.lesson.scene(params)
+            scene = self.scene if live_only else lesson_scene(self.lesson, params)
             if "initial" in groups:
                 stepper = self.lesson.stepper(params)
             else:
@@ -340,7 +377,7 @@ class Session:
     def refresh_scene(self) -> bool:
         """Rebuild the deferred scene now (tests; the server does it off the lock)."""
         self.scene_due = None
-        return self.accept_scene(self.lesson.scene(self.params))
+        return self.accept_scene(lesson_scene(self.lesson, self.params))
 
     def set_value(self, name: str, raw: Any) -> None:
         self.set_values({name: raw})

@@ -110,7 +110,7 @@ class Trail:
             while len(self.handles) > self.max_chunks:
                 self._remove(self.handles.popleft())
         else:
-            self.handles[-1].points = segs
+            fast_set(self.handles[-1], "points", segs)
         if len(self.current) >= self.chunk + 1:
             self.handles[-1]._al_full = True
             self.current = [self.current[-1]]
@@ -215,6 +215,9 @@ class SessionView:
         self._meshes_for_click: list[tuple[np.ndarray, np.ndarray]] = []
         self._size = 1.0
         self._frame_dirty = True
+        self._visible_cache: set[str] | None = None
+        self.step_seconds = 0.0  # time spent in the lesson's stepper (frame loop)
+        self.draw_seconds = 0.0  # time spent queueing the frame's updates
         self._build_gui()
 
     # ------------------------------------------------------------------ helpers
@@ -526,6 +529,7 @@ class SessionView:
             visible.discard(name)
         self.session.visible_vectors = visible
         self._vector_names = ()  # re-create the arrows node
+        self._visible_cache = None
         self._frame_dirty = True
         self._save_state()
 
@@ -691,6 +695,7 @@ class SessionView:
             _remove(self._vector_handle)
             self._vector_handle = None
             self._vector_names = ()
+        self._visible_cache = None
         for name in list(self._trails):
             if name not in spec.moving_points:
                 self._trails.pop(name).clear()
@@ -745,7 +750,7 @@ class SessionView:
                     f"/lab/live/point/{_safe(name)}", pts, tuple(color), point_size=0.045 * self._size, point_shape="circle",
                     precision="float32")
             else:
-                h.points = pts
+                fast_set(h, "points", pts)
         self._draw_vectors(last)
         for name, (pos, wxyz) in last.poses.items():
             h = self._body_handles.get(name)
@@ -758,7 +763,10 @@ class SessionView:
 
     def _draw_vectors(self, frame: Frame) -> None:
         spec = self.session.scene
-        visible = [n for n in spec.moving_vectors if n in self._visible_vectors() and n in frame.vectors]
+        shown = self._visible_cache
+        if shown is None:
+            shown = self._visible_cache = self._visible_vectors()
+        visible = [n for n in spec.moving_vectors if n in shown and n in frame.vectors]
         segs = []
         colors = []
         length = 0.3 * self._size
@@ -766,7 +774,7 @@ class SessionView:
             origins, dirs = frame.vectors[name]
             o = np.asarray(origins, dtype=float).reshape(-1, 3)
             d = np.asarray(dirs, dtype=float).reshape(-1, 3)
-            mag = float(np.max(np.linalg.norm(d, axis=1))) if len(d) else 0.0
+            mag = math.sqrt(float(np.max((d * d).sum(axis=1)))) if len(d) else 0.0
             prev = self._vector_scale.get(name, 0.0)
             ref = max(mag, prev * 0.995)
             self._vector_scale[name] = ref
@@ -790,7 +798,7 @@ class SessionView:
                                                                shaft_radius=r, head_radius=2.5 * r, head_length=6 * r)
             self._vector_names = names
         else:
-            self._vector_handle.points = pts
+            fast_set(self._vector_handle, "points", pts)
 
     def _send_plots(self, all_plots: bool = False) -> None:
         if not self._plots:
@@ -798,14 +806,14 @@ class SessionView:
         if all_plots:
             for buf, handle in self._plots:
                 if buf.dirty:
-                    handle.data = buf.data()
+                    fast_set(handle, "data", buf.data())
                     buf.dirty = False
             return
         for _ in range(len(self._plots)):
             self._plot_rr = (self._plot_rr + 1) % len(self._plots)
             buf, handle = self._plots[self._plot_rr]
             if buf.dirty:
-                handle.data = buf.data()
+                fast_set(handle, "data", buf.data())
                 buf.dirty = False
                 return
 
@@ -872,7 +880,7 @@ class SessionView:
     def _update_texts(self) -> None:
         ro = self._readout_html()
         if ro != self._last_readout:
-            self.readout.content = ro
+            fast_set(self.readout, "content", ro)
             self._last_readout = ro
         notice = self.session.notices[-1] if self.session.notices else None
         fmsg = self.session.frame.message
@@ -887,20 +895,26 @@ class SessionView:
             self._shown_frame_message = fmsg
             self.status.content = self._status_html()
 
-    def tick(self, wall_dt: float) -> None:
-        """One frame of the server loop (caller holds the session lock)."""
+    def tick(self, wall_dt: float, atomic: bool = True) -> None:
+        """One frame of the server loop (caller holds the session lock).
+
+        ``atomic=False``: the caller groups the messages (and wakes the event loop once
+        for all sessions, see :class:`app.server.LabServer`)."""
         if self.closed:
             return
         s = self.session
         was_playing = s.playing
+        t0 = time.perf_counter()
         frames = s.tick(wall_dt) if s.playing else []
+        self.step_seconds += time.perf_counter() - t0
         self.frame_count += 1
         cfg = self.config
         if not frames and not self._frame_dirty and s.scene_revision == self._drawn_scene_rev and s.reset_revision == self._drawn_reset_rev:
             if was_playing != s.playing or self.frame_count % cfg.readout_every == 0:
                 self._update_texts()
             return
-        with self.client.atomic():
+        t1 = time.perf_counter()
+        with (self.client.atomic() if atomic else _nullcontext()):
             if s.scene_revision != self._drawn_scene_rev or s.reset_revision != self._drawn_reset_rev or self._frame_dirty:
                 self.refresh()
             if frames:
@@ -912,6 +926,7 @@ class SessionView:
                     self._send_plots(all_plots=not s.playing)
             if self.frame_count % cfg.readout_every == 0 or not s.playing:
                 self._update_texts()
+        self.draw_seconds += time.perf_counter() - t1
 
     def close(self) -> None:
         self.closed = True
@@ -939,6 +954,25 @@ class SessionView:
             raise LabError(f"unknown export {kind[:20]!r}")
         self.client.send_file_download(name, data, save_immediately=True)
         s.notify(f"exported {name} ({len(data) / 1024:.1f} kB, {len(s.log)} samples)")
+
+
+class _nullcontext:
+    def __enter__(self) -> None:
+        return None
+
+    def __exit__(self, *exc: Any) -> None:
+        return None
+
+
+def fast_set(handle: Any, name: str, value: Any) -> None:
+    """Assign one property of a viser handle on the hot path: the value is already of
+    the right type and dtype (fresh array), so viser's generic casting and comparison
+    (``props_setattr``) are skipped; state and wire message are the same."""
+    impl = handle._impl
+    if impl.removed:
+        return
+    setattr(impl.props, name, value)
+    handle._queue_update(name, value)
 
 
 def _remove(handle: Any) -> None:
