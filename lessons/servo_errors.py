@@ -481,7 +481,8 @@ class ServoErrorsLesson(Lesson):
                 sc = math.sqrt((X / float(params["a"])) ** 2 + (Y / float(params["b"])) ** 2)
                 A0, B0 = float(params["a"]) * sc, float(params["b"]) * sc
                 metrics["a"], metrics["b"] = A0, B0
-            metrics["v"] = omega * A0 if s.curve == "circle" else float("nan")
+            if s.curve == "circle":
+                metrics["v"] = omega * A0
             P1, P2 = cx.response(omega), cy.response(omega)
             m, n = A0 * abs(P1), B0 * abs(P2)
             dphi = float(np.angle(P2) - np.angle(P1))

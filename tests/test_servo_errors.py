@@ -83,7 +83,7 @@ def test_parabola_table_three_ways() -> None:
     assert lo == pytest.approx(0.79467, abs=1e-4) and hi == pytest.approx(0.80533, abs=1e-4)
 
 
-def test_table_with_other_omega_is_not_the_print() -> None:
+def test_table_with_omega_squared_20_matches_the_print() -> None:
     rows = parabola_table(omega=math.sqrt(20.0))  # omega^2 = 20 reproduces the printed values
     assert all(abs(r.simulated - r.printed) <= 0.5 * 10 ** -(len(r.printed_text.split(".")[1]) if "." in r.printed_text else 0) + 1e-9
                for r in rows)

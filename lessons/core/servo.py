@@ -275,23 +275,31 @@ def power_distance(xq: np.ndarray, yq: np.ndarray, n: int, xc: float, yc: float,
     """Signed normal distance from y = yc + (x - xc)^n / p (+ above); foot points."""
     xq = np.atleast_1d(np.asarray(xq, dtype=float))
     yq = np.atleast_1d(np.asarray(yq, dtype=float))
+    xq, yq = np.broadcast_arrays(xq, yq)
 
     def f(u: np.ndarray) -> np.ndarray:
         return yc + (u - xc) ** n / p
 
     def best(u0: np.ndarray) -> np.ndarray:
-        u = u0.copy()
+        u = np.broadcast_to(u0, xq.shape).copy()
+        active = np.arange(u.size)
+        ycb = np.broadcast_to(np.asarray(yc, dtype=float), xq.shape)
         for _ in range(60):
-            w = u - xc
-            fu = yc + w**n / p
-            f1 = n * w ** (n - 1) / p
-            f2 = n * (n - 1) * w ** (n - 2) / p
-            g = (u - xq) + (fu - yq) * f1
-            h = 1.0 + f1 * f1 + (fu - yq) * f2
-            h = np.where(h > 0.1 * (1.0 + f1 * f1), h, 1.0 + f1 * f1)
+            ua, xa, ya = u[active], xq[active], yq[active]
+            w = ua - xc
+            wn2 = w ** (n - 2)
+            fu = ycb[active] + wn2 * w * w / p
+            f1 = n * wn2 * w / p
+            f2 = n * (n - 1) * wn2 / p
+            g = (ua - xa) + (fu - ya) * f1
+            base = 1.0 + f1 * f1
+            h = base + (fu - ya) * f2
+            h = np.where(h > 0.1 * base, h, base)
             du = g / h
-            u = u - du
-            if np.all(np.abs(du) <= 1e-13 * (1.0 + np.abs(u))):
+            u[active] = ua - du
+            keep = ~(np.abs(du) <= 1e-13 * (1.0 + np.abs(ua)))
+            active = active[keep]
+            if active.size == 0:
                 break
         return u
 
@@ -339,6 +347,8 @@ def fit_centred_ellipse(x: np.ndarray, y: np.ndarray) -> tuple[float, float, flo
     coef, *_ = np.linalg.lstsq(G, np.ones_like(x), rcond=None)
     Q = np.array([[coef[0], coef[1]], [coef[1], coef[2]]])
     lam, vec = np.linalg.eigh(Q)
+    if not lam[0] > 0:  # not an ellipse (e.g. samples still in the transient)
+        return math.nan, math.nan, math.nan
     major = 1.0 / math.sqrt(lam[0])
     minor = 1.0 / math.sqrt(lam[1])
     ang = math.degrees(math.atan2(vec[1, 0], vec[0, 0])) % 180.0
@@ -383,8 +393,8 @@ def circle_axes_29_30(m: float, n: float, dphi: float, printed: bool = False) ->
     num = math.cos(dphi) if printed else math.cos(dphi) ** 2
     s = (m * m + n * n) / (2 * m * m * n * n)
     r = math.sqrt(max((m * m + n * n) ** 2 / (4 * m**4 * n**4) - math.cos(dphi) ** 2 / (m * m * n * n), 0.0))
-    major = math.sqrt(num / (s - r))
-    minor = math.sqrt(num / (s + r))
+    major = math.sqrt(num / (s - r)) if s - r > 0 and num >= 0 else math.nan
+    minor = math.sqrt(num / (s + r)) if num >= 0 else math.nan  # the printed cos can be negative
     # (29): ctg 2 alpha = (n^2 - m^2)/(2 m n sin(dphi))
     two_alpha = math.atan2(2 * m * n * math.sin(dphi), n * n - m * m)
     alpha = math.degrees(two_alpha / 2.0)
