@@ -628,6 +628,13 @@ class ServoErrorsLesson(Lesson):
                   "(13) -0.2375 mm (k = 100, T = 0.1).", "Conclusions", _claim_derivative),
             Claim("beta-15", "(15): f(beta) = 1/beta^2 - 2/beta has its only stationary point at beta = 1 (a minimum, f = -1) "
                   "and its zero at beta = 1/2 with slope -8.", "(15), Fig. 3", _claim_beta),
+            Claim("modulus-only", "Correcting only the moduli gives an ellipse at 45/135 deg with semi-axes R0 sqrt(1 +- |sin(phi2 - phi1)|) "
+                  "(12.346 / 6.897 mm: x k = 30, T = 0.01; y k = 200, T = 0.02; omega = 20, R0 = 10 mm); the printed form gives 13.379.",
+                  "after (35)", _claim_modulus_only),
+            Claim("alt-correction", "Shifting the program by -delta_max (corrected Y0 of the alternative correction) keeps the reproduced "
+                  "point on the programmed parabola although x != x1 (k = 100 1/s, T = 0.1 and 1 s).", "after (25)", _claim_alt_correction),
+            Claim("quartic-beta", "Quartic: y' opens downward for beta1 < 2; its vertex is above the programmed one for beta1 < 0.85 and "
+                  "beta1 > 3.15 (roots 0.8453, 3.1547 of 3 beta1^2 - 12 beta1 + 8); the line y'' rises for beta1 < 3.", "I.7", _claim_quartic_beta),
             Claim("cubic-quartic", "Cubic and quartic outputs follow the corrected curve equations (cubic: '+' not '='; "
                   "quartic: the printed curve), and the corrected quartic y1(t), not the printed one.", "I.7", _claim_cubic_quartic),
         ]
@@ -684,7 +691,8 @@ def _steps_parabola(params: Params, cx: Channel, cy: Channel) -> list[Derivation
                        f"Here (13) = {_sig(d13)} mm (negative: the output lies outside, T1^2 < 2 T2^2).",
                        r"\delta_{\max}=\frac{\omega^2p}{4}\left(T_1^2-2T_2^2\right)", "(13)"),
         DerivationStep("Error at an arbitrary point (approximate)", "From triangle abc of Fig. 2 (unnumbered; probably the missing (14)).",
-                       r"\delta\approx\frac{\Delta y'\Delta x'}{\sqrt{\Delta y'^2+\Delta x'^2}},\quad \Delta y'=\delta_{\max},\ \Delta x'=x-\sqrt{x^2-p\Delta y'}", "(14)"),
+                       r"\delta\approx\frac{\Delta y'\Delta x'}{\sqrt{\Delta y'^2+\Delta x'^2}},\quad \Delta y'=\delta_{\max},\ \Delta x'=x-\sqrt{x^2-p\Delta y'}", "(14)",
+                       reconstructed="equation number (14) is missing in the print; this unnumbered formula is presumably it"),
         DerivationStep("Dependence on beta = T2^2/T1^2",
                        "f(beta) = 1/beta^2 - 2/beta has a minimum f = -1 at beta = 1 (the largest error of negative sign) and crosses zero at beta = 1/2 with slope -8.",
                        r"\delta_{\max}=\frac{\omega^2p}{4}\left(\frac1{\beta^2}-\frac2\beta\right)\frac{T_2^4}{T_1^2}", "(15)",
@@ -697,7 +705,10 @@ def _steps_parabola(params: Params, cx: Channel, cy: Channel) -> list[Derivation
                        r"\delta_{\text{printed}}=0.8\cdot\frac{\omega^2p}{4}(T_1^2-2T_2^2)=100\,(T_1^2-2T_2^2)\ \text{mm}", "table",
                        reconstructed="the printed header is transposed (rows are k in 1/s, columns T in s); read literally (13) gives absurd values"),
         DerivationStep("Non-identical channels: output parabola",
-                       f"Vertex of the output parabola: {tuple(round(v, 6) for v in parabola_vertex_17(omega, p, cx.T1, cx.T2sq, g))} mm.",
+                       f"Vertex of the output parabola: {tuple(round(v, 6) for v in parabola_vertex_17(omega, p, cx.T1, cx.T2sq, g))} mm. "
+                       "The article's Fig. 4 remarks (for the vertical parabola the error grows for gamma < 1 and decreases for "
+                       "gamma > 1) are not reproduced with gamma scaling the y channel: with T1 = 0.01 s, T2^2 = 0.001 s^2 the "
+                       "largest normal distance grows for gamma > 1 too; the figure's parameters are not given.",
                        r"y=\frac{x^2}{p}+\omega T_1(1-\gamma)x+\frac{\omega^2p}{4}\left[T_1^2(1-2\gamma+2\gamma^2)-2\gamma T_2^2\right]", "(17)"),
         DerivationStep("Locus of the vertices as gamma varies", "",
                        r"y=\frac{x^2}{p}+\frac{\omega(T_1^2-T_2^2)}{T_1}x+\frac{\omega^2p}{4}(T_1^2-2T_2^2)", "(18)",
@@ -744,6 +755,11 @@ def _steps_circle(params: Params, cx: Channel, cy: Channel) -> list[DerivationSt
         DerivationStep("Identical servo systems", "The PU structure is unchanged; only the initial conditions (34) change.",
                        r"\frac{dx}{dt}=\omega y,\qquad \frac{dy}{dt}=-\omega x", "(35)",
                        reconstructed="printed dy/dt = +omega x (a saddle, not an oscillator) and 'if the PU are identical' for 'servo systems'"),
+        DerivationStep("Modulus-only correction", "Correcting only the moduli leaves a 45 deg ellipse (a circle only if phi1 = phi2).",
+                       r"\frac{dx}{dt}=\omega\frac{|\Phi_2|}{|\Phi_1|}y,\quad \frac{dy}{dt}=-\omega\frac{|\Phi_1|}{|\Phi_2|}x,\quad "
+                       r"X_0=\frac{x_0}{|\Phi_1|},\ Y_0=\frac{y_0}{|\Phi_2|};\qquad a,b=R_0\sqrt{1\pm|\sin(\varphi_2-\varphi_1)|}", "after (35)",
+                       reconstructed="printed X0 = (x0 - y0)/|Phi1|^2, Y0 = (x0 + y0)/|Phi2|^2 give sqrt(2) R0/|Phi| even for equal arguments; "
+                       "printed a, b = R0 sqrt(cos/(1 -+ sin)) miss the square as in (30)"),
     ]
 
 
@@ -1012,6 +1028,48 @@ def _claim_cubic_quartic() -> ClaimResult:
     ok = e3 < 1e-6 and e4 < tol + 1e-7 and e_fix < tol + 1e-7 and e_pr > 1e-3
     return ClaimResult("cubic curve, quartic curve and corrected quartic y1(t) match; printed y1(t) does not",
                        f"cubic {e3:.1e}, quartic {e4:.1e}, corrected y1 {e_fix:.1e}, printed y1 {e_pr:.2g} mm", ok)
+
+
+def _claim_modulus_only() -> ClaimResult:
+    cx, cy, w, R0 = Channel.from_open_loop(30.0, 0.01), Channel.from_open_loop(200.0, 0.02), 20.0, 10.0
+    P1, P2 = cx.response(w), cy.response(w)
+    g1, g2 = abs(P1), abs(P2)
+    A = np.zeros((3, 3))
+    A[0, 1], A[1, 0] = w * g2 / g1, -w * g1 / g2
+    prog = Program("circle", A, np.array([0.0, R0 / g2, 1.0]), np.array([1.0, 0, 0]), np.array([0, 1.0, 0]))
+    _, out, _ = _run_steady(prog, cx, cy, window=2 * math.pi / w, n=801)
+    a, b, ang = fit_centred_ellipse(out["x1"], out["y1"])
+    D = abs(math.sin(float(np.angle(P2) - np.angle(P1))))
+    a_fix, b_fix = R0 * math.sqrt(1 + D), R0 * math.sqrt(1 - D)
+    ok = abs(a - a_fix) < 1e-6 * a and abs(b - b_fix) < 1e-6 * b and min(abs(ang - 45), abs(ang - 135)) < 1e-4 and abs(a - 12.34629) < 1e-5
+    return ClaimResult("R0 sqrt(1 +- |sin|) = 12.34629 / 6.89704 mm at 45 or 135 deg", f"{a:.5f} / {b:.5f} mm at {ang:.3f} deg", ok)
+
+
+def _claim_alt_correction() -> ClaimResult:
+    worst = 0.0
+    for T in (0.1, 1.0):
+        ch = Channel.from_open_loop(100.0, T)
+        d13 = delta_parabola_13(5.0, 20.0, ch.T1, ch.T2sq)
+        x0 = -50.0 * 25.0 / ch.decay_rate()
+        prog = power_program(2, x0, 0.0, -d13, 20.0, 5.0)  # Y0 = y0 - delta_max
+        _, out, _ = _run_steady(prog, ch, ch, window=0.2, n=401, settle=20.0)
+        d, _, _ = power_distance(out["x1"], out["y1"], 2, 0.0, 0.0, 20.0, guess=out["x1"])
+        worst = max(worst, float(np.max(np.abs(d))))
+    return at_most(1e-6, worst, "max distance to y = x^2/p [mm] ")
+
+
+def _claim_quartic_beta() -> ClaimResult:
+    b = sp.symbols("beta_1", positive=True)
+    T2 = sp.symbols("T_2", positive=True)
+    T1 = sp.sqrt(b) * T2
+    lead = sp.simplify((T1**2 - 2 * T2**2) / T2**2)  # sign of the x^2 coefficient of y'
+    const = sp.expand((3 * T1**4 + 8 * T2**4 - 12 * T1**2 * T2**2) / T2**4)
+    slope = sp.simplify((3 * T2**2 * T1 - T1**3) / T2**3)
+    roots = sorted(float(r) for r in sp.solve(const, b))
+    ok = (sp.solve(lead, b) == [2] and abs(roots[0] - 0.8453) < 1e-4 and abs(roots[1] - 3.1547) < 1e-4
+          and sp.solve(slope, b) == [3] and lead.subs(b, 1) < 0 and slope.subs(b, 1) > 0 and const.subs(b, 2) < 0)
+    return ClaimResult("opens down for beta1 < 2; constant term roots 0.8453, 3.1547; slope zero at 3",
+                       f"x^2 coefficient zero at {sp.solve(lead, b)}; roots {roots[0]:.4f}, {roots[1]:.4f}; slope zero at {sp.solve(slope, b)}", ok)
 
 
 LESSON = ServoErrorsLesson()
