@@ -85,6 +85,13 @@ class Model:
     def n(self) -> int:
         return len(self.q)
 
+    @property
+    def simplified(self) -> list[sp.Expr]:
+        """The Lagrange equations, simplified once (for the derivation page)."""
+        if not hasattr(self, "_simplified"):
+            self._simplified = [sp.simplify(e) for e in self.equations]
+        return self._simplified
+
     def accelerations(self, t: float, q: np.ndarray, qd: np.ndarray, consts: list[float], inputs: list[float]) -> tuple[np.ndarray, np.ndarray]:
         """(q'', lambda) from (2.25) + (2.30): [M -H^T; H 0] [q''; lambda] = [B; -Phi]."""
         MM = np.asarray(self._mm(t, q, qd, consts, inputs), dtype=float)
@@ -511,7 +518,7 @@ class SelfStudy2(Lesson):
         for j, tj in enumerate(t):
             q, qd = Y[:n, j], Y[n:, j]
             inp = _inputs(params, float(tj), q)
-            _, lam = model.accelerations(float(tj), q, qd, consts, inp)
+            lam = model.accelerations(float(tj), q, qd, consts, inp)[1] if model.constraints else np.zeros(0)
             row: dict[str, float] = {}
             for i, name in enumerate(model.coords):
                 row[name], row[f"{name}_dot"] = q[i], qd[i]
@@ -540,24 +547,37 @@ class SelfStudy2(Lesson):
                 out.setdefault(k, []).append(float(v))
         return {k: np.asarray(v) for k, v in out.items()}
 
-    def simulate(self, params: Params, t_end: float | None = None) -> RunResult:
+    def simulate(self, params: Params, t_end: float | None = None, samples: int = 1001) -> RunResult:
         t_end = float(self.t_end if t_end is None else t_end)
         model = self.model(params)
         q0, v0 = _initial(params, model)
-        t_eval = np.linspace(0.0, t_end, 1001)
+        t_eval = np.linspace(0.0, t_end, samples)
         messages: list[str] = []
-        for name in ("F_g", "F_c", "Q1", "Q2", "Q3"):
-            try:
-                params[name].check_finite(t_eval)
-            except ValueError as exc:
-                messages.append(f"{name}: {exc}")
-        sol = self.integrate(params, 0.0, np.concatenate([q0, v0]), t_end, t_eval)
-        if sol.status == -1:
-            messages.append(f"integration stopped: {sol.message}")
-        t, Y = sol.t, sol.y
+        used = ("F_g", "F_c") if params["task"].startswith("C2.2") else () if params["task"].startswith("C2.1") else ("Q1", "Q2", "Q3")
+        for name in used:
+            vals = np.asarray(params[name](t_eval), dtype=float) * np.ones_like(t_eval)
+            bad = ~np.isfinite(vals)
+            if bad.any():
+                k = int(np.argmax(bad))
+                messages.append(f"{name} = {params[name].text} is not finite at t = {t_eval[k]:.6g} s; the run stops before it.")
+                t_eval = t_eval[: max(k - 1, 1)]
+        t_end = float(t_eval[-1])
+        if t_end <= 0.0:
+            t_eval = np.zeros(1)
+        y0 = np.concatenate([q0, v0])
+        if t_end <= 0.0:
+            sol = None
+            t, Y = np.zeros(1), y0[:, None]
+        else:
+            sol = self.integrate(params, 0.0, y0, t_end, t_eval)
+            if sol.status == -1:
+                messages.append(f"integration stopped: {sol.message}")
+            t, Y = sol.t, sol.y
+        if params["task"].startswith("C2.1") and params["vertical"] and params["inertia"] == "J0":
+            messages.append("With J = J0 the place of m1 is not known, so no gravity moment is applied; choose J0 + m1 l_OM^2 for a vertical plane.")
         metrics: dict[str, Any] = {"task": params["task"], "n_coordinates": model.n, "n_constraints": len(model.constraints)}
         if params["task"] in ("C2.1a", "C2.1b"):
-            if sol.t_events and len(sol.t_events[0]):
+            if sol is not None and sol.t_events and len(sol.t_events[0]):
                 t_hit = float(sol.t_events[0][0])
                 t = np.append(t, t_hit)
                 Y = np.column_stack([Y, sol.y_events[0][0]])
@@ -579,7 +599,7 @@ class SelfStudy2(Lesson):
 
     def scene(self, params: Params) -> SceneSpec:
         task = params["task"]
-        run = self.simulate(params, self.preset_t_end(_preset_of(task)))
+        run = self.simulate(params, self.preset_t_end(_preset_of(task)), samples=201)
         model = self.model(params)
         pts = np.vstack([np.column_stack([run.series[f"{p}_x"], run.series[f"{p}_y"], run.series[f"{p}_z"]]) for p in model.points])
         pts = np.vstack([pts, np.zeros((1, 3))])
@@ -624,9 +644,9 @@ class SelfStudy2(Lesson):
                                         [sp.Eq(c, 0) for c in model.constraints], "(2.17)",
                                         reconstructed="the task states positions only; written as holonomic constraints of §2.2"))
             steps.append(DerivationStep("Equations with multipliers", "A q'' = B + H^T lambda (2.25) with H q'' = -Phi (2.30); solved for q'' and lambda together.",
-                                        [sp.Eq(sp.simplify(e), 0) for e in model.equations], "(2.25), (2.30)-(2.34)"))
+                                        [sp.Eq(e, 0) for e in model.simplified], "(2.25), (2.30)-(2.34)"))
         else:
-            steps.append(DerivationStep("Equations of motion", "", [sp.Eq(sp.simplify(e), 0) for e in model.equations], _source(task)))
+            steps.append(DerivationStep("Equations of motion", "", [sp.Eq(e, 0) for e in model.simplified], _source(task)))
         rhs = sp.simplify(model.lm.mass_matrix.inv() * model.lm.forcing) if not model.constraints and model.n == 1 else None
         if rhs is not None:
             steps.append(DerivationStep("Solved for the accelerations", "", [sp.Eq(sp.diff(c, TIME, 2), r) for c, r in zip(model.q, rhs)], _source(task)))
