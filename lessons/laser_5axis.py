@@ -502,9 +502,9 @@ def check_quarter() -> ClaimResult:
     flat = [r for rs in ratios.values() for r in rs]
     last = [rs[-1] for rs in ratios.values()]
     lv = uniform_levels("S1", "original")
-    ok = min(flat) >= 3.4 and max(flat) <= 4.05 and all(abs(r - 4.0) < 0.01 for r in last) and abs(lv[1] - 0.355) < 0.001
+    ok = min(flat) >= 3.4 and max(flat) <= 4.05 and all(abs(r - 4.0) < 0.02 for r in last) and abs(lv[1] - 0.355) < 0.001
     return ClaimResult(
-        expected="error ratio per split between 3.4 (first split of the oblique S3) and 4.05, -> 4.00 at level 6; "
+        expected="error ratio per split between 3.4 (first split of the oblique S3) and 4.05, 4.00 +- 0.02 at level 6; "
                  "S1 level 1 = 0.355 mm",
         got="; ".join(f"{n}: " + ", ".join(f"{r:.3f}" for r in rs) for n, rs in ratios.items())
             + "; S1 levels " + ", ".join(f"{x:.3g}" for x in lv),
@@ -844,8 +844,10 @@ class Laser5Axis(Lesson):
                 break
             tau = np.linspace(0.0, 1.0, per + 1)[(1 if k else 0):]
             tt = prog.starts[k] + tau * prog.durations[k]
-            keep = tt <= t_end + 1e-12
-            tau, tt = tau[keep], tt[keep]
+            if tt[-1] > t_end + 1e-12:  # the run stops inside this move: end exactly at t_end
+                cut = (t_end - prog.starts[k]) / prog.durations[k]
+                tau = np.append(tau[tau < cut], cut)
+                tt = prog.starts[k] + tau * prog.durations[k]
             if not len(tau):
                 continue
             s = prog.sample(k, tau)
