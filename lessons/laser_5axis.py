@@ -73,11 +73,14 @@ from lessons.core.kinematics5 import (
     point_speed_ratio,
     sagitta_estimate,
     segment_distance,
+    translate_poses,
+    vertical,
 )
 
 METHODS = ("linear", "bisection", "nonlinear", "fixed-normal")
 SOURCE = "Article 003 (LSP-2000 five-axis laser complex), eqs (1)-(4)"
 TRAIL_SAMPLES = 4000  # samples of a headless run, spread over the moves
+MAX_MOVES = 4096  # CNC moves per program (bisection stops splitting beyond this)
 
 # The prototype's segments on the paraboloid F = 500 mm (digest II.10): (u, v) offsets [mm].
 SEGMENTS: dict[str, tuple[tuple[float, float], tuple[float, float]]] = {
@@ -123,11 +126,8 @@ def task_of(params: Params) -> Task:
 
 
 def translate(machine: Machine5, task: Task) -> list[np.ndarray]:
-    """The task as CNC commands: rule (2)/(3) pose by pose, each with the previous C."""
-    qs: list[np.ndarray] = []
-    for p, n in zip(task.points, task.normals):
-        qs.append(machine.inverse(p, n, None if not qs else float(qs[-1][3])))
-    return qs
+    """The task as CNC commands (see :func:`lessons.core.kinematics5.translate_poses`)."""
+    return translate_poses(machine, task.points, task.normals)
 
 
 @dataclass
@@ -201,11 +201,16 @@ def build_program(params: Params) -> Program:
             moves.extend(nonlinear_submoves(machine, mv, n_sub) if n_sub > 0 and mv.kind == "nonlinear" else [mv])
             q_prev = qb
         elif method == "bisection":
-            bis = bisect_segment(machine, pa, na, q_prev, pb, nb, tol, int(params["max_depth"]), seg=i)
+            budget = max(MAX_MOVES - len(moves) - (task.segments - i - 1), 1)
+            bis = bisect_segment(machine, pa, na, q_prev, pb, nb, tol, int(params["max_depth"]), seg=i, max_pieces=budget)
             converged &= bis.converged
-            if not bis.converged:
+            if not bis.converged and len(bis.moves) >= budget:
+                messages.append(f"segment {i + 1}: bisection stopped at the limit of {MAX_MOVES} moves "
+                                f"with {bis.worst_mm:.3g} mm > {tol * 1e3:g} um.")
+            elif not bis.converged:
                 messages.append(f"segment {i + 1}: bisection stopped at depth {bis.max_depth} with "
-                                f"{bis.worst_mm:.3g} mm > {tol * 1e3:g} um (a piece keeps spinning C).")
+                                f"{bis.worst_mm:.3g} mm > {tol * 1e3:g} um: near the vertical a piece keeps "
+                                "swinging C by a large angle whatever its length (the rotary limits force it).")
             moves.extend(bis.moves)
             q_prev = bis.moves[-1].q1
         else:  # fixed-normal: method 1
@@ -221,25 +226,58 @@ def build_program(params: Params) -> Program:
     return Program(machine, task, method, moves, durations, starts, feed, tol, converged, reorient, messages)
 
 
-def program_metrics(prog: Program) -> dict[str, Any]:
-    """Whole-program metrics (independent of the display sampling)."""
+def eval_moves(machine: Machine5, moves: list[Move], tau: np.ndarray) -> np.ndarray:
+    """Axis positions of every move at the parameters ``tau``: shape (moves, len(tau), 5)."""
+    out = np.empty((len(moves), len(tau), 5))
+    lin = [i for i, mv in enumerate(moves) if mv.kind == "linear"]
+    if lin:
+        q0 = np.array([moves[i].q0 for i in lin])
+        q1 = np.array([moves[i].q1 for i in lin])
+        out[lin] = q0[:, None, :] + tau[None, :, None] * (q1 - q0)[:, None, :]
+    for i, mv in enumerate(moves):
+        if mv.kind != "linear":
+            out[i] = mv.axes(machine, tau)
+    return out
+
+
+def program_metrics(prog: Program, samples: int = 65) -> dict[str, Any]:
+    """Whole-program metrics on a fixed grid per move (independent of the display sampling).
+
+    The largest deviation is refined by a bounded search on the few worst moves.
+    """
     m, task = prog.machine, prog.task
-    devs = [move_deviation(m, mv, task.points[mv.seg], task.points[mv.seg + 1]) for mv in prog.moves]
-    seg_backwards = any(
-        moves_backwards(m, [mv for mv in prog.moves if mv.seg == i], task.points[i], task.points[i + 1], samples=129)
-        for i in range(task.segments))
+    tau = np.linspace(0.0, 1.0, samples)
+    q = eval_moves(m, prog.moves, tau)
+    p, n = m.forward(q)
+    segs = np.array([mv.seg for mv in prog.moves])
+    a, b = task.points[segs][:, None, :], task.points[segs + 1][:, None, :]
+    d = b - a
+    lam = np.sum((p - a) * d, axis=-1) / np.sum(d * d, axis=-1)
+    dev = np.linalg.norm(p - (a + np.clip(lam, 0.0, 1.0)[..., None] * d), axis=-1)
+    per_move = dev.max(axis=1)
+    worst = np.argsort(per_move)[-3:]
+    dev_max = max([float(per_move.max())] + [
+        move_deviation(m, prog.moves[k], task.points[segs[k]], task.points[segs[k] + 1]) for k in worst])
+    # progress along each task segment must never decrease
+    backwards = False
+    for i in range(task.segments):
+        lam_i = lam[segs == i].ravel()
+        backwards |= bool(len(lam_i) and np.any(np.diff(lam_i) < -1e-9))
+    uv = (1 - np.clip(lam, 0, 1))[..., None] * task.uv[segs][:, None, :] + np.clip(lam, 0, 1)[..., None] * task.uv[segs + 1][:, None, :]
+    normal = task.workpiece.point_normal(uv[..., 0], uv[..., 1])[1]
+    off = float(angle_between(n, normal).max()) if len(prog.moves) else 0.0
+    step = np.diff(q, axis=1)
     rot = sum(abs(mv.q1[3] - mv.q0[3]) + abs(mv.q1[4] - mv.q0[4]) for mv in prog.moves)
-    dev_max = max(devs) if devs else 0.0
     return {
         "deviation_max_mm": float(dev_max),
         "within_tolerance": bool(dev_max <= prog.tolerance_mm + 1e-12),
         "pieces": len(prog.moves),
-        "axis_travel_mm": axis_path_length(m, prog.moves, slice(0, 3), samples=129),
-        "xy_travel_mm": axis_path_length(m, prog.moves, slice(0, 2), samples=129),
+        "axis_travel_mm": float(np.linalg.norm(step[..., :3], axis=-1).sum()),
+        "xy_travel_mm": float(np.linalg.norm(step[..., :2], axis=-1).sum()),
         "rotary_travel_deg": float(math.degrees(rot)),
         "tool_path_mm": float(sum(mv.length for mv in prog.moves)),
-        "off_normal_max_deg": float(math.degrees(off_normal_max(m, task, prog.moves, samples=65))),
-        "backward_motion": bool(seg_backwards),
+        "off_normal_max_deg": float(math.degrees(off)),
+        "backward_motion": bool(backwards),
         "converged": bool(prog.converged),
         "reorientations": int(prog.reorientations),
         "duration_s": prog.duration,
@@ -335,17 +373,15 @@ class LaserStepper(Stepper):
     def set_params(self, params: Params) -> None:
         self.params = params
         self.prog = build_program(params)
-        self._cum = []
         m = self.prog.machine
-        lin0 = tool0 = 0.0
-        for mv in self.prog.moves:
-            tau = np.linspace(0.0, 1.0, 65)
-            q = mv.axes(m, tau)
-            p, _ = m.forward(q)
-            lin = lin0 + np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(q[:, :3], axis=0), axis=1))])
-            tool = tool0 + np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(p, axis=0), axis=1))])
-            self._cum.append((tau, lin, tool))
-            lin0, tool0 = lin[-1], tool[-1]
+        tau = np.linspace(0.0, 1.0, 33)
+        q = eval_moves(m, self.prog.moves, tau)
+        p, _ = m.forward(q)
+        lin = np.concatenate([np.zeros((len(q), 1)), np.cumsum(np.linalg.norm(np.diff(q[..., :3], axis=1), axis=-1), axis=1)], axis=1)
+        tool = np.concatenate([np.zeros((len(q), 1)), np.cumsum(np.linalg.norm(np.diff(p, axis=1), axis=-1), axis=1)], axis=1)
+        lin += np.concatenate([[0.0], np.cumsum(lin[:, -1])[:-1]])[:, None]
+        tool += np.concatenate([[0.0], np.cumsum(tool[:, -1])[:-1]])[:, None]
+        self._cum = [(tau, lin[k], tool[k]) for k in range(len(q))]
         self._t = min(self._t, self.prog.duration)
 
     def frame(self) -> Frame:
@@ -648,7 +684,7 @@ def _preset_duration(values: dict[str, Any]) -> float:
 PARAMS: tuple[Param, ...] = (
     Param("method", "choice", "bisection", "controller", choices=METHODS, group="method",
           help="linear: all axes proportional; bisection: method 2; nonlinear: interpolation (4); fixed-normal: method 1"),
-    Param("limits", "choice", "original", "rotary limits", choices=("original", "improved"), group="method",
+    Param("limits", "choice", "improved", "rotary limits", choices=("original", "improved"), group="method",
           help="original: C in [0, 2pi), B in [0, pi/2]; improved: B in (-pi/4, pi/4), C free"),
     Param("tolerance_um", "float", 20.0, "tolerance delta_p", "um", 1.0, 1000.0, 1.0, group="method"),
     Param("max_depth", "int", 30, "bisection depth cap", "", 1, 30, 1, group="method"),
@@ -676,7 +712,7 @@ PARAMS: tuple[Param, ...] = (
 
 def _seg(name: str) -> dict[str, Any]:
     (u0, v0), (u1, v1) = SEGMENTS[name]
-    return {"path": "line", "segments": 1, "u0": u0, "v0": v0, "u1": u1, "v1": v1, "V": 10.0}
+    return {"path": "line", "segments": 1, "u0": u0, "v0": v0, "u1": u1, "v1": v1, "V": 10.0, "limits": "original"}
 
 
 _PRESET_VALUES: list[tuple[str, str, dict[str, Any], str]] = [
@@ -746,6 +782,8 @@ class Laser5Axis(Lesson):
         if r_max > wp.radius:
             raise ParamError("radius" if params["path"] == "circle" else "u1",
                              f"the path reaches {r_max:.0f} mm from the axis; the {wp.name} covers {wp.radius:.0f} mm")
+        if params["method"] == "nonlinear" and int(params["segments"]) * int(params["sub_moves"]) > MAX_MOVES:
+            raise ParamError("sub_moves", f"segments x sub_moves must stay within {MAX_MOVES} CNC moves")
         try:
             translate(machine_of(params), task_of(params))
         except LimitError as exc:
@@ -837,7 +875,7 @@ class Laser5Axis(Lesson):
         prog = build_program(params)
         duration = prog.duration
         t_end = duration if t_end is None else float(t_end)
-        per = int(min(200, max(6, math.ceil(TRAIL_SAMPLES / max(len(prog.moves), 1)))))
+        per = int(min(200, max(4, math.ceil(TRAIL_SAMPLES / max(len(prog.moves), 1)))))
         cols: dict[str, list[np.ndarray]] = {k: [] for k in ("t", "x", "y", "z", "dev", "off", "speed", "X", "Y", "Z", "C", "B", "piece")}
         for k, mv in enumerate(prog.moves):
             if prog.starts[k] > t_end:

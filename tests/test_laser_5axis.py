@@ -358,3 +358,30 @@ def test_task_translation_sequential() -> None:
     qs = translate(m, task)
     steps = np.degrees(np.diff([q[3] for q in qs]))
     assert np.allclose(np.abs(steps), 11.25, atol=1e-9)
+
+
+def test_vertical_start_takes_next_c() -> None:
+    """A task starting at the apex (vertical beam) takes C from the next pose: no lever swing."""
+    run = LESSON.simulate(LESSON.resolve({"path": "line", "u0": 0, "v0": 0, "u1": 100, "v1": 0, "segments": 4,
+                                          "method": "bisection", "limits": "original"}))
+    assert run.series["C_deg"][0] == pytest.approx(90.0) and run.series["B_deg"][0] == 0.0
+    assert run.metrics["converged"] and run.metrics["pieces"] == 8
+
+
+def test_line_through_apex_needs_improved_limits() -> None:
+    """Across the apex the azimuth jumps by pi: C in [0, 2pi) must swing the lever, B of both signs need not."""
+    base = {"path": "line", "u0": -100, "v0": 0, "u1": 100, "v1": 0, "segments": 1, "method": "bisection"}
+    orig = LESSON.simulate(LESSON.resolve({**base, "limits": "original"}))
+    impr = LESSON.simulate(LESSON.resolve({**base, "limits": "improved"}))
+    assert not orig.metrics["converged"] and orig.metrics["deviation_max_mm"] > 100.0
+    assert orig.messages and "vertical" in orig.messages[0]
+    assert impr.metrics["converged"] and impr.metrics["deviation_max_mm"] <= 0.020
+    assert impr.series["B_deg"].min() < 0.0 < impr.series["B_deg"].max()
+
+
+def test_program_size_limits() -> None:
+    with pytest.raises(ParamError):
+        LESSON.resolve({"method": "nonlinear", "segments": 200, "sub_moves": 256})
+    run = LESSON.simulate(LESSON.resolve({"method": "bisection", "tolerance_um": 1, "segments": 3, "radius": 900}))
+    assert run.metrics["converged"] and run.metrics["deviation_max_mm"] <= 0.001
+    assert run.metrics["pieces"] <= 4096

@@ -28,7 +28,6 @@ from typing import Callable, Literal, Protocol, Sequence
 
 import numpy as np
 import trimesh
-from scipy.optimize import minimize_scalar
 
 Limits = Literal["original", "improved"]
 TWO_PI = 2.0 * math.pi
@@ -343,6 +342,30 @@ def make_task(workpiece: Workpiece, path: str, segments: int, start: tuple[float
     return Task(uv=uv, points=p, normals=n, workpiece=workpiece)
 
 
+def vertical(n: np.ndarray) -> bool:
+    """Whether the beam is vertical (rule (2)'s first variant applies)."""
+    n = unit(n)
+    return bool(math.hypot(float(n[0]), float(n[1])) < VERTICAL_EPS)
+
+
+def translate_poses(machine: Machine5, points: np.ndarray, normals: np.ndarray) -> list[np.ndarray]:
+    """Poses -> CNC commands in order, rule (2)/(3), each with the previous C as reference.
+
+    A vertical beam leaves C free (first variant of rule (2)); it takes the C of the
+    next non-vertical pose, so the lever does not swing on the way out of the vertical.
+    """
+    qs: list[np.ndarray] = []
+    for i, (p, n) in enumerate(zip(points, normals)):
+        ref = None if not qs else float(qs[-1][3])
+        if vertical(n):
+            for n_next in normals[i + 1:]:
+                if not vertical(n_next):
+                    ref = machine.rotary(n_next, ref)[0]
+                    break
+        qs.append(machine.inverse(p, n, ref))
+    return qs
+
+
 # ---------------------------------------------------------------- moves
 
 
@@ -402,7 +425,7 @@ def segment_distance(points: np.ndarray, a: np.ndarray, b: np.ndarray) -> tuple[
 
 
 def move_deviation(machine: Machine5, move: Move, a: np.ndarray | None = None, b: np.ndarray | None = None,
-                   samples: int = 129) -> float:
+                   samples: int = 33) -> float:
     """Largest distance of the working point from the segment ``a -> b`` (default: the move's chord)."""
     a = move.p0 if a is None else a
     b = move.p1 if b is None else b
@@ -413,13 +436,21 @@ def move_deviation(machine: Machine5, move: Move, a: np.ndarray | None = None, b
 
     tau = np.linspace(0.0, 1.0, samples)
     d = dev(tau)
+    best = float(d.max())
+    for _ in range(2):  # zoom twice around the largest sample, then a parabola through the top three
+        k = int(np.argmax(d))
+        lo, hi = tau[max(k - 1, 0)], tau[min(k + 1, len(tau) - 1)]
+        tau = np.linspace(lo, hi, samples)
+        d = dev(tau)
+        best = max(best, float(d.max()))
     k = int(np.argmax(d))
-    lo, hi = tau[max(k - 1, 0)], tau[min(k + 1, samples - 1)]
-    if hi > lo:
-        res = minimize_scalar(lambda s: -float(dev(np.array([s]))[0]), bounds=(lo, hi), method="bounded",
-                              options={"xatol": 1e-10})
-        return max(float(d[k]), -float(res.fun))
-    return float(d[k])
+    if 0 < k < len(tau) - 1:
+        y0, y1, y2 = d[k - 1], d[k], d[k + 1]
+        den = y0 - 2 * y1 + y2
+        if den < 0:
+            s = 0.5 * (y0 - y2) / den
+            best = max(best, float(dev(np.array([tau[k] + s * (tau[1] - tau[0])]))[0]))
+    return best
 
 
 # ---------------------------------------------------------------- controllers
