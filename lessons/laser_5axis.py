@@ -74,7 +74,6 @@ from lessons.core.kinematics5 import (
     sagitta_estimate,
     segment_distance,
     translate_poses,
-    vertical,
 )
 
 METHODS = ("linear", "bisection", "nonlinear", "fixed-normal")
