@@ -161,15 +161,15 @@ class ArcLengthCurve:
         for _ in range(80):
             f = _clenshaw_rows(sc, x) - target
             lo = np.where(f <= 0, x, lo)
-            hi = np.where(f > 0, x, hi)
+            hi = np.where(f >= 0, x, hi)
             d = _clenshaw_rows(gc, x) * half
             with np.errstate(all="ignore"):
-                xn = x - f / d
-            bad = ~np.isfinite(xn) | (xn <= lo) | (xn >= hi)
+                xn = np.where(f == 0, x, x - f / d)
+            bad = ~np.isfinite(xn) | (xn < lo) | (xn > hi)
             xn = np.where(bad, (lo + hi) / 2, xn)
             step = np.abs(xn - x)
             x = xn
-            if np.all(step <= 4e-16) or np.all(hi - lo <= 4e-16):
+            if np.all((step <= 1e-14) | (hi - lo <= 1e-14)):
                 break
         return (a + b) / 2 + half * x
 
