@@ -146,10 +146,14 @@ def curve_model(x: str, y: str, z: str, phi0: float, phi1: float) -> CurveModel:
         bad = ~np.isfinite(vals[:, k])
         if bad.any():
             raise ParamError(name, f"{forms[name].text!r} is not a finite real number at phi = {probe[np.argmax(bad)]:.6g}")
+    for name in "xyz":
+        _check_continuous(name, forms[name], phi0, phi1)
     try:
         arc = ArcLengthCurve(r, dr, phi0, phi1)
     except ValueError as exc:
         raise ParamError("x", f"arc length (1.12) cannot be computed: {exc}") from None
+    if arc.table.accuracy > 1e-6 * max(arc.S_l, 1.0):
+        raise ParamError("x", f"arc length (1.12) does not settle (S_l ~ {arc.S_l:.4g}): the curve may have a pole or a jump in [phi0, phi1]")
     if not arc.S_l > 1e-12:
         raise ParamError("x", "the curve has zero length: x, y, z do not change over [phi0, phi1]")
     s = np.linspace(0.0, arc.S_l, 801)
@@ -161,6 +165,22 @@ def curve_model(x: str, y: str, z: str, phi0: float, phi1: float) -> CurveModel:
     cusp_s, _ = _zero_passes(arc, arc.dr, max(dr_scale, 1e-300))
     nonsmooth = any(e.has(sp.sign, sp.Abs, sp.Heaviside) for e in dexprs)
     return CurveModel((x, y, z), exprs, dexprs, float(phi0), float(phi1), arc, scale, pts, origin_s, rmin, cusp_s, nonsmooth)
+
+
+def _check_continuous(name: str, f: Formula, phi0: float, phi1: float) -> None:
+    """Refuse a coordinate that is not continuous on [phi0, phi1] (a pole, a log of 0, ...)."""
+    from sympy.calculus.util import continuous_domain
+
+    whole = sp.Interval(sp.Float(phi0), sp.Float(phi1))
+    try:
+        dom = continuous_domain(f.expr, PHI, whole)
+    except Exception:  # sympy cannot decide: the numeric checks remain
+        return
+    missing = sp.Complement(whole, dom)
+    if missing.is_empty is not False:
+        return
+    where = missing.inf
+    raise ParamError(name, f"{f.text!r} is not continuous on [phi0, phi1]: undefined or singular at phi = {float(where):.6g}")
 
 
 def _zero_passes(arc: ArcLengthCurve, fn: Callable[[np.ndarray], np.ndarray], scale: float) -> tuple[tuple[float, ...], float]:
@@ -335,7 +355,8 @@ def integrate_15(prog: Program, nodes: np.ndarray, y0: np.ndarray, substeps: int
     for i in range(n - 1):
         a, b = float(nodes[i]), float(nodes[i + 1])
         if prog.in_gap(0.5 * (a + b)):
-            y = [math.nan] * 3
+            # suspended; restarted from the curve at the window's end
+            y = [math.nan] * 3 if prog.in_gap(b) else list(Xf[int(starts[i + 1])])
             out[i + 1] = y
             continue
         base = int(starts[i])
