@@ -23,6 +23,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from functools import lru_cache
 from typing import Literal
 
 import numpy as np
@@ -182,12 +183,17 @@ def speed_profile(S_l: float, v0: float, Delta0: float, Delta1: float) -> SpeedP
 
 def triangle_symbolic() -> dict[str, sp.Expr]:
     """Solve v1 = k1 t1 = k2 (tau - t1), v1 tau / 2 = S_l for (t1, tau, v1) with sympy (A2)."""
+    return dict(_triangle_symbolic())
+
+
+@lru_cache(maxsize=1)
+def _triangle_symbolic() -> tuple[tuple[str, sp.Expr], ...]:
     S, k1, k2 = sp.symbols("S_l k_1 k_2", positive=True)
     t1, tau, v1 = sp.symbols("t_1 tau v_1", positive=True)
     sol = sp.solve([sp.Eq(v1, k1 * t1), sp.Eq(v1, k2 * (tau - t1)), sp.Eq(v1 * tau / 2, S)], [t1, tau, v1], dict=True)
     if len(sol) != 1:
         raise RuntimeError(f"expected one positive solution, got {sol}")
-    return {str(k): v for k, v in sol[0].items()}
+    return tuple((str(k), v) for k, v in sol[0].items())
 
 
 __all__ = ["ProfileKind", "SpeedProfile", "speed_profile", "trapezoid_L", "triangle_1_9", "triangle_symbolic"]
