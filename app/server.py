@@ -132,6 +132,14 @@ class LabServer:
     def __init__(self, host: str = "127.0.0.1", port: int = 8080, lesson: str | None = None, fps: float = 30.0,
                  lessons: Sequence[Lesson] | None = None, verbose: bool = False, restore: bool = True,
                  config: ViewConfig | None = None, warm_up: bool = True) -> None:
+        self.fps = float(fps)
+        self.restore = restore
+        self.config = config or ViewConfig(fps=self.fps)
+        self.host = host
+        self.requested_port = port
+        # HTTP first (a browser gets the page while the lessons are imported)
+        self.server = _make_viser_server(host, port, verbose)
+        self.port: int = int(self.server.get_port())
         if lessons is None:
             from lessons.catalog import all_lessons
 
@@ -139,15 +147,9 @@ class LabServer:
         self.lessons = tuple(lessons)
         ids = {l.id for l in self.lessons}
         if lesson is not None and lesson not in ids:
+            self.server.stop()
             raise LabError(f"unknown lesson {lesson[:60]!r}; known: {', '.join(sorted(ids))}")
         self.default_lesson = lesson
-        self.fps = float(fps)
-        self.restore = restore
-        self.config = config or ViewConfig(fps=self.fps)
-        self.host = host
-        self.requested_port = port
-        self.server = _make_viser_server(host, port, verbose)
-        self.port: int = int(self.server.get_port())
         self.views: dict[int, SessionView] = {}
         self._views_lock = threading.Lock()
         self.stats = LoopStats()

@@ -74,7 +74,7 @@ class Page:
 
     def __init__(self, lab: Any, browser: Any, context: Any = None) -> None:
         self.lab = lab
-        self.context = context or browser.new_context(viewport={"width": 1400, "height": 900}, accept_downloads=True)
+        self.context = context or browser.new_context(viewport={"width": 1100, "height": 760}, accept_downloads=True)
         self.page = self.context.new_page()
         self.errors: list[str] = []
         self.page.on("console", lambda m: self.errors.append(m.text) if m.type == "error" else None)
