@@ -305,7 +305,8 @@ def test_every_lesson_and_preset_plays(shared_tab: Page, lesson_id: str, preset:
     tab.load(label, preset)
     tab.button("Play")
     t0 = tab.session.frame.t
-    wait_until(lambda: tab.session.frame.t > t0 + 0.2 or not tab.session.playing, 10, "playback")
+    # lessons choose their own time scale (slow motion for vibrations): any progress counts
+    wait_until(lambda: tab.session.frame.t > t0 or not tab.session.playing, 10, "playback")
     tab.button("Pause")
     wait_until(lambda: tab.page.locator("math").count() > 0, 10, "equations")
     assert "internal error" not in tab.status()
