@@ -154,6 +154,12 @@ class LabServer:
         self._views_lock = threading.Lock()
         self.stats = LoopStats()
         self._stop = threading.Event()
+        self.duty = 0.85  # share of each frame period the loop may spend on sessions
+        self._rr = 0
+        # shorter interpreter switch interval: the frame loop and viser's event loop
+        # (which sends the frames) alternate often enough for smooth delivery
+        if sys.getswitchinterval() > 0.002:
+            sys.setswitchinterval(0.002)
         every = os.environ.get("ANALYZER_LAB_STATS", "")
         self._report_every = int(float(every) * self.fps) if every.replace(".", "", 1).isdigit() else 0
         self._report_t, self._report_busy, self._report_steps, self._report_ticks = time.monotonic(), 0.0, 0.0, 0
@@ -218,7 +224,17 @@ class LabServer:
                 views = list(self.views.values())
             substeps = 8 if self.stats.load < 0.5 else 4 if self.stats.load < 0.8 else 1
             batch = _WakeBatch(self.server)
-            for view in views:
+            # round-robin with a time budget: under overload every session still gets
+            # its turn and viser's sending thread keeps its share of the interpreter
+            budget = start + self.duty * period
+            n = len(views)
+            offset = self._rr % n if n else 0
+            done = 0
+            for k in range(n):
+                view = views[(offset + k) % n]
+                if k and time.monotonic() > budget:
+                    break
+                done += 1
                 session = view.session
                 if not session.lock.acquire(blocking=False):
                     self.stats.skipped += 1
@@ -236,6 +252,7 @@ class LabServer:
                     session.notify(f"internal error, playback paused: {type(exc).__name__}: {exc}", "error")
                 finally:
                     session.lock.release()
+            self._rr = (offset + done) % n if n else 0
             batch.release()
             busy = time.monotonic() - start
             if self._report_every and self.stats.ticks % self._report_every == 0 and self.stats.ticks:
