@@ -24,7 +24,7 @@ the path is a staircase.  Two updates:
 
 On the circle x' = y, y' = -x the simple update multiplies the radius by √(1 + Δ²) per
 iteration, i.e. by exp(πΔ) ≈ 1 + πΔ per turn (a spiral); the improved update keeps
-x² + y² - Δxy exactly, a closed curve within ΔR/4 of the circle.
+x² + y² + Δxy exactly, a closed curve within ΔR/4 of the circle.
 """
 
 from __future__ import annotations

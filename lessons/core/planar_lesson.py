@@ -120,9 +120,9 @@ class PlanarLesson(Lesson):
             second_x = xs1 if mode == "improved" else xs
             steps.append(DerivationStep(
                 f"The {mode} update",
-                ("Both additions use the old coordinates (Euler): the circle spirals out by about πΔR per turn."
+                ("Both additions use the old coordinates (Euler): a circle spirals out by about πΔR per turn."
                  if mode == "simple" else
-                 "The second addition uses the x just updated (symplectic Euler): x² + y² - Δxy is kept exactly, the error stays within ΔR/4.")
+                 "The second addition uses the x just updated (symplectic Euler): on the circle x² + y² + Δxy is kept exactly, the error stays within ΔR/4.")
                 + " Each coordinate emits a step pulse whenever its remainder register passes half a pulse length.",
                 [sp.Eq(xs1, xs + k * D * (a["a12"] * xs + a["a22"] * ys + a["a23"])),
                  sp.Eq(ys1, ys - k * D * (a["a11"] * second_x + a["a12"] * ys + a["a13"]))],
