@@ -1,0 +1,86 @@
+"""The headless command line: output shape and exit codes (run as a real subprocess)."""
+
+import csv
+import io
+import json
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+
+def cli(*args, timeout=300):
+    return subprocess.run([sys.executable, "-m", "app", *args], capture_output=True, text=True, timeout=timeout)
+
+
+def test_lessons_json_lists_sphere():
+    out = cli("lessons", "--json")
+    assert out.returncode == 0, out.stderr
+    items = json.loads(out.stdout)
+    sphere = next(i for i in items if i["id"] == "sphere")
+    assert "Problem 1.4" in sphere["problem"]
+    assert {"u1", "u2", "u3", "x0", "y0", "z0", "R"} <= {p["name"] for p in sphere["params"]}
+    assert "example-1.1" in {p["name"] for p in sphere["presets"]}
+
+
+def test_run_json_example_1_1(tmp_path):
+    out = cli("run", "sphere", "--preset", "example-1.1", "--format", "json")
+    assert out.returncode == 0, out.stderr
+    doc = json.loads(out.stdout)
+    assert set(doc) >= {"lesson", "preset", "params", "t", "series", "metrics"}
+    assert doc["lesson"] == "sphere" and doc["preset"] == "example-1.1"
+    assert {"x", "y", "z", "vx", "vy", "vz"} <= set(doc["series"])
+    assert doc["t"][-1] == pytest.approx(10.0)
+    v2 = np.array(doc["series"]["vx"]) ** 2 + np.array(doc["series"]["vy"]) ** 2 + np.array(doc["series"]["vz"]) ** 2
+    assert np.abs(v2 - 50).max() < 1e-9
+
+
+def test_run_csv_to_file_with_set(tmp_path):
+    path = tmp_path / "run.csv"
+    out = cli("run", "sphere", "--set", "u1=t", "--set", "u2=2", "--t-end", "2", "--format", "csv", "--out", str(path))
+    assert out.returncode == 0, out.stderr
+    rows = list(csv.reader(io.StringIO(path.read_text())))
+    assert rows[0][:7] == ["t", "x", "y", "z", "vx", "vy", "vz"]
+    assert float(rows[-1][0]) == pytest.approx(2.0)
+
+
+@pytest.mark.parametrize(
+    "args, needle",
+    [
+        (("run", "nosuch"), "unknown lesson"),
+        (("run", "sphere", "--set", "bogus=1"), "unknown parameter"),
+        (("run", "sphere", "--set", "u1=__import__('os')"), "u1"),
+        (("run", "sphere", "--set", "x0=nan"), "x0"),
+        (("run", "sphere", "--set", "R=inf"), "R"),
+        (("run", "sphere", "--preset", "example-9"), "unknown preset"),
+        (("run", "sphere", "--set", "novalue"), "NAME=VALUE"),
+        (("run", "sphere", "--t-end", "nan"), "t-end"),
+    ],
+)
+def test_run_bad_input_exit_2_one_line(args, needle):
+    out = cli(*args)
+    assert out.returncode == 2
+    lines = [l for l in out.stderr.splitlines() if l.strip()]
+    assert len(lines) == 1 and needle in lines[0], out.stderr
+    assert out.stdout == ""
+
+
+def test_run_off_surface_start_is_projected_with_note():
+    out = cli("run", "sphere", "--set", "x0=2", "--set", "y0=0", "--set", "z0=0", "--t-end", "1")
+    assert out.returncode == 0
+    doc = json.loads(out.stdout)
+    assert any("projected" in m for m in doc["messages"])
+    assert doc["series"]["x"][0] == pytest.approx(1.0)
+    assert "projected" in out.stderr
+
+
+def test_check_sphere_passes_and_reports():
+    out = cli("check", "sphere")
+    assert out.returncode == 0, out.stdout + out.stderr
+    assert "claims pass" in out.stdout and "FAIL" not in out.stdout
+    assert "expected" in out.stdout and "got" in out.stdout
+
+
+def test_check_unknown_lesson_exit_2():
+    assert cli("check", "nosuch").returncode == 2
