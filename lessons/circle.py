@@ -71,6 +71,8 @@ class CircleLesson(PlanarLesson):
                "pulse length 0.25: the steps are visible"),
     )
 
+    block_figure = "Figs. 1.11, 1.13"
+
     def validate(self, params: Params) -> None:
         super().validate(params)
         if params["radius_mode"] != RADIUS_MODES[0]:

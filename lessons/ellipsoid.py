@@ -57,6 +57,8 @@ class EllipsoidLesson(AnalyzerLesson):
                "the plane-curve statement of Problem 1.3: u3 x + u2 y + u1 z stays constant"),
     )
 
+    block_figure = "Fig. 1.30"
+
     def surface(self, params: Params) -> Quadric:
         """(1.60) in the normalized coefficients of (1.63): 1/a², 1/b², 1/c², a44 = -1."""
         return Quadric.ellipsoid(float(params["a"]), float(params["b"]), float(params["c"]))

@@ -86,6 +86,12 @@ class ParabolaLesson(PlanarLesson):
         notes = [f"family: series without suffix λ = {lams[0]:g}" + "".join(f", _{k + 1} λ = {l:g}" for k, l in enumerate(lams[1:], 1))] if len(lams) > 1 else []
         return PlanarModel.of(coeffs, float(params["omega"]) ** 2), r0, notes
 
+    block_figure = "Fig. 1.6"
+
+    def diagram_equations(self, params: Params, prepared: PlanarPrepared) -> list[sp.Eq]:
+        """(1.33) with this lesson's numbers and ω² kept as the gain after the summers (Fig. 1.6)."""
+        return prepared.model.equations(sp.Symbol("ω", real=True) ** 2)
+
     def extra_derivation(self, params: Params, prepared: PlanarPrepared) -> list[DerivationStep]:
         lam, w = sp.Symbol("λ"), sp.Symbol("ω")
         a11, a12, a22, a13, a23 = sp.symbols("a11 a12 a22 a13 a23")

@@ -224,7 +224,7 @@ class SelfStudy1Lesson(Lesson):
                 DerivationStep("How many free coefficients", f"(1.47) on this surface has rank {rep.rank}: {rep.nullity} free coefficients"
                                + (", of which (1.50) gives 3." if rep.nullity != 3 else ", and (1.50) is the whole solution set."), None, "(1.47)"),
             ]
-            return [*inner.derivation(ip)[:4], *steps]
+            return [*inner.derivation(ip)[:4], *steps, inner.block_diagram_step(ip, inner.prepare(ip))]
         coeffs, start, eq = planar_task(task, params)
         model = PlanarModel.of(coeffs, params["u"])
         names = ("x", "z") if task == "C1.1-circle" else ("x", "y")
@@ -241,7 +241,12 @@ class SelfStudy1Lesson(Lesson):
             DerivationStep("The run", f"u(t) = {params['u']}; the motion depends on u only through Θ(t) = ∫0^t u dt.",
                            sp.Eq(theta, sp.Integral(params["u"].expr.subs(sp.Symbol("t", real=True), t), (t, 0, sp.Symbol("τ")))), "C1.1-C1.4 (а)-(г)"),
         ]
-        return [*inner.general_derivation(ip), *steps, *inner.digital_derivation(ip)]
+        return [*inner.general_derivation(ip), *steps, inner.block_diagram_step(ip, inner.prepare(ip)), *inner.digital_derivation(ip)]
+
+    def block_diagram(self, params: Params):
+        """The task's analyzer block diagram (Fig. 1.5 notation)."""
+        inner, ip = self._inner(params)
+        return inner.block_diagram(ip)
 
     def simulate(self, params: Params, t_end: float | None = None) -> RunResult:
         inner, ip = self._inner(params)

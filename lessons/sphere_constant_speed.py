@@ -57,6 +57,8 @@ class SphereConstantSpeedLesson(AnalyzerLesson):
                "at t = 0 the field (0, -sin 10t, t) vanishes at (1, 0, 0): ω is undefined, the point holds; from t > 0 it moves at V = 1"),
     )
 
+    block_figure = "Fig. 1.27"
+
     def surface(self, params: Params) -> Quadric:
         """(1.52) with the coefficients (1.53)."""
         return Quadric.sphere(float(params["R"]))

@@ -15,6 +15,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import sympy as sp
 
+from lessons.core.block_diagram import BlockDiagram, block_diagram
 from lessons.core.contract import (
     CurveItem,
     DerivationStep,
@@ -134,7 +135,32 @@ class PlanarLesson(Lesson):
 
     def derivation(self, params: Params) -> list[DerivationStep]:
         prepared = self.prepare(params)
-        return [*self.general_derivation(params), *self.extra_derivation(params, prepared), *self.digital_derivation(params)]
+        return [*self.general_derivation(params), *self.extra_derivation(params, prepared), self.block_diagram_step(params, prepared),
+                *self.digital_derivation(params)]
+
+    #: The textbook figure the block diagram corresponds to.
+    block_figure: str = "Fig. 1.5 notation"
+
+    def diagram_equations(self, params: Params, prepared: PlanarPrepared) -> list[sp.Eq]:
+        """The equations the diagram is drawn from: the integrated ones, a time-varying gain as the control u."""
+        g = prepared.model.gain
+        const = not isinstance(g, Formula) or g.is_constant
+        gain = (sp.nsimplify(float(g.value(0.0)) if isinstance(g, Formula) else float(g), rational=True)) if const else sp.Symbol("u", real=True)
+        return prepared.model.equations(gain, self.axis_names())
+
+    def block_diagram(self, params: Params, prepared: PlanarPrepared | None = None) -> BlockDiagram:
+        """The analyzer's block diagram (Fig. 1.5 notation) built from :meth:`diagram_equations`."""
+        prepared = self.prepare(params) if prepared is None else prepared
+        return block_diagram(self.diagram_equations(params, prepared), signals=("u",), title=f"{self.problem}: analyzer block diagram")
+
+    def block_diagram_step(self, params: Params, prepared: PlanarPrepared) -> DerivationStep:
+        """The diagram as a derivation step: ``text`` is the self-contained SVG (escaped labels, no scripts)."""
+        d = self.block_diagram(params, prepared)
+        c = d.counts()
+        title = (f"Block diagram: {c.get('integrator', 0)} integrators, {c.get('multiplier', 0)} multipliers, "
+                 f"{c.get('summer', 0)} summers, {c.get('scale', 0)} scale blocks")
+        return DerivationStep(title, d.svg, None, self.block_figure,
+                              reconstructed="the wiring is generated from the equations; the figure's layout is not reproduced")
 
     def validate(self, params: Params) -> None:
         for name in ("u",):
