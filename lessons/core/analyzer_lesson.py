@@ -15,7 +15,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import sympy as sp
 
-from lessons.core.analyzer import COEFF_NAMES, AnalyzerModel, AnalyzerRun, Controls, U, field_expr, integrate, quadric_expr
+from lessons.core.analyzer import COEFF_NAMES, AnalyzerModel, AnalyzerRun, Controls, SpeedStepper, U, field_expr, integrate, quadric_expr
 from lessons.core.block_diagram import BlockDiagram, block_diagram
 from lessons.core.contract import (
     DerivationStep,
@@ -32,7 +32,7 @@ from lessons.core.contract import (
     Stepper,
 )
 from lessons.core.formula import Formula, t_symbol
-from lessons.core.integrators import GLStepper, gl_linear
+from lessons.core.integrators import gl_linear
 from lessons.core.quadric import Quadric
 
 METHODS = ("gauss-legendre-3", "gauss-legendre-2", "RK45", "DOP853")
@@ -235,7 +235,7 @@ class AnalyzerLesson(Lesson):
     def simulate(self, params: Params, t_end: float | None = None) -> RunResult:
         t_end = self.t_end if t_end is None else float(t_end)
         prepared, run = self.run_analyzer(params, t_end)
-        scale = prepared.quadric.scale
+        scale = float(max(prepared.quadric.scale, np.max(prepared.model.F_scale(run.r))))
         v2 = (run.v**2).sum(-1)
         series: dict[str, np.ndarray] = {}
         for k in range(run.r.shape[1]):
@@ -362,9 +362,9 @@ class AnalyzerStepper(Stepper):
             _, states = gl_linear(lambda ts: model.linear_coeffs(ts, len(self.R)), self.R, self._t, self._t + n * h, h, self.stages)
             self.R = states[-1]
         else:
-            stepper = GLStepper(model.velocity, model.jacobian, self.stages)
-            for k in range(n):
-                self.R = stepper.step(self._t + k * h, self.R, h)
+            stepper = SpeedStepper(model, self.stages)
+            _, states, _ = stepper.integrate(self.R, self._t, self._t + n * h, h)
+            self.R = states[-1]
         self._t += n * h
         return self.frame()
 

@@ -1,0 +1,199 @@
+"""Speed-limit profiles v(t) of a motion program: trapezoid (1.8) and triangle (1.9).
+
+Textbook §1.1 (Fig. 1.1, Fig. 1.2).  The maximum allowed speed modulus is a law
+``v = v(t)``: a ramp up of duration ``Delta0``, a constant segment at ``v0`` of
+duration ``Delta`` and a ramp down of duration ``Delta1``.  With
+
+    L = S_l - v0 (Delta0 + Delta1) / 2                                  (1.8)
+
+the constant segment lasts ``Delta = L / v0`` when ``L > 0``.  When ``L <= 0`` the
+curve is covered in minimum time by the triangle of Fig. 1.2 with rising slope
+``k1 = tg(alpha)`` and falling slope ``k2 = tg(beta)``:
+
+    t1 = sqrt(2 S_l k2 / (k1 (k1 + k2))),  tau = (k1 + k2) t1 / k2,
+    v1 = sqrt(2 S_l k1 k2 / (k1 + k2))                                  (1.9)
+
+The project takes the trapezoid's slopes, ``k1 = v0/Delta0`` and ``k2 = v0/Delta1``
+(DESIGN.md §3 item 5), so the two cases join at ``L = 0`` (there ``v1 = v0``).
+The closed forms of ``s(t) = integral of v`` (1.7) are derived here; the source only
+says "integrate (1.7)".
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from functools import lru_cache
+from typing import Literal
+
+import numpy as np
+import sympy as sp
+
+ProfileKind = Literal["trapezoid", "triangle"]
+
+
+@dataclass(frozen=True)
+class SpeedProfile:
+    """A trapezoid or triangle speed law covering exactly the length ``S_l``.
+
+    Both are stored as a generic trapezoid: ramp up ``rise`` (s), plateau ``flat``
+    (s) at the peak ``peak``, ramp down ``fall`` (s).  For the trapezoid
+    ``rise, flat, fall, peak = Delta0, Delta, Delta1, v0``; for the triangle
+    ``t1, 0, tau - t1, v1``.
+    """
+
+    kind: ProfileKind
+    S_l: float
+    v0: float
+    Delta0: float
+    Delta1: float
+    L: float  # (1.8)
+    Delta: float  # constant-speed duration (0 for the triangle)
+    T: float  # total time (tau for the triangle)
+    t1: float  # time of the peak (start of the plateau)
+    tau: float  # end of the motion (== T)
+    v1: float  # peak speed (v0 for the trapezoid)
+    k1: float  # rising slope v0/Delta0 (inf for an instant ramp)
+    k2: float  # falling slope v0/Delta1
+
+    @property
+    def rise(self) -> float:
+        return self.t1
+
+    @property
+    def flat(self) -> float:
+        return self.Delta
+
+    @property
+    def fall(self) -> float:
+        return self.T - self.t1 - self.Delta
+
+    @property
+    def peak(self) -> float:
+        return self.v1
+
+    @property
+    def breakpoints(self) -> tuple[float, ...]:
+        """Times where the acceleration jumps: 0, end of rise, end of plateau, T."""
+        pts = [0.0, self.t1, self.t1 + self.Delta, self.T]
+        out: list[float] = []
+        for p in pts:
+            if not out or p > out[-1]:
+                out.append(p)
+        return tuple(out)
+
+    # -- the law ------------------------------------------------------------------
+
+    def v(self, t: np.ndarray | float) -> np.ndarray:
+        """The speed law v(t) (zero before 0 and after T)."""
+        t = np.asarray(t, dtype=float)
+        a, c, T, p = self.rise, self.flat, self.T, self.peak
+        out = np.zeros_like(t)
+        up = (t > 0) & (t < a)
+        out[up] = p * t[up] / a
+        mid = (t >= a) & (t <= a + c)
+        out[mid] = p
+        down = (t > a + c) & (t < T)
+        out[down] = p * (T - t[down]) / self.fall
+        return out
+
+    def s(self, t: np.ndarray | float) -> np.ndarray:
+        """Path covered, s(t) = integral of v over [0, t] (1.7), in closed form."""
+        t = np.asarray(t, dtype=float)
+        a, c, T, p = self.rise, self.flat, self.T, self.peak
+        out = np.zeros_like(t)
+        up = (t > 0) & (t < a)
+        out[up] = p * t[up] ** 2 / (2 * a)
+        mid = (t >= a) & (t <= a + c)
+        out[mid] = p * a / 2 + p * (t[mid] - a)
+        down = (t > a + c) & (t < T)
+        out[down] = self.S_l - p * (T - t[down]) ** 2 / (2 * self.fall)
+        out[t >= T] = self.S_l
+        return out
+
+    def acceleration(self, t: np.ndarray | float) -> np.ndarray:
+        """dv/dt (piecewise constant; zero outside the ramps)."""
+        t = np.asarray(t, dtype=float)
+        a, c, T, p = self.rise, self.flat, self.T, self.peak
+        out = np.zeros_like(t)
+        if a > 0:
+            out[(t > 0) & (t < a)] = p / a
+        if self.fall > 0:
+            out[(t > a + c) & (t < T)] = -p / self.fall
+        return out
+
+    def time_at(self, s: np.ndarray | float) -> np.ndarray:
+        """Inverse of s(t) on [0, T]: the time when the path ``s`` is reached."""
+        s = np.clip(np.asarray(s, dtype=float), 0.0, self.S_l)
+        a, c, T, p = self.rise, self.flat, self.T, self.peak
+        s_a = p * a / 2
+        s_b = s_a + p * c
+        out = np.empty_like(s)
+        up = s <= s_a
+        out[up] = np.sqrt(2 * a * s[up] / p) if a > 0 else 0.0
+        mid = (s > s_a) & (s <= s_b)
+        out[mid] = a + (s[mid] - s_a) / p
+        down = s > s_b
+        out[down] = T - np.sqrt(np.maximum(2 * self.fall * (self.S_l - s[down]) / p, 0.0))
+        return out
+
+
+def trapezoid_L(S_l: float, v0: float, Delta0: float, Delta1: float) -> float:
+    """(1.8): the length left for the constant-speed segment."""
+    return S_l - v0 / 2 * (Delta0 + Delta1)
+
+
+def triangle_1_9(S_l: float, k1: float, k2: float) -> tuple[float, float, float]:
+    """(1.9) as printed: (t1, tau, v1) for finite positive slopes k1, k2."""
+    t1 = math.sqrt(2 * S_l * k2 / (k1 * (k1 + k2)))
+    tau = (k1 + k2) / k2 * t1
+    v1 = math.sqrt(2 * S_l * k1 * k2 / (k1 + k2))
+    return t1, tau, v1
+
+
+def speed_profile(S_l: float, v0: float, Delta0: float, Delta1: float) -> SpeedProfile:
+    """The speed law of §1.1: trapezoid if L > 0 (1.8), else the minimum-time triangle (1.9).
+
+    The triangle uses the trapezoid's slopes k1 = v0/Delta0, k2 = v0/Delta1.  Written
+    with durations, its peak is ``v1 = sqrt(2 S_l v0 / (Delta0 + Delta1))``, reached at
+    ``t1 = v1 Delta0 / v0`` and ending at ``tau = v1 (Delta0 + Delta1) / v0``; this equals
+    (1.9) for finite slopes and stays defined when one ramp is instantaneous.
+    """
+    for name, val in (("S_l", S_l), ("v0", v0), ("Delta0", Delta0), ("Delta1", Delta1)):
+        if not math.isfinite(val):
+            raise ValueError(f"{name} must be finite, got {val}")
+    if S_l <= 0:
+        raise ValueError(f"the curve length S_l must be positive, got {S_l:g}")
+    if v0 <= 0:
+        raise ValueError(f"v0 must be positive, got {v0:g}")
+    if Delta0 < 0 or Delta1 < 0:
+        raise ValueError("ramp durations Delta0, Delta1 must be >= 0")
+    k1 = v0 / Delta0 if Delta0 > 0 else math.inf
+    k2 = v0 / Delta1 if Delta1 > 0 else math.inf
+    L = trapezoid_L(S_l, v0, Delta0, Delta1)
+    if L > 0:
+        Delta = L / v0
+        T = Delta0 + Delta + Delta1
+        return SpeedProfile("trapezoid", S_l, v0, Delta0, Delta1, L, Delta, T, Delta0, T, v0, k1, k2)
+    v1 = math.sqrt(2 * S_l * v0 / (Delta0 + Delta1))
+    t1 = v1 * Delta0 / v0
+    tau = v1 * (Delta0 + Delta1) / v0
+    return SpeedProfile("triangle", S_l, v0, Delta0, Delta1, L, 0.0, tau, t1, tau, v1, k1, k2)
+
+
+def triangle_symbolic() -> dict[str, sp.Expr]:
+    """Solve v1 = k1 t1 = k2 (tau - t1), v1 tau / 2 = S_l for (t1, tau, v1) with sympy (A2)."""
+    return dict(_triangle_symbolic())
+
+
+@lru_cache(maxsize=1)
+def _triangle_symbolic() -> tuple[tuple[str, sp.Expr], ...]:
+    S, k1, k2 = sp.symbols("S_l k_1 k_2", positive=True)
+    t1, tau, v1 = sp.symbols("t_1 tau v_1", positive=True)
+    sol = sp.solve([sp.Eq(v1, k1 * t1), sp.Eq(v1, k2 * (tau - t1)), sp.Eq(v1 * tau / 2, S)], [t1, tau, v1], dict=True)
+    if len(sol) != 1:
+        raise RuntimeError(f"expected one positive solution, got {sol}")
+    return tuple((str(k), v) for k, v in sol[0].items())
+
+
+__all__ = ["ProfileKind", "SpeedProfile", "speed_profile", "trapezoid_L", "triangle_1_9", "triangle_symbolic"]
