@@ -16,6 +16,7 @@ import numpy as np
 import sympy as sp
 
 from lessons.core.analyzer import COEFF_NAMES, AnalyzerModel, AnalyzerRun, Controls, SpeedStepper, U, field_expr, integrate, quadric_expr
+from lessons.core.block_diagram import BlockDiagram, block_diagram
 from lessons.core.contract import (
     DerivationStep,
     Frame,
@@ -196,7 +197,29 @@ class AnalyzerLesson(Lesson):
 
     def derivation(self, params: Params) -> list[DerivationStep]:
         prepared = self.prepare(params)
-        return [*self.general_derivation(params, prepared), *self.speed_derivation(params), *self.extra_derivation(params, prepared)]
+        return [*self.general_derivation(params, prepared), *self.speed_derivation(params), *self.extra_derivation(params, prepared),
+                self.block_diagram_step(params, prepared)]
+
+    #: The textbook figure the block diagram corresponds to (a subclass may name it).
+    block_figure: str = "Fig. 1.5 notation"
+
+    def block_diagram(self, params: Params, prepared: Prepared | None = None) -> BlockDiagram:
+        """The analyzer's block diagram (Fig. 1.5 notation) built from the integrated equations."""
+        prepared = self.prepare(params) if prepared is None else prepared
+        eqs = prepared.model.equations()
+        if self.constant_speed:
+            w = sp.Symbol("ω", real=True)
+            eqs = [sp.Eq(e.lhs, w * e.rhs) for e in eqs]
+        return block_diagram(eqs, signals=("u1", "u2", "u3", "ω"), title=f"{self.problem}: analyzer block diagram")
+
+    def block_diagram_step(self, params: Params, prepared: Prepared) -> DerivationStep:
+        """The diagram as a derivation step: ``text`` is the self-contained SVG (escaped labels, no scripts)."""
+        d = self.block_diagram(params, prepared)
+        c = d.counts()
+        title = (f"Block diagram: {c.get('integrator', 0)} integrators, {c.get('multiplier', 0)} multipliers, "
+                 f"{c.get('summer', 0)} summers, {c.get('scale', 0)} scale blocks")
+        return DerivationStep(title, d.svg, None, self.block_figure,
+                              reconstructed="the wiring is generated from the equations (the figure images are absent in the source)")
 
     def extra_derivation(self, params: Params, prepared: Prepared) -> list[DerivationStep]:
         return []
