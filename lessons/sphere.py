@@ -29,6 +29,7 @@ V2_TABLE = {
 
 
 class SphereLesson(AnalyzerLesson):
+    block_figure = "Fig. 1.15"
     id = "sphere"
     title = "Curve on a sphere"
     chapter = "1"

@@ -74,7 +74,7 @@ def test_lessons_expose_the_diagram():
     p = E.resolve(preset="example")
     assert E.block_diagram(p).counts()["integrator"] == 3
     step = [s for s in E.derivation(p) if s.title.startswith("Block diagram")][0]
-    assert step.math is None and step.text.startswith("<svg") and step.source == "Fig. 1.30"
+    assert step.math is None and step.svg.startswith("<svg") and step.source == "Fig. 1.30"
     pp = P.resolve(preset="lambda-0.05")
     assert P.block_diagram(pp).count("scale") == 6
 

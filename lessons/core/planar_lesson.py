@@ -154,12 +154,12 @@ class PlanarLesson(Lesson):
         return block_diagram(self.diagram_equations(params, prepared), signals=("u",), title=f"{self.problem}: analyzer block diagram")
 
     def block_diagram_step(self, params: Params, prepared: PlanarPrepared) -> DerivationStep:
-        """The diagram as a derivation step: ``text`` is the self-contained SVG (escaped labels, no scripts)."""
+        """The diagram as a derivation step: ``svg`` is the self-contained SVG (escaped labels, no scripts)."""
         d = self.block_diagram(params, prepared)
         c = d.counts()
         title = (f"Block diagram: {c.get('integrator', 0)} integrators, {c.get('multiplier', 0)} multipliers, "
                  f"{c.get('summer', 0)} summers, {c.get('scale', 0)} scale blocks")
-        return DerivationStep(title, d.svg, None, self.block_figure,
+        return DerivationStep(title, "Integrators (with their initial values), multipliers, summers and scale blocks, wired as the equations say.", None, self.block_figure, svg=d.svg,
                               reconstructed="the wiring is generated from the equations; the figure's layout is not reproduced")
 
     def validate(self, params: Params) -> None:
