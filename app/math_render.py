@@ -1,0 +1,174 @@
+"""Derivation steps as HTML with MathML (viser's markdown has no math).
+
+sympy's presentation printer (for expressions) and latex2mathml (for LaTeX strings)
+produce MathML; neither escapes the text it copies from symbol names or ``\\text{}``,
+so every MathML string is rebuilt by :func:`sanitize_mathml` from a whitelist of
+MathML elements and attributes with all text re-escaped.  Prose (titles, text,
+equation numbers, the "reconstructed" note) goes through :func:`html.escape`.
+"""
+
+from __future__ import annotations
+
+import html
+import re
+from html.parser import HTMLParser
+from typing import Any, Iterable, Sequence
+
+import sympy as sp
+from sympy.core.function import AppliedUndef
+
+from lessons.core.contract import DerivationStep
+
+MATHML_TAGS = frozenset(
+    """math mrow mi mn mo ms mtext mspace msup msub msubsup mfrac msqrt mroot mtable mtr mtd
+    mlabeledtr mstyle mover munder munderover mpadded mphantom menclose merror semantics mfenced""".split()
+)
+MATHML_ATTRS = frozenset(
+    """display mathvariant stretchy fence separator lspace rspace columnalign rowalign accent
+    accentunder linethickness displaystyle scriptlevel width height depth open close separators
+    columnspacing rowspacing notation form largeop movablelimits symmetric minsize maxsize""".split()
+)
+#: Elements whose content is dropped with them (never shown as text).
+DROP_CONTENT = frozenset({"script", "style", "annotation", "annotation-xml", "iframe", "object", "svg"})
+_SAFE_VALUE = re.compile(r"^[\w .,:%#+\-]*$")
+
+
+class _Sanitizer(HTMLParser):
+    def __init__(self) -> None:
+        super().__init__(convert_charrefs=True)
+        self.out: list[str] = []
+        self.open: list[str] = []
+        self.drop_depth = 0
+
+    def handle_starttag(self, tag: str, attrs: list[tuple[str, str | None]]) -> None:
+        if tag in DROP_CONTENT:
+            self.drop_depth += 1
+            return
+        if self.drop_depth or tag not in MATHML_TAGS:
+            return
+        parts = [tag]
+        if tag == "math":
+            parts.append('xmlns="http://www.w3.org/1998/Math/MathML"')
+        for name, value in attrs:
+            if name in MATHML_ATTRS and value is not None and _SAFE_VALUE.match(value):
+                parts.append(f'{name}="{html.escape(value, quote=True)}"')
+        self.out.append("<" + " ".join(parts) + ">")
+        self.open.append(tag)
+
+    def handle_startendtag(self, tag: str, attrs: list[tuple[str, str | None]]) -> None:
+        if tag in DROP_CONTENT:
+            return
+        self.handle_starttag(tag, attrs)
+        if not self.drop_depth and tag in MATHML_TAGS:
+            self.handle_endtag(tag)
+
+    def handle_endtag(self, tag: str) -> None:
+        if tag in DROP_CONTENT:
+            self.drop_depth = max(0, self.drop_depth - 1)
+            return
+        if self.drop_depth or tag not in MATHML_TAGS or tag not in self.open:
+            return
+        while self.open:
+            top = self.open.pop()
+            self.out.append(f"</{top}>")
+            if top == tag:
+                break
+
+    def handle_data(self, data: str) -> None:
+        if not self.drop_depth:
+            self.out.append(html.escape(data, quote=False))
+
+    def result(self) -> str:
+        self.close()
+        while self.open:
+            self.out.append(f"</{self.open.pop()}>")
+        return "".join(self.out)
+
+
+def sanitize_mathml(markup: str) -> str:
+    """Rebuild MathML from the whitelist: unknown elements vanish (script/style with
+    their content), attributes are filtered, text is escaped."""
+    s = _Sanitizer()
+    s.feed(markup)
+    return s.result()
+
+
+def _escape_names(expr: sp.Basic) -> sp.Basic:
+    """Symbols/undefined functions whose names hold markup characters get escaped names,
+    so sympy's printer (which copies names verbatim) yields displayable, inert text."""
+    subs: dict[Any, Any] = {}
+    for s in expr.atoms(sp.Symbol):
+        if set(s.name) & set("<>&\"'"):
+            subs[s] = sp.Symbol(html.escape(s.name, quote=True), **s.assumptions0)
+    for f in expr.atoms(AppliedUndef):
+        name = f.func.__name__
+        if set(name) & set("<>&\"'"):
+            subs[f] = sp.Function(html.escape(name, quote=True))(*f.args)
+    return expr.xreplace(subs) if subs else expr
+
+
+def expr_to_mathml(expr: sp.Basic | str, display: str = "block") -> str:
+    """One sympy expression/equation (or a LaTeX string) as a sanitized ``<math>`` element."""
+    display = "inline" if display == "inline" else "block"
+    if isinstance(expr, str):
+        import latex2mathml.converter
+
+        try:
+            raw = latex2mathml.converter.convert(expr)
+        except Exception:  # an unparsable LaTeX string is shown as escaped text
+            return f'<math display="{display}"><mtext>{html.escape(expr)}</mtext></math>'
+        raw = re.sub(r"<math[^>]*>", "", raw, count=1).replace("</math>", "")
+    else:
+        from sympy.printing.mathml import mathml
+
+        try:
+            raw = mathml(_escape_names(sp.sympify(expr)), printer="presentation")
+        except Exception:
+            return f'<math display="{display}"><mtext>{html.escape(str(expr))}</mtext></math>'
+    return sanitize_mathml(f'<math display="{display}">{raw}</math>')
+
+
+def _as_list(math: sp.Basic | Sequence[sp.Basic] | str | None) -> list[sp.Basic | str]:
+    if math is None:
+        return []
+    if isinstance(math, (str, sp.Basic)):
+        return [math]
+    if isinstance(math, (list, tuple)):
+        return list(math)
+    return [math]
+
+
+RECON_STYLE = "background:#fff3cd;color:#7a5600;border:1px solid #e0c060;border-radius:4px;padding:0 4px;font-size:0.8em"
+SOURCE_STYLE = "color:#555;font-size:0.85em;margin-left:6px"
+
+
+def step_to_html(step: DerivationStep, index: int | None = None) -> str:
+    """One derivation step: heading (title, source equation number, "reconstructed" tag),
+    prose, then each statement as a display ``<math>``."""
+    esc = html.escape
+    head = f"{index}. " if index is not None else ""
+    parts = [f'<div class="al-step" style="margin:0 0 12px 0">']
+    parts.append(f'<div><b>{esc(head + step.title)}</b>')
+    if step.source:
+        parts.append(f'<span class="al-source" style="{SOURCE_STYLE}">{esc(step.source)}</span>')
+    if step.reconstructed:
+        parts.append(f' <span class="al-reconstructed" style="{RECON_STYLE}" title="{esc(step.reconstructed)}">reconstructed</span>')
+    parts.append("</div>")
+    if step.text:
+        parts.append(f'<div style="font-size:0.9em;margin:2px 0">{esc(step.text)}</div>')
+    for item in _as_list(step.math):
+        parts.append(f'<div style="overflow-x:auto">{expr_to_mathml(item)}</div>')
+    if step.reconstructed:
+        parts.append(f'<div style="font-size:0.8em;color:#7a5600">reconstructed: {esc(step.reconstructed)}</div>')
+    parts.append("</div>")
+    return "".join(parts)
+
+
+def derivation_to_html(steps: Iterable[DerivationStep], header: str = "") -> str:
+    """The whole derivation as one HTML block (numbered steps)."""
+    body = "".join(step_to_html(s, i) for i, s in enumerate(steps, 1))
+    top = f'<div style="margin-bottom:8px">{html.escape(header)}</div>' if header else ""
+    return f'<div class="al-derivation" style="font-size:0.95em;line-height:1.35">{top}{body}</div>'
+
+
+__all__ = ["derivation_to_html", "expr_to_mathml", "sanitize_mathml", "step_to_html"]

@@ -1,0 +1,376 @@
+"""``analyzer-lab serve``: the viser server, one session per browser tab, one frame loop.
+
+:class:`LabServer` owns the :class:`viser.ViserServer` (loopback by default, share
+tunnel disabled, page titled "Analyzer Lab"), creates a :class:`~app.session.Session`
+and a :class:`~app.view.SessionView` for every tab that connects (restoring the
+state the tab saved before a reload) and frees them when the tab closes.
+
+ONE loop thread steps every session at a fixed rate (``fps``) and pushes the
+frames; a second, slow thread renders derivations and deferred scene updates
+outside the session locks, so a slider drag never stalls the animation.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import sys
+import tempfile
+import threading
+import time
+import traceback
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, Sequence
+
+from app.session import LabError, LRUCache, Session, SessionState, lesson_scene, params_key
+from app.view import STORAGE_KEY, SessionView, ViewConfig
+from lessons.core.contract import Lesson
+
+PAGE_TITLE = "Analyzer Lab"
+DERIVATION_CACHE = LRUCache(64)
+_PATCH_LOCK = threading.Lock()
+
+
+def _client_root() -> Path:
+    """viser's client page with our title, in a private temporary directory."""
+    import viser
+
+    src = Path(viser.__file__).resolve().parent / "client" / "build" / "index.html"
+    text = src.read_text(encoding="utf-8")
+    text = text.replace("<title>Viser</title>", f"<title>{PAGE_TITLE}</title>", 1)
+    text = text.replace('content="Viser client"', f'content="{PAGE_TITLE}"', 1)
+    root = Path(tempfile.mkdtemp(prefix="analyzer-lab-page-"))
+    (root / "index.html").write_text(text, encoding="utf-8")
+    return root
+
+
+def _make_viser_server(host: str, port: int, verbose: bool) -> Any:
+    """A ViserServer serving our page (title) whose share tunnel cannot be started."""
+    import viser
+    from viser import _messages, infra
+
+    root = _client_root()
+    original = infra.WebsockServer
+
+    def factory(*args: Any, **kwargs: Any) -> Any:
+        kwargs["http_server_root"] = root
+        return original(*args, **kwargs)
+
+    with _PATCH_LOCK:
+        infra.WebsockServer = factory  # type: ignore[misc]
+        try:
+            server = viser.ViserServer(host=host, port=port, verbose=verbose)
+        finally:
+            infra.WebsockServer = original  # type: ignore[misc]
+    # the share tunnel: drop the handlers any client could trigger, and the method
+    ws = server._websock_server
+    for msg in (_messages.ShareUrlRequest, _messages.ShareUrlDisconnect):
+        try:
+            ws.unregister_handler(msg)
+        except (AssertionError, KeyError):
+            pass
+    server.request_share_url = lambda *a, **k: None  # type: ignore[method-assign]
+    server.gui.configure_theme(show_share_button=False, show_logo=False, control_width="large")
+    server.gui.set_panel_label(PAGE_TITLE)
+    return server
+
+
+class _WakeBatch:
+    """Groups the messages of one loop tick for every client and wakes viser's event
+    loop once for all of them (instead of once per client: each wake-up is a write to
+    the loop's self-pipe).  Uses viser's message buffers directly; when they are not
+    reachable, :meth:`hold` returns False and the view uses ``client.atomic()``."""
+
+    def __init__(self, server: Any) -> None:
+        self.loop = getattr(server._websock_server, "_background_event_loop", None)
+        self.held: list[tuple[Any, int]] = []
+
+    def hold(self, client: Any) -> bool:
+        try:
+            buf = client._websock_connection._state.message_buffer
+            buf.atomic_start()
+        except Exception:
+            return False
+        self.held.append((buf, buf.message_counter))
+        return True
+
+    def release(self) -> None:
+        woken = []
+        for buf, before in self.held:
+            with buf.buffer_lock:
+                buf.atomic_counter -= 1
+                ready = buf.atomic_counter == 0
+            if ready and buf.message_counter != before:
+                woken.append(buf)
+        self.held = []
+        if woken and self.loop is not None:
+            def wake() -> None:
+                for b in woken:
+                    b.message_event.set()
+
+            try:
+                self.loop.call_soon_threadsafe(wake)
+            except RuntimeError:
+                pass
+
+
+@dataclass
+class LoopStats:
+    """Frame-loop figures (for the load test and the log)."""
+
+    ticks: int = 0
+    busy: float = 0.0  # seconds spent stepping/drawing
+    load: float = 0.0  # moving average of busy / period
+    skipped: int = 0  # session frames skipped because a callback held the session
+    started: float = field(default_factory=time.monotonic)
+
+
+class LabServer:
+    """The lab: viser server, sessions by client id, the frame loop."""
+
+    def __init__(self, host: str = "127.0.0.1", port: int = 8080, lesson: str | None = None, fps: float = 30.0,
+                 lessons: Sequence[Lesson] | None = None, verbose: bool = False, restore: bool = True,
+                 config: ViewConfig | None = None, warm_up: bool = True) -> None:
+        self.fps = float(fps)
+        self.restore = restore
+        self.config = config or ViewConfig(fps=self.fps)
+        self.host = host
+        self.requested_port = port
+        # HTTP first (a browser gets the page while the lessons are imported)
+        self.server = _make_viser_server(host, port, verbose)
+        self.port: int = int(self.server.get_port())
+        if lessons is None:
+            from lessons.catalog import all_lessons
+
+            lessons = all_lessons()
+        self.lessons = tuple(lessons)
+        ids = {l.id for l in self.lessons}
+        if lesson is not None and lesson not in ids:
+            self.server.stop()
+            raise LabError(f"unknown lesson {lesson[:60]!r}; known: {', '.join(sorted(ids))}")
+        self.default_lesson = lesson
+        self.views: dict[int, SessionView] = {}
+        self._views_lock = threading.Lock()
+        self.stats = LoopStats()
+        self._stop = threading.Event()
+        every = os.environ.get("ANALYZER_LAB_STATS", "")
+        self._report_every = int(float(every) * self.fps) if every.replace(".", "", 1).isdigit() else 0
+        self._report_t, self._report_busy, self._report_steps, self._report_ticks = time.monotonic(), 0.0, 0.0, 0
+        self._report_draws = 0.0
+        self.server.on_client_connect(self._on_connect)
+        self.server.on_client_disconnect(self._on_disconnect)
+        self._loop_thread = threading.Thread(target=self._loop, name="analyzer-lab-frames", daemon=True)
+        self._slow_thread = threading.Thread(target=self._slow_loop, name="analyzer-lab-slow", daemon=True)
+        self._loop_thread.start()
+        self._slow_thread.start()
+        if warm_up:
+            threading.Thread(target=self._warm_up, name="analyzer-lab-warmup", daemon=True).start()
+
+    @property
+    def url(self) -> str:
+        host = "127.0.0.1" if self.host in ("0.0.0.0", "") else ("[::1]" if self.host == "::" else self.host)
+        return f"http://{host}:{self.port}/"
+
+    # -- sessions ---------------------------------------------------------------------
+
+    def _on_connect(self, client: Any) -> None:
+        saved: str | None = None
+        if self.restore:
+            try:
+                saved = client.local_storage.get_item(STORAGE_KEY, timeout=2.0)
+            except Exception:
+                saved = None
+        session = Session(self.lessons, self.default_lesson)
+        if saved:
+            try:
+                session.apply_state(SessionState.from_json(saved))
+                session.notify(f"restored your last lesson and parameters ({session.lesson.id})")
+            except Exception as exc:  # a stale or hand-made saved state
+                session.notify(f"saved state ignored: {exc}", "warning")
+        view = SessionView(client, session, self.config)
+        view.last_tick = time.monotonic()  # type: ignore[attr-defined]
+        with self._views_lock:
+            self.views[client.client_id] = view
+
+    def _on_disconnect(self, client: Any) -> None:
+        with self._views_lock:
+            view = self.views.pop(client.client_id, None)
+        if view is not None:
+            view.close()
+
+    def sessions(self) -> list[Session]:
+        with self._views_lock:
+            return [v.session for v in self.views.values()]
+
+    def view_of(self, client_id: int) -> SessionView | None:
+        with self._views_lock:
+            return self.views.get(client_id)
+
+    # -- loops ------------------------------------------------------------------------
+
+    def _loop(self) -> None:
+        period = 1.0 / self.fps
+        next_t = time.monotonic()
+        while not self._stop.is_set():
+            start = time.monotonic()
+            with self._views_lock:
+                views = list(self.views.values())
+            substeps = 8 if self.stats.load < 0.5 else 4 if self.stats.load < 0.8 else 1
+            batch = _WakeBatch(self.server)
+            for view in views:
+                session = view.session
+                if not session.lock.acquire(blocking=False):
+                    self.stats.skipped += 1
+                    continue
+                try:
+                    now = time.monotonic()
+                    dt = now - getattr(view, "last_tick", now)
+                    view.last_tick = now  # type: ignore[attr-defined]
+                    session.max_substeps = substeps
+                    grouped = batch.hold(view.client)
+                    view.tick(dt, atomic=not grouped)
+                except Exception as exc:
+                    traceback.print_exc()
+                    session.playing = False
+                    session.notify(f"internal error, playback paused: {type(exc).__name__}: {exc}", "error")
+                finally:
+                    session.lock.release()
+            batch.release()
+            busy = time.monotonic() - start
+            if self._report_every and self.stats.ticks % self._report_every == 0 and self.stats.ticks:
+                self._report(views)
+            self.stats.ticks += 1
+            self.stats.busy += busy
+            self.stats.load = 0.9 * self.stats.load + 0.1 * (busy / period)
+            next_t += period
+            delay = next_t - time.monotonic()
+            if delay < -period:
+                next_t = time.monotonic()  # behind: do not try to catch up with a burst
+                delay = 0.0
+            self._stop.wait(max(0.0, delay))
+
+    def _report(self, views: list[SessionView]) -> None:
+        """One line of loop figures on stderr (ANALYZER_LAB_STATS=seconds)."""
+        now = time.monotonic()
+        span = now - self._report_t
+        steps = sum(v.step_seconds for v in views)
+        draws = sum(v.draw_seconds for v in views)
+        busy = self.stats.busy - self._report_busy
+        print(f"[loop] sessions {len(views)} ticks/s {(self.stats.ticks - self._report_ticks) / span:.1f} "
+              f"busy {busy / span:.0%} stepping {(steps - self._report_steps) / span:.0%} drawing {(draws - self._report_draws) / span:.0%} load {self.stats.load:.2f} "
+              f"skipped {self.stats.skipped}", file=sys.stderr, flush=True)
+        self._report_t, self._report_busy, self._report_steps, self._report_ticks = now, self.stats.busy, steps, self.stats.ticks
+        self._report_draws = draws
+
+    def _slow_loop(self) -> None:
+        """Derivations and deferred scenes, computed outside the session locks."""
+        while not self._stop.wait(0.15):
+            with self._views_lock:
+                views = list(self.views.values())
+            now = time.monotonic()
+            for view in views:
+                try:
+                    self._slow_work(view, now)
+                except Exception:
+                    traceback.print_exc()
+
+    def _slow_work(self, view: SessionView, now: float) -> None:
+        from app.math_render import derivation_to_html
+
+        session = view.session
+        if session.scene_due is not None and now >= session.scene_due:
+            with session.lock:
+                lesson, params, rev = session.lesson, session.params, session.revision
+            try:
+                spec = lesson_scene(lesson, params)
+            except Exception as exc:
+                spec = None
+                with session.lock:
+                    session.notify(f"the scene could not be drawn: {exc}", "warning")
+            with session.lock:
+                if session.revision == rev:
+                    session.scene_due = None
+                    if spec is not None:
+                        session.accept_scene(spec)
+        if view.derivation_due is not None and now >= view.derivation_due and not view.closed:
+            with session.lock:
+                lesson, params, rev = session.lesson, session.params, session.revision
+            try:
+                content = DERIVATION_CACHE.get_or_make(params_key(lesson, params), lambda: derivation_to_html(lesson.derivation(params)))
+            except Exception as exc:
+                import html
+
+                content = f'<div class="al-error">The derivation could not be built: {html.escape(str(exc))}</div>'
+            with session.lock:
+                if session.revision == rev and not view.closed:
+                    view.derivation_due = None
+                    view.set_derivation(content)
+
+    def _warm_up(self) -> None:
+        """Build each lesson once (lambdify caches, meshes) so the first tab is quick."""
+        for lesson in self.lessons:
+            if self._stop.is_set():
+                return
+            try:
+                params = lesson.resolve()
+                st = lesson.stepper(params)
+                st.advance(0.01)
+                lesson_scene(lesson, params)
+                from app.math_render import derivation_to_html
+
+                DERIVATION_CACHE.get_or_make(params_key(lesson, params), lambda: derivation_to_html(lesson.derivation(params)))
+            except Exception:
+                pass
+
+    def stop(self) -> None:
+        self._stop.set()
+        with self._views_lock:
+            views = list(self.views.values())
+            self.views.clear()
+        for v in views:
+            v.close()
+        self._loop_thread.join(timeout=2.0)
+        try:
+            self.server.stop()
+        except Exception:
+            pass
+
+
+def serve(host: str = "127.0.0.1", port: int = 8080, lesson: str | None = None, instructor_code: str | None = None,
+          open_browser: bool = True, fps: float = 30.0) -> int:
+    """Run the lab until interrupted; returns the exit code."""
+    if not (0 <= int(port) <= 65535):
+        print(f"analyzer-lab: error: port must be in 0..65535, got {port}", file=sys.stderr)
+        return 2
+    t0 = time.perf_counter()
+    try:
+        lab = LabServer(host=host, port=port, lesson=lesson, fps=fps)
+    except LabError as exc:
+        print(f"analyzer-lab: error: {exc}", file=sys.stderr)
+        return 2
+    except OSError as exc:
+        print(f"analyzer-lab: error: cannot listen on {host}:{port}: {exc}", file=sys.stderr)
+        return 2
+    if lab.port != port and port != 0:
+        print(f"analyzer-lab: port {port} is in use; using {lab.port}", flush=True)
+    where = "every interface" if host in ("0.0.0.0", "::", "") else host
+    print(f"Analyzer Lab: {lab.url}  (listening on {where}, port {lab.port}; ready in {time.perf_counter() - t0:.1f} s; Ctrl-C stops)",
+          flush=True)
+    if host in ("0.0.0.0", "::", ""):
+        print("analyzer-lab: note: bound to every interface: anyone on your network can open the lab", flush=True)
+    if open_browser:
+        import webbrowser
+
+        threading.Thread(target=lambda: webbrowser.open(lab.url), daemon=True).start()
+    try:
+        while True:
+            time.sleep(3600)
+    except KeyboardInterrupt:
+        print("analyzer-lab: stopping", flush=True)
+    finally:
+        lab.stop()
+    return 0
+
+
+__all__ = ["LabServer", "PAGE_TITLE", "serve"]

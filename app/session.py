@@ -1,0 +1,572 @@
+"""One student's state, independent of the view: lesson, parameters, stepper, playback.
+
+A :class:`Session` holds the validated parameters of one lesson, a live
+:class:`~lessons.core.contract.Stepper` and the playback state (playing, speed,
+time), and records the run it has shown (:meth:`Session.run_result`).  Every value
+that reaches it is validated with :meth:`Param.parse` / :meth:`Lesson.resolve`; a
+refused value raises :class:`ParamError` and leaves the session as it was.
+
+The whole state that matters to a student is :class:`SessionState` (plain JSON
+data): it is saved in the browser, restored on reload, and can be copied from
+one session to another (:meth:`Session.state` / :meth:`Session.apply_state`).
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import threading
+import time
+from collections import deque
+from dataclasses import asdict, dataclass, field
+from typing import Any, Callable, Mapping, Sequence
+
+import numpy as np
+
+from lessons.core.contract import Frame, Lesson, Param, ParamError, Params, RunResult, SceneSpec, Stepper
+from lessons.core.formula import Formula
+
+#: Playback speeds offered (lesson seconds per wall-clock second).
+SPEEDS: tuple[float, ...] = (0.25, 0.5, 1.0, 2.0, 4.0, 8.0)
+#: Lesson time of one "single step" press, at speed 1 (scaled by the speed).
+STEP_DT = 1.0 / 30.0
+#: Longest lesson-time piece a frame advances in one stepper call (the trail gets a
+#: point per piece); a frame makes at most MAX_SUBSTEPS pieces.
+SUBSTEP_DT = 1.0 / 30.0
+MAX_SUBSTEPS = 8
+#: Samples of the recorded run kept for export (older ones are thinned out).
+MAX_LOG = 20000
+#: Parameter groups whose changes do not redraw the scene at once (debounced).
+LIVE_GROUPS = frozenset({"controls", "method"})
+SCENE_DEBOUNCE = 0.3
+#: Size limit of a saved state (bytes of JSON) accepted from a browser.
+MAX_STATE_BYTES = 20000
+
+
+class LabError(ValueError):
+    """A refused request; ``str(err)`` is one line for the user."""
+
+
+@dataclass
+class SessionState:
+    """What a student set: enough to rebuild the session (JSON-friendly)."""
+
+    lesson: str
+    preset: str | None = None
+    values: dict[str, Any] = field(default_factory=dict)
+    speed: float = 1.0
+    pause_at_end: bool = True
+    visible_vectors: list[str] | None = None
+
+    def to_json(self) -> str:
+        return json.dumps(asdict(self), allow_nan=False, default=str)
+
+    @classmethod
+    def from_json(cls, text: str) -> "SessionState":
+        """Parse a saved state; raise :class:`LabError` on anything malformed."""
+        if not isinstance(text, str) or len(text) > MAX_STATE_BYTES:
+            raise LabError("saved state is missing or too large")
+        try:
+            data = json.loads(text)
+        except (ValueError, RecursionError) as exc:
+            raise LabError(f"saved state is not valid JSON: {exc}") from None
+        if not isinstance(data, dict) or not isinstance(data.get("lesson"), str):
+            raise LabError("saved state has no lesson")
+        values = data.get("values") or {}
+        if not isinstance(values, dict) or not all(isinstance(k, str) for k in values):
+            raise LabError("saved state: values must be an object")
+        clean: dict[str, Any] = {}
+        for k, v in values.items():
+            if isinstance(v, (str, int, float, bool)) and not (isinstance(v, str) and len(v) > 400):
+                clean[k] = v
+        preset = data.get("preset")
+        speed = data.get("speed", 1.0)
+        vectors = data.get("visible_vectors")
+        return cls(
+            lesson=data["lesson"][:80],
+            preset=preset[:80] if isinstance(preset, str) else None,
+            values=clean,
+            speed=float(speed) if isinstance(speed, (int, float)) and not isinstance(speed, bool) else 1.0,
+            pause_at_end=bool(data.get("pause_at_end", True)),
+            visible_vectors=[str(v)[:40] for v in vectors][:20] if isinstance(vectors, list) else None,
+        )
+
+
+def raw_value(value: Any) -> Any:
+    """A validated value as JSON-friendly raw data (formulas as their text)."""
+    if isinstance(value, Formula):
+        return value.text
+    if isinstance(value, (np.floating, np.integer)):
+        return value.item()
+    return value
+
+
+@dataclass
+class LogSample:
+    t: float
+    points: dict[str, np.ndarray]
+    scalars: dict[str, float]
+
+
+class RunLog:
+    """The samples a session has shown, for export (bounded: thinned when full)."""
+
+    def __init__(self, limit: int = MAX_LOG) -> None:
+        self.limit = limit
+        self.samples: list[LogSample] = []
+        self.stride = 1
+        self._skip = 0
+
+    def clear(self) -> None:
+        self.samples.clear()
+        self.stride = 1
+        self._skip = 0
+
+    def add(self, frame: Frame) -> None:
+        if self._skip:
+            self._skip -= 1
+            return
+        self._skip = self.stride - 1
+        self.samples.append(LogSample(float(frame.t), {k: np.array(v, dtype=float) for k, v in frame.points.items()},
+                                      {k: float(v) for k, v in frame.scalars.items()}))
+        if len(self.samples) >= self.limit:
+            self.samples = self.samples[::2]
+            self.stride *= 2
+
+    def __len__(self) -> int:
+        return len(self.samples)
+
+
+class LRUCache:
+    """A small thread-safe LRU cache (scenes and derivations are pure functions of
+    the lesson and its parameters; many students share the same values)."""
+
+    def __init__(self, maxsize: int = 64) -> None:
+        from collections import OrderedDict
+
+        self.maxsize = maxsize
+        self._data: "OrderedDict[Any, Any]" = OrderedDict()
+        self._lock = threading.Lock()
+
+    def get_or_make(self, key: Any, make: Callable[[], Any]) -> Any:
+        with self._lock:
+            if key in self._data:
+                self._data.move_to_end(key)
+                return self._data[key]
+        value = make()
+        with self._lock:
+            self._data[key] = value
+            while len(self._data) > self.maxsize:
+                self._data.popitem(last=False)
+        return value
+
+
+def params_key(lesson: Lesson, params: Mapping[str, Any]) -> tuple:
+    """A hashable key of a lesson's validated parameters."""
+    return (lesson.id, tuple(sorted((k, repr(raw_value(v))) for k, v in params.items())))
+
+
+SCENE_CACHE = LRUCache(64)
+
+
+def lesson_scene(lesson: Lesson, params: Params) -> SceneSpec:
+    """``lesson.scene(params)``, shared between sessions with the same values."""
+    return SCENE_CACHE.get_or_make(params_key(lesson, params), lambda: lesson.scene(params))
+
+
+def _arrays_equal(a: Any, b: Any) -> bool:
+    try:
+        return bool(np.array_equal(np.asarray(a), np.asarray(b)))
+    except Exception:
+        return False
+
+
+def scenes_equal(a: SceneSpec, b: SceneSpec) -> bool:
+    """Same drawing (static items, moving item names/colours, bounds)."""
+    if a is b:
+        return True
+    if not _arrays_equal(a.bounds, b.bounds) or a.planar != b.planar:
+        return False
+    if a.moving_points != b.moving_points or a.moving_vectors != b.moving_vectors:
+        return False
+    for xs, ys in ((a.meshes, b.meshes), (a.bodies, b.bodies)):
+        if len(xs) != len(ys):
+            return False
+        for x, y in zip(xs, ys):
+            if (x.name, tuple(x.color), x.opacity, x.wireframe) != (y.name, tuple(y.color), y.opacity, y.wireframe):
+                return False
+            if not (_arrays_equal(x.vertices, y.vertices) and _arrays_equal(x.faces, y.faces)):
+                return False
+    if len(a.curves) != len(b.curves) or len(a.markers) != len(b.markers):
+        return False
+    for x, y in zip(a.curves, b.curves):
+        if (x.name, tuple(x.color), x.width) != (y.name, tuple(y.color), y.width) or not _arrays_equal(x.points, y.points):
+            return False
+    for x, y in zip(a.markers, b.markers):
+        if (x.name, tuple(x.color), x.size, x.label) != (y.name, tuple(y.color), y.size, y.label) or not _arrays_equal(x.points, y.points):
+            return False
+    return True
+
+
+def lesson_label(lesson: Lesson) -> str:
+    """Picker label: chapter, problem, title."""
+    bits = []
+    if lesson.chapter:
+        bits.append(f"Ch. {lesson.chapter}")
+    if lesson.problem:
+        bits.append(lesson.problem)
+    bits.append(lesson.title or lesson.id)
+    return " · ".join(bits)
+
+
+class Session:
+    """One student's lesson, parameters, stepper and playback (no view code).
+
+    Thread-safety: the owner serializes access with :attr:`lock` (GUI callbacks run
+    on a thread pool, frames on the server's loop thread).
+    """
+
+    def __init__(self, lessons: Sequence[Lesson], lesson_id: str | None = None, preset: str | None = None) -> None:
+        if not lessons:
+            raise LabError("no lessons are installed")
+        self.lessons: dict[str, Lesson] = {l.id: l for l in lessons}
+        self.lock = threading.RLock()
+        self.notices: deque[tuple[str, str]] = deque(maxlen=20)
+        self.playing = False
+        self.speed = 1.0
+        self.pause_at_end = True
+        self.visible_vectors: set[str] | None = None
+        self.log = RunLog()
+        self.max_substeps = MAX_SUBSTEPS  # lowered by the server under load
+        self.scene_due: float | None = None  # when a deferred scene rebuild is due (monotonic time)
+        self.revision = 0  # bumped on any change of lesson/params (the view re-renders what it needs)
+        self.scene_revision = 0  # bumped when the static scene must be redrawn
+        self.reset_revision = 0  # bumped when the run restarts (trail cleared)
+        self.on_change: Callable[[str], None] | None = None
+        first = lesson_id if lesson_id in self.lessons else next(iter(self.lessons))
+        if lesson_id is not None and lesson_id not in self.lessons:
+            self.notify(f"unknown lesson {lesson_id[:60]!r}; showing {first}", "warning")
+        self._load(self.lessons[first], preset if preset is not None else None, {})
+
+    # -- notices --------------------------------------------------------------------
+
+    def notify(self, text: str, level: str = "info") -> None:
+        """A message for the user (the view shows the newest)."""
+        self.notices.append((level, str(text)[:500]))
+
+    # -- lesson and parameters ------------------------------------------------------------
+
+    @property
+    def lesson_id(self) -> str:
+        return self.lesson.id
+
+    def _build(self, lesson: Lesson, preset: str | None, values: Mapping[str, Any]) -> tuple[Params, Stepper, SceneSpec]:
+        params = lesson.resolve(values, preset)
+        try:
+            stepper = lesson.stepper(params)
+            scene = lesson_scene(lesson, params)
+        except ParamError:
+            raise
+        except (ValueError, ArithmeticError) as exc:
+            raise ParamError("params", str(exc)) from None
+        return params, stepper, scene
+
+    def _load(self, lesson: Lesson, preset: str | None, values: Mapping[str, Any]) -> None:
+        params, stepper, scene = self._build(lesson, preset, values)
+        self.lesson = lesson
+        self.preset = preset
+        self.params = params
+        self.stepper = stepper
+        self.scene = scene
+        self.frame = stepper.reset()
+        self.t_end = lesson.preset_t_end(preset)
+        self.log.clear()
+        self.log.add(self.frame)
+        self.revision += 1
+        self.scene_revision += 1
+        self.reset_revision += 1
+        self._messages_of(lesson, params)
+
+    def _messages_of(self, lesson: Lesson, params: Params) -> None:
+        """Surface the lesson's own notes (e.g. a projected start point)."""
+        prepare = getattr(lesson, "prepare", None)
+        if prepare is None:
+            return
+        try:
+            notes = getattr(prepare(params), "messages", [])
+        except Exception:
+            return
+        for note in notes:
+            self.notify(str(note), "warning")
+
+    def select_lesson(self, lesson_id: str, preset: str | None = None) -> None:
+        """Switch lesson (defaults, or the given preset); refuses unknown ids."""
+        if not isinstance(lesson_id, str) or lesson_id not in self.lessons:
+            raise LabError(f"unknown lesson {str(lesson_id)[:60]!r}; known: {', '.join(self.lessons)}")
+        lesson = self.lessons[lesson_id]
+        if preset is not None:
+            lesson.preset(preset)  # raises ParamError for an unknown preset
+        self.playing = False
+        self._load(lesson, preset, {})
+
+    def apply_preset(self, name: str | None) -> None:
+        """Load one of the textbook's examples (``None``: the defaults); the run restarts."""
+        if name is not None:
+            self.lesson.preset(name)
+        self._load(self.lesson, name, {})
+
+    def raw_values(self) -> dict[str, Any]:
+        return {k: raw_value(v) for k, v in self.params.items()}
+
+    def set_values(self, changes: Mapping[str, Any]) -> None:
+        """Change parameters live; raises :class:`ParamError` (nothing changes) if refused.
+
+        Controls and surface parameters take effect while running (the stepper keeps
+        its state); a changed start point restarts the run from the new point.
+        """
+        if not changes:
+            return
+        for name in changes:
+            self.lesson.param(name)  # unknown names are refused
+        raw = self.raw_values()
+        raw.update(changes)
+        params = self.lesson.resolve(raw)
+        changed = [n for n in changes if params[n] != self.params.get(n)]
+        if not changed:
+            return
+        groups = {self.lesson.param(n).group for n in changed}
+        live_only = groups <= LIVE_GROUPS
+        try:
+            scene = self.scene if live_only else lesson_scene(self.lesson, params)
+            if "initial" in groups:
+                stepper = self.lesson.stepper(params)
+            else:
+                stepper = self.stepper
+                stepper.set_params(params)
+        except ParamError:
+            raise
+        except (ValueError, ArithmeticError) as exc:
+            raise ParamError(changed[0], str(exc)) from None
+        self.params = params
+        self.stepper = stepper
+        self.scene = scene
+        self.revision += 1
+        if live_only:
+            # controls rarely change the drawing: rebuild it later, off the hot path
+            self.scene_due = time.monotonic() + SCENE_DEBOUNCE
+        else:
+            self.scene_revision += 1
+            self.scene_due = None
+        if "initial" in groups:
+            self.frame = stepper.reset()
+            self.log.clear()
+            self.log.add(self.frame)
+            self.reset_revision += 1
+        else:
+            self.frame = stepper.frame()
+        self._messages_of(self.lesson, params)
+
+    def accept_scene(self, spec: SceneSpec) -> bool:
+        """Take a (deferred) scene; redraw only if it differs from the one shown."""
+        if scenes_equal(spec, self.scene):
+            return False
+        self.scene = spec
+        self.scene_revision += 1
+        return True
+
+    def refresh_scene(self) -> bool:
+        """Rebuild the deferred scene now (tests; the server does it off the lock)."""
+        self.scene_due = None
+        return self.accept_scene(lesson_scene(self.lesson, self.params))
+
+    def set_value(self, name: str, raw: Any) -> None:
+        self.set_values({name: raw})
+
+    def snap_start(self) -> tuple[float, float, float] | None:
+        """Put the start point (x0, y0, z0) exactly where the lesson places it (on the
+        surface): the first moving point of a fresh run."""
+        if not all(n in self.params for n in ("x0", "y0", "z0")):
+            raise LabError("this lesson has no start point to snap")
+        fresh = self.lesson.stepper(self.params).reset()
+        if not fresh.points:
+            raise LabError("this lesson has no moving point")
+        p = np.asarray(next(iter(fresh.points.values())), dtype=float).reshape(-1, 3)[0]
+        if int(self.params.get("family", 1) or 1) > 1:
+            # the family is spread around the base point: snap the base point itself
+            pts = np.asarray(next(iter(fresh.points.values())), dtype=float).reshape(-1, 3)
+            p = pts[len(pts) // 2] if len(pts) % 2 else pts.mean(axis=0)
+        values = {"x0": round(float(p[0]), 12), "y0": round(float(p[1]), 12), "z0": round(float(p[2]), 12)}
+        self.set_values(values)
+        return values["x0"], values["y0"], values["z0"]
+
+    def set_start(self, point: Sequence[float]) -> None:
+        """Start point from the scene (a click on the surface)."""
+        if not all(n in self.params for n in ("x0", "y0", "z0")):
+            raise LabError("this lesson has no start point")
+        p = [float(v) for v in point]
+        if len(p) != 3 or not all(math.isfinite(v) for v in p):
+            raise LabError("the clicked point is not finite")
+        self.set_values({"x0": p[0], "y0": p[1], "z0": p[2]})
+
+    # -- playback -------------------------------------------------------------------
+
+    def play(self) -> None:
+        if self.pause_at_end and self.frame.t >= self.t_end - 1e-9:
+            self.reset()
+        self.playing = True
+
+    def pause(self) -> None:
+        self.playing = False
+
+    def set_speed(self, speed: Any) -> None:
+        try:
+            value = float(speed)
+        except (TypeError, ValueError):
+            raise LabError(f"speed must be one of {', '.join(f'{s:g}x' for s in SPEEDS)}") from None
+        if not any(abs(value - s) < 1e-9 for s in SPEEDS):
+            raise LabError(f"speed must be one of {', '.join(f'{s:g}x' for s in SPEEDS)}; got {value!r}")
+        self.speed = value
+
+    def reset(self) -> Frame:
+        self.frame = self.stepper.reset()
+        self.log.clear()
+        self.log.add(self.frame)
+        self.reset_revision += 1
+        return self.frame
+
+    def _advance(self, dt: float) -> list[Frame]:
+        frames: list[Frame] = []
+        if dt <= 0 or not math.isfinite(dt):
+            return frames
+        n = max(1, min(self.max_substeps, int(math.ceil(dt / SUBSTEP_DT - 1e-9))))
+        piece = dt / n
+        for _ in range(n):
+            remaining = self.t_end - self.stepper.t if self.pause_at_end else math.inf
+            d = min(piece, remaining)
+            if d <= 1e-12:
+                break
+            try:
+                frame = self.stepper.advance(d)
+            except (ValueError, ArithmeticError, FloatingPointError) as exc:
+                self.playing = False
+                self.notify(f"the integration stopped: {exc}", "error")
+                break
+            frames.append(frame)
+            self.log.add(frame)
+        if frames:
+            self.frame = frames[-1]
+        if self.pause_at_end and self.stepper.t >= self.t_end - 1e-9 and self.playing:
+            self.playing = False
+            self.notify(f"t = {self.t_end:g} s reached (the textbook's run); press play to run again, or untick 'pause at t_end'", "info")
+        return frames
+
+    def tick(self, wall_dt: float) -> list[Frame]:
+        """Advance by ``wall_dt`` seconds of wall time times the speed (when playing)."""
+        if not self.playing:
+            return []
+        return self._advance(min(wall_dt, 0.25) * self.speed)
+
+    def step(self) -> list[Frame]:
+        """One single step (paused): ``STEP_DT`` lesson seconds times the speed."""
+        self.playing = False
+        if self.pause_at_end and self.stepper.t >= self.t_end - 1e-9:
+            self.notify(f"t_end = {self.t_end:g} s reached; reset or untick 'pause at t_end'", "info")
+            return []
+        return self._advance(STEP_DT * self.speed)
+
+    # -- state ----------------------------------------------------------------------
+
+    def state(self) -> SessionState:
+        """The copyable state (lesson, preset, values, playback settings)."""
+        return SessionState(
+            lesson=self.lesson.id,
+            preset=self.preset,
+            values=self.raw_values(),
+            speed=self.speed,
+            pause_at_end=self.pause_at_end,
+            visible_vectors=sorted(self.visible_vectors) if self.visible_vectors is not None else None,
+        )
+
+    def apply_state(self, state: SessionState) -> list[str]:
+        """Rebuild from a (possibly stale or hand-made) state: unknown lessons/presets
+        and bad values are dropped with a message; returns the messages."""
+        problems: list[str] = []
+        lesson = self.lessons.get(state.lesson)
+        if lesson is None:
+            raise LabError(f"unknown lesson {state.lesson[:60]!r}")
+        preset = state.preset
+        if preset is not None and preset not in {p.name for p in lesson.presets}:
+            problems.append(f"unknown preset {preset[:60]!r} dropped")
+            preset = None
+        known = {p.name for p in lesson.params}
+        values = {k: v for k, v in state.values.items() if k in known}
+        # drop bad values one by one so the good ones survive
+        while True:
+            try:
+                params, stepper, scene = self._build(lesson, preset, values)
+                break
+            except ParamError as exc:
+                if exc.name in values:
+                    problems.append(f"{exc}: value dropped")
+                    values.pop(exc.name)
+                elif values:
+                    problems.append(f"{exc}: saved values dropped")
+                    values = {}
+                else:
+                    raise LabError(str(exc)) from None
+        self.playing = False
+        self.lesson, self.preset, self.params, self.stepper, self.scene = lesson, preset, params, stepper, scene
+        self.frame = stepper.reset()
+        self.t_end = lesson.preset_t_end(preset)
+        self.log.clear()
+        self.log.add(self.frame)
+        self.revision += 1
+        self.scene_revision += 1
+        self.reset_revision += 1
+        try:
+            self.set_speed(state.speed)
+        except LabError as exc:
+            problems.append(str(exc))
+        self.pause_at_end = bool(state.pause_at_end)
+        self.visible_vectors = set(state.visible_vectors) if state.visible_vectors is not None else None
+        for p in problems:
+            self.notify(p, "warning")
+        return problems
+
+    def copy_from(self, other: "Session") -> None:
+        """Take another session's state (lesson, values, playback settings)."""
+        self.apply_state(other.state())
+
+    # -- export ---------------------------------------------------------------------
+
+    def run_result(self) -> RunResult:
+        """The run shown so far as a :class:`RunResult` (series from the frames)."""
+        samples = self.log.samples or [LogSample(self.frame.t, dict(self.frame.points), dict(self.frame.scalars))]
+        t = np.array([s.t for s in samples], dtype=float)
+        series: dict[str, np.ndarray] = {}
+        names = list(samples[0].points)
+        for name in names:
+            count = min(np.asarray(s.points[name]).reshape(-1, 3).shape[0] for s in samples if name in s.points)
+            for k in range(count):
+                prefix = "" if len(names) == 1 else f"{name}_"
+                suffix = "" if k == 0 else f"_{k + 1}"
+                for j, c in enumerate("xyz"):
+                    series[f"{prefix}{c}{suffix}"] = np.array(
+                        [np.asarray(s.points[name]).reshape(-1, 3)[k, j] if name in s.points else np.nan for s in samples])
+        scalar_names: list[str] = []
+        for s in samples:
+            for k in s.scalars:
+                if k not in scalar_names:
+                    scalar_names.append(k)
+        for k in scalar_names:
+            if k in series:
+                continue
+            series[k] = np.array([s.scalars.get(k, np.nan) for s in samples], dtype=float)
+        metrics: dict[str, Any] = {"t_end": float(t[-1]), "samples": len(t), "source": "live run", "speed": self.speed}
+        if "drift" in series and len(series["drift"]):
+            metrics["invariant_drift_max"] = float(np.nanmax(series["drift"]))
+        messages = [text for _, text in self.notices]
+        return RunResult(self.lesson.id, self.preset, self.raw_values(), t, series, metrics, messages)
+
+
+__all__ = ["LabError", "RunLog", "SPEEDS", "Session", "SessionState", "lesson_label", "raw_value"]

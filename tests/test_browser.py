@@ -1,0 +1,313 @@
+"""The lab in a real browser: Playwright driving Debian's Chromium against an in-process server.
+
+Screenshots go to tests/artifacts/ (git-ignored).  Without Chromium these tests skip
+(install it with ``apt-get install chromium``); with CI=true they fail instead.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+import time
+from pathlib import Path
+from typing import Any, Callable, Iterator
+
+import numpy as np
+import pytest
+
+pytestmark = [pytest.mark.browser, pytest.mark.timeout(300)]
+
+CHROMIUM = "/usr/bin/chromium"
+LAUNCH_ARGS = ["--no-sandbox", "--disable-gpu", "--disable-background-networking", "--disable-component-update",
+               "--disable-sync", "--no-first-run"]
+ARTIFACTS = Path(__file__).parent / "artifacts"
+
+
+def _require_browser() -> None:
+    missing = None
+    if not os.path.exists(CHROMIUM):
+        missing = f"Chromium not found at {CHROMIUM}; install it with `apt-get install chromium`"
+    else:
+        try:
+            import playwright.sync_api  # noqa: F401
+        except ImportError:
+            missing = "the python package `playwright` is missing (pip install playwright; the browser comes from `apt-get install chromium`)"
+    if missing:
+        if os.environ.get("CI", "").lower() == "true":
+            pytest.fail(missing + " (CI=true: browser tests must run)")
+        pytest.skip(missing)
+
+
+def wait_until(cond: Callable[[], Any], timeout: float = 15.0, what: str = "condition") -> Any:
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline:
+        value = cond()
+        if value:
+            return value
+        time.sleep(0.05)
+    raise AssertionError(f"timed out waiting for {what}")
+
+
+@pytest.fixture(scope="module")
+def lab() -> Iterator[Any]:
+    _require_browser()
+    from app.server import LabServer
+
+    server = LabServer(host="127.0.0.1", port=0, lesson="sphere")
+    yield server
+    server.stop()
+
+
+@pytest.fixture(scope="module")
+def browser(lab: Any) -> Iterator[Any]:
+    from playwright.sync_api import sync_playwright
+
+    ARTIFACTS.mkdir(exist_ok=True)
+    with sync_playwright() as p:
+        b = p.chromium.launch(executable_path=CHROMIUM, args=LAUNCH_ARGS)
+        yield b
+        b.close()
+
+
+class Page:
+    """One tab of the lab: the Playwright page, its console errors and its server-side view."""
+
+    def __init__(self, lab: Any, browser: Any, context: Any = None) -> None:
+        self.lab = lab
+        self.context = context or browser.new_context(viewport={"width": 1100, "height": 760}, accept_downloads=True)
+        self.page = self.context.new_page()
+        self.errors: list[str] = []
+        self.page.on("console", lambda m: self.errors.append(m.text) if m.type == "error" else None)
+        self.page.on("pageerror", lambda e: self.errors.append(f"pageerror: {e}"))
+        before = set(lab.views)
+        self.page.goto(lab.url)
+        self.label("Lesson").wait_for(timeout=30000)
+        new = wait_until(lambda: set(lab.views) - before, 20, "the session")
+        self.view = lab.views[max(new)]
+        wait_until(lambda: self.page.locator("math").count() > 0, 20, "rendered equations")
+
+    @property
+    def session(self) -> Any:
+        return self.view.session
+
+    def label(self, text: str) -> Any:
+        return self.page.locator("label").filter(has_text=re.compile(f"^{re.escape(text)}$")).first
+
+    def input_for(self, label: str) -> Any:
+        """The visible input in the row of this label (viser puts label and input side by side)."""
+        return self.label(label).locator("xpath=ancestor::div[.//input[not(@type='hidden')]][1]").locator(
+            "input:not([type='hidden'])").first
+
+    def options(self, label: str) -> list[str]:
+        self.input_for(label).click()
+        opts = self.page.get_by_role("option")
+        opts.first.wait_for(timeout=5000)
+        texts = opts.all_inner_texts()
+        self.page.keyboard.press("Escape")
+        return [t.strip() for t in texts]
+
+    def select(self, label: str, option: str) -> None:
+        self.input_for(label).click()
+        self.page.get_by_role("option", name=option, exact=True).click()
+        time.sleep(0.12)  # viser's 50 ms input throttle
+
+    def button(self, name: str) -> None:
+        self.page.get_by_role("button", name=name, exact=True).click()
+        time.sleep(0.12)
+
+    def tab(self, name: str) -> None:
+        self.page.get_by_role("tab", name=name).click()
+        time.sleep(0.1)
+
+    def fill(self, label: str, text: str) -> None:
+        box = self.input_for(label)
+        box.fill(text)
+        box.press("Enter")
+        time.sleep(0.3)
+
+    def status(self) -> str:
+        return self.page.locator(".al-message").first.inner_text()
+
+    def shot(self, name: str) -> bytes:
+        return self.page.screenshot(path=str(ARTIFACTS / f"{name}.png"))
+
+    def load(self, lesson_label: str, preset: str) -> None:
+        if self.page.locator("label").filter(has_text=re.compile("^Lesson$")).count():
+            current = self.input_for("Lesson").input_value()
+            if current != lesson_label:
+                self.select("Lesson", lesson_label)
+        self.select("Preset", preset)
+        wait_until(lambda: self.session.preset == (None if preset == "(defaults)" else preset), 10, f"preset {preset}")
+
+    def close(self) -> None:
+        self.context.close()
+
+
+@pytest.fixture()
+def tab(lab: Any, browser: Any) -> Iterator[Page]:
+    p = Page(lab, browser)
+    yield p
+    p.close()
+
+
+def _label_of(lesson: Any) -> str:
+    from app.session import lesson_label
+
+    return lesson_label(lesson)
+
+
+def test_page_loads_with_title_math_and_no_console_errors(tab: Page) -> None:
+    assert tab.page.title() == "Analyzer Lab"
+    assert tab.page.locator("math").count() >= 5
+    assert tab.page.locator(".al-reconstructed").count() >= 1
+    assert tab.page.locator(".al-source").first.inner_text().startswith("(")
+    tab.shot("page-loaded")
+    assert tab.errors == []
+
+
+def test_picker_lists_every_lesson_and_preset(tab: Page) -> None:
+    from lessons.catalog import all_lessons
+
+    options = tab.options("Lesson")
+    assert options == [_label_of(l) for l in all_lessons()]
+    assert tab.options("Preset") == ["(defaults)", *(p.name for p in tab.session.lesson.presets)]
+
+
+def test_sphere_example_plays_slider_changes_motion_and_plots_update(tab: Page) -> None:
+    tab.load(_label_of(tab.session.lesson), "example-1.1")
+    tab.tab("Controls")
+    tab.page.get_by_text("pause at t_end").click()  # keep playing past 10 s
+    before = tab.shot("sphere-before-play")
+    p0 = tab.session.frame.points["point"].copy()
+    tab.button("Play")
+    wait_until(lambda: tab.session.frame.t > 0.5, 10, "playback")
+    assert not np.allclose(tab.session.frame.points["point"], p0)
+    assert tab.session.frame.scalars["v2"] == pytest.approx(50.0)
+    after = tab.shot("sphere-playing")
+    assert before != after
+    # move the u1 slider while playing: the speed changes, time keeps running
+    t_before = tab.session.frame.t
+    slider = tab.page.get_by_role("slider").first
+    slider.focus()
+    slider.press("End")  # u1 -> 20
+    wait_until(lambda: tab.session.raw_values()["u1"] == "20", 5, "u1 from the slider")
+    wait_until(lambda: abs(tab.session.frame.scalars["v2"] - 50.0) > 1.0, 5, "a changed motion")
+    assert tab.session.playing and tab.session.frame.t > t_before
+    assert tab.session.frame.scalars["u1"] == pytest.approx(20.0)
+    assert tab.input_for("u1(t) =").input_value() == "20"
+    # the live plots: uPlot charts exist and their pictures change while playing
+    tab.tab("Plots")
+    charts = tab.page.locator(".uplot")
+    wait_until(lambda: charts.count() == len(tab.session.lesson.plots), 5, "uPlot charts")
+    c0 = charts.first.screenshot()
+    time.sleep(1.0)
+    c1 = charts.first.screenshot(path=str(ARTIFACTS / "plot-velocity.png"))
+    assert c0 != c1
+    tab.button("Pause")
+    assert tab.errors == []
+
+
+def test_bad_input_shows_a_message_and_changes_nothing(tab: Page) -> None:
+    tab.tab("Controls")
+    before = tab.session.raw_values()
+    tab.fill("u1(t) =", "__import__('os')")
+    wait_until(lambda: "refused" in tab.status(), 5, "a refusal message")
+    assert "u1" in tab.status()
+    assert tab.session.raw_values() == before
+    assert tab.input_for("u1(t) =").input_value() == before["u1"]  # the field shows the value in force
+    tab.fill("sphere radius R", "-5")
+    wait_until(lambda: "minimum" in tab.status(), 5, "a range message")
+    tab.fill("sphere radius R", "nan")
+    wait_until(lambda: "finite" in tab.status() or "refused" in tab.status(), 5, "a NaN message")
+    assert tab.session.raw_values() == before
+    tab.shot("bad-input-message")
+    tab.button("Play")
+    wait_until(lambda: tab.session.frame.t > 0.2, 10, "playback after refusals")
+    tab.button("Pause")
+
+
+def test_two_contexts_are_independent(lab: Any, browser: Any) -> None:
+    a = Page(lab, browser)
+    b = Page(lab, browser)
+    try:
+        assert a.view is not b.view
+        a.load(_label_of(a.session.lesson), "example-1.2")
+        a.button("Play")
+        wait_until(lambda: a.session.frame.t > 0.3, 10, "playback in a")
+        assert b.session.preset != "example-1.2" and b.session.frame.t == 0.0 and not b.session.playing
+        b.tab("Controls")
+        b.fill("u2(t) =", "1.5")
+        wait_until(lambda: b.session.raw_values()["u2"] == "1.5", 5, "u2 in b")
+        assert a.session.raw_values()["u2"] == "5"
+        a.button("Pause")
+    finally:
+        a.close()
+        b.close()
+
+
+def test_csv_export_downloads_the_run(tab: Page) -> None:
+    tab.load(_label_of(tab.session.lesson), "example-1.1")
+    tab.button("Play")
+    wait_until(lambda: tab.session.frame.t > 0.5, 10, "playback")
+    tab.button("Pause")
+    tab.tab("Export")
+    with tab.page.expect_download(timeout=15000) as info:
+        tab.page.get_by_role("button", name="Download CSV").click()
+    path = ARTIFACTS / "export.csv"
+    info.value.save_as(path)
+    lines = path.read_text().splitlines()
+    assert lines[0].startswith("t,x,y,z")
+    rows = [list(map(float, ln.split(","))) for ln in lines[1:]]
+    assert len(rows) == len(tab.session.log) >= 10
+    assert rows[-1][0] == pytest.approx(tab.session.frame.t)
+    header = lines[0].split(",")
+    v2 = [r[header.index("v2")] for r in rows]
+    assert np.allclose(v2, 50.0)
+
+
+def test_reload_restores_lesson_and_parameters(tab: Page) -> None:
+    tab.load(_label_of(tab.session.lesson), "example-1.3")
+    tab.tab("Controls")
+    tab.fill("u3(t) =", "4")
+    wait_until(lambda: tab.session.raw_values()["u3"] == "4", 5, "u3")
+    time.sleep(0.3)
+    before = set(tab.lab.views)
+    tab.page.reload()
+    new = wait_until(lambda: set(tab.lab.views) - before, 20, "the reloaded session")
+    tab.view = tab.lab.views[max(new)]
+    wait_until(lambda: tab.session.raw_values().get("u3") == "4", 10, "restored values")
+    assert tab.session.preset == "example-1.3" and tab.session.raw_values()["u1"] == "sin(10*t)"
+
+
+def _catalog_cases() -> list[tuple[str, str]]:
+    from lessons.catalog import all_lessons
+
+    return [(l.id, p) for l in all_lessons() for p in ["(defaults)", *(q.name for q in l.presets)]]
+
+
+@pytest.fixture(scope="module")
+def shared_tab(lab: Any, browser: Any) -> Iterator[Page]:
+    p = Page(lab, browser)
+    yield p
+    p.close()
+
+
+@pytest.mark.parametrize("lesson_id, preset", _catalog_cases())
+def test_every_lesson_and_preset_plays(shared_tab: Page, lesson_id: str, preset: str) -> None:
+    from lessons.catalog import get_lesson
+
+    tab = shared_tab
+    tab.errors.clear()
+    label = _label_of(get_lesson(lesson_id))
+    if tab.input_for("Lesson").input_value() != label:
+        tab.select("Lesson", label)
+        wait_until(lambda: tab.session.lesson.id == lesson_id, 10, f"lesson {lesson_id}")
+    tab.load(label, preset)
+    tab.button("Play")
+    t0 = tab.session.frame.t
+    # lessons choose their own time scale (slow motion for vibrations): any progress counts
+    wait_until(lambda: tab.session.frame.t > t0 or not tab.session.playing, 10, "playback")
+    tab.button("Pause")
+    wait_until(lambda: tab.page.locator("math").count() > 0, 10, "equations")
+    assert "internal error" not in tab.status()
+    assert tab.errors == [], tab.errors

@@ -1,0 +1,61 @@
+"""MathML rendering of derivation steps: math appears, nothing executable gets through."""
+
+from __future__ import annotations
+
+import sympy as sp
+
+from app.math_render import derivation_to_html, expr_to_mathml, sanitize_mathml, step_to_html
+from lessons.core.contract import DerivationStep
+
+
+def test_sympy_equation_becomes_math_element() -> None:
+    x, t = sp.symbols("x t")
+    out = expr_to_mathml(sp.Eq(sp.Symbol("dx/dt"), 5 * x + sp.sin(10 * t)))
+    assert out.startswith('<math xmlns="http://www.w3.org/1998/Math/MathML" display="block">')
+    assert out.endswith("</math>")
+    assert "<mi>sin</mi>" in out and "<mn>10</mn>" in out and "dx/dt" in out
+
+
+def test_latex_string_becomes_math_element() -> None:
+    out = expr_to_mathml(r"\omega = \frac{V}{|\nabla F|}")
+    assert out.startswith("<math") and "<mfrac>" in out
+
+
+def test_symbol_names_with_markup_are_escaped() -> None:
+    out = expr_to_mathml(sp.Symbol("<img src=x onerror=alert(1)>") + 1)
+    assert "<img" not in out and "onerror=alert(1)&gt;" in out
+
+
+def test_latex_text_cannot_inject_script() -> None:
+    out = expr_to_mathml(r"\text{<script>alert(1)</script>} + x")
+    assert "<script" not in out.lower() and "alert" not in out
+
+
+def test_sanitizer_drops_foreign_elements_and_attributes() -> None:
+    dirty = '<math><mi onclick="evil()" mathvariant="bold">a</mi><iframe src="x"></iframe><b>bold</b><mo>&lt;</mo></math>'
+    clean = sanitize_mathml(dirty)
+    assert "onclick" not in clean and "iframe" not in clean and "<b>" not in clean
+    assert 'mathvariant="bold"' in clean and "bold" in clean and "<mo>&lt;</mo>" in clean
+
+
+def test_step_html_escapes_prose_and_shows_tags() -> None:
+    step = DerivationStep("Title <b>", "a & b < c", [sp.Symbol("x"), sp.Symbol("y")], "(1.54)", reconstructed="lost <here>")
+    out = step_to_html(step, 3)
+    assert "3. Title &lt;b&gt;" in out and "a &amp; b &lt; c" in out
+    assert "(1.54)" in out and 'class="al-reconstructed"' in out and "lost &lt;here&gt;" in out
+    assert out.count("<math") == 2
+
+
+def test_step_without_reconstruction_has_no_tag() -> None:
+    out = step_to_html(DerivationStep("Plain", math=sp.Integer(1), source="(1.42)"))
+    assert "reconstructed" not in out
+
+
+def test_sphere_derivation_renders() -> None:
+    from lessons.sphere import LESSON
+
+    params = LESSON.resolve(preset="example-1.2")
+    out = derivation_to_html(LESSON.derivation(params))
+    assert out.count("<math") >= 8
+    assert "(1.54)" in out and "al-reconstructed" in out
+    assert "<script" not in out

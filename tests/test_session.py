@@ -1,0 +1,192 @@
+"""The session object: parameters validated, refused values change nothing, state copyable."""
+
+from __future__ import annotations
+
+import json
+import math
+
+import numpy as np
+import pytest
+
+from app.session import LabError, RunLog, Session, SessionState, scenes_equal
+from lessons.core.contract import Frame, ParamError
+from lessons.sphere import LESSON as SPHERE
+
+
+@pytest.fixture()
+def session() -> Session:
+    s = Session([SPHERE], "sphere", "example-1.1")
+    s.pause_at_end = False
+    return s
+
+
+def play(s: Session, frames: int = 10, dt: float = 1 / 30) -> None:
+    s.play()
+    for _ in range(frames):
+        s.tick(dt)
+
+
+def test_starts_on_preset(session: Session) -> None:
+    assert session.lesson.id == "sphere" and session.preset == "example-1.1"
+    assert np.allclose(session.frame.points["point"][0], (1, 0, 0))
+
+
+def test_play_moves_the_point(session: Session) -> None:
+    play(session, 15)
+    assert session.frame.t == pytest.approx(0.5)
+    assert not np.allclose(session.frame.points["point"][0], (1, 0, 0))
+    assert session.frame.scalars["v2"] == pytest.approx(50.0)
+
+
+def test_live_control_change_keeps_state(session: Session) -> None:
+    play(session, 6)
+    t, p = session.frame.t, session.frame.points["point"].copy()
+    session.set_value("u1", "t")
+    assert session.frame.t == t and np.allclose(session.frame.points["point"], p)
+    play(session, 6)
+    assert session.frame.scalars["u1"] == pytest.approx(session.frame.t)
+
+
+@pytest.mark.parametrize(
+    "name, raw",
+    [("R", -1.0), ("R", float("nan")), ("R", "abc"), ("R", "1e999"), ("u1", "__import__('os')"), ("u1", "open('x')"),
+     ("u1", float("inf")), ("family", 2.5), ("integrator", "euler"), ("x0", [1, 2])],
+)
+def test_bad_values_are_refused_and_change_nothing(session: Session, name: str, raw: object) -> None:
+    play(session, 3)
+    before = session.raw_values()
+    t = session.frame.t
+    with pytest.raises(ParamError) as err:
+        session.set_value(name, raw)
+    assert err.value.name in (name, "u1", "params")
+    assert session.raw_values() == before
+    play(session, 3)  # keeps running
+    assert session.frame.t > t
+
+
+def test_unknown_parameter_is_refused(session: Session) -> None:
+    with pytest.raises(ParamError):
+        session.set_value("no_such_param", 1)
+
+
+def test_unknown_lesson_is_refused(session: Session) -> None:
+    with pytest.raises(LabError, match="unknown lesson"):
+        session.select_lesson("no-such-lesson")
+    assert session.lesson.id == "sphere"
+
+
+def test_unknown_lesson_at_start_is_corrected() -> None:
+    s = Session([SPHERE], "nope")
+    assert s.lesson.id == "sphere"
+    assert any("unknown lesson" in text for _, text in s.notices)
+
+
+def test_unknown_preset_is_refused(session: Session) -> None:
+    with pytest.raises(ParamError):
+        session.apply_preset("example-9.9")
+    assert session.preset == "example-1.1"
+
+
+def test_start_point_off_the_surface_is_projected_with_a_message(session: Session) -> None:
+    session.set_values({"x0": 2.0, "y0": 0.0, "z0": 0.0})
+    p = session.frame.points["point"][0]
+    assert np.linalg.norm(p) == pytest.approx(1.0)
+    assert any("off the surface" in text for _, text in session.notices)
+    assert session.snap_start() == pytest.approx((1.0, 0.0, 0.0))
+    assert session.params["x0"] == pytest.approx(1.0)
+
+
+def test_click_start_point_restarts_the_run(session: Session) -> None:
+    play(session, 5)
+    session.set_start((0.0, 1.0, 0.0))
+    assert session.frame.t == 0.0 and np.allclose(session.frame.points["point"][0], (0, 1, 0))
+    with pytest.raises(LabError):
+        session.set_start((math.nan, 0.0, 0.0))
+
+
+def test_other_sessions_unaffected() -> None:
+    a = Session([SPHERE], "sphere", "example-1.1")
+    b = Session([SPHERE], "sphere", "example-1.1")
+    with pytest.raises(ParamError):
+        a.set_value("u1", "__import__('os')")
+    a.set_value("u2", "1")
+    play(b, 5)
+    assert b.raw_values()["u2"] == "5" and a.raw_values()["u2"] == "1"
+    assert a.frame.t == 0.0 and b.frame.t > 0
+
+
+def test_speed_and_step(session: Session) -> None:
+    session.set_speed(8)
+    frames = session.step()
+    assert session.frame.t == pytest.approx(8 / 30) and 1 <= len(frames) <= session.max_substeps
+    for bad in (3, "fast", float("nan"), None):
+        with pytest.raises(LabError):
+            session.set_speed(bad)
+    assert session.speed == 8
+
+
+def test_pause_at_end(session: Session) -> None:
+    session.pause_at_end = True
+    session.set_speed(8)
+    play(session, 60)
+    assert session.frame.t == pytest.approx(10.0) and not session.playing
+
+
+def test_reset(session: Session) -> None:
+    play(session, 5)
+    session.reset()
+    assert session.frame.t == 0.0 and len(session.log) == 1
+
+
+def test_state_round_trip_and_copy(session: Session) -> None:
+    session.set_values({"u1": "sin(t)", "R": 2.0})
+    session.set_speed(2)
+    text = session.state().to_json()
+    other = Session([SPHERE], "sphere")
+    other.apply_state(SessionState.from_json(text))
+    assert other.raw_values() == session.raw_values() and other.speed == 2 and other.preset == "example-1.1"
+    third = Session([SPHERE])
+    third.copy_from(session)
+    assert third.state() == session.state()
+
+
+@pytest.mark.parametrize("text", ["", "not json", "[]", '{"values": {}}', "x" * 30000, '{"lesson": 5}'])
+def test_malformed_saved_state_is_refused(text: str) -> None:
+    with pytest.raises(LabError):
+        SessionState.from_json(text)
+
+
+def test_saved_state_with_bad_values_keeps_the_good_ones() -> None:
+    text = json.dumps({"lesson": "sphere", "preset": "example-9", "values": {"u1": "__import__('os')", "u2": "2", "R": -5, "zzz": 1},
+                       "speed": 1000})
+    s = Session([SPHERE])
+    problems = s.apply_state(SessionState.from_json(text))
+    assert s.raw_values()["u2"] == "2" and s.raw_values()["u1"] == "5" and s.params["R"] == 1.0
+    assert s.speed == 1.0 and s.preset is None and len(problems) >= 3
+
+
+def test_run_result_exports_the_frames(session: Session) -> None:
+    play(session, 9)
+    res = session.run_result()
+    assert len(res.t) == 10 and res.lesson == "sphere" and res.preset == "example-1.1"
+    csv = res.to_csv().splitlines()
+    assert csv[0].startswith("t,x,y,z") and "v2" in csv[0] and len(csv) == 11
+    data = res.to_json_dict()
+    assert data["params"]["u1"] == "5" and len(data["series"]["x"]) == 10
+
+
+def test_run_log_is_bounded() -> None:
+    log = RunLog(limit=100)
+    for k in range(1000):
+        log.add(Frame(t=float(k), points={"p": np.zeros((1, 3))}, scalars={"a": 1.0}))
+    assert len(log) < 100 and log.samples[0].t == 0.0
+
+
+def test_control_changes_defer_the_scene(session: Session) -> None:
+    rev = session.scene_revision
+    session.set_value("u1", "2")
+    assert session.scene_revision == rev and session.scene_due is not None
+    assert session.refresh_scene() is False  # same drawing: no redraw
+    session.set_value("R", 2.0)
+    assert session.scene_revision == rev + 1
+    assert not scenes_equal(SPHERE.scene(SPHERE.resolve()), session.scene)
