@@ -16,7 +16,7 @@ import numpy as np
 import sympy as sp
 
 from lessons.core.analyzer import COEFF_NAMES, AnalyzerModel, AnalyzerRun, Controls, SpeedStepper, U, field_expr, integrate, quadric_expr
-from lessons.core.block_diagram import BlockDiagram, block_diagram
+from lessons.core.block_diagram import diagram_step, BlockDiagram, block_diagram
 from lessons.core.contract import (
     DerivationStep,
     Frame,
@@ -212,14 +212,9 @@ class AnalyzerLesson(Lesson):
             eqs = [sp.Eq(e.lhs, w * e.rhs) for e in eqs]
         return block_diagram(eqs, signals=("u1", "u2", "u3", "ω"), title=f"{self.problem}: analyzer block diagram")
 
-    def block_diagram_step(self, params: Params, prepared: Prepared) -> DerivationStep:
+    def block_diagram_step(self, params: Params, prepared) -> DerivationStep:
         """The diagram as a derivation step: ``svg`` is the self-contained SVG (escaped labels, no scripts)."""
-        d = self.block_diagram(params, prepared)
-        c = d.counts()
-        title = (f"Block diagram: {c.get('integrator', 0)} integrators, {c.get('multiplier', 0)} multipliers, "
-                 f"{c.get('summer', 0)} summers, {c.get('scale', 0)} scale blocks")
-        return DerivationStep(title, "Integrators (with their initial values), multipliers, summers and scale blocks, wired as the equations say.", None, self.block_figure, svg=d.svg,
-                              reconstructed="the wiring is generated from the equations (the figure images are absent in the source)")
+        return diagram_step(self.block_diagram(params, prepared), self.block_figure, "the wiring is generated from the equations (the figure images are absent in the source)")
 
     def extra_derivation(self, params: Params, prepared: Prepared) -> list[DerivationStep]:
         return []

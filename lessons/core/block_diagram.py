@@ -380,3 +380,14 @@ def render_svg(d: BlockDiagram) -> str:
 
 
 __all__ = ["Block", "BlockDiagram", "Wire", "block_diagram", "render_svg", "label_of"]
+
+
+def diagram_step(d: BlockDiagram, figure: str, reconstructed: str) -> "DerivationStep":
+    """A block diagram as a derivation step (its counts in the title, the SVG as the figure)."""
+    from lessons.core.contract import DerivationStep
+
+    c = d.counts()
+    title = (f"Block diagram: {c.get('integrator', 0)} integrators, {c.get('multiplier', 0)} multipliers, "
+             f"{c.get('summer', 0)} summers, {c.get('scale', 0)} scale blocks")
+    text = "Integrators (with their initial values), multipliers, summers and scale blocks, wired as the equations say."
+    return DerivationStep(title, text, None, figure, reconstructed=reconstructed, svg=d.svg)

@@ -15,7 +15,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import sympy as sp
 
-from lessons.core.block_diagram import BlockDiagram, block_diagram
+from lessons.core.block_diagram import diagram_step, BlockDiagram, block_diagram
 from lessons.core.contract import (
     CurveItem,
     DerivationStep,
@@ -153,14 +153,9 @@ class PlanarLesson(Lesson):
         prepared = self.prepare(params) if prepared is None else prepared
         return block_diagram(self.diagram_equations(params, prepared), signals=("u",), title=f"{self.problem}: analyzer block diagram")
 
-    def block_diagram_step(self, params: Params, prepared: PlanarPrepared) -> DerivationStep:
+    def block_diagram_step(self, params: Params, prepared) -> DerivationStep:
         """The diagram as a derivation step: ``svg`` is the self-contained SVG (escaped labels, no scripts)."""
-        d = self.block_diagram(params, prepared)
-        c = d.counts()
-        title = (f"Block diagram: {c.get('integrator', 0)} integrators, {c.get('multiplier', 0)} multipliers, "
-                 f"{c.get('summer', 0)} summers, {c.get('scale', 0)} scale blocks")
-        return DerivationStep(title, "Integrators (with their initial values), multipliers, summers and scale blocks, wired as the equations say.", None, self.block_figure, svg=d.svg,
-                              reconstructed="the wiring is generated from the equations; the figure's layout is not reproduced")
+        return diagram_step(self.block_diagram(params, prepared), self.block_figure, "the wiring is generated from the equations; the figure's layout is not reproduced")
 
     def validate(self, params: Params) -> None:
         for name in ("u",):
