@@ -29,6 +29,7 @@ V2_TABLE = {
 
 
 class SphereLesson(AnalyzerLesson):
+    block_figure = "Fig. 1.15"
     id = "sphere"
     title = "Curve on a sphere"
     chapter = "1"
@@ -117,29 +118,28 @@ class SphereLesson(AnalyzerLesson):
         radius = np.abs(np.linalg.norm(r - 1.0 / 3.0, axis=1) - np.sqrt(2.0 / 3.0)).max()
         return at_most(1e-10, float(max(plane, radius)), "max deviation from the circle ")
 
-    def _claim_const_speed(self) -> ClaimResult:
-        rng = np.random.default_rng(14)
-        worst = 0.0
-        for _ in range(5):
+    @staticmethod
+    def _random_constant_runs(seed: int, count: int = 5):
+        """Runs with random constant controls from random points of the unit sphere."""
+        rng = np.random.default_rng(seed)
+        for _ in range(count):
             u = rng.uniform(-5, 5, 3)
             p = rng.normal(size=3)
             p /= np.linalg.norm(p)
             model = AnalyzerModel.of(Quadric.sphere(1.0).coeffs(), Controls(*u))
-            run = integrate(model, p, 5.0, h=1e-3, samples=501)
+            yield u, p, integrate(model, p, 5.0, h=1e-3, samples=501)
+
+    def _claim_const_speed(self) -> ClaimResult:
+        worst = 0.0
+        for u, p, run in self._random_constant_runs(14):
             v2 = (run.v**2).sum(-1)
             expected = (u**2).sum() - (u[2] * p[0] + u[1] * p[1] + u[0] * p[2]) ** 2
             worst = max(worst, float(np.abs(v2 - expected).max()))
         return at_most(1e-9, worst, "max |v² - (|u|²R² - (u3x0+u2y0+u1z0)²)| ")
 
     def _claim_const_plane(self) -> ClaimResult:
-        rng = np.random.default_rng(15)
         worst = 0.0
-        for _ in range(5):
-            u = rng.uniform(-5, 5, 3)
-            p = rng.normal(size=3)
-            p /= np.linalg.norm(p)
-            model = AnalyzerModel.of(Quadric.sphere(1.0).coeffs(), Controls(*u))
-            run = integrate(model, p, 5.0, h=1e-3, samples=501)
+        for u, _, run in self._random_constant_runs(15):
             inv = run.r[:, 0, :] @ np.array([u[2], u[1], u[0]])
             worst = max(worst, float(np.ptp(inv)))
         return at_most(1e-10, worst, "spread of u3 x + u2 y + u1 z ")

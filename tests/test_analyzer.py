@@ -67,7 +67,9 @@ def test_invariant_round_off_over_1e5_steps_every_type(V):
     h = 1e-4 if V is None else 2e-4
     run = integrate(model, r0, 1e5 * h, h=h, samples=501)
     assert run.r.shape[1] == len(SURFACES)
-    rel = run.drift.max(axis=0) / scales
+    # relative to the size of F's terms where the point went (a hyperbolic paraboloid's
+    # trajectories run far out): round-off of F itself is ~1e-16 of that
+    rel = run.drift.max(axis=0) / np.maximum(scales, model.F_scale(run.r))
     assert np.all(rel <= 1e-12), dict(zip(SURFACES, rel))
     moved = np.linalg.norm(run.r[-1] - run.r[0], axis=-1)
     assert np.all(moved > 1e-3)
@@ -94,7 +96,9 @@ def test_speed_parallel_controls_hold():
 
 def test_reference_solver_drifts_where_gl_does_not():
     model, r0, scales = family_model(None)
-    gl = integrate(model, r0[:2], 50.0, h=1e-2, samples=501)
-    rk = integrate(model, r0[:2], 50.0, method="RK45", samples=501)
-    assert (gl.drift.max(axis=0) / scales[:2]).max() < 1e-13
-    assert (rk.drift.max(axis=0) / scales[:2]).max() > 1e-7
+    gl = integrate(model, r0, 50.0, h=1e-2, samples=501)
+    rk = integrate(model, r0, 50.0, method="RK45", samples=501)
+    gl_rel = gl.drift.max(axis=0) / np.maximum(scales, model.F_scale(gl.r))
+    rk_rel = rk.drift.max(axis=0) / np.maximum(scales, model.F_scale(rk.r))
+    assert gl_rel.max() < 1e-13
+    assert rk_rel.max() > 1e-7

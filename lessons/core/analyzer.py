@@ -165,6 +165,15 @@ class AnalyzerModel:
             + 2 * (c["a14"] * X + c["a24"] * Y + c["a34"] * Z) + c["a44"]
         )
 
+    def F_scale(self, R: np.ndarray) -> np.ndarray:
+        """Magnitude of F's terms at the points visited, per family member:
+        max over samples of ‖Q‖|r|² + ‖b‖|r| + |a44| (round-off of F is ~1e-16 of it)."""
+        c = self.coeffs
+        qn = np.sqrt(sum(np.asarray(c[n], dtype=float) ** 2 * (1 if n in ("a11", "a22", "a33") else 2) for n in COEFF_NAMES[:6]))
+        bn = np.sqrt(sum(np.asarray(c[n], dtype=float) ** 2 for n in ("a14", "a24", "a34")))
+        rn = np.linalg.norm(np.asarray(R, dtype=float), axis=-1)
+        return (qn * rn**2 + bn * rn + np.abs(np.asarray(c["a44"], dtype=float))).max(axis=0)
+
     def linear_coeffs(self, t: np.ndarray, n_points: int) -> tuple[np.ndarray, np.ndarray]:
         """``A (m, N, 3, 3)`` and ``c (m, N, 3)`` of the affine field at times ``t (m,)``."""
         uu = self.controls.at(t)  # (3, m)
@@ -211,9 +220,9 @@ class AnalyzerModel:
         qn = max(float(np.max(np.abs(self.coeffs[n]))) for n in COEFF_NAMES[:6])
         return HOLD_TOL * uu[:, None] * (g + qn * np.linalg.norm(R, axis=-1) + 1e-300)
 
-    def hold_threshold(self, R: np.ndarray, t: float) -> np.ndarray:
+    def hold_threshold(self, R: np.ndarray, t: float, umax: float | None = None) -> np.ndarray:
         """Below this |field| the constant-speed analyzer holds (the formula divides by ~0)."""
-        uu = np.abs(self.controls.at(np.asarray(t))).max() + 1e-300
+        uu = (float(np.abs(self.controls.at(np.asarray(t))).max()) if umax is None else umax) + 1e-300
         g = np.linalg.norm(self.half_gradient(R), axis=-1)
         qn = max(float(np.max(np.abs(self.coeffs[n]))) for n in COEFF_NAMES[:6])
         scale = uu * (g + qn * np.linalg.norm(R, axis=-1) + 1e-300)
@@ -235,6 +244,134 @@ class AnalyzerModel:
         J = (self.controls.sign * Vt / safe)[:, None, None] * np.einsum("nij,njk->nik", P, A)
         J[norm == 0] = 0.0
         return J
+
+
+class SpeedStepper:
+    """Gauss–Legendre steps of the constant-speed analyzer (1.59), vectorized over points.
+
+    The field is ``omega (A(t) r + c(t))`` with ``A, c`` from the lambdified (1.50) and
+    ``omega = sigma V / |A r + c|`` (1.58); stages are solved by simplified Newton to
+    round-off (warm-started from the previous step), so F is kept to round-off.
+    Where ``|A r + c|`` is below the hold threshold at the start of a step the point holds.
+    """
+
+    #: Largest turn of the velocity per substep (rad), see :meth:`step_substeps`.
+    max_turn = 0.03
+
+    def __init__(self, model: "AnalyzerModel", stages: int = 3, max_iter: int = 30) -> None:
+        from lessons.core.integrators import gauss_legendre
+
+        self.model = model
+        self.a, self.b, self.c = gauss_legendre(stages)
+        self.s = stages
+        self.max_iter = max_iter
+        self.evaluations = 0
+        self._K: np.ndarray | None = None
+
+    def coefficients(self, t: float, h: float, n_steps: int, N: int) -> tuple[np.ndarray, ...]:
+        """Batched A, c, sigma V and max|u| at the stage times of ``n_steps`` steps."""
+        ts = (t + h * (np.arange(n_steps)[:, None] + self.c[None, :])).ravel()
+        A, cc = self.model.linear_coeffs(ts, N)
+        s = self.s
+        Vs = self.model.controls.sign * self.model.controls.speed(ts)
+        umax = np.abs(self.model.controls.at(ts)).max(axis=0)
+        return (A.reshape(n_steps, s, N, 3, 3), cc.reshape(n_steps, s, N, 3), Vs.reshape(n_steps, s), umax.reshape(n_steps, s))
+
+    def step(self, t: float, R: np.ndarray, h: float, coeffs: tuple[np.ndarray, ...] | None = None) -> tuple[np.ndarray, np.ndarray]:
+        """One step from ``(t, R (N, 3))``; returns the new state and the held mask."""
+        s, a = self.s, self.a
+        N = len(R)
+        if coeffs is None:
+            coeffs = tuple(x[0] for x in self.coefficients(t, h, 1, N))
+        A, cc, Vs, umax = coeffs
+        n0 = np.einsum("nij,nj->ni", A[0], R) + cc[0]
+        norm0 = np.sqrt((n0 * n0).sum(-1))
+        held = norm0 <= self.model.hold_threshold(R, float(t), umax=float(umax[0]))
+        safe0 = np.where(held, 1.0, norm0)
+        # simplified Newton matrix from the start point: J = omega (I - nn^T) A
+        nh = n0 / safe0[:, None]
+        P = np.eye(3) - nh[:, :, None] * nh[:, None, :]
+        J = (Vs[s // 2] / safe0)[:, None, None] * (P @ A[s // 2])
+        M = np.eye(3 * s) - h * (a[None, :, None, :, None] * J[:, None, :, None, :]).reshape(N, 3 * s, 3 * s)
+        Minv = np.linalg.inv(M)
+        if self._K is not None and self._K.shape == (N, s, 3):
+            K = self._K.copy()
+        else:
+            K = np.repeat((n0 * (Vs[0] / safe0)[:, None])[:, None, :], s, axis=1)
+        At = A.transpose(1, 0, 2, 3)  # (N, s, 3, 3)
+        ct = cc.transpose(1, 0, 2)
+        ha = h * a
+        for _ in range(self.max_iter):
+            Y = R[:, None, :] + ha @ K  # (N, s, 3)
+            n = (At @ Y[..., None])[..., 0] + ct
+            norm = np.sqrt((n * n).sum(-1))
+            f = n * (Vs[None, :] / np.where(norm > 0, norm, 1.0))[..., None]
+            self.evaluations += s
+            dK = -(Minv @ (K - f).reshape(N, 3 * s, 1)).reshape(N, s, 3)
+            K += dK
+            if np.abs(dK).max() <= 2e-16 * (np.abs(K).max() + 1e-300):
+                break
+        K[held] = 0.0
+        self._K = K
+        return R + h * np.einsum("i,nid->nd", self.b, K), held
+
+    def step_substeps(self, t: float, R: np.ndarray, h: float, coeffs: tuple[np.ndarray, ...]) -> tuple[np.ndarray, np.ndarray]:
+        """One output step of size ``h``, split into equal substeps where the curve turns fast.
+
+        The turning rate of (1.59) is ``omega |A| = V |A| / |A r + c|``: near points where the
+        analyzer's field is small the point turns quickly; the step is cut so that
+        ``rate * substep <= max_turn`` (each substep is still a Gauss-Legendre step).
+        """
+        A, cc, Vs, _ = coeffs
+        n0 = np.einsum("nij,nj->ni", A[0], R) + cc[0]
+        norm0 = np.sqrt((n0 * n0).sum(-1))
+        rate = np.abs(Vs).max() * np.sqrt((A[0] ** 2).sum(axis=(-1, -2))) / np.maximum(norm0, 1e-300)
+        m = int(np.ceil(float(np.max(np.where(norm0 > 0, rate, 0.0))) * h / self.max_turn - 1e-12))
+        if m <= 1:
+            return self.step(t, R, h, coeffs)
+        m = min(m, 10_000)
+        hs = h / m
+        held = np.zeros(len(R), dtype=bool)
+        comp = np.zeros_like(R)
+        batch = self.coefficients(t, hs, m, len(R))
+        for j in range(m):
+            new, hj = self.step(t + j * hs, R, hs, tuple(x[j] for x in batch))
+            held |= hj
+            inc = (new - R) - comp
+            nxt = R + inc
+            comp = (nxt - R) - inc
+            R = nxt
+        return R, held
+
+    def integrate(self, R0: np.ndarray, t0: float, t_end: float, h: float, chunk: int = 2000) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        R = np.atleast_2d(np.asarray(R0, dtype=float))
+        N = len(R)
+        n_full = int(np.floor((t_end - t0) / h + 1e-9))
+        rest = (t_end - t0) - n_full * h
+        n_all = n_full + (1 if rest > 1e-12 * max(1.0, h) else 0)
+        ts = np.empty(n_all + 1)
+        out = np.empty((n_all + 1, *R.shape))
+        held = np.zeros((n_all + 1, N), dtype=bool)
+        ts[0], out[0] = t0, R
+        comp = np.zeros_like(R)
+        k = 0
+        while k < n_all:
+            if k >= n_full:
+                hk, m = rest, 1
+            else:
+                hk, m = h, min(chunk, n_full - k)
+            batch = self.coefficients(t0 + k * h, hk, m, N)
+            for j in range(m):
+                new, held[k] = self.step_substeps(t0 + k * h, R, hk, tuple(x[j] for x in batch))
+                inc = (new - R) - comp  # compensated summation of the increments
+                nxt = R + inc
+                comp = (nxt - R) - inc
+                R = nxt
+                k += 1
+                ts[k], out[k] = (t0 + k * h if k <= n_full else t_end), R
+        if n_all:
+            held[-1] = held[-2]
+        return ts, out, held
 
 
 @dataclass
@@ -271,9 +408,9 @@ def integrate(model: AnalyzerModel, r0: np.ndarray, t_end: float, h: float = 1e-
         if model.controls.V is None:
             t, r = gl_linear(lambda ts: model.linear_coeffs(ts, N), R0, t0, t_end, h, stages)
         else:
-            stepper = GLStepper(model.velocity, model.jacobian, stages)
-            t, r = stepper.integrate(R0, t0, t_end, h)
-            nfev = stepper.stats.evaluations
+            sp_stepper = SpeedStepper(model, stages)
+            t, r, _ = sp_stepper.integrate(R0, t0, t_end, h)
+            nfev = sp_stepper.evaluations
         if samples is not None and len(t) > samples:
             idx = np.unique(np.linspace(0, len(t) - 1, samples).round().astype(int))
             t, r = t[idx], r[idx]

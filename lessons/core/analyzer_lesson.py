@@ -15,7 +15,8 @@ from dataclasses import dataclass, field
 import numpy as np
 import sympy as sp
 
-from lessons.core.analyzer import COEFF_NAMES, AnalyzerModel, AnalyzerRun, Controls, U, field_expr, integrate, quadric_expr
+from lessons.core.analyzer import COEFF_NAMES, AnalyzerModel, AnalyzerRun, Controls, SpeedStepper, U, field_expr, integrate, quadric_expr
+from lessons.core.block_diagram import diagram_step, BlockDiagram, block_diagram
 from lessons.core.contract import (
     DerivationStep,
     Frame,
@@ -31,7 +32,7 @@ from lessons.core.contract import (
     Stepper,
 )
 from lessons.core.formula import Formula, t_symbol
-from lessons.core.integrators import GLStepper, gl_linear
+from lessons.core.integrators import gl_linear
 from lessons.core.quadric import Quadric
 
 METHODS = ("gauss-legendre-3", "gauss-legendre-2", "RK45", "DOP853")
@@ -196,7 +197,24 @@ class AnalyzerLesson(Lesson):
 
     def derivation(self, params: Params) -> list[DerivationStep]:
         prepared = self.prepare(params)
-        return [*self.general_derivation(params, prepared), *self.speed_derivation(params), *self.extra_derivation(params, prepared)]
+        return [*self.general_derivation(params, prepared), *self.speed_derivation(params), *self.extra_derivation(params, prepared),
+                self.block_diagram_step(params, prepared)]
+
+    #: The textbook figure the block diagram corresponds to (a subclass may name it).
+    block_figure: str = "Fig. 1.5 notation"
+
+    def block_diagram(self, params: Params, prepared: Prepared | None = None) -> BlockDiagram:
+        """The analyzer's block diagram (Fig. 1.5 notation) built from the integrated equations."""
+        prepared = self.prepare(params) if prepared is None else prepared
+        eqs = prepared.model.equations()
+        if self.constant_speed:
+            w = sp.Symbol("ω", real=True)
+            eqs = [sp.Eq(e.lhs, w * e.rhs) for e in eqs]
+        return block_diagram(eqs, signals=("u1", "u2", "u3", "ω"), title=f"{self.problem}: analyzer block diagram")
+
+    def block_diagram_step(self, params: Params, prepared) -> DerivationStep:
+        """The diagram as a derivation step: ``svg`` is the self-contained SVG (escaped labels, no scripts)."""
+        return diagram_step(self.block_diagram(params, prepared), self.block_figure, "the wiring is generated from the equations (the figure images are absent in the source)")
 
     def extra_derivation(self, params: Params, prepared: Prepared) -> list[DerivationStep]:
         return []
@@ -212,7 +230,7 @@ class AnalyzerLesson(Lesson):
     def simulate(self, params: Params, t_end: float | None = None) -> RunResult:
         t_end = self.t_end if t_end is None else float(t_end)
         prepared, run = self.run_analyzer(params, t_end)
-        scale = prepared.quadric.scale
+        scale = float(max(prepared.quadric.scale, np.max(prepared.model.F_scale(run.r))))
         v2 = (run.v**2).sum(-1)
         series: dict[str, np.ndarray] = {}
         for k in range(run.r.shape[1]):
@@ -339,9 +357,9 @@ class AnalyzerStepper(Stepper):
             _, states = gl_linear(lambda ts: model.linear_coeffs(ts, len(self.R)), self.R, self._t, self._t + n * h, h, self.stages)
             self.R = states[-1]
         else:
-            stepper = GLStepper(model.velocity, model.jacobian, self.stages)
-            for k in range(n):
-                self.R = stepper.step(self._t + k * h, self.R, h)
+            stepper = SpeedStepper(model, self.stages)
+            _, states, _ = stepper.integrate(self.R, self._t, self._t + n * h, h)
+            self.R = states[-1]
         self._t += n * h
         return self.frame()
 

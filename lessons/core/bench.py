@@ -1,9 +1,11 @@
 """Integrator benchmark: the default Gauss–Legendre integrator against scipy's ``solve_ivp``.
 
 For the same problems in one run: invariant drift max|F - F0| / scale, error along the
-curve against a tight reference (max |r - r_ref| over samples every 0.1 s), wall time,
-right-hand-side evaluations, and the wall-time ratio at equal accuracy along the curve
-(the largest GL step whose error is at most DOP853's at rtol = atol = 1e-12).
+curve against a tight reference (max |r - r_ref| / max(1, |r_ref|) over samples every 0.1 s), wall time,
+right-hand-side evaluations (for the affine analyzer: steps, each one batched linear
+solve), and the wall-time ratio at equal accuracy along the curve
+(the largest GL step whose error is at most DOP853's at rtol = atol = 1e-12).  The
+reference is DOP853 at rtol = 2.5e-14, atol = 1e-15.
 """
 
 from __future__ import annotations
@@ -35,7 +37,7 @@ def problems() -> list[tuple[str, Quadric, Controls, np.ndarray]]:
     hyp = Quadric.hyperboloid_one_sheet(1.0, 1.0, 1.0)
     f = parse_formula
     u_ell = (f("1 + 0.5*sin(t)"), f("0.2"), f("2*cos(t/3)"))
-    u_hyp = (f("1"), f("0.5*cos(t)"), f("0.3"))
+    u_hyp = (f("1 + 0.5*sin(t)"), f("0.3*cos(t)"), f("0.2"))
     start_ell = np.array([0.0, -5.0, 0.0])
     start_hyp = np.array([1.0, 0.0, 0.0])
     return [
@@ -45,10 +47,14 @@ def problems() -> list[tuple[str, Quadric, Controls, np.ndarray]]:
     ]
 
 
-def _timed(model: AnalyzerModel, r0: np.ndarray, t_end: float, **kw: object):
-    t0 = time.perf_counter()
-    run = integrate(model, r0, t_end, **kw)  # type: ignore[arg-type]
-    return run, time.perf_counter() - t0
+def _timed(model: AnalyzerModel, r0: np.ndarray, t_end: float, repeat: int = 3, **kw: object):
+    """Run ``repeat`` times; the best wall time (the machine may be busy)."""
+    best = np.inf
+    for _ in range(repeat):
+        t0 = time.perf_counter()
+        run = integrate(model, r0, t_end, **kw)  # type: ignore[arg-type]
+        best = min(best, time.perf_counter() - t0)
+    return run, best
 
 
 def run_benchmark(t_end: float = 100.0, quick: bool = False) -> list[BenchRow]:
@@ -58,12 +64,17 @@ def run_benchmark(t_end: float = 100.0, quick: bool = False) -> list[BenchRow]:
     rows: list[BenchRow] = []
     for name, q, controls, r0 in problems():
         model = AnalyzerModel.of(q.coeffs(), controls)
-        scale = q.scale
-        ref, _ = _timed(model, r0, t_end, method="DOP853", rtol=1e-13, atol=1e-14, samples=samples)
+        ref, _ = _timed(model, r0, t_end, repeat=1, method="DOP853", rtol=2.5e-14, atol=1e-15, samples=samples)
+        # F's terms where the point goes (unbounded surfaces): round-off of F is ~1e-16 of it
+        scale = float(max(q.scale, np.max(model.F_scale(ref.r))))
 
         def row(method: str, run, sec: float, note: str = "") -> BenchRow:
-            err = float(np.max(np.abs(run.r - ref.r)))
-            return BenchRow(name, method, float(run.drift.max() / scale), err, sec, int(run.nfev), note)
+            if run.t.shape != ref.t.shape or np.max(np.abs(run.t - ref.t)) > 1e-9:
+                raise ValueError(f"{method}: samples do not line up with the reference (the step must divide 0.1)")
+            # relative to the size of r (trajectories on unbounded surfaces may run far)
+            err = float(np.max(np.abs(run.r - ref.r) / np.maximum(1.0, np.linalg.norm(ref.r, axis=-1, keepdims=True))))
+            work = int(run.nfev) if run.nfev else int(round(t_end / float(method.split("h=")[1].rstrip(")")))) if "h=" in method else 0
+            return BenchRow(name, method, float(run.drift.max() / scale), err, sec, work, note)
 
         rk45, s_rk45 = _timed(model, r0, t_end, method="RK45", samples=samples)
         rows.append(row("RK45 (default tol)", rk45, s_rk45))
@@ -71,7 +82,7 @@ def run_benchmark(t_end: float = 100.0, quick: bool = False) -> list[BenchRow]:
         dop_row = row("DOP853 (rtol=atol=1e-12)", dop, s_dop)
         rows.append(dop_row)
         chosen: BenchRow | None = None
-        hs = (0.05, 0.025, 0.0125, 0.00625) if controls.V is None else (0.05, 0.025, 0.0125)
+        hs = (0.05, 0.025, 0.0125, 0.00625) if controls.V is None else (0.05, 0.025, 0.02, 0.0125, 0.01)
         for h in hs:
             gl, s_gl = _timed(model, r0, t_end, method="gauss-legendre-3", h=h, samples=samples)
             r = row(f"Gauss-Legendre 3 (h={h:g})", gl, s_gl)
@@ -86,7 +97,7 @@ def run_benchmark(t_end: float = 100.0, quick: bool = False) -> list[BenchRow]:
 
 
 def format_table(rows: list[BenchRow]) -> str:
-    head = f"| problem | method | max drift/scale | max error along curve | wall s | RHS evals | note |\n|---|---|---|---|---|---|---|"
+    head = f"| problem | method | max drift/scale | max error along curve | wall s | RHS evals (GL affine: steps) | note |\n|---|---|---|---|---|---|---|"
     body = [
         f"| {r.problem} | {r.method} | {r.drift:.2e} | {r.error:.2e} | {r.seconds:.3f} | {r.nfev or '-'} | {r.note} |"
         for r in rows

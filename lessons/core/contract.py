@@ -142,7 +142,9 @@ class DerivationStep:
 
     ``math`` is a sympy expression/equation (rendered by sympy's MathML printer) or a
     LaTeX string; ``source`` is the textbook's equation number (e.g. ``"(1.54)"``);
-    ``reconstructed`` is ``None`` or one line on why the equation had to be rebuilt.
+    ``reconstructed`` is ``None`` or one line on why the equation had to be rebuilt;
+    ``svg`` is an optional figure (a self-contained SVG built by the lesson from its own
+    equations, every label escaped, no scripts or links), e.g. a block diagram.
     """
 
     title: str
@@ -150,6 +152,7 @@ class DerivationStep:
     math: sp.Basic | Sequence[sp.Basic] | str | None = None
     source: str = ""
     reconstructed: str | None = None
+    svg: str | None = None
 
 
 @dataclass

@@ -1,0 +1,250 @@
+"""The plane conic analyzer (1.29)-(1.33), (1.40) and its digital form (1.24)-(1.25).
+
+Conic (1.21) in the textbook's 2-D indexing (a13, a23 linear, a33 constant):
+
+    F(x, y) = a11 x² + 2 a12 xy + a22 y² + 2 a13 x + 2 a23 y + a33 = 0          (1.21)
+
+The analyzer moves the point along the level curve of F through its start point:
+
+    dx/dt =  k(t) (a12 x + a22 y + a23) =  k F_y/2
+    dy/dt = -k(t) (a11 x + a12 y + a13) = -k F_x/2                                 (1.30)-(1.32)
+
+with k = ω² for the parabola lesson (1.32)-(1.33) (dφ = ω dt, (1.31)) and k = u(t) for
+the circle (1.40).  The field is affine, so Gauss-Legendre steps (:func:`gl_linear`,
+d = 2) keep F to round-off.
+
+The *digital* analyzer replaces each integrator by successive additions (1.25):
+y = y0 + ΣΔy, Δz = c·y·Δx.  The argument advances by a quantum Δ per iteration; each
+coordinate keeps a remainder register and emits a step pulse of length ``pulse`` (the
+basic length unit of a CNC interpolator) whenever the register passes half a pulse, so
+the path is a staircase.  Two updates:
+
+* ``simple``  (Euler): both increments from the old coordinates;
+* ``improved`` (symplectic Euler): the y increment uses the x already updated.
+
+On the circle x' = y, y' = -x the simple update multiplies the radius by √(1 + Δ²) per
+iteration, i.e. by exp(πΔ) ≈ 1 + πΔ per turn (a spiral); the improved update keeps
+x² + y² + Δxy exactly, a closed curve within ΔR/4 of the circle.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Callable, Mapping, Sequence
+
+import numpy as np
+import sympy as sp
+
+from lessons.core.formula import Formula, t_symbol
+from lessons.core.integrators import gl_linear
+
+CONIC_NAMES: tuple[str, ...] = ("a11", "a12", "a22", "a13", "a23", "a33")
+X, Y = sp.symbols("x y", real=True)
+DIGITAL_MODES = ("off", "simple", "improved")
+#: Most iterations a digital run may take (a smaller Δ or a shorter run is asked for beyond).
+MAX_DIGITAL_ITERATIONS = 400_000
+
+
+def conic_expr(a: Mapping[str, object], x: sp.Symbol = X, y: sp.Symbol = Y) -> sp.Expr:
+    """F of (1.21) with coefficients ``a`` (numbers or symbols)."""
+    return a["a11"] * x**2 + 2 * a["a12"] * x * y + a["a22"] * y**2 + 2 * a["a13"] * x + 2 * a["a23"] * y + a["a33"]
+
+
+def _gain_values(gain: Formula | float, t: np.ndarray) -> np.ndarray:
+    t = np.asarray(t, dtype=float)
+    if isinstance(gain, Formula):
+        return np.broadcast_to(np.asarray(gain(t), dtype=float), t.shape).astype(float)
+    return np.full(t.shape, float(gain))
+
+
+def gain_expr(gain: Formula | float) -> sp.Expr:
+    return gain.expr if isinstance(gain, Formula) else sp.nsimplify(float(gain), rational=True)
+
+
+@dataclass
+class PlanarModel:
+    """The conic analyzer for ``N`` family members (coefficients of shape ``(N,)``)."""
+
+    coeffs: dict[str, np.ndarray]
+    gain: Formula | float = 1.0
+
+    @classmethod
+    def of(cls, coeffs: Sequence[Mapping[str, float]] | Mapping[str, float], gain: Formula | float = 1.0) -> "PlanarModel":
+        items = [coeffs] if isinstance(coeffs, Mapping) else list(coeffs)
+        return cls({n: np.array([float(c.get(n, 0.0)) for c in items]) for n in CONIC_NAMES}, gain)
+
+    @property
+    def size(self) -> int:
+        return len(self.coeffs["a11"])
+
+    def through(self, r0: np.ndarray) -> "PlanarModel":
+        """The same analyzer with a33 chosen so that F(r0) = 0 (the level curve it traces)."""
+        r0 = np.atleast_2d(r0)
+        c = dict(self.coeffs)
+        c["a33"] = np.zeros(len(r0))
+        c["a33"] = -PlanarModel(c, self.gain).F(r0)
+        return PlanarModel(c, self.gain)
+
+    def F(self, R: np.ndarray) -> np.ndarray:
+        c = self.coeffs
+        x, y = R[..., 0], R[..., 1]
+        return c["a11"] * x**2 + 2 * c["a12"] * x * y + c["a22"] * y**2 + 2 * c["a13"] * x + 2 * c["a23"] * y + c["a33"]
+
+    def half_gradient(self, R: np.ndarray) -> np.ndarray:
+        """(F_x/2, F_y/2) at ``R (..., N, 2)``."""
+        c = self.coeffs
+        x, y = R[..., 0], R[..., 1]
+        return np.stack([c["a11"] * x + c["a12"] * y + c["a13"], c["a12"] * x + c["a22"] * y + c["a23"]], axis=-1)
+
+    def scale(self, R: np.ndarray) -> float:
+        """A natural size of F near ``R`` (for relative drift)."""
+        c = self.coeffs
+        q = max(float(np.max(np.abs(c[n]))) for n in ("a11", "a12", "a22")) if self.size else 0.0
+        l = max(float(np.max(np.abs(c[n]))) for n in ("a13", "a23")) if self.size else 0.0
+        r = float(np.max(np.abs(R))) if np.size(R) else 1.0
+        return max(q * r * r + 2 * l * r + float(np.max(np.abs(c["a33"]))), 1e-300)
+
+    def linear_coeffs(self, t: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """``A (m, N, 2, 2)``, ``c (m, N, 2)`` of the affine field at times ``t (m,)``."""
+        k = _gain_values(self.gain, t)[:, None]  # (m, 1)
+        c = self.coeffs
+        m, N = len(t), self.size
+        A = np.empty((m, N, 2, 2))
+        A[:, :, 0, 0] = k * c["a12"]
+        A[:, :, 0, 1] = k * c["a22"]
+        A[:, :, 1, 0] = -k * c["a11"]
+        A[:, :, 1, 1] = -k * c["a12"]
+        cv = np.stack([k * c["a23"] * np.ones(N), -k * c["a13"] * np.ones(N)], axis=-1)
+        return A, cv
+
+    def velocity(self, t: float | np.ndarray, R: np.ndarray) -> np.ndarray:
+        """The field at time(s) ``t`` and states ``R (..., N, 2)``."""
+        g = self.half_gradient(R)
+        k = _gain_values(self.gain, np.asarray(t, dtype=float))
+        k = np.reshape(k, np.shape(k) + (1,) * (g.ndim - np.ndim(k)))
+        return np.stack([k[..., 0] * g[..., 1], -k[..., 0] * g[..., 0]], axis=-1)
+
+    def equations(self, gain: sp.Expr | None = None, names: tuple[str, str] = ("x", "y")) -> list[sp.Eq]:
+        """dx/dt, dy/dt of the first member with its numbers (for display)."""
+        k = gain_expr(self.gain) if gain is None else gain
+        a = {n: sp.nsimplify(float(self.coeffs[n][0]), rational=True) for n in CONIC_NAMES}
+        s1, s2 = (sp.Symbol(n, real=True) for n in names)
+        rows = (k * (a["a12"] * s1 + a["a22"] * s2 + a["a23"]), -k * (a["a11"] * s1 + a["a12"] * s2 + a["a13"]))
+        return [sp.Eq(sp.Derivative(sp.Function(n)(t_symbol), t_symbol), sp.expand(r)) for n, r in zip(names, rows)]
+
+    def integrate(self, r0: np.ndarray, t_end: float, h: float = 1e-3, t0: float = 0.0, stages: int = 3) -> tuple[np.ndarray, np.ndarray]:
+        """``t (m,)`` and states ``(m, N, 2)`` from ``r0 (N, 2)``; ``t_end < t0`` runs backwards."""
+        r0 = np.atleast_2d(np.asarray(r0, dtype=float))
+        if t_end >= t0:
+            return gl_linear(self.linear_coeffs, r0, t0, t_end, h, stages)
+
+        def back(s: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+            A, c = self.linear_coeffs(2 * t0 - s)
+            return -A, -c
+
+        s, r = gl_linear(back, r0, t0, 2 * t0 - t_end, h, stages)
+        return 2 * t0 - s, r
+
+
+@dataclass
+class DigitalAnalyzer:
+    """The digital differential analyzer (1.25) of a :class:`PlanarModel`.
+
+    State: pulse counters ``n (N, 2)`` (coordinate = start + n·pulse) and remainder
+    registers ``acc (N, 2)`` in units of a pulse.  ``pulse = 0`` turns the position
+    quantization off (plain successive additions).
+    """
+
+    model: PlanarModel
+    r0: np.ndarray
+    delta: float
+    pulse: float = 0.0
+    mode: str = "simple"
+    n: np.ndarray = field(init=False)
+    acc: np.ndarray = field(init=False)
+    cont: np.ndarray = field(init=False)
+    k: int = field(init=False, default=0)
+
+    def __post_init__(self) -> None:
+        if self.mode not in ("simple", "improved"):
+            raise ValueError(f"digital mode must be simple or improved, got {self.mode!r}")
+        if not (self.delta > 0 and np.isfinite(self.delta)):
+            raise ValueError("the quantum delta must be positive")
+        self.r0 = np.atleast_2d(np.asarray(self.r0, dtype=float)).copy()
+        self.reset()
+
+    def reset(self) -> None:
+        self.n = np.zeros_like(self.r0)
+        self.acc = np.zeros_like(self.r0)
+        self.cont = self.r0.copy()  # unquantized register contents (pulse = 0)
+        self.k = 0
+
+    @property
+    def t(self) -> float:
+        return self.k * self.delta
+
+    @property
+    def position(self) -> np.ndarray:
+        """The quantized coordinates (the staircase) ``(N, 2)``."""
+        return self.cont.copy() if self.pulse <= 0 else self.r0 + self.n * self.pulse
+
+    def run(self, iterations: int) -> tuple[np.ndarray, np.ndarray]:
+        """Advance ``iterations`` additions; returns positions ``(iterations, N, 2)`` and
+        pulses emitted per iteration ``(iterations, N, 2)`` (signed integers)."""
+        c = self.model.coeffs
+        a11, a12, a22, a13, a23 = (np.asarray(c[n], dtype=float) for n in ("a11", "a12", "a22", "a13", "a23"))
+        ts = (self.k + np.arange(iterations)) * self.delta
+        kk = _gain_values(self.model.gain, ts) * self.delta
+        q = float(self.pulse)
+        N = len(self.r0)
+        pos = np.empty((iterations, N, 2))
+        pul = np.zeros((iterations, N, 2), dtype=np.int64)
+        improved = self.mode == "improved"
+        if q <= 0:
+            x, y = self.cont[:, 0].copy(), self.cont[:, 1].copy()
+            for i in range(iterations):
+                dx = kk[i] * (a12 * x + a22 * y + a23)
+                xn = x + dx
+                dy = -kk[i] * (a11 * (xn if improved else x) + a12 * y + a13)
+                x, y = xn, y + dy
+                pos[i, :, 0], pos[i, :, 1] = x, y
+            self.cont = np.stack([x, y], axis=-1)
+        else:
+            x0, y0 = self.r0[:, 0], self.r0[:, 1]
+            nx, ny = self.n[:, 0].copy(), self.n[:, 1].copy()
+            ax, ay = self.acc[:, 0].copy(), self.acc[:, 1].copy()
+            for i in range(iterations):
+                xq, yq = x0 + nx * q, y0 + ny * q
+                ax = ax + kk[i] * (a12 * xq + a22 * yq + a23) / q
+                px = np.rint(ax)
+                ax -= px
+                nx = nx + px
+                if improved:
+                    xq = x0 + nx * q
+                ay = ay - kk[i] * (a11 * xq + a12 * yq + a13) / q
+                py = np.rint(ay)
+                ay -= py
+                ny = ny + py
+                pos[i, :, 0], pos[i, :, 1] = x0 + nx * q, y0 + ny * q
+                pul[i, :, 0], pul[i, :, 1] = px, py
+            self.n = np.stack([nx, ny], axis=-1)
+            self.acc = np.stack([ax, ay], axis=-1)
+            self.cont = self.position
+        self.k += iterations
+        return pos, pul
+
+
+def radius_growth_per_turn(delta: float, mode: str) -> float:
+    """Relative radius error of the digital circle (u = 1) after one turn [derived, not in source]:
+    ``exp(πΔ) - 1 ≈ πΔ`` for the simple update; the improved one stays within ``Δ/4`` of R."""
+    if mode == "simple":
+        return float(np.expm1(np.log1p(delta**2) * np.pi / delta))  # sqrt(1 + Δ²) per addition, 2π/Δ additions
+    return delta / 4.0
+
+
+def embed(R2: np.ndarray, plane: str = "xy") -> np.ndarray:
+    """Planar states ``(..., 2)`` as 3-D points in the plane ``xy`` (z = 0) or ``xz`` (y = 0)."""
+    out = np.zeros(R2.shape[:-1] + (3,))
+    out[..., 0] = R2[..., 0]
+    out[..., 1 if plane == "xy" else 2] = R2[..., 1]
+    return out

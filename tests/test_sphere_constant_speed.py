@@ -1,0 +1,64 @@
+"""Problem 1.5: constant speed on the sphere (1.58)-(1.59)."""
+
+import numpy as np
+import pytest
+
+from lessons.sphere_constant_speed import LESSON
+
+
+def test_params():
+    names = [p.name for p in LESSON.params]
+    for n in ("R", "V", "direction", "u1", "u2", "u3", "x0", "y0", "z0"):
+        assert n in names
+
+
+@pytest.mark.parametrize("preset", [p.name for p in LESSON.presets])
+def test_every_preset_short_run(preset):
+    res = LESSON.run(preset, t_end=1.0)
+    for k in ("x", "y", "z", "vx", "vy", "vz"):
+        assert res.series[k].shape == res.t.shape and np.all(np.isfinite(res.series[k]))
+    speed = np.sqrt(res.series["v2"])
+    V = LESSON.resolve(preset=preset)["V"](res.t)
+    moving = speed > 0
+    assert np.max(np.abs(speed[moving] - V[moving])) < 1e-9
+    assert res.metrics["invariant_drift_max"] < 1e-9
+
+
+def test_speed_is_V_for_a_formula_profile():
+    res = LESSON.run(None, {"V": "2 + t", "u1": "t", "u2": "1", "u3": "3", "x0": 0, "y0": 1, "z0": 0, "h": 0.05}, t_end=2.0)
+    assert np.allclose(np.sqrt(res.series["v2"]), 2 + res.t, atol=1e-9)
+
+
+def test_zero_field_holds_and_says_why():
+    res = LESSON.run("example-1.3-zero-field", t_end=0.5)
+    assert res.series["v2"][0] == 0.0
+    assert any("held" in m for m in res.messages)
+    st = LESSON.stepper(LESSON.resolve(preset="example-1.3-zero-field"))
+    f0 = st.frame()
+    assert "undefined" in f0.message
+    f1 = st.advance(0.2)
+    assert f1.message == "" and f1.scalars["v2"] == pytest.approx(1.0, abs=1e-9)
+
+
+def test_direction_reverses():
+    a = LESSON.stepper(LESSON.resolve(preset="fig-1.28")).frame().scalars
+    b = LESSON.stepper(LESSON.resolve({"direction": "-"}, preset="fig-1.28")).frame().scalars
+    assert (a["vx"], a["vy"], a["vz"]) == pytest.approx((-b["vx"], -b["vy"], -b["vz"]), abs=1e-15)
+
+
+def test_stepper_set_params_reset_scene():
+    params = LESSON.resolve(preset="fig-1.28")
+    st = LESSON.stepper(params)
+    st.advance(0.5)
+    st.set_params(LESSON.resolve({"V": "3"}, preset="fig-1.28"))
+    f = st.advance(0.1)
+    assert f.scalars["v2"] == pytest.approx(9.0, rel=1e-9) and f.t == pytest.approx(0.6)
+    assert st.reset().t == 0.0
+    sc = LESSON.scene(params)
+    assert np.all(np.isfinite(np.array(sc.bounds)))
+
+
+def test_claims_pass():
+    for c in LESSON.claims():
+        r = c.check()
+        assert r.passed, (c.id, r)
