@@ -206,8 +206,15 @@ class ConstrainedSystem:
             rows.append(sp.Matrix([list(r) for r in a_nh]))  # a_i (2.21)
         H = sp.Matrix.vstack(*rows) if rows else sp.zeros(0, len(q))
         psi = sp.Matrix([sp.diff(fi, t) for fi in f_hol] + list(a0_nh))  # (2.29)
-        c = H * qdv + psi  # f_i dot (2.26) and g_i (2.19)
-        Phi = c.jacobian(qv) * qdv + sp.diff(c, t) if c.rows else sp.zeros(0, 1)  # (2.27), (2.28)
+        # Phi (2.27)/(2.28) as directional derivatives along (q', 1) in (q, t):
+        # f'' = H q'' + d^2/ds^2 f(q + s q', t + s)|0 and g' = a q'' + d/ds g(q + s q', t + s)|0
+        s = sp.Dummy("s")
+        shift = {**{qi: qi + s * qdi for qi, qdi in zip(q, qd)}, t: t + s}
+        phi_rows = [sp.diff(sp.sympify(fi).xreplace(shift), s, 2).subs(s, 0) for fi in f_hol]
+        for row, a0 in zip(a_nh, a0_nh):
+            g = sum((sp.sympify(aij) * qdj for aij, qdj in zip(row, qd)), sp.S.Zero) + sp.sympify(a0)
+            phi_rows.append(sp.diff(g.xreplace(shift), s).subs(s, 0))
+        Phi = sp.Matrix(phi_rows) if phi_rows else sp.zeros(0, 1)
         sys_ = cls(list(q), list(qd), t, list(params), list(inputs), sp.Matrix(A), sp.Matrix(B), f, H, psi, sp.Matrix(Phi), len(f_hol))
         sys_._lambdify()
         return sys_
