@@ -6,8 +6,8 @@ coefficients of the virtual work, (2.10)/(2.16)), then lambdified once.  Each le
 solves the *forward* problem (forces given as formulas of t -> motion) and the *inverse*
 problem (motion law given as formulas of t -> the drive forces), (2.1)-(2.16).
 
-Problem 2.5 (six-DOF table) lives in :mod:`lessons.table_6dof_model` helpers below; its
-geometry is reconstructed (the source gives it only in lost figures).
+Problem 2.5 (six-DOF table) uses :mod:`lessons.core.table6dof`; its geometry is
+reconstructed (the source gives it only in figures lost in the extraction).
 """
 
 from __future__ import annotations
@@ -38,8 +38,25 @@ from lessons.core.contract import (
     close,
 )
 from lessons.core.formula import Formula, FormulaError, t_symbol
+from lessons.core.table6dof import (
+    COORDS,
+    FORCES,
+    INDUCTORS,
+    PHYSICAL,
+    POSE,
+    inverse_dynamics,
+    inverse_kinematics,
+    plane_through_joints,
+    program_state,
+    rotation,
+    table_joints,
+    table_model,
+)
 from lessons.core.mechanics import (
     IDENTITY_Q,
+    numerical_second_derivative,
+    quat_wxyz,
+    segment_pose,
     LagrangeModel,
     OdeStepper,
     ProgramStepper,
@@ -968,4 +985,353 @@ class Planar3Axis(PositionerLesson):
         ]
 
 
-LESSONS: list[Lesson] = [LinearPositioner(), RotaryPositioner(), Planar2Axis(), Planar3Axis()]
+# =============================================================================== Problem 2.5
+
+_POSE_LAWS = {"x_D": "0.02*sin(t)", "y_D": "0.02*(1 - cos(t))", "z_D": "0.2 + 0.01*sin(2*t)", "alpha": "0.05*sin(t)", "beta": "0.03*sin(2*t)", "phi": "0.1*sin(t/2)"}
+_POSE_UNITS = {"x_D": "m", "y_D": "m", "z_D": "m", "alpha": "rad", "beta": "rad", "phi": "rad"}
+_BAUMGARTE = 10.0  # 1/s, alpha = beta of the stabilized forward runs
+
+
+class Table6DOF(Lesson):
+    """Problem 2.5: six-DOF work table on three planar inductors, geometry reconstructed
+    (see :mod:`lessons.core.table6dof`); loops opened and closed by the §2.2 algorithm."""
+
+    id = "table-6dof"
+    title = "Problem 2.5 - work table with six degrees of freedom"
+    chapter = "2"
+    problem = "Problem 2.5"
+    source = "Textbook §2.1, Problem 2.5 (Figs 2.6-2.9); geometry reconstructed"
+    summary = "Three planar inductors A, B, C move in the floor plane; legs carry a table that translates, turns and tilts."
+    order = 2.05
+    t_end = 5.0
+    params = (
+        PROBLEM,
+        Param("M_c", "float", 10.0, label="table mass M_c", unit="kg", min=0.01, max=1e4),
+        Param("J_D", "float", 0.2, label="table inertia about its tilt axes J_D", unit="kg m^2", min=1e-5, max=1e4, help="the source's isotropic Z_D when J_Dz = J_D"),
+        Param("J_Dz", "float", 0.4, label="table inertia about its normal J_Dz", unit="kg m^2", min=1e-5, max=1e4),
+        Param("m_A", "float", 2.0, label="inductor mass m_A", unit="kg", min=1e-3, max=1e4),
+        Param("m_B", "float", 2.0, label="inductor mass m_B", unit="kg", min=1e-3, max=1e4),
+        Param("m_C", "float", 2.0, label="inductor mass m_C", unit="kg", min=1e-3, max=1e4),
+        Param("m_l", "float", 0.5, label="leg mass m_l", unit="kg", min=0.0, max=1e3),
+        Param("l", "float", 0.3, label="leg length l (reconstructed)", unit="m", min=0.01, max=10.0),
+        Param("r_t", "float", 0.15, label="table joint radius r_t (reconstructed)", unit="m", min=0.01, max=10.0),
+        Param("g", "float", 9.81, label="g", unit="m/s^2", min=0.0, max=100.0),
+        *[Param(f"{n}_t", "formula", law, label=f"{n}(t) program", unit=_POSE_UNITS[n], help="table pose program: inverse problem; reference of the forward problem") for n, law in _POSE_LAWS.items()],
+        *[Param(f, "formula", "0", label=f"{f} (t)", unit="N", help="extra inductor force (forward problem)") for f in ("F_Ax", "F_Ay", "F_Bx", "F_By", "F_Cx", "F_Cy")],
+        Param("feedforward", "bool", True, label="add the program's inverse-dynamics forces", group="method"),
+        Param("k_hold", "float", 1e4, label="inductor holding stiffness k", unit="N/m", min=0.0, max=1e7, group="method", help="linear stepper motors hold their commanded position: F = -k (r - r_program) - b (v - v_program)"),
+        Param("b_hold", "float", 200.0, label="inductor holding damping b", unit="N s/m", min=0.0, max=1e6, group="method"),
+    )
+    presets = (
+        Preset("inverse-program", "Inverse: pose program -> inductor coordinates and forces", {"problem": "inverse"}, t_end=5.0),
+        Preset("forward-tracking", "Forward: program forces + holding stiffness", {"problem": "forward"}, t_end=5.0),
+        Preset("forward-disturbance", "Forward: a 5 N push on inductor A along X", {"problem": "forward", "F_Ax": "5*sin(3*t)"}, t_end=5.0),
+        Preset("forward-weight-only", "Forward: no feedforward, the stepper stiffness alone carries the table", {"problem": "forward", "feedforward": False, "z_D_t": "0.2", "x_D_t": "0", "y_D_t": "0", "alpha_t": "0", "beta_t": "0", "phi_t": "0"}, t_end=3.0),
+        Preset("forward-open-loop", "Forward: program forces only (k = 0): the open chain drifts away", {"problem": "forward", "k_hold": 0.0, "b_hold": 0.0}, t_end=3.0),
+    )
+    plots = (
+        PlotSpec("Table position", ("x_D", "y_D", "z_D"), "m"),
+        PlotSpec("Table angles", ("alpha", "beta", "phi"), "rad"),
+        PlotSpec("Inductor coordinates", INDUCTORS, "m"),
+        PlotSpec("Inductor forces", FORCES, "N"),
+        PlotSpec("Constraint residual and tracking error", ("constraint_residual", "tracking_error"), ""),
+    )
+
+    # -- helpers ------------------------------------------------------------------------
+
+    def pvec(self, params: Params) -> Array:
+        return np.array([float(params[n]) for n in PHYSICAL], dtype=float)
+
+    def program(self, params: Params) -> Callable[[Array | float], tuple[Array, Array, Array]]:
+        return formula_derivatives([params[f"{n}_t"].expr for n in POSE], t_symbol)
+
+    def validate(self, params: Params) -> None:
+        from lessons.core.contract import ParamError
+
+        z = float(params["z_D_t"](0.0))
+        if not np.isfinite(z) or z <= 0 or z >= float(params["l"]):
+            raise ParamError("z_D_t", f"the table height at t = 0 must lie between 0 and the leg length l = {float(params['l']):g} m; got {z:g}")
+
+    def formulas(self, params: Params) -> list[tuple[str, Formula]]:
+        out = [(f"{n}_t", params[f"{n}_t"]) for n in POSE]
+        if params["problem"] == "forward":
+            out += [(f, params[f]) for f in FORCES]
+        return out
+
+    def program_at(self, params: Params, t: float) -> tuple[Array, Array, Array, bool]:
+        pose, pose_d, pose_dd = self.program(params)(float(t))
+        return program_state(pose, pose_d, pose_dd, self.pvec(params))
+
+    def forces_of(self, params: Params) -> Callable[[float, Array, Array], Array]:
+        """Forward problem: inductor forces = extra formulas + program feedforward +
+        holding stiffness about the programmed inductor positions."""
+        ext = [params[f] for f in FORCES]
+        ev = self.program(params)
+        p = self.pvec(params)
+        ff, k, b = bool(params["feedforward"]), float(params["k_hold"]), float(params["b_hold"])
+
+        def u(tt: float, q: Array, qd: Array) -> Array:
+            F = np.array([float(f(tt)) for f in ext])
+            if ff or k or b:
+                pose, pose_d, pose_dd = ev(float(tt))
+                qp, qdp, qddp, _ = program_state(pose, pose_d, pose_dd, p)
+                if ff:
+                    F = F + inverse_dynamics(qp, qdp, qddp, p)[0]
+                F = F - k * (q[6:] - qp[6:]) - b * (qd[6:] - qdp[6:])
+            return F
+
+        return u
+
+    def _forward(self, params: Params, t: Array) -> tuple[Array, Array, Array, str]:
+        cs = table_model().system
+        p = self.pvec(params)
+        q0, qd0, _, _ = self.program_at(params, 0.0)
+        u = self.forces_of(params)
+        y, msg = integrate(cs.rhs(p, u, _BAUMGARTE, _BAUMGARTE), np.concatenate([q0, qd0]), t, rtol=1e-7, atol=1e-9)
+        U = np.full((6, len(t)), np.nan)
+        for k in range(len(t)):
+            if np.all(np.isfinite(y[:, k])):
+                U[:, k] = u(float(t[k]), y[:12, k], y[12:, k])
+        return y[:12], y[12:], U, msg
+
+    def _inverse(self, params: Params, t: Array) -> tuple[Array, Array, Array, str]:
+        p = self.pvec(params)
+        ev = self.program(params)
+        pose, pose_d, pose_dd = ev(t)
+        q = np.full((12, len(t)), np.nan)
+        qd = np.full_like(q, np.nan)
+        U = np.full((6, len(t)), np.nan)
+        msg = ""
+        for k in range(len(t)):
+            qk, qdk, qddk, ok = program_state(pose[:, k], pose_d[:, k], pose_dd[:, k], p)
+            if not ok:
+                msg = f"a leg cannot reach the table joint at t = {t[k]:.4g} (joint higher than l): stopped"
+                break
+            q[:, k], qd[:, k] = qk, qdk
+            U[:, k] = inverse_dynamics(qk, qdk, qddk, p)[0]
+        return q, qd, U, msg
+
+    def simulate(self, params: Params, t_end: float | None = None) -> RunResult:
+        t_end = float(self.t_end if t_end is None else t_end)
+        t = np.linspace(0.0, t_end, int(min(1001, max(101, 40 * t_end + 1))))
+        msgs = []
+        for name, f in self.formulas(params):
+            try:
+                f.check_finite(t)
+            except FormulaError as exc:
+                msgs.append(f"{name}: {exc}")
+        if msgs:
+            nan = np.full_like(t, np.nan)
+            return RunResult(self.id, None, params.raw(), t, {n: nan for n in (*COORDS, *FORCES)}, {"ok": False}, msgs)
+        if params["problem"] == "forward":
+            q, qd, U, msg = self._forward(params, t)
+        else:
+            q, qd, U, msg = self._inverse(params, t)
+        series = {n: q[k] for k, n in enumerate(COORDS)}
+        series.update({f"{n}_dot": qd[k] for k, n in enumerate(COORDS)})
+        series.update({f: U[k] for k, f in enumerate(FORCES)})
+        cs, p = table_model().system, self.pvec(params)
+        resid = np.full(len(t), np.nan)
+        for k in range(len(t)):
+            if np.all(np.isfinite(q[:, k])):
+                resid[k] = float(np.max(np.abs(cs.residuals(float(t[k]), q[:, k], qd[:, k], p, np.zeros(6))[0])))
+        series["constraint_residual"] = resid
+        prog, _, _ = self.program(params)(t)
+        series["tracking_error"] = np.max(np.abs(q[:6] - prog), axis=0)
+        metrics: dict[str, Any] = {
+            "ok": not msg,
+            "problem": params["problem"],
+            "max_constraint_residual": float(np.nanmax(resid)) if np.any(np.isfinite(resid)) else float("nan"),
+            "max_tracking_error": float(np.nanmax(series["tracking_error"])) if np.any(np.isfinite(series["tracking_error"])) else float("nan"),
+            "max_inductor_force": float(np.nanmax(np.abs(U))) if np.any(np.isfinite(U)) else float("nan"),
+        }
+        return RunResult(self.id, None, params.raw(), t, series, metrics, [msg] if msg else [])
+
+    # -- live ---------------------------------------------------------------------------
+
+    def stepper(self, params: Params) -> Stepper:
+        if params["problem"] == "forward":
+            def make(ps: Params) -> tuple[Array, Callable[[float, Array], Array], Callable[[float, Array], Frame]]:
+                cs, p = table_model().system, self.pvec(ps)
+                q0, qd0, _, _ = self.program_at(ps, 0.0)
+                u = self.forces_of(ps)
+                ev = self.program(ps)
+
+                def frame_of(tt: float, y: Array) -> Frame:
+                    F = u(tt, y[:12], y[12:])
+                    fr = self._frame(ps, tt, y[:12], F)
+                    fr.scalars["constraint_residual"] = float(np.max(np.abs(cs.residuals(tt, y[:12], y[12:], p, F)[0])))
+                    fr.scalars["tracking_error"] = float(np.max(np.abs(y[:6] - ev(float(tt))[0])))
+                    return fr
+
+                return np.concatenate([q0, qd0]), cs.rhs(p, u, _BAUMGARTE, _BAUMGARTE), frame_of
+
+            return OdeStepper(make, params, rtol=1e-7)
+
+        def make_program(ps: Params) -> Callable[[float], Frame]:
+            p = self.pvec(ps)
+
+            def frame_at(tt: float) -> Frame:
+                q, qd, qdd, ok = self.program_at(ps, tt)
+                F = inverse_dynamics(q, qd, qdd, p)[0]
+                fr = self._frame(ps, tt, q, F)
+                fr.scalars["constraint_residual"] = 0.0
+                fr.scalars["tracking_error"] = 0.0
+                if not ok:
+                    fr.message = f"a leg cannot reach the table joint at t = {tt:.4g}"
+                return fr
+
+            return frame_at
+
+        return ProgramStepper(make_program, params)
+
+    def _frame(self, ps: Params, tt: float, q: Array, F: Array) -> Frame:
+        fr = Frame(t=float(tt))
+        for k, n in enumerate(COORDS):
+            fr.scalars[n] = float(q[k])
+        for k, f in enumerate(FORCES):
+            fr.scalars[f] = float(F[k])
+        R = rotation(q[3], q[4], q[5])
+        fr.poses["table"] = (q[:3].copy(), quat_wxyz(R))
+        joints = table_joints(q[:6], float(ps["r_t"]))
+        scale = 0.1 / max(float(ps["M_c"]) * max(float(ps["g"]), 1.0) / 3.0, 1e-9)
+        for k, name in enumerate("ABC"):
+            A = np.array([q[6 + 2 * k], q[7 + 2 * k], 0.0])
+            fr.poses[f"inductor {name}"] = (A.copy(), quat_z(float(q[5])))
+            fr.poses[f"leg {name}{name}'"] = segment_pose(A, joints[k])
+            fr.vectors[f"F_{name}"] = (A[None, :] + [0, 0, 0.03], scale * np.array([[F[2 * k], F[2 * k + 1], 0.0]]))
+        fr.points["D"] = q[None, :3].copy()
+        return fr
+
+    def scene(self, params: Params) -> SceneSpec:
+        l, rt = float(params["l"]), float(params["r_t"])
+        R0 = rt + l
+        floor = box("floor (inductor plane z = 0)", (3 * R0, 3 * R0, 0.01 * R0), (170, 170, 170), center=(0, 0, -0.03), opacity=0.35)
+        plate = trimesh.creation.cylinder(radius=1.15 * rt, height=0.08 * rt, sections=3)
+        plate.apply_transform(trimesh.transformations.rotation_matrix(np.pi / 2, [0, 0, 1]))
+        table = combine("table", [plate], (120, 190, 120))
+        bodies: list[MeshItem] = [table]
+        colors = ((70, 130, 200), (200, 130, 70), (160, 90, 200))
+        for k, name in enumerate("ABC"):
+            bodies.append(box(f"inductor {name}", (0.25 * rt, 0.25 * rt, 0.12 * rt), colors[k], center=(0, 0, -0.0)))
+            bodies.append(cylinder(f"leg {name}{name}'", 0.04 * rt, l, (90, 90, 90), sections=12))
+        ext = 1.6 * R0
+        return SceneSpec(
+            bounds=bounds_of(np.array([[-ext, -ext, -0.05], [ext, ext, l + 0.3 * rt]]), 0.02),
+            meshes=[floor],
+            bodies=bodies,
+            moving_points={"D": (120, 190, 120)},
+            moving_vectors={"F_A": colors[0], "F_B": colors[1], "F_C": colors[2]},
+        )
+
+    # -- derivation ------------------------------------------------------------------------
+
+    def derivation(self, params: Params) -> list[DerivationStep]:
+        tm = table_model()
+        ge = r"\frac{d}{dt}\frac{\partial T}{\partial \dot q_i}-\frac{\partial T}{\partial q_i}=-\frac{\partial U}{\partial q_i}+Q_{q_i},\quad i=1,\dots,6"
+        why = "the mechanism is only in the lost Figs 2.6-2.9; rebuilt consistently from the text"
+        return [
+            DerivationStep("Generalized coordinates", "The planar coordinates of the three inductors.", r"q_1=x_A,\;q_2=y_A,\;q_3=x_B,\;q_4=y_B,\;q_5=x_C,\;q_6=y_C", "Problem 2.5"),
+            DerivationStep("Six Lagrange equations", "The 'natural coordinates' form was lost in the extraction.", ge, "Problem 2.5"),
+            DerivationStep(
+                "Legs and joints",
+                "Each rigid leg of length l joins inductor k (ball joint) to table joint A'_k (hinge parallel to the opposite side of the table triangle): the inductor moves along the virtual axis n (eta), tau, rho perpendicular to that side.",
+                r"(\vec r_{A}-\vec r_{A'})\cdot R\,\vec e_A=0,\qquad |\vec r_{A}-\vec r_{A'}|^2-l^2=0\quad(\text{and likewise } B, C)",
+                "Figs 2.6-2.9",
+                reconstructed=why,
+            ),
+            DerivationStep("Displacement along a virtual axis", "At zero tilt the joint height Z' sets the inductor displacement along its axis.", r"S_A=\sqrt{l^2-Z_{A'}^2}", "Fig. 2.9", reconstructed=why),
+            DerivationStep("Table plane through A', B', C'", "Vanishing mixed product; D lies on the plane.", r"(\vec r_{A'}-\vec r_0)\cdot\left[(\vec r_{B'}-\vec r_0)\times(\vec r_{C'}-\vec r_0)\right]=0,\qquad x\cos\alpha+y\cos\beta+z\cos\gamma-h=0", "Problem 2.5"),
+            DerivationStep("Kinetic energy", "", r"T=T_c+T_A+T_B+T_C+T_{AA'}+T_{BB'}+T_{CC'}", "Problem 2.5"),
+            DerivationStep("Table: translation of D and rotation about D", "R = Rz(phi) Ry(beta) Rx(alpha); at zero tilt and J_Dz = J_D this is the source's 1/2 M (x'^2+y'^2+z'^2) + 1/2 Z_D (alpha'^2+beta'^2+gamma'^2).", sp.Eq(sp.Symbol("T_c"), sp.simplify(tm.T_table)), "Problem 2.5", reconstructed="the isotropic coefficient printed 'Z_D' read as the table inertia; angular velocity of the ZYX angles"),
+            DerivationStep("Inductors", "", r"T_A=\tfrac12 m_A(\dot x_A^2+\dot y_A^2),\;T_B=\tfrac12 m_B(\dot x_B^2+\dot y_B^2),\;T_C=\tfrac12 m_C(\dot x_C^2+\dot y_C^2)", "Problem 2.5"),
+            DerivationStep("Legs (slender rods)", "End velocities v_A (inductor) and v_A' (table joint).", sp.Eq(sp.Symbol("T_{AA'}"), tm.T_leg), "Problem 2.5", reconstructed="leg energies lost in the extraction (only the factors 1/2 survive)"),
+            DerivationStep("Potential energy", "The inductors move in the horizontal plane: U_A = U_B = U_C = 0.", r"U=M_c g z_D+\sum_k m_l g \frac{z_{A'_k}}{2}", "Problem 2.5"),
+            DerivationStep("Generalized forces", "Virtual work of the inductor forces on their own coordinates.", r"Q_{q_i}=\frac{\delta A^e_{q_i}}{\delta q_i}=F_{q_i}", "Problem 2.5"),
+            DerivationStep("Loops opened (§2.2)", "12 coordinates (table pose + inductors), six leg constraints, multipliers eliminated by (2.33)-(2.34): the six equations of the source in closed form.", r"A\ddot q=B+S F+H^{T}\lambda,\quad H\ddot q=-\Phi,\quad H\in\mathbb{R}^{6\times 12}", "(2.25), (2.30), (2.34)"),
+        ]
+
+    # -- claims -------------------------------------------------------------------------------
+
+    def claims(self) -> list[Claim]:
+        p0 = lambda **kw: self.pvec(self.resolve(kw))  # noqa: E731
+
+        def dof() -> ClaimResult:
+            p = p0()
+            q, qd, _, _ = program_state(np.array([0, 0, 0.2, 0, 0, 0.0]), np.zeros(6), np.zeros(6), p)
+            H = table_model().system.parts(0.0, q, qd, p, np.zeros(6))["H"]
+            r = int(np.linalg.matrix_rank(H))
+            return ClaimResult("rank H = 6, 12 - 6 = 6 degrees of freedom", f"rank H = {r}, {12 - r} DOF", r == 6)
+
+        def axis_displacement() -> ClaimResult:
+            pose = np.array([0.01, -0.02, 0.2, 0, 0, 0.3])
+            ind, _ = inverse_kinematics(pose, 0.3, 0.15)
+            J = table_joints(pose, 0.15)
+            S = [float(np.hypot(ind[2 * k] - J[k, 0], ind[2 * k + 1] - J[k, 1])) for k in range(3)]
+            return close(np.sqrt(0.3**2 - 0.2**2), max(S, key=lambda v: abs(v - np.sqrt(0.05))), atol=1e-12)
+
+        def ik_constraints() -> ClaimResult:
+            p = p0()
+            pose = np.array([0.01, 0.02, 0.19, 0.08, -0.05, 0.4])
+            q, qd, _, _ = program_state(pose, np.array([0.1, 0, 0.02, 0.1, 0.1, 0.3]), np.zeros(6), p)
+            f, c = table_model().system.residuals(0.0, q, qd, p, np.zeros(6))
+            return at_most(1e-12, float(max(np.max(np.abs(f)), np.max(np.abs(c)))), "leg constraints and (2.29) at a tilted pose ")
+
+        def plane() -> ClaimResult:
+            det, nf = plane_through_joints(np.array([0.01, 0.02, 0.19, 0.08, -0.05, 0.4]), 0.15)
+            return at_most(1e-12, max(abs(det), abs(nf)), "|mixed product|, |normal form at D| ")
+
+        def energy_form() -> ClaimResult:
+            tm = table_model()
+            xD, yD, zD, al, be, ph = tm.q[:6]
+            Mc, JD, JDz = (sp.Symbol(n, real=True, positive=True) for n in ("M_c", "J_D", "J_Dz"))
+            d = lambda e: e.diff(T_)  # noqa: E731
+            want = Mc * (d(xD) ** 2 + d(yD) ** 2 + d(zD) ** 2) / 2 + JD * (d(al) ** 2 + d(be) ** 2 + d(ph) ** 2) / 2
+            rates = {qi.diff(T_): sp.Symbol(f"{qi.func}_rate", real=True) for qi in tm.q[:6]}
+            got = tm.T_table.subs(JDz, JD).xreplace(rates).subs({al: 0, be: 0})
+            want = want.xreplace(rates)
+            ok = sp.simplify(got - want) == 0
+            return ClaimResult("T_c = 1/2 M_c (x_D'^2 + y_D'^2 + z_D'^2) + 1/2 J_D (alpha'^2 + beta'^2 + phi'^2) at zero tilt", "equal" if ok else "differ", bool(ok))
+
+        def static_force() -> ClaimResult:
+            p = p0(m_l=0.0)
+            q, qd, qdd, _ = program_state(np.array([0, 0, 0.2, 0, 0, 0.0]), np.zeros(6), np.zeros(6), p)
+            F, _ = inverse_dynamics(q, qd, qdd, p)
+            mags = [float(np.hypot(F[2 * k], F[2 * k + 1])) for k in range(3)]
+            inward = all(F[2 * k : 2 * k + 2] @ q[6 + 2 * k : 8 + 2 * k] < 0 for k in range(3))
+            want = 10.0 * 9.81 * np.sqrt(0.3**2 - 0.2**2) / (3 * 0.2)
+            r = close(want, max(mags, key=lambda v: abs(v - want)), rtol=1e-12)
+            r.passed = r.passed and inward
+            r.got += " (inward)" if inward else " (not inward)"
+            return r
+
+        def inv_fwd() -> ClaimResult:
+            ps = self.resolve({"problem": "forward", "k_hold": 0.0, "b_hold": 0.0})
+            t = np.linspace(0.0, 1.5, 61)
+            q, _, _, _ = self._forward(ps, t)
+            prog, _, _ = self.program(ps)(t)
+            return at_most(1e-6, float(np.max(np.abs(q[:6] - prog))), "max |pose forward - program| over 1.5 s ")
+
+        def fwd_inv() -> ClaimResult:
+            ps = self.resolve({"problem": "forward", "F_Ax": "5*sin(3*t)"})
+            t = np.linspace(0.0, 1.0, 1001)
+            q, qd, U, _ = self._forward(ps, t)
+            qdd = numerical_second_derivative(t, qd)
+            p = self.pvec(ps)
+            rec = np.array([inverse_dynamics(q[:, k], qd[:, k], qdd[:, k], p)[0] for k in range(5, len(t) - 5, 10)]).T
+            err = float(np.max(np.abs(rec - U[:, 5:-5:10])))
+            return at_most(1e-3 * float(np.max(np.abs(U))), err, "max |F recovered - F applied| (N) ")
+
+        return [
+            _claim("six-dof", "Three inductors with two coordinates each and three legs give the table six degrees of freedom", "Problem 2.5", dof),
+            _claim("axis-displacement", "Zero tilt, z_D = 0.2 m, l = 0.3 m: each inductor sits at S = sqrt(l^2 - Z'^2) = 0.2236 m from its joint along its virtual axis", "Problem 2.5, Fig. 2.9 (reconstructed geometry)", axis_displacement),
+            _claim("ik-constraints", "The inverse kinematics satisfies the six leg constraints and the velocities satisfy (2.29) at a tilted, turned pose", "(2.17), (2.29)", ik_constraints),
+            _claim("table-plane", "The table plane through A', B', C' (mixed product = 0, normal form) contains D", "Problem 2.5", plane),
+            _claim("table-energy", "At zero tilt with J_Dz = J_D the table's kinetic energy has the source's form 1/2 M (x'^2+y'^2+z'^2) + 1/2 Z_D (alpha'^2+beta'^2+gamma'^2)", "Problem 2.5", energy_form),
+            _claim("static-holding-force", "Massless legs, table at rest at z = 0.2 m: each inductor must push inward with M g sqrt(l^2 - z^2)/(3 z) = 36.56 N", "Problem 2.5, virtual work", static_force),
+            _claim("round-trip-inverse-forward", "The inverse problem's forces, applied open-loop (k = 0), reproduce the pose program within 1e-6 over 1.5 s", "(2.34)", inv_fwd),
+            _claim("round-trip-forward-inverse", "Forward run with holding stiffness and a 5 sin 3t N push: the inverse problem on the sampled motion recovers the six inductor forces within 1e-3 of the peak", "(2.34)", fwd_inv),
+        ]
+
+
+LESSONS: list[Lesson] = [LinearPositioner(), RotaryPositioner(), Planar2Axis(), Planar3Axis(), Table6DOF()]

@@ -253,17 +253,12 @@ class ConstrainedSystem:
     def _eval(self, name: str, shape: tuple[int, int], *args: Any) -> Array:
         return np.asarray(self._num[name](*args), dtype=float).reshape(shape)
 
-    def parts(self, t: float, q: Array, qd: Array, p: Array, u: Array) -> dict[str, Array]:
+    def parts(self, t: float, q: Array, qd: Array, p: Array, u: Array, names: Sequence[str] = ("A", "B", "f", "H", "psi", "Phi")) -> dict[str, Array]:
+        """Numeric ``A, B, f, H, psi, Phi`` at one state (or the subset ``names``)."""
         n, v2 = self.n, self.v2
         a = (q, qd, t, p, u)
-        return {
-            "A": self._eval("A", (n, n), *a),
-            "B": self._eval("B", (n,), *a),
-            "f": self._eval("f_hol", (self.n_hol,), *a),
-            "H": self._eval("H", (v2, n), *a),
-            "psi": self._eval("psi", (v2,), *a),
-            "Phi": self._eval("Phi", (v2,), *a),
-        }
+        shapes = {"A": (n, n), "B": (n,), "f": (self.n_hol,), "H": (v2, n), "psi": (v2,), "Phi": (v2,)}
+        return {k: self._eval("f_hol" if k == "f" else k, shapes[k], *a) for k in names}
 
     def solve(self, t: float, q: Array, qd: Array, p: Array, u: Array, alpha: float = 0.0, beta: float = 0.0) -> tuple[Array, Array]:
         """Accelerations (2.34) and multipliers (2.33) at one state."""
@@ -294,7 +289,7 @@ class ConstrainedSystem:
 
     def residuals(self, t: float, q: Array, qd: Array, p: Array, u: Array) -> tuple[Array, Array]:
         """``f`` (2.17) and the velocity-level rows ``H q' + psi`` ((2.26) and (2.19))."""
-        P = self.parts(t, q, qd, p, u)
+        P = self.parts(t, q, qd, p, u, ("f", "H", "psi"))
         return P["f"], P["H"] @ qd + P["psi"]
 
     def consistent_initial(self, t: float, q0: Array, qd0: Array, p: Array, u: Array, iters: int = 30) -> tuple[Array, Array]:

@@ -191,11 +191,11 @@ def program_state(pose: Array, pose_d: Array, pose_dd: Array, p: Array) -> tuple
     q = np.concatenate([pose, ind])
     u0 = np.zeros(6)
     qd = np.concatenate([pose_d, np.zeros(6)])
-    P = cs.parts(0.0, q, qd, p, u0)
+    P = cs.parts(0.0, q, qd, p, u0, ("H", "psi"))
     H = P["H"]
     Hs, Hi = H[:, :6], H[:, 6:]
     qd[6:] = np.linalg.solve(Hi, -(Hs @ pose_d + P["psi"]))
-    P = cs.parts(0.0, q, qd, p, u0)
+    P = cs.parts(0.0, q, qd, p, u0, ("Phi",))
     qdd = np.concatenate([pose_dd, np.linalg.solve(Hi, -(P["Phi"] + Hs @ pose_dd))])
     return q, qd, qdd, ok
 
@@ -204,7 +204,7 @@ def inverse_dynamics(q: Array, qd: Array, qdd: Array, p: Array) -> tuple[Array, 
     """Inductor forces ``F`` and multipliers ``lambda`` for a motion:
     ``A q'' - B(F = 0) = H^T lambda + S F`` with ``S = dB/dF`` (virtual work of the forces)."""
     tm = table_model()
-    P0 = tm.system.parts(0.0, q, qd, p, np.zeros(6))
+    P0 = tm.system.parts(0.0, q, qd, p, np.zeros(6), ("A", "B", "H"))
     S = tm.S
     rhs = P0["A"] @ qdd - P0["B"]
     sol = np.linalg.solve(np.column_stack([P0["H"].T, S]), rhs)
