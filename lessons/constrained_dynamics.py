@@ -44,6 +44,7 @@ from lessons.core.mechanics import (
     LagrangeModel,
     OdeStepper,
     bounds_of,
+    integrate,
     box,
     cylinder,
     mesh_item,
@@ -162,18 +163,24 @@ def run_constrained(example: str, params: Params, t: Array) -> dict[str, Any]:
     b = float(params["beta"]) if params["stabilization"] else 0.0
     n = cs.n
     rtol = float(params["rtol"])
-    sol = solve_ivp(cs.rhs(p, u, a, b), (float(t[0]), float(t[-1])), np.concatenate([S["q0"], S["qd0"]]), method=str(params["integrator"]), t_eval=t, rtol=rtol, atol=rtol, dense_output=False)
-    y = np.full((2 * n, len(t)), np.nan)
-    y[:, : sol.y.shape[1]] = sol.y
+    calls = [0]
+    base = cs.rhs(p, u, a, b)
+
+    def counted(tt: float, yy: Array) -> Array:
+        calls[0] += 1
+        return base(tt, yy)
+
+    y, message = integrate(counted, np.concatenate([S["q0"], S["qd0"]]), t, rtol=rtol, atol=rtol, method=str(params["integrator"]))
+    good = int(np.sum(np.all(np.isfinite(y), axis=0)))
     q, qd = y[:n], y[n:]
     f = np.full((cs.n_hol, len(t)), np.nan)
     c = np.full((cs.v2, len(t)), np.nan)
     lam = np.full((cs.v2, len(t)), np.nan)
-    for k in range(sol.y.shape[1]):
+    for k in range(good):
         uk = u(t[k], q[:, k], qd[:, k])
         f[:, k], c[:, k] = cs.residuals(float(t[k]), q[:, k], qd[:, k], p, uk)
         lam[:, k] = cs.solve(float(t[k]), q[:, k], qd[:, k], p, uk, a, b)[1]
-    out: dict[str, Any] = {"q": q, "qd": qd, "f": f, "c": c, "lam": lam, "nfev": int(sol.nfev), "message": "" if sol.success else str(sol.message), "S": S}
+    out: dict[str, Any] = {"q": q, "qd": qd, "f": f, "c": c, "lam": lam, "nfev": calls[0], "message": message, "S": S}
     if S["energy"] is not None:
         E = S["energy"](q, qd)
         out["dE"] = E - E[0]

@@ -332,11 +332,39 @@ def sample_formulas(formulas: Sequence[Any], t: Array) -> Array:
 def integrate(rhs: Callable[[float, Array], Array], y0: Array, t: Array, rtol: float = 1e-9, atol: float = 1e-11, method: str = "DOP853") -> tuple[Array, str]:
     """solve_ivp on the sample times; returns ``(y (n, len(t)), message)``.  A failed run is
     padded with NaN after the last good sample and the message says where it stopped."""
-    sol = solve_ivp(rhs, (float(t[0]), float(t[-1])), np.asarray(y0, dtype=float), method=method, t_eval=t, rtol=rtol, atol=atol)
+    bad: list[float] = []
+
+    def guarded(tt: float, yy: Array) -> Array:
+        # a non-finite derivative would make the step control loop forever: freeze the
+        # state and let the terminal event below end the run
+        if bad:
+            return np.zeros_like(yy)
+        try:
+            out = np.asarray(rhs(tt, yy), dtype=float)
+        except (np.linalg.LinAlgError, ZeroDivisionError, FloatingPointError, ValueError):
+            out = np.array([np.nan])
+        if not np.all(np.isfinite(out)):
+            bad.append(tt)
+            return np.zeros_like(yy)
+        return out
+
+    def stop(tt: float, yy: Array) -> float:
+        return -1.0 if bad else 1.0
+
+    stop.terminal = True  # type: ignore[attr-defined]
+    sol = solve_ivp(guarded, (float(t[0]), float(t[-1])), np.asarray(y0, dtype=float), method=method, t_eval=t, rtol=rtol, atol=atol, events=stop)
     y = np.full((len(y0), len(t)), np.nan)
     k = sol.y.shape[1]
-    y[:, :k] = sol.y
-    msg = "" if sol.success and k == len(t) else f"integration stopped at t = {t[max(k - 1, 0)]:.4g}: {sol.message}"
+    if bad:
+        k = int(np.searchsorted(t, bad[0], side="right"))
+        k = min(k, sol.y.shape[1])
+    y[:, :k] = sol.y[:, :k]
+    if bad:
+        msg = f"integration stopped at t = {bad[0]:.4g}: the equations gave a non-finite value (singular position or force)"
+    elif not sol.success or k < len(t):
+        msg = f"integration stopped at t = {t[max(k - 1, 0)]:.4g}: {sol.message}"
+    else:
+        msg = ""
     return y, msg
 
 
@@ -368,8 +396,14 @@ class OdeStepper(Stepper):
 
     def advance(self, dt: float) -> Frame:
         if dt > 0 and not self._message:
+            def guarded(tt: float, yy: Array) -> Array:
+                out = np.asarray(self._rhs(tt, yy), dtype=float)
+                if not np.all(np.isfinite(out)):
+                    raise FloatingPointError(f"the equations gave a non-finite value at t = {tt:.4g}")
+                return out
+
             try:
-                sol = solve_ivp(self._rhs, (self._t, self._t + dt), self._y, method=self._method, rtol=self._rtol, atol=self._rtol * 1e-2)
+                sol = solve_ivp(guarded, (self._t, self._t + dt), self._y, method=self._method, rtol=self._rtol, atol=self._rtol * 1e-2)
                 if sol.success and np.all(np.isfinite(sol.y[:, -1])):
                     self._y = sol.y[:, -1]
                     self._t = float(sol.t[-1])
