@@ -350,6 +350,17 @@ class PositionerLesson(Lesson):
 
 
 _MODELS: dict[tuple[str, str], LagrangeModel] = {}
+_RUNS: dict[tuple[str, str], RunResult] = {}
+
+
+def _coarse_run(lesson: PositionerLesson, params: Params) -> RunResult:
+    """A run over the lesson's default time, cached by parameter values (scene extents)."""
+    key = (lesson.id, repr(sorted(params.raw().items())))
+    if key not in _RUNS:
+        if len(_RUNS) > 64:
+            _RUNS.clear()
+        _RUNS[key] = lesson.simulate(params, lesson.t_end)
+    return _RUNS[key]
 
 
 def _model_cache(cls_name: str, key: str, lesson: PositionerLesson) -> LagrangeModel:
@@ -436,10 +447,11 @@ class LinearPositioner(PositionerLesson):
         return steps
 
     def scene_size(self, params: Params) -> float:
-        return 1.0
+        lo, hi = self._range(params)
+        return max(hi - lo, 0.5)
 
     def _range(self, params: Params) -> tuple[float, float]:
-        r = self.simulate(params, self.t_end)
+        r = _coarse_run(self, params)
         x = r.series["x"]
         x = x[np.isfinite(x)]
         return (float(x.min()), float(x.max())) if len(x) else (0.0, 1.0)
@@ -449,18 +461,18 @@ class LinearPositioner(PositionerLesson):
         span = max(hi - lo, 0.5)
         s = 0.15 * span
         rail = box("guide", (span + 2 * s, 0.4 * s, 0.2 * s), (90, 90, 90), center=((lo + hi) / 2, 0, -0.1 * s))
-        carriage = box("carriage", (s, 0.8 * s, 0.5 * s), (70, 130, 200))
+        carriage = box("carriage", (s, 0.8 * s, 0.5 * s), (70, 130, 200))  # posed 0.25 s above the guide
         pts = np.array([[lo - s, -s, -s], [hi + s, s, s]])
-        self._s = s
         return SceneSpec(bounds=bounds_of(pts), meshes=[rail], bodies=[carriage], moving_vectors={"F_dv": (40, 160, 60), "R_sopr": (200, 60, 60)}, moving_points={"carriage": (70, 130, 200)})
 
     def pose_frame(self, params: Params, fr: Frame, q: Array, u: Array, scale: float) -> None:
         x = float(q[0])
+        s = 0.15 * self.scene_size(params)
         p = np.array([x, 0.0, 0.0])
-        fr.poses["carriage"] = (p + [0, 0, 0.05], IDENTITY_Q.copy())
+        fr.poses["carriage"] = (p + [0, 0, 0.25 * s], IDENTITY_Q.copy())
         fr.points["carriage"] = p[None, :]
-        fr.vectors["F_dv"] = _arrow(p + [0, 0, 0.1], [scale * u[0], 0, 0])
-        fr.vectors["R_sopr"] = _arrow(p + [0, 0, 0.1], [-scale * u[1], 0, 0])
+        fr.vectors["F_dv"] = _arrow(p + [0, 0, 0.6 * s], [scale * u[0], 0, 0])
+        fr.vectors["R_sopr"] = _arrow(p + [0, 0, 0.6 * s], [-scale * u[1], 0, 0])
 
     def claims(self) -> list[Claim]:
         def eq_ok() -> bool:
@@ -711,7 +723,7 @@ class Planar2Axis(PositionerLesson):
         return self._extent(params)[2]
 
     def _extent(self, params: Params) -> tuple[Array, Array, float]:
-        r = self.simulate(params, self.t_end)
+        r = _coarse_run(self, params)
         pts = self._world(params, r.series["x"], r.series["y"])
         pts = pts[np.all(np.isfinite(pts), axis=1)]
         if len(pts) == 0:
@@ -733,13 +745,13 @@ class Planar2Axis(PositionerLesson):
             base = box("base plate", (L[0], L[1], 0.2 * s), (150, 150, 150), center=(c[0], c[1], -0.4 * s), opacity=0.5)
             slide = box("X slide", (0.6 * s, L[1], 0.3 * s), (90, 120, 170))
             carriage = box("Y carriage", (s, s, 0.5 * s), (70, 160, 210))
-        self._center = c
         pts = np.array([lo - 2 * s, hi + 2 * s])
         return SceneSpec(bounds=bounds_of(pts, 0.02), meshes=[base], bodies=[slide, carriage], moving_points={"carriage": (70, 160, 210)}, moving_vectors={"Q": (40, 160, 60), "weight": (200, 60, 60)}, planar=False)
 
     def pose_frame(self, params: Params, fr: Frame, q: Array, u: Array, scale: float) -> None:
         p = self._world(params, float(q[0]), float(q[1]))
-        c = getattr(self, "_center", np.zeros(3))
+        lo, hi, _ = self._extent(params)
+        c = (lo + hi) / 2
         vert = params["layout"] == "vertical"
         slide_pos = np.array([p[0], 0.0, c[2]]) if vert else np.array([p[0], c[1], 0.0])
         fr.poses["X slide"] = (slide_pos, IDENTITY_Q.copy())
@@ -922,7 +934,7 @@ class Planar3Axis(PositionerLesson):
 
     def scene(self, params: Params) -> SceneSpec:
         AB = float(params["AB"])
-        r = self.simulate(params, self.t_end)
+        r = _coarse_run(self, params)
         q = np.array([r.series["x_A"], r.series["y_A"], r.series["phi"]])
         ok = np.all(np.isfinite(q), axis=0)
         pts = [np.zeros(3), np.array([-AB, 0, 0])]
@@ -1245,7 +1257,7 @@ class Table6DOF(Lesson):
             DerivationStep("Kinetic energy", "", r"T=T_c+T_A+T_B+T_C+T_{AA'}+T_{BB'}+T_{CC'}", "Problem 2.5"),
             DerivationStep("Table: translation of D and rotation about D", "R = Rz(phi) Ry(beta) Rx(alpha); at zero tilt and J_Dz = J_D this is the source's 1/2 M (x'^2+y'^2+z'^2) + 1/2 Z_D (alpha'^2+beta'^2+gamma'^2).", sp.Eq(sp.Symbol("T_c"), sp.simplify(tm.T_table)), "Problem 2.5", reconstructed="the isotropic coefficient printed 'Z_D' read as the table inertia; angular velocity of the ZYX angles"),
             DerivationStep("Inductors", "", r"T_A=\tfrac12 m_A(\dot x_A^2+\dot y_A^2),\;T_B=\tfrac12 m_B(\dot x_B^2+\dot y_B^2),\;T_C=\tfrac12 m_C(\dot x_C^2+\dot y_C^2)", "Problem 2.5"),
-            DerivationStep("Legs (slender rods)", "End velocities v_A (inductor) and v_A' (table joint).", sp.Eq(sp.Symbol("T_{AA'}"), tm.T_leg), "Problem 2.5", reconstructed="leg energies lost in the extraction (only the factors 1/2 survive)"),
+            DerivationStep("Legs (slender rods)", "End velocities v_A (inductor) and v_A' (table joint).", r"T_{AA'}=\frac{m_l}{6}\left(v_A^2+\vec v_A\cdot\vec v_{A'}+v_{A'}^2\right)\quad(\text{and likewise } BB', CC')", "Problem 2.5", reconstructed="leg energies lost in the extraction (only the factors 1/2 survive)"),
             DerivationStep("Potential energy", "The inductors move in the horizontal plane: U_A = U_B = U_C = 0.", r"U=M_c g z_D+\sum_k m_l g \frac{z_{A'_k}}{2}", "Problem 2.5"),
             DerivationStep("Generalized forces", "Virtual work of the inductor forces on their own coordinates.", r"Q_{q_i}=\frac{\delta A^e_{q_i}}{\delta q_i}=F_{q_i}", "Problem 2.5"),
             DerivationStep("Loops opened (§2.2)", "12 coordinates (table pose + inductors), six leg constraints, multipliers eliminated by (2.33)-(2.34): the six equations of the source in closed form.", r"A\ddot q=B+S F+H^{T}\lambda,\quad H\ddot q=-\Phi,\quad H\in\mathbb{R}^{6\times 12}", "(2.25), (2.30), (2.34)"),
