@@ -1044,7 +1044,9 @@ class Table6DOF(Lesson):
     plots = (
         PlotSpec("Table position", ("x_D", "y_D", "z_D"), "m"),
         PlotSpec("Table angles", ("alpha", "beta", "phi"), "rad"),
+        PlotSpec("Table velocities", ("x_D_dot", "y_D_dot", "z_D_dot", "alpha_dot", "beta_dot", "phi_dot"), "m/s, rad/s"),
         PlotSpec("Inductor coordinates", INDUCTORS, "m"),
+        PlotSpec("Inductor velocities", tuple(f"{n}_dot" for n in INDUCTORS), "m/s"),
         PlotSpec("Inductor forces", FORCES, "N"),
         PlotSpec("Constraint residual and tracking error", ("constraint_residual", "tracking_error"), ""),
     )
@@ -1171,7 +1173,7 @@ class Table6DOF(Lesson):
 
                 def frame_of(tt: float, y: Array) -> Frame:
                     F = u(tt, y[:12], y[12:])
-                    fr = self._frame(ps, tt, y[:12], F)
+                    fr = self._frame(ps, tt, y[:12], y[12:], F)
                     fr.scalars["constraint_residual"] = float(np.max(np.abs(cs.residuals(tt, y[:12], y[12:], p, F)[0])))
                     fr.scalars["tracking_error"] = float(np.max(np.abs(y[:6] - ev(float(tt))[0])))
                     return fr
@@ -1186,7 +1188,7 @@ class Table6DOF(Lesson):
             def frame_at(tt: float) -> Frame:
                 q, qd, qdd, ok = self.program_at(ps, tt)
                 F = inverse_dynamics(q, qd, qdd, p)[0]
-                fr = self._frame(ps, tt, q, F)
+                fr = self._frame(ps, tt, q, qd, F)
                 fr.scalars["constraint_residual"] = 0.0
                 fr.scalars["tracking_error"] = 0.0
                 if not ok:
@@ -1197,10 +1199,11 @@ class Table6DOF(Lesson):
 
         return ProgramStepper(make_program, params)
 
-    def _frame(self, ps: Params, tt: float, q: Array, F: Array) -> Frame:
+    def _frame(self, ps: Params, tt: float, q: Array, qd: Array, F: Array) -> Frame:
         fr = Frame(t=float(tt))
         for k, n in enumerate(COORDS):
             fr.scalars[n] = float(q[k])
+            fr.scalars[f"{n}_dot"] = float(qd[k])
         for k, f in enumerate(FORCES):
             fr.scalars[f] = float(F[k])
         R = rotation(q[3], q[4], q[5])

@@ -163,3 +163,24 @@ def test_table_runs_short() -> None:
     assert np.all(np.isfinite(np.array(lesson.scene(lesson.resolve()).bounds)))
     steps = lesson.derivation(lesson.resolve())
     assert any(s.reconstructed for s in steps)
+
+
+def test_table_plots_have_frame_scalars() -> None:
+    lesson = Table6DOF()
+    for problem in ("forward", "inverse"):
+        f = lesson.stepper(lesson.resolve({"problem": problem})).advance(0.01)
+        assert {s for p in lesson.plots for s in p.series} <= set(f.scalars)
+
+
+def test_leg_energy_equals_three_particles() -> None:
+    """Slender rod: m/6 (|vA|^2 + vA.vJ + |vJ|^2) = m/6 at each end + 2m/3 at the middle."""
+    rng = np.random.default_rng(3)
+    vA, vJ = rng.normal(size=3), rng.normal(size=3)
+    m = 0.7
+    rod = m / 6 * (vA @ vA + vA @ vJ + vJ @ vJ)
+    # the rod integral: v(s) = vA + s (vJ - vA), T = m/2 * int_0^1 |v(s)|^2 ds
+    s = np.linspace(0, 1, 20001)
+    v = vA[None, :] + s[:, None] * (vJ - vA)[None, :]
+    integral = m / 2 * np.trapezoid(np.sum(v * v, axis=1), s)
+    particles = 0.5 * (m / 6) * (vA @ vA + vJ @ vJ) + 0.5 * (2 * m / 3) * np.sum(((vA + vJ) / 2) ** 2)
+    assert rod == pytest.approx(integral, rel=1e-8) and rod == pytest.approx(particles, rel=1e-12)

@@ -164,8 +164,8 @@ def build_table_model() -> TableModel:
     B = km.forcing.xreplace(plain)
     cs = ConstrainedSystem.build(qs, qds, T_, A, B, [*pos.values(), g], F, f_hol=[sp.sympify(f).xreplace(to_plain_q) for f in f_hol])
     T_table = table.kinetic_energy(N).subs({ui: qi.diff(T_) for qi, ui in zip(q, u)})
-    vA, vJ = sp.symbols("v_A v_Aprime", nonnegative=True)
-    T_leg = ml / 6 * (vA**2 + sp.Symbol(r"v_A \cdot v_{A'}") + vJ**2)
+    vA, vJ, vAJ = sp.symbols("v_A v_J vAvJ", real=True)  # end speeds and their dot product
+    T_leg = ml / 6 * (vA**2 + vAJ + vJ**2)
     S = cs.B.jacobian(F)
     if S.free_symbols:
         raise RuntimeError("inductor forces must enter B with constant coefficients")
