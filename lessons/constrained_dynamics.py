@@ -36,7 +36,6 @@ from lessons.core.contract import (
     SceneSpec,
     Stepper,
     at_most,
-    close,
 )
 from lessons.core.mechanics import (
     IDENTITY_Q,
@@ -258,8 +257,7 @@ class ConstrainedDynamics(Lesson):
     # -- derivation ---------------------------------------------------------------
 
     def derivation(self, params: Params) -> list[DerivationStep]:
-        model, cs = system(str(params["example"]))
-        qv = sp.Matrix(cs.q)
+        _, cs = system(str(params["example"]))
         steps = [
             DerivationStep("Holonomic constraints", "", r"f_i(q,t)=0,\quad i=1,\dots,v_1", "(2.17)"),
             DerivationStep("Nonholonomic constraints, linear in the velocities", "The source says 'for the function f_i'; it means g_i.", r"g_i=a_{i1}\dot q_1+\dots+a_{in}\dot q_n+a_i^{*}=0,\quad i=v_1+1,\dots,v_2", "(2.18)-(2.19)", reconstructed="wording corrected: g_i, not f_i"),
@@ -276,7 +274,6 @@ class ConstrainedDynamics(Lesson):
             DerivationStep("This example: Phi", "", sp.Eq(sp.Symbol(r"\Phi"), sp.simplify(cs.Phi), evaluate=False), "(2.30)"),
             DerivationStep("Baumgarte stabilization (not in the source)", "Constraint errors obey a damped equation instead of drifting.", r"\Phi\to\Phi+2\alpha\left(H\dot q+\psi\right)+\beta^{2}f", reconstructed="addition of the digest: the source integrates (2.34) as it stands"),
         ]
-        _ = qv, model
         return steps
 
     # -- runs -------------------------------------------------------------------------

@@ -431,9 +431,8 @@ class LinearPositioner(PositionerLesson):
         m = self.model(params)
         x = m.q[0]
         M, F, R, Nx = m.params[0], *m.inputs
-        Fa, Nn, mi, ai = sp.symbols("F^A N m_i a_i")
         steps = [
-            DerivationStep("d'Alembert principle", "Active forces, constraint reactions and inertia forces are in equilibrium.", sp.Eq(sp.Symbol(r"\sum F^A") + sp.Symbol(r"\sum N") - sp.Symbol(r"\sum m_i a_i"), 0), "(2.1)"),
+            DerivationStep("d'Alembert principle", "Active forces, constraint reactions and inertia forces are in equilibrium.", r"\sum \vec F^{A}+\sum \vec N-\sum m_i\vec a_i=0", "(2.1)"),
             DerivationStep("Kinetic energy", "All points have the same acceleration, so the moving mass M = sum m_i acts as one body.", sp.Eq(sp.Symbol("T"), M * x.diff(T_) ** 2 / 2)),
             DerivationStep("Generalized force", "Virtual work of the drive, the resistance and the guide reaction on dx.", sp.Eq(sp.Symbol("Q_x"), F - R + Nx), "(2.2)"),
             DerivationStep("Equation of motion (LagrangesMethod)", "Projection on the X axis.", m.equations()[0], "(2.2)"),
@@ -443,7 +442,6 @@ class LinearPositioner(PositionerLesson):
         else:
             law = params["x_t"].expr.subs(t_symbol, T_)
             steps.append(DerivationStep("Inverse problem", "Motion law given: the drive force it needs.", sp.Eq(F, sp.simplify(M * sp.diff(law, T_, 2) + R - Nx)), "(2.2)"))
-        _ = (Fa, Nn, mi, ai)
         return steps
 
     def scene_size(self, params: Params) -> float:
@@ -922,6 +920,12 @@ class Planar3Axis(PositionerLesson):
             ),
             DerivationStep("Generalized forces (virtual work)", "Drive forces F_A on A, F_B on B, moment M_phi on the table; dx_B = dx_A + AB sin(phi) dphi, dy_B = dy_A + AB cos(phi) dphi.", [sp.Eq(sp.Symbol("Q_x"), s["FAx"] + s["FBx"]), sp.Eq(sp.Symbol("Q_y"), s["FAy"] + s["FBy"]), sp.Eq(sp.Symbol(r"Q_\varphi"), s["Mphi"] + AB * (s["FBx"] * sp.sin(phi) + s["FBy"] * sp.cos(phi)))], "(2.16)"),
             DerivationStep("Equations of motion (LagrangesMethod)", "Not written out in the source; derived from (2.12), (2.15), (2.16).", m.equations(), "(2.13)-(2.16)", reconstructed="the source stops at 'substituting (2.15) and (2.16) into (2.13)'"),
+            DerivationStep(
+                "Forward problem" if params["problem"] == "forward" else "Inverse problem (program motion)",
+                "Drive forces given: integrate the three equations." if params["problem"] == "forward" else "x_A(t), y_A(t), phi(t) given: x_B, y_B from (2.12); with F_B given, the left-hand sides give Q_x, Q_y, Q_phi and so F_Ax, F_Ay, M_phi.",
+                r"\ddot q=M(q)^{-1}\left(F(q,\dot q)+Q(t)\right)" if params["problem"] == "forward" else r"Q=M(q)\ddot q-F(q,\dot q),\quad F_{Ax}=Q_x-F_{Bx},\;F_{Ay}=Q_y-F_{By},\;M_\varphi=Q_\varphi-AB\,(F_{Bx}\sin\varphi+F_{By}\cos\varphi)",
+                "(2.13)-(2.16)",
+            ),
         ]
 
     def scene_size(self, params: Params) -> float:

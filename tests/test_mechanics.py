@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 import sympy as sp
 from scipy.integrate import solve_ivp
-from sympy.physics.mechanics import Point, ReferenceFrame, dynamicsymbols
+from sympy.physics.mechanics import ReferenceFrame, dynamicsymbols
 
 from lessons.core.contract import Frame
 from lessons.core.mechanics import (
