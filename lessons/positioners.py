@@ -314,7 +314,7 @@ class PositionerLesson(Lesson):
 
         return ProgramStepper(make_program, params)
 
-    # -- claims helpers ---------------------------------------------------------------
+    # -- claims support ---------------------------------------------------------------
 
     def round_trip_error(self, values: dict[str, Any], t_end: float = 5.0) -> tuple[float, float]:
         """Forward run with the given forces, then the inverse problem on the sampled
@@ -1055,7 +1055,7 @@ class Table6DOF(Lesson):
         PlotSpec("Constraint residual and tracking error", ("constraint_residual", "tracking_error"), ""),
     )
 
-    # -- helpers ------------------------------------------------------------------------
+    # -- pieces -------------------------------------------------------------------------
 
     def pvec(self, params: Params) -> Array:
         return np.array([float(params[n]) for n in PHYSICAL], dtype=float)

@@ -10,7 +10,7 @@
   (2.25) and gives the multipliers (2.33) and the accelerations (2.34).  Optional
   Baumgarte stabilization (not in the source) replaces ``Phi`` by
   ``Phi + 2 alpha (H q' + psi) + beta^2 f``.
-* Pose helpers: trimesh solids as :class:`MeshItem`, wxyz quaternions, segment poses.
+* Poses and meshes: trimesh solids as :class:`MeshItem`, wxyz quaternions, segment poses.
 """
 
 from __future__ import annotations
@@ -30,7 +30,7 @@ from lessons.core.contract import Frame, MeshItem, Params, Stepper
 Array = np.ndarray
 
 
-# ---------------------------------------------------------------- symbolic helpers
+# ---------------------------------------------------------------- symbolic tools
 
 
 def plain_symbols(q: Sequence[sp.Function]) -> tuple[list[sp.Symbol], list[sp.Symbol]]:
