@@ -182,9 +182,8 @@ class AnalyzerModel:
         A_rows, c0 = _numeric().linear(*args)
         A = np.empty((m, n_points, 3, 3))
         for i in range(3):
-            for j in range(3):
-                A[:, :, i, j] = np.broadcast_to(A_rows[i][j], (m, n_points))
-        cvec = np.stack([np.broadcast_to(ci, (m, n_points)) for ci in c0], axis=-1)
+            A[:, :, i, :] = np.stack(np.broadcast_arrays(*A_rows[i], np.empty((m, n_points)))[:3], axis=-1)
+        cvec = np.stack(np.broadcast_arrays(*c0, np.empty((m, n_points)))[:3], axis=-1)
         return A, cvec
 
     def velocity(self, t: float, R: np.ndarray) -> np.ndarray:

@@ -57,7 +57,8 @@ START_PARAMS: tuple[Param, ...] = (
 METHOD_PARAMS: tuple[Param, ...] = (
     Param("integrator", "choice", "gauss-legendre-3", "integrator", choices=METHODS, group="method",
           help="Gauss-Legendre keeps F to round-off; RK45/DOP853 are scipy's solve_ivp"),
-    Param("h", "float", 1e-3, "step h", unit="s", min=1e-5, max=0.1, step=1e-4, group="method"),
+    Param("h", "float", 1e-2, "step h", unit="s", min=1e-5, max=0.1, step=1e-3, group="method",
+          help="Gauss-Legendre step; order 6 (3 stages): 0.01 s keeps the textbook examples to ~1e-9"),
     Param("rtol", "float", 1e-3, "solve_ivp rtol", min=1e-14, max=1e-1, group="method"),
     Param("atol", "float", 1e-6, "solve_ivp atol", min=1e-16, max=1e-1, group="method"),
 )
