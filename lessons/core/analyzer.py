@@ -82,10 +82,20 @@ def _numeric() -> _Numeric:
     )
 
 
+def _constant_value(u: Formula | float | None) -> float | None:
+    """The number a control stands for when it does not depend on t, else None."""
+    if u is None:
+        return 0.0
+    if not isinstance(u, Formula):
+        return float(u)
+    return float(u.expr) if u.is_constant else None
+
+
 def _as_formula_values(u: Formula | float, t: np.ndarray) -> np.ndarray:
-    if isinstance(u, Formula):
-        return np.broadcast_to(np.asarray(u(t), dtype=float), np.shape(t))
-    return np.full(np.shape(t), float(u))
+    c = _constant_value(u)
+    if c is not None:
+        return np.full(np.shape(t), c)
+    return np.broadcast_to(np.asarray(u(t), dtype=float), np.shape(t))
 
 
 @dataclass
@@ -101,7 +111,11 @@ class Controls:
     def at(self, t: np.ndarray) -> np.ndarray:
         """``(3, *t.shape)`` control values."""
         t = np.asarray(t, dtype=float)
-        return np.stack([_as_formula_values(u, t) for u in (self.u1, self.u2, self.u3)])
+        out = np.empty((3, *t.shape))
+        for k, u in enumerate((self.u1, self.u2, self.u3)):
+            c = _constant_value(u)
+            out[k] = c if c is not None else u(t)  # type: ignore[operator]
+        return out
 
     def speed(self, t: np.ndarray) -> np.ndarray:
         t = np.asarray(t, dtype=float)
