@@ -117,6 +117,10 @@ class Controls:
             out[k] = c if c is not None else u(t)  # type: ignore[operator]
         return out
 
+    def constant(self) -> bool:
+        """True when u1, u2, u3 (and V) do not depend on t."""
+        return all(_constant_value(u) is not None for u in (self.u1, self.u2, self.u3, self.V))
+
     def speed(self, t: np.ndarray) -> np.ndarray:
         t = np.asarray(t, dtype=float)
         return _as_formula_values(self.V if self.V is not None else 0.0, t)
