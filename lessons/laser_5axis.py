@@ -946,6 +946,8 @@ class Laser5Axis(Lesson):
             moving_points={"tool": (230, 40, 40)},
             moving_vectors={"beam": (255, 60, 30), "normal": (40, 160, 60)},
             bodies=machine_bodies(machine_of(params)),
+            # the tool-point trail: green within the tolerance, red at twice it and beyond
+            trail_color_by={"tool": ("deviation_um", float(params["tolerance_um"]), 2.0 * float(params["tolerance_um"]))},
         )
 
     def claims(self) -> list[Claim]:
