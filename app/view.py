@@ -736,9 +736,13 @@ class SessionView:
         dist = 1.05 * float(np.linalg.norm(hi - lo)) + 1e-6
         try:
             cam = self.client.camera
+            # clipping planes to the scene's size (a machine in millimetres, a unit sphere)
+            cam.far = max(100.0, 20.0 * dist)
+            cam.near = max(1e-4, 1e-4 * dist)
             cam.up_direction = (0.0, 0.0, 1.0)
-            cam.look_at = tuple(map(float, center))
+            # viser moves look_at along with position: set the position first
             cam.position = tuple(map(float, center + direction * dist))
+            cam.look_at = tuple(map(float, center))
         except Exception:
             traceback.print_exc()
 

@@ -750,7 +750,7 @@ PRESETS: tuple[Preset, ...] = tuple(
 class Laser5Axis(Lesson):
     id = "laser-5axis"
     title = "LSP-2000 five-axis laser: linear vs nonlinear interpolation"
-    chapter = "003"
+    chapter = "Articles"
     problem = "Article 003"
     source = SOURCE
     summary = ("A 5-axis laser machine follows a polyline on a paraboloid with the beam along the normal. Linear "
