@@ -183,8 +183,12 @@ class SharedTick:
 
 
 def _reset_drawn(view: "SessionView") -> None:
-    """Make the view redraw everything from its (new) session."""
-    view._drawn_lesson = None
+    """Make the view redraw everything from its (new) session.  The lesson's GUI
+    (controls, plots) is rebuilt only when the lesson differs: the widgets are
+    re-synced instead (rebuilding plots while frames stream to them leaves updates
+    for removed components in flight)."""
+    if view._drawn_lesson != view.session.lesson.id:
+        view._drawn_lesson = None
     view._drawn_scene_rev = -1
     view._drawn_reset_rev = -1
     view._visible_cache = None
@@ -313,6 +317,9 @@ class InstructorPanel:
         self.push_btn.on_click(self._cb(self._push))
         self.notify_btn.on_click(self._cb(self._notify))
         self.camera: tuple[Any, ...] | None = None
+        self.camera_t = 0.0  # when the instructor's browser last reported its camera
+        self.lesson_t = time.monotonic()  # when the instructor's lesson last changed (the view framed it)
+        self._lesson = view.session.lesson.id
         view.client.camera.on_update(self._on_camera)
         self.update()
 
@@ -336,7 +343,16 @@ class InstructorPanel:
             self.camera = (tuple(map(float, cam.position)), tuple(map(float, cam.look_at)), tuple(map(float, cam.up_direction)))
         except Exception:
             return
+        self.camera_t = time.monotonic()
         self.room.camera_dirty = True
+
+    def fresh_camera(self) -> tuple[Any, ...] | None:
+        """The instructor's camera if it was reported after the last lesson change
+        (before that, each follower frames the same lesson the same way itself)."""
+        if self.view.session.lesson.id != self._lesson:
+            self._lesson = self.view.session.lesson.id
+            self.lesson_t = time.monotonic()
+        return self.camera if self.camera is not None and self.camera_t > self.lesson_t else None
 
     def _push(self) -> None:
         name = self.push_dd.value
@@ -696,6 +712,10 @@ class Classroom:
             with demo.lock:
                 if view.session is not demo:
                     continue
+                if old is None or old[1] != sig[1]:
+                    panel = self.instructors.get(self.broadcaster or -1)
+                    if panel is not None:
+                        panel.fresh_camera()  # a new lesson: the followers' views frame it themselves
                 if old is None or old[:6] != sig[:6]:
                     view._visible_cache = None
                     view._vector_names = ()
@@ -710,10 +730,11 @@ class Classroom:
         if not self.camera_dirty or self.broadcaster is None:
             return
         panel = self.instructors.get(self.broadcaster)
-        if panel is None or panel.camera is None:
+        camera = panel.fresh_camera() if panel is not None else None
+        if camera is None:
             return
         self.camera_dirty = False
-        pos, look, up = panel.camera
+        pos, look, up = camera
         for view in list(self.followers.values()):
             try:
                 with view.client.atomic():

@@ -41,6 +41,7 @@ class ProtoClient:
         self.values: dict[str, Any] = {}  # uuid -> value the server set
         self.html: dict[str, str] = {}  # uuid -> content of html elements
         self.notifications: list[str] = []
+        self.seen: dict[str, int] = {}  # message type -> count
         self.point_updates = 0
         self.frames = 0
         self.bytes = 0
@@ -74,6 +75,7 @@ class ProtoClient:
                     point = False
                     for m in decode_frame(raw, dec):
                         t = m.get("type", "")
+                        self.seen[t] = self.seen.get(t, 0) + 1
                         if t == "SceneNodeUpdateMessage":
                             if m.get("name") == POINT_NODE and "points" in m.get("updates", {}):
                                 point = True
@@ -92,7 +94,7 @@ class ProtoClient:
                                 self.values[m["uuid"]] = m["value"]
                             if "content" in props:
                                 self.html[m["uuid"]] = props["content"]
-                        elif t == "NotificationMessage":
+                        elif t == "NotificationShowMessage":
                             props = m.get("props", {}) if isinstance(m.get("props"), dict) else m
                             self.notifications.append(f"{props.get('title', '')}: {props.get('body', '')}")
                     if self.measuring:
