@@ -438,6 +438,7 @@ class Session:
         frames: list[Frame] = []
         if dt <= 0 or not math.isfinite(dt):
             return frames
+        t_before = self.stepper.t
         n = max(1, min(self.max_substeps, int(math.ceil(dt / SUBSTEP_DT - 1e-9))))
         piece = dt / n
         for _ in range(n):
@@ -455,6 +456,10 @@ class Session:
             self.log.add(frame)
         if frames:
             self.frame = frames[-1]
+            if self.stepper.t <= t_before and self.playing:
+                # the lesson's run cannot go on (e.g. an end condition was reached)
+                self.playing = False
+                self.notify(f"the run stopped at t = {self.stepper.t:.4g} s" + (f": {self.frame.message}" if self.frame.message else ""), "info")
         if self.pause_at_end and self.stepper.t >= self.t_end - 1e-9 and self.playing:
             self.playing = False
             self.notify(f"t = {self.t_end:g} s reached (the textbook's run); press play to run again, or untick 'pause at t_end'", "info")

@@ -216,6 +216,7 @@ class SessionView:
         self._size = 1.0
         self._frame_dirty = True
         self._visible_cache: set[str] | None = None
+        self._plots_fresh = False
         self.step_seconds = 0.0  # time spent in the lesson's stepper (frame loop)
         self.draw_seconds = 0.0  # time spent queueing the frame's updates
         # classroom hook: gate(view, event, retry) -> False refuses a GUI input (app.classroom)
@@ -308,6 +309,9 @@ class SessionView:
     def _build_lesson_gui(self) -> None:
         """(Re)build everything that depends on the lesson: controls, plots, header."""
         gui = self.client.gui
+        for _, handle in self._plots:  # children first: marks them removed, purges pending updates
+            _remove(handle)
+        self._plots = []
         for f in self._lesson_folders:
             try:
                 f.remove()
@@ -358,7 +362,9 @@ class SessionView:
                     title = spec.title + (f" [{spec.units}]" if spec.units else "")
                     handle = gui.add_uplot(buf.data(), tuple(series), title=title, scales={"x": {"time": False}, "y": {"auto": True}},
                                            aspect=2.0)
+                    buf.dirty = False
                     self._plots.append((buf, handle))
+        self._plots_fresh = True  # no data updates in the window that creates the charts
         esc = html.escape
         self.lesson_head.content = (
             f'<div style="font-size:0.95em"><b>{esc(lesson.problem)} · {esc(lesson.title)}</b><br>'
@@ -808,6 +814,9 @@ class SessionView:
 
     def _send_plots(self, all_plots: bool = False) -> None:
         if not self._plots:
+            return
+        if self._plots_fresh:
+            self._plots_fresh = False
             return
         if all_plots:
             for buf, handle in self._plots:

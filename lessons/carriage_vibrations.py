@@ -127,7 +127,7 @@ class _CarriageGeometry:
 
 class CarriageFreeVibration(Lesson):
     id = "carriage-free-vibration"
-    title = "Problem 2.6 - free vibration of the carriage on its air bearing"
+    title = "Free vibration of the carriage on its air bearing"
     chapter = "2"
     problem = "Problem 2.6"
     source = "Textbook §2.3, Problem 2.6, eqs (2.35)-(2.77)"
@@ -640,7 +640,7 @@ def oscillator_from_params(p: Params) -> ForcedOscillator:
 
 class CarriageForcedVibration(Lesson):
     id = "carriage-forced-vibration"
-    title = "Problem 2.7 - forced vibration of the carriage"
+    title = "Forced vibration of the carriage"
     chapter = "2"
     problem = "Problem 2.7"
     source = "Textbook §2.3, Problem 2.7, eqs (2.78)-(2.92)"

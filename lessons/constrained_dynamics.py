@@ -217,7 +217,7 @@ class ConstrainedDynamics(Lesson):
     """§2.2: generic solver with Lagrange multipliers, (2.17)-(2.34), and its drift."""
 
     id = "constrained-dynamics"
-    title = "§2.2 - constrained dynamics with Lagrange multipliers"
+    title = "Constrained dynamics with Lagrange multipliers"
     chapter = "2"
     problem = "§2.2"
     source = "Textbook §2.2, eqs (2.17)-(2.34)"

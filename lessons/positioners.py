@@ -393,7 +393,7 @@ class LinearPositioner(PositionerLesson):
     """Problem 2.1: d'Alembert (2.1) projected on X gives M x'' = sum F_x^A + sum N_x (2.2)."""
 
     id = "linear-positioner"
-    title = "Problem 2.1 - single-coordinate linear positioner"
+    title = "Single-coordinate linear positioner"
     problem = "Problem 2.1"
     source = "Textbook §2.1, Problem 2.1, eqs (2.1)-(2.2)"
     summary = "A carriage on a straight guide: M x'' = F_dv - R_sopr + N_x; forward and inverse problems."
@@ -503,7 +503,7 @@ class RotaryPositioner(PositionerLesson):
     """Problem 2.2: J_z,pr phi'' = sum M_z(F^e) (2.3), J_z,pr = sum m_i h_i^2 (2.4)."""
 
     id = "rotary-positioner"
-    title = "Problem 2.2 - rotary positioner"
+    title = "Rotary positioner"
     problem = "Problem 2.2"
     source = "Textbook §2.1, Problem 2.2, eqs (2.3)-(2.4)"
     summary = "Three masses m_i at distances h_i from the axis Z: (sum m_i h_i^2) phi'' = M_dv - M_c."
@@ -644,7 +644,7 @@ class Planar2Axis(PositionerLesson):
     layout (2.8)/(2.9), Q by virtual work (2.10) -> corrected (2.11)."""
 
     id = "planar-2axis"
-    title = "Problem 2.3 - two-coordinate planar positioner"
+    title = "Two-coordinate planar positioner"
     problem = "Problem 2.3"
     source = "Textbook §2.1, Problem 2.3, eqs (2.5)-(2.11')"
     summary = "An X-Y stage, horizontal (U = 0) or vertical (U = M g y): M x'' = -dU/dx + Q_x, M y'' = -dU/dy + Q_y."
@@ -828,7 +828,7 @@ class Planar3Axis(PositionerLesson):
     the reconstructed T (2.15) and (2.12) substituted (DESIGN §3 item 8)."""
 
     id = "planar-3axis"
-    title = "Problem 2.4 - three-coordinate planar motion system"
+    title = "Three-coordinate planar motion system"
     problem = "Problem 2.4"
     source = "Textbook §2.1, Problem 2.4, eqs (2.12)-(2.16)"
     summary = "Two planar modules A and B carry a table that translates and turns by phi; consistent model in x_A, y_A, phi."
@@ -1013,7 +1013,7 @@ class Table6DOF(Lesson):
     (see :mod:`lessons.core.table6dof`); loops opened and closed by the §2.2 algorithm."""
 
     id = "table-6dof"
-    title = "Problem 2.5 - work table with six degrees of freedom"
+    title = "Work table with six degrees of freedom"
     chapter = "2"
     problem = "Problem 2.5"
     source = "Textbook §2.1, Problem 2.5 (Figs 2.6-2.9); geometry reconstructed"

@@ -210,9 +210,9 @@ class ConstrainedSystem:
         # f'' = H q'' + d^2/ds^2 f(q + s q', t + s)|0 and g' = a q'' + d/ds g(q + s q', t + s)|0
         s = sp.Dummy("s")
         shift = {**{qi: qi + s * qdi for qi, qdi in zip(q, qd)}, t: t + s}
-        phi_rows = [sp.diff(sp.sympify(fi).xreplace(shift), s, 2).subs(s, 0) for fi in f_hol]
+        phi_rows = [sp.diff(sp.sympify(fi, strict=True).xreplace(shift), s, 2).subs(s, 0) for fi in f_hol]
         for row, a0 in zip(a_nh, a0_nh):
-            g = sum((sp.sympify(aij) * qdj for aij, qdj in zip(row, qd)), sp.S.Zero) + sp.sympify(a0)
+            g = sum((sp.sympify(aij, strict=True) * qdj for aij, qdj in zip(row, qd)), sp.S.Zero) + sp.sympify(a0, strict=True)
             phi_rows.append(sp.diff(g.xreplace(shift), s).subs(s, 0))
         Phi = sp.Matrix(phi_rows) if phi_rows else sp.zeros(0, 1)
         sys_ = cls(list(q), list(qd), t, list(params), list(inputs), sp.Matrix(A), sp.Matrix(B), f, H, psi, sp.Matrix(Phi), len(f_hol))
@@ -231,7 +231,7 @@ class ConstrainedSystem:
         forcing (generalized forces plus the velocity terms of ``T``); constraints are
         written in the model's ``q(t)`` functions or in plain symbols."""
         qs, qds = plain_symbols(model.q)
-        conv = lambda e: model.plain(sp.sympify(e))  # noqa: E731
+        conv = lambda e: model.plain(sp.sympify(e, strict=True))  # noqa: E731
         return cls.build(
             qs, qds, model.t, model.plain(model.mass_matrix), model.plain(model.forcing), model.params, model.inputs,
             [conv(e) for e in f_hol], [[conv(e) for e in r] for r in a_nh], [conv(e) for e in a0_nh],

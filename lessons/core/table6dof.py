@@ -162,7 +162,7 @@ def build_table_model() -> TableModel:
     plain = {**to_plain_u, **to_plain_q}  # Kane's A and B hold q(t), u(t) and no derivatives
     A = km.mass_matrix.xreplace(plain)
     B = km.forcing.xreplace(plain)
-    cs = ConstrainedSystem.build(qs, qds, T_, A, B, [*pos.values(), g], F, f_hol=[sp.sympify(f).xreplace(to_plain_q) for f in f_hol])
+    cs = ConstrainedSystem.build(qs, qds, T_, A, B, [*pos.values(), g], F, f_hol=[sp.sympify(f, strict=True).xreplace(to_plain_q) for f in f_hol])
     T_table = table.kinetic_energy(N).subs({ui: qi.diff(T_) for qi, ui in zip(q, u)})
     vA, vJ, vAJ = sp.symbols("v_A v_J vAvJ", real=True)  # end speeds and their dot product
     T_leg = ml / 6 * (vA**2 + vAJ + vJ**2)
