@@ -33,40 +33,56 @@ DROP_CONTENT = frozenset({"script", "style", "annotation", "annotation-xml", "if
 _SAFE_VALUE = re.compile(r"^[\w .,:%#+\-]*$")
 
 
+#: SVG figures (block diagrams) are rebuilt from this whitelist: shapes and text only.
+SVG_TAGS = frozenset("svg g defs marker rect line polyline polygon path circle ellipse text tspan title".split())
+SVG_ATTRS = frozenset(
+    """width height viewbox x y x1 y1 x2 y2 cx cy r rx ry d points fill stroke stroke-width
+    stroke-dasharray font-family font-size font-weight text-anchor dominant-baseline transform
+    marker-end marker-start id refx refy markerwidth markerheight orient opacity role aria-label""".split()
+)
+_SAFE_SVG_VALUE = re.compile(r"^(?!.*(?:javascript|data:|expression))[\w .,:%#+\-()]*$", re.IGNORECASE)
+_SVG_NAMES = {"viewbox": "viewBox", "refx": "refX", "refy": "refY", "markerwidth": "markerWidth", "markerheight": "markerHeight"}
+
+
 class _Sanitizer(HTMLParser):
-    def __init__(self) -> None:
+    def __init__(self, tags: frozenset[str] = MATHML_TAGS, attrs: frozenset[str] = MATHML_ATTRS,
+                 drop: frozenset[str] = DROP_CONTENT, safe: re.Pattern[str] = _SAFE_VALUE,
+                 root: tuple[str, str] = ("math", 'xmlns="http://www.w3.org/1998/Math/MathML"'),
+                 names: dict[str, str] | None = None) -> None:
         super().__init__(convert_charrefs=True)
         self.out: list[str] = []
         self.open: list[str] = []
         self.drop_depth = 0
+        self.tags, self.attrs, self.drop, self.safe, self.root = tags, attrs, drop, safe, root
+        self.names = names or {}
 
     def handle_starttag(self, tag: str, attrs: list[tuple[str, str | None]]) -> None:
-        if tag in DROP_CONTENT:
+        if tag in self.drop:
             self.drop_depth += 1
             return
-        if self.drop_depth or tag not in MATHML_TAGS:
+        if self.drop_depth or tag not in self.tags:
             return
         parts = [tag]
-        if tag == "math":
-            parts.append('xmlns="http://www.w3.org/1998/Math/MathML"')
+        if tag == self.root[0]:
+            parts.append(self.root[1])
         for name, value in attrs:
-            if name in MATHML_ATTRS and value is not None and _SAFE_VALUE.match(value):
-                parts.append(f'{name}="{html.escape(value, quote=True)}"')
+            if name in self.attrs and value is not None and self.safe.match(value):
+                parts.append(f'{self.names.get(name, name)}="{html.escape(value, quote=True)}"')
         self.out.append("<" + " ".join(parts) + ">")
         self.open.append(tag)
 
     def handle_startendtag(self, tag: str, attrs: list[tuple[str, str | None]]) -> None:
-        if tag in DROP_CONTENT:
+        if tag in self.drop:
             return
         self.handle_starttag(tag, attrs)
-        if not self.drop_depth and tag in MATHML_TAGS:
+        if not self.drop_depth and tag in self.tags:
             self.handle_endtag(tag)
 
     def handle_endtag(self, tag: str) -> None:
-        if tag in DROP_CONTENT:
+        if tag in self.drop:
             self.drop_depth = max(0, self.drop_depth - 1)
             return
-        if self.drop_depth or tag not in MATHML_TAGS or tag not in self.open:
+        if self.drop_depth or tag not in self.tags or tag not in self.open:
             return
         while self.open:
             top = self.open.pop()
@@ -89,6 +105,15 @@ def sanitize_mathml(markup: str) -> str:
     """Rebuild MathML from the whitelist: unknown elements vanish (script/style with
     their content), attributes are filtered, text is escaped."""
     s = _Sanitizer()
+    s.feed(markup)
+    return s.result()
+
+
+def sanitize_svg(markup: str) -> str:
+    """Rebuild an SVG figure from the whitelist (shapes and text; no scripts, links,
+    styles, foreign objects or event attributes); text is escaped."""
+    s = _Sanitizer(SVG_TAGS, SVG_ATTRS, frozenset({"script", "style", "foreignobject", "a", "image", "use", "iframe", "object"}),
+                   _SAFE_SVG_VALUE, ("svg", 'xmlns="http://www.w3.org/2000/svg"'), _SVG_NAMES)
     s.feed(markup)
     return s.result()
 
@@ -158,6 +183,8 @@ def step_to_html(step: DerivationStep, index: int | None = None) -> str:
         parts.append(f'<div style="font-size:0.9em;margin:2px 0">{esc(step.text)}</div>')
     for item in _as_list(step.math):
         parts.append(f'<div style="overflow-x:auto">{expr_to_mathml(item)}</div>')
+    if step.svg:
+        parts.append(f'<div class="al-figure" style="overflow-x:auto;max-width:100%">{sanitize_svg(step.svg)}</div>')
     if step.reconstructed:
         parts.append(f'<div style="font-size:0.8em;color:#7a5600">reconstructed: {esc(step.reconstructed)}</div>')
     parts.append("</div>")
@@ -171,4 +198,4 @@ def derivation_to_html(steps: Iterable[DerivationStep], header: str = "") -> str
     return f'<div class="al-derivation" style="font-size:0.95em;line-height:1.35">{top}{body}</div>'
 
 
-__all__ = ["derivation_to_html", "expr_to_mathml", "sanitize_mathml", "step_to_html"]
+__all__ = ["derivation_to_html", "expr_to_mathml", "sanitize_mathml", "sanitize_svg", "step_to_html"]

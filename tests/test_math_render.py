@@ -59,3 +59,20 @@ def test_sphere_derivation_renders() -> None:
     assert out.count("<math") >= 8
     assert "(1.54)" in out and "al-reconstructed" in out
     assert "<script" not in out
+
+
+def test_block_diagram_svg_is_rendered_and_sanitized():
+    from app.math_render import sanitize_svg, step_to_html
+    from lessons.catalog import get_lesson
+
+    lesson = get_lesson("sphere")
+    step = lesson.block_diagram_step(lesson.resolve(), lesson.prepare(lesson.resolve()))
+    out = step_to_html(step)
+    assert out.count("<svg") == 1 and "viewBox=" in out and out.count("<rect") >= 6 and out.count("<circle") >= 6
+    hostile = ('<svg onload="alert(1)"><script>alert(2)</script><a href="javascript:x"><text>t</text></a>'
+               '<rect fill="url(javascript:alert(3))" width="5"/><text x="1">&lt;b&gt;</text>'
+               '<foreignObject><div>x</div></foreignObject><image href="data:x"/></svg>')
+    clean = sanitize_svg(hostile)
+    for bad in ("onload", "script", "javascript", "<a", "foreignobject", "<image", "<div", "alert(2)"):
+        assert bad not in clean.lower(), bad
+    assert "&lt;b&gt;" in clean and '<rect width="5">' in clean

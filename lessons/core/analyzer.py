@@ -82,10 +82,20 @@ def _numeric() -> _Numeric:
     )
 
 
+def _constant_value(u: Formula | float | None) -> float | None:
+    """The number a control stands for when it does not depend on t, else None."""
+    if u is None:
+        return 0.0
+    if not isinstance(u, Formula):
+        return float(u)
+    return float(u.expr) if u.is_constant else None
+
+
 def _as_formula_values(u: Formula | float, t: np.ndarray) -> np.ndarray:
-    if isinstance(u, Formula):
-        return np.broadcast_to(np.asarray(u(t), dtype=float), np.shape(t))
-    return np.full(np.shape(t), float(u))
+    c = _constant_value(u)
+    if c is not None:
+        return np.full(np.shape(t), c)
+    return np.broadcast_to(np.asarray(u(t), dtype=float), np.shape(t))
 
 
 @dataclass
@@ -101,7 +111,15 @@ class Controls:
     def at(self, t: np.ndarray) -> np.ndarray:
         """``(3, *t.shape)`` control values."""
         t = np.asarray(t, dtype=float)
-        return np.stack([_as_formula_values(u, t) for u in (self.u1, self.u2, self.u3)])
+        out = np.empty((3, *t.shape))
+        for k, u in enumerate((self.u1, self.u2, self.u3)):
+            c = _constant_value(u)
+            out[k] = c if c is not None else u(t)  # type: ignore[operator]
+        return out
+
+    def constant(self) -> bool:
+        """True when u1, u2, u3 (and V) do not depend on t."""
+        return all(_constant_value(u) is not None for u in (self.u1, self.u2, self.u3, self.V))
 
     def speed(self, t: np.ndarray) -> np.ndarray:
         t = np.asarray(t, dtype=float)
@@ -182,9 +200,8 @@ class AnalyzerModel:
         A_rows, c0 = _numeric().linear(*args)
         A = np.empty((m, n_points, 3, 3))
         for i in range(3):
-            for j in range(3):
-                A[:, :, i, j] = np.broadcast_to(A_rows[i][j], (m, n_points))
-        cvec = np.stack([np.broadcast_to(ci, (m, n_points)) for ci in c0], axis=-1)
+            A[:, :, i, :] = np.stack(np.broadcast_arrays(*A_rows[i], np.empty((m, n_points)))[:3], axis=-1)
+        cvec = np.stack(np.broadcast_arrays(*c0, np.empty((m, n_points)))[:3], axis=-1)
         return A, cvec
 
     def velocity(self, t: float, R: np.ndarray) -> np.ndarray:

@@ -60,7 +60,11 @@ class Formula:
 
     @property
     def is_constant(self) -> bool:
-        return not (self.expr.free_symbols & {sp.Symbol(v, real=True) for v in self.variables})
+        cached = self.__dict__.get("_is_constant")
+        if cached is None:
+            cached = not (self.expr.free_symbols & {sp.Symbol(v, real=True) for v in self.variables})
+            object.__setattr__(self, "_is_constant", cached)
+        return cached
 
     def __call__(self, *args: float | np.ndarray) -> np.ndarray | float:
         """Evaluate (numpy broadcasting).  Non-finite results are returned as they are;

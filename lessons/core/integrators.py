@@ -94,7 +94,7 @@ def apply_propagators(D: np.ndarray, phi: np.ndarray, r0: np.ndarray) -> np.ndar
     out[0] = r = np.array(r0, dtype=float)
     comp = np.zeros_like(r)
     for k in range(n):
-        inc = np.einsum("nij,nj->ni", D[k], r) + phi[k] - comp
+        inc = (D[k] @ r[:, :, None])[:, :, 0] + phi[k] - comp
         new = r + inc
         comp = (new - r) - inc
         r = new
