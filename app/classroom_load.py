@@ -226,7 +226,8 @@ async def explore_scenario(url: str, n: int, seconds: float, pid: int) -> Figure
     return fig
 
 
-def start_server(port: int, code: str = BENCH_CODE, lesson: str = "sphere", log: Any = subprocess.DEVNULL) -> subprocess.Popen:
+def start_server(port: int, code: str = BENCH_CODE, lesson: str = "sphere", log: Any = subprocess.DEVNULL,
+                 fps: float = 30.0) -> subprocess.Popen:
     """``python -m app serve`` with an instructor code; returns when HTTP answers."""
     import urllib.request
 
@@ -234,7 +235,7 @@ def start_server(port: int, code: str = BENCH_CODE, lesson: str = "sphere", log:
     root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
     env["PYTHONPATH"] = root + os.pathsep + env.get("PYTHONPATH", "")
     proc = subprocess.Popen([sys.executable, "-m", "app", "serve", "--host", "127.0.0.1", "--port", str(port), "--no-browser",
-                             "--lesson", lesson, "--instructor-code", code], env=env, stdout=subprocess.DEVNULL, stderr=log, cwd=root)
+                             "--lesson", lesson, "--instructor-code", code, "--fps", str(fps)], env=env, stdout=subprocess.DEVNULL, stderr=log, cwd=root)
     deadline = time.monotonic() + 30
     while time.monotonic() < deadline:
         try:
@@ -254,12 +255,13 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--seconds", type=float, default=10.0)
     ap.add_argument("--scenarios", nargs="+", default=["follow", "explore"], choices=["follow", "explore"])
     ap.add_argument("--server-log", default="")
+    ap.add_argument("--fps", type=float, default=30.0, help="the server's frame rate (serve --fps)")
     args = ap.parse_args(argv)
     port = free_port()
     log = open(args.server_log, "w") if args.server_log else subprocess.DEVNULL
-    proc = start_server(port, log=log)
+    proc = start_server(port, log=log, fps=args.fps)
     url = f"ws://127.0.0.1:{port}/"
-    print(f"server pid {proc.pid}; {os.cpu_count()} cores; lesson sphere, example-1.1")
+    print(f"server pid {proc.pid}; {os.cpu_count()} cores; lesson sphere, example-1.1; server at {args.fps:g} frames/s")
     print(f"{'scenario':8s} {'students':>8} {'updates/s':>10} {'min':>8} {'MB/s/client':>12} {'server CPU':>11}  errors")
     try:
         for name in args.scenarios:

@@ -374,6 +374,9 @@ def serve(host: str = "127.0.0.1", port: int = 8080, lesson: str | None = None, 
     if not (0 <= int(port) <= 65535):
         print(f"analyzer-lab: error: port must be in 0..65535, got {port}", file=sys.stderr)
         return 2
+    if not (math.isfinite(fps) and 1.0 <= fps <= 120.0):  # classroom hook (serve --fps)
+        print(f"analyzer-lab: error: --fps must be in 1..120, got {fps}", file=sys.stderr)
+        return 2
     t0 = time.perf_counter()
     try:
         lab = LabServer(host=host, port=port, lesson=lesson, fps=fps, instructor_code=instructor_code)

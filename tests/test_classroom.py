@@ -327,3 +327,16 @@ def test_formula_flood_is_rate_limited_and_does_not_slow_others(lab: Any) -> Non
         await close(obs, flood)
 
     run(go())
+
+
+@pytest.mark.slow
+@pytest.mark.timeout(300)
+@pytest.mark.skipif(__import__("os").environ.get("ANALYZER_LAB_SLOW") != "1", reason="a 1-minute soak; set ANALYZER_LAB_SLOW=1")
+def test_short_soak_keeps_memory_and_leaves_no_sessions() -> None:
+    import subprocess
+    import sys
+
+    out = subprocess.run([sys.executable, "-m", "app.soak", "--minutes", "1", "--students", "6", "--churn", "2", "--warmup", "20"],
+                         capture_output=True, text=True, timeout=240)
+    assert out.returncode == 0, out.stdout + out.stderr
+    assert "no orphaned sessions" in out.stdout and "-> OK (limit 10%)" in out.stdout

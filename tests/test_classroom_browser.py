@@ -140,7 +140,7 @@ def test_presenter_mode_bookmarks(lab: Any, browser: Any) -> None:
         p.button("◀ Previous")
         wait_until(lambda: p.session.preset == names[0], 5, "back to the first")
         # keyboard: PageDown (a presentation clicker) steps forward through viser's hotkeys
-        p.page.locator("canvas").first.click(position={"x": 200, "y": 200})
+        p.page.evaluate("document.activeElement && document.activeElement.blur()")
         p.page.keyboard.press("PageDown")
         wait_until(lambda: p.session.preset == names[1], 5, "PageDown")
         p.page.keyboard.press("PageUp")
