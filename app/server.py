@@ -71,6 +71,9 @@ def _make_viser_server(host: str, port: int, verbose: bool) -> Any:
         except (AssertionError, KeyError):
             pass
     server.request_share_url = lambda *a, **k: None  # type: ignore[method-assign]
+    from app.classroom import harden_websocket  # classroom hook: paced, size-limited client messages
+
+    harden_websocket()
     server.gui.configure_theme(show_share_button=False, show_logo=False, control_width="large")
     server.gui.set_panel_label(PAGE_TITLE)
     return server
@@ -131,7 +134,7 @@ class LabServer:
 
     def __init__(self, host: str = "127.0.0.1", port: int = 8080, lesson: str | None = None, fps: float = 30.0,
                  lessons: Sequence[Lesson] | None = None, verbose: bool = False, restore: bool = True,
-                 config: ViewConfig | None = None, warm_up: bool = True) -> None:
+                 config: ViewConfig | None = None, warm_up: bool = True, instructor_code: str | None = None) -> None:
         self.fps = float(fps)
         self.restore = restore
         self.config = config or ViewConfig(fps=self.fps)
@@ -164,6 +167,9 @@ class LabServer:
         self._report_every = int(float(every) * self.fps) if every.replace(".", "", 1).isdigit() else 0
         self._report_t, self._report_busy, self._report_steps, self._report_ticks = time.monotonic(), 0.0, 0.0, 0
         self._report_draws = 0.0
+        from app.classroom import Classroom  # classroom hook
+
+        self.classroom = Classroom(self, instructor_code)
         self.server.on_client_connect(self._on_connect)
         self.server.on_client_disconnect(self._on_disconnect)
         self._loop_thread = threading.Thread(target=self._loop, name="analyzer-lab-frames", daemon=True)
@@ -198,10 +204,12 @@ class LabServer:
         view.last_tick = time.monotonic()  # type: ignore[attr-defined]
         with self._views_lock:
             self.views[client.client_id] = view
+        self.classroom.attach(view)  # classroom hook
 
     def _on_disconnect(self, client: Any) -> None:
         with self._views_lock:
             view = self.views.pop(client.client_id, None)
+        self.classroom.detach(client.client_id, view)  # classroom hook
         if view is not None:
             view.close()
 
@@ -239,6 +247,9 @@ class LabServer:
                 if not session.lock.acquire(blocking=False):
                     self.stats.skipped += 1
                     continue
+                if view.session is not session:  # classroom hook: switched (follow/release) meanwhile
+                    session.lock.release()
+                    continue
                 try:
                     now = time.monotonic()
                     dt = now - getattr(view, "last_tick", now)
@@ -254,6 +265,7 @@ class LabServer:
                     session.lock.release()
             self._rr = (offset + done) % n if n else 0
             batch.release()
+            view = session = None  # type: ignore[assignment]  # classroom hook: no stale reference once every tab left
             busy = time.monotonic() - start
             if self._report_every and self.stats.ticks % self._report_every == 0 and self.stats.ticks:
                 self._report(views)
@@ -291,6 +303,7 @@ class LabServer:
                     self._slow_work(view, now)
                 except Exception:
                     traceback.print_exc()
+            views = view = None  # type: ignore[assignment]  # classroom hook: no stale reference
 
     def _slow_work(self, view: SessionView, now: float) -> None:
         from app.math_render import derivation_to_html
@@ -342,6 +355,7 @@ class LabServer:
 
     def stop(self) -> None:
         self._stop.set()
+        self.classroom.stop()  # classroom hook
         with self._views_lock:
             views = list(self.views.values())
             self.views.clear()
@@ -360,9 +374,12 @@ def serve(host: str = "127.0.0.1", port: int = 8080, lesson: str | None = None, 
     if not (0 <= int(port) <= 65535):
         print(f"analyzer-lab: error: port must be in 0..65535, got {port}", file=sys.stderr)
         return 2
+    if not (math.isfinite(fps) and 1.0 <= fps <= 120.0):  # classroom hook (serve --fps)
+        print(f"analyzer-lab: error: --fps must be in 1..120, got {fps}", file=sys.stderr)
+        return 2
     t0 = time.perf_counter()
     try:
-        lab = LabServer(host=host, port=port, lesson=lesson, fps=fps)
+        lab = LabServer(host=host, port=port, lesson=lesson, fps=fps, instructor_code=instructor_code)
     except LabError as exc:
         print(f"analyzer-lab: error: {exc}", file=sys.stderr)
         return 2
@@ -374,6 +391,7 @@ def serve(host: str = "127.0.0.1", port: int = 8080, lesson: str | None = None, 
     where = "every interface" if host in ("0.0.0.0", "::", "") else host
     print(f"Analyzer Lab: {lab.url}  (listening on {where}, port {lab.port}; ready in {time.perf_counter() - t0:.1f} s; Ctrl-C stops)",
           flush=True)
+    print(f"Instructor code: {lab.classroom.code}  (type it in a page's Instructor folder)", flush=True)  # classroom hook
     if host in ("0.0.0.0", "::", ""):
         print("analyzer-lab: note: bound to every interface: anyone on your network can open the lab", flush=True)
     if open_browser:

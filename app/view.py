@@ -240,6 +240,8 @@ class SessionView:
         self._plots_fresh = False
         self.step_seconds = 0.0  # time spent in the lesson's stepper (frame loop)
         self.draw_seconds = 0.0  # time spent queueing the frame's updates
+        # classroom hook: gate(view, event, retry) -> False refuses a GUI input (app.classroom)
+        self.gate: Callable[["SessionView", Any, Callable[[Any], None] | None], bool] | None = None
         self._build_gui()
 
     # ------------------------------------------------------------------ helpers
@@ -250,6 +252,8 @@ class SessionView:
 
         def wrapped(event: Any) -> None:
             if self.closed or getattr(event, "client", None) is None:
+                return
+            if self.gate is not None and not self.gate(self, event, wrapped):  # classroom hook
                 return
             with self.session.lock:
                 try:
@@ -590,6 +594,8 @@ class SessionView:
 
     def _on_surface_click(self, event: Any) -> None:
         if self.closed:
+            return
+        if self.gate is not None and not self.gate(self, event, None):  # classroom hook
             return
         with self.session.lock:
             try:

@@ -1,0 +1,342 @@
+"""Classroom: instructor code, follow me / release, and hardening against hand-made clients.
+
+Every page here is a real websocket client speaking viser's protocol
+(:class:`app.classroom_load.ProtoClient`) against an in-process :class:`LabServer`.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import math
+import time
+from typing import Any, Callable, Iterator
+
+import pytest
+
+from app.classroom import Classroom, TokenBucket, normalize_code
+from app.classroom_load import ProtoClient
+from app.loadtest import gui_update
+from lessons.sphere import LESSON as SPHERE
+
+CODE = "test-code-42"
+pytestmark = pytest.mark.timeout(120)
+
+
+@pytest.fixture(scope="module")
+def lab() -> Iterator[Any]:
+    from app.server import LabServer
+
+    server = LabServer(host="127.0.0.1", port=0, lessons=[SPHERE], lesson="sphere", instructor_code=CODE, warm_up=False,
+                       restore=False)
+    yield server
+    server.stop()
+
+
+@pytest.fixture(autouse=True)
+def fresh_room(lab: Any) -> Iterator[None]:
+    """Each test starts with no demo, no lockouts."""
+    yield
+    lab.classroom.release()
+    lab.classroom.wrong.clear()
+    lab.classroom.global_wrong = TokenBucket(lab.classroom.global_wrong.rate, lab.classroom.global_wrong.burst)
+
+
+def run(coro: Any) -> Any:
+    return asyncio.run(coro)
+
+
+async def until(cond: Callable[[], Any], timeout: float = 10.0, what: str = "condition") -> Any:
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline:
+        value = cond()
+        if value:
+            return value
+        await asyncio.sleep(0.05)
+    raise AssertionError(f"timed out waiting for {what}")
+
+
+async def page(lab: Any) -> tuple[ProtoClient, Any]:
+    """A connected page and its server-side view."""
+    before = set(lab.views)
+    c = await ProtoClient(lab.url).start()
+    await c.wait_for("Run")
+    new = await until(lambda: set(lab.views) - before, 10, "the view")
+    return c, lab.views[max(new)]
+
+
+async def close(*clients: ProtoClient) -> None:
+    for c in clients:
+        await c.close()
+
+
+# ------------------------------------------------------------------ the code
+
+
+def test_code_normalized_generated_and_compared() -> None:
+    assert normalize_code(" Test-Code 42 ") == "testcode42"
+    assert normalize_code(None) == "" and normalize_code("x" * 10_000) == "x" * 64
+
+    class FakeLab:
+        views: dict = {}
+        _views_lock = __import__("threading").Lock()
+        fps = 30.0
+        _report_every = 0
+
+    room = Classroom(FakeLab(), None)  # type: ignore[arg-type]
+    try:
+        assert len(room.code) == 9 and room.code[4] == "-"
+        assert room.check_code(1, room.code.upper())[0]
+        assert not room.check_code(2, "")[0]
+    finally:
+        room.stop()
+
+
+def test_wrong_codes_are_rate_limited_per_page_and_server(lab: Any) -> None:
+    room = lab.classroom
+    for _ in range(3):
+        ok, msg = room.check_code(991, "nope")
+        assert not ok
+    ok, msg = room.check_code(991, CODE)  # locked out: even the right code waits
+    assert not ok and "wait" in msg
+    # many pages guessing: the server-wide bucket stops them all
+    for cid in range(1000, 1012):
+        room.check_code(cid, "guess")
+    ok, msg = room.check_code(2000, CODE)
+    assert not ok and "server" in msg
+
+
+def test_nothing_of_the_classroom_is_on_server_gui(lab: Any) -> None:
+    async def go() -> None:
+        c, view = await page(lab)
+        await c.become_instructor(CODE)
+        labels = {h.label for h in lab.server.gui._gui_input_handle_from_uuid.values() if hasattr(h, "label")}
+        assert not labels & {"Follow me", "Release", "Push preset to all", "Notify all", "Instructor code"}
+        await close(c)
+
+    run(go())
+
+
+# ------------------------------------------------------------------ follow me / release
+
+
+def test_follow_release_late_joiner_and_live_changes(lab: Any) -> None:
+    async def go() -> None:
+        inst, iv = await page(lab)
+        a, av = await page(lab)
+        b, bv = await page(lab)
+        await a.set("Preset", "example-1.2", 0.3)
+        await inst.become_instructor(CODE)
+        assert lab.classroom.is_instructor(iv.client.client_id)
+        await inst.set("Preset", "example-1.3", 0.3)
+        await inst.set("pause at t_end", False)
+        await inst.set("Run", "Play")
+        await inst.click("Follow me")
+        await until(lambda: av.session is iv.session and bv.session is iv.session, 5, "followers")
+        # the followers' widgets show the demo's values; a live change reaches them
+        await until(lambda: a.values.get(a.gui["Preset"]) == "example-1.3", 5, "preset shown to a")
+        await inst.set("u3(t) =", "2.5", 0.3)
+        assert iv.session.raw_values()["u3"] == "2.5"
+        await until(lambda: a.values.get(a.gui["u3(t) ="]) == "2.5" and b.values.get(b.gui["u3(t) ="]) == "2.5", 5,
+                    "u3 shown to the followers")
+        # one stepping for all: the demo advances once per frame however many follow
+        tick = iv.session.tick
+        await asyncio.sleep(0.5)
+        assert tick.advances <= lab.stats.ticks and tick.calls > 2 * tick.advances
+        # followers receive the moving point
+        a.measuring = True
+        await asyncio.sleep(1.0)
+        a.measuring = False
+        assert a.point_updates >= 10
+        # the instructor panel counts them
+        panel = lab.classroom.instructors[iv.client.client_id]
+        panel.update()
+        assert "<b>2</b> student(s)" in panel.counts.content and '"al-following">2<' in panel.counts.content
+        # a late joiner joins the demo
+        late, lv = await page(lab)
+        await until(lambda: lv.session is iv.session, 5, "late joiner follows")
+        t_demo = iv.session.frame.t
+        await inst.click("Release", 0.5)
+        for v in (av, bv, lv):
+            assert v.session is not iv.session
+            assert v.session.lesson.id == "sphere" and v.session.preset == "example-1.3"
+            assert v.session.raw_values()["u3"] == "2.5"
+            assert v.session.frame.t >= t_demo - 1e-9  # continues from where the demo was
+        assert len({id(v.session) for v in (av, bv, lv)}) == 3
+        assert not lab.classroom.followers and lab.classroom.demo is None
+        assert "tick" not in iv.session.__dict__
+        await close(inst, a, b, late)
+
+    run(go())
+
+
+def test_push_preset_and_notify_all(lab: Any) -> None:
+    async def go() -> None:
+        inst, iv = await page(lab)
+        a, av = await page(lab)
+        await inst.become_instructor(CODE)
+        await inst.set("Preset for all", "example-1.2", 0.2)
+        await inst.click("Push preset to all", 0.5)
+        await until(lambda: av.session.preset == "example-1.2", 5, "pushed preset")
+        await inst.set("Message", "look at the pole", 0.1)
+        await inst.click("Notify all", 0.3)
+        await until(lambda: any("look at the pole" in n for n in a.notifications), 5, "notification")
+        await close(inst, a)
+
+    run(go())
+
+
+def test_instructor_leaving_releases_the_class(lab: Any) -> None:
+    async def go() -> None:
+        inst, iv = await page(lab)
+        a, av = await page(lab)
+        await inst.become_instructor(CODE)
+        await inst.click("Follow me", 0.3)
+        await until(lambda: av.session is iv.session, 5, "following")
+        await close(inst)
+        await until(lambda: av.session is not iv.session and not lab.classroom.followers, 5, "released")
+        await close(a)
+
+    run(go())
+
+
+# ------------------------------------------------------------------ hardening
+
+
+def test_student_cannot_start_stop_or_alter_a_broadcast(lab: Any) -> None:
+    async def go() -> None:
+        inst, iv = await page(lab)
+        s, sv = await page(lab)
+        await inst.become_instructor(CODE)
+        panel = lab.classroom.instructors[iv.client.client_id]
+        # the student sends the instructor's own button ids: nothing happens
+        await s.send(gui_update(panel.follow_btn._impl.uuid, True))
+        await asyncio.sleep(0.4)
+        assert not lab.classroom.followers and lab.classroom.demo is None
+        await inst.click("Follow me", 0.3)
+        await until(lambda: sv.session is iv.session, 5, "following")
+        for btn in (panel.release_btn, panel.push_btn, panel.notify_btn):
+            await s.send(gui_update(btn._impl.uuid, True))
+        await s.send(gui_update(panel.message._impl.uuid, "hacked"))
+        await asyncio.sleep(0.4)
+        assert sv.session is iv.session and panel.message.value != "hacked"
+        # the follower's own controls cannot change the demo
+        before = iv.session.raw_values()
+        playing = iv.session.playing
+        await s.set("u1(t) =", "99", 0.1)
+        await s.set("Run", "Play" if not playing else "Pause", 0.1)
+        await s.set("Preset", "example-1.2", 0.3)
+        assert iv.session.raw_values() == before and iv.session.playing == playing and iv.session.preset != "example-1.2"
+        assert lab.classroom.stats["refused_follower"] >= 3
+        # and the field the student typed in shows the demo's value again
+        await until(lambda: s.values.get(s.gui["u1(t) ="]) == before["u1"], 5, "widget resynced")
+        await close(inst, s)
+
+    run(go())
+
+
+def test_student_cannot_change_another_students_session(lab: Any) -> None:
+    async def go() -> None:
+        a, av = await page(lab)
+        b, bv = await page(lab)
+        before = bv.session.raw_values()
+        for label, value in (("u1(t) =", "7"), ("Run", "Play"), ("Preset", "example-1.3"), ("sphere radius R", 3.0)):
+            await a.send(gui_update(b.gui[label], value))
+        await asyncio.sleep(0.5)
+        assert bv.session.raw_values() == before and not bv.session.playing and bv.session.preset != "example-1.3"
+        await close(a, b)
+
+    run(go())
+
+
+def test_share_tunnel_cannot_be_opened(lab: Any) -> None:
+    from viser import _messages
+
+    async def go() -> None:
+        a, _ = await page(lab)
+        await a.send(_messages.ShareUrlRequest())
+        await asyncio.sleep(1.0)
+        assert lab.server._share_tunnel is None
+        assert a.seen.get("ShareUrlUpdated", 0) == 0
+        await close(a)
+
+    run(go())
+
+
+def test_out_of_range_nan_and_oversized_values_are_refused(lab: Any) -> None:
+    from app.classroom import WS_STATS
+
+    async def go() -> None:
+        a, av = await page(lab)
+        before = av.session.raw_values()
+        await a.set("u1", 1e9, 0.15)  # slider beyond its range
+        await a.set("u1", float("nan"), 0.15)
+        await a.set("u1", float("inf"), 0.15)
+        await a.set("sphere radius R", float("nan"), 0.15)
+        await a.set("sphere radius R", -4.0, 0.15)
+        await a.set("u2(t) =", "t*" * 5000 + "t", 0.3)  # 10 kB formula
+        await a.set("u3(t) =", "1e999", 0.15)
+        await a.set("integrator", "euler; import os", 0.15)
+        dropped = WS_STATS["dropped_oversized"]
+        await a.set("u2(t) =", "x" * 400_000, 0.3)  # a 400 kB message: dropped before decoding
+        await asyncio.sleep(0.4)
+        assert WS_STATS["dropped_oversized"] == dropped + 1
+        assert av.session.raw_values() == before
+        assert all(math.isfinite(float(v)) for k, v in before.items() if k in ("R", "x0", "y0", "z0"))
+        assert any("refused" in text for _, text in av.session.notices)
+        await close(a)
+
+    run(go())
+
+
+def test_formula_flood_is_rate_limited_and_does_not_slow_others(lab: Any) -> None:
+    async def go() -> None:
+        obs, ov = await page(lab)
+        await obs.set("pause at t_end", False)
+        await obs.set("Run", "Play", 0.5)
+        obs.measuring = True
+        await asyncio.sleep(2.0)
+        obs.measuring = False
+        base = obs.point_updates / 2.0
+        flood, fv = await page(lab)
+        uuid = flood.gui["u1(t) ="]
+        applied: list[str] = []
+        orig = fv.session.set_values
+
+        def counting(changes: Any) -> None:
+            applied.append(str(changes))
+            orig(changes)
+
+        fv.session.set_values = counting  # type: ignore[method-assign]
+        sent = 0
+        obs.point_updates = 0
+        obs.measuring = True
+        t0 = time.monotonic()
+        for k in range(600):  # as fast as the socket takes them
+            sent += 1
+            await flood.send(gui_update(uuid, f"sin({k % 97 + 1}*t)"))
+        await flood.send(gui_update(uuid, "cos(3*t)"))
+        # the server paces this one connection (150 messages/s): the flooder waits on itself
+        await until(lambda: fv.session.raw_values()["u1"] == "cos(3*t)", 30, "the newest value applied")
+        dt = time.monotonic() - t0
+        obs.measuring = False
+        during = obs.point_updates / dt
+        assert dt > 2.0  # paced
+        assert len(applied) <= 5 * dt + 10, (len(applied), sent)  # formula edits cost 4 tokens of 20/s
+        assert lab.classroom.stats["coalesced"] > 0
+        assert during >= 0.75 * base, (base, during)
+        await close(obs, flood)
+
+    run(go())
+
+
+@pytest.mark.slow
+@pytest.mark.timeout(300)
+@pytest.mark.skipif(__import__("os").environ.get("ANALYZER_LAB_SLOW") != "1", reason="a 1-minute soak; set ANALYZER_LAB_SLOW=1")
+def test_short_soak_keeps_memory_and_leaves_no_sessions() -> None:
+    import subprocess
+    import sys
+
+    out = subprocess.run([sys.executable, "-m", "app.soak", "--minutes", "1", "--students", "6", "--churn", "2", "--warmup", "20"],
+                         capture_output=True, text=True, timeout=240)
+    assert out.returncode == 0, out.stdout + out.stderr
+    assert "no orphaned sessions" in out.stdout and "-> OK (limit 10%)" in out.stdout

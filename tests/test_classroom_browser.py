@@ -1,0 +1,152 @@
+"""The classroom in a real browser: one instructor page and two student pages (Playwright +
+Debian's Chromium; skipped without it, failing with CI=true, like tests/test_browser.py)."""
+
+from __future__ import annotations
+
+import time
+from typing import Any, Iterator
+
+import pytest
+
+from tests.test_browser import ARTIFACTS, CHROMIUM, LAUNCH_ARGS, Page, _require_browser, wait_until
+
+pytestmark = [pytest.mark.browser, pytest.mark.timeout(300)]
+CODE = "demo-7391"
+INSTRUCTOR_BUTTONS = ("Follow me", "Release", "Push preset to all", "Notify all")
+
+
+@pytest.fixture(scope="module")
+def lab() -> Iterator[Any]:
+    _require_browser()
+    from app.server import LabServer
+    from lessons.catalog import get_lesson
+
+    server = LabServer(host="127.0.0.1", port=0, lesson="sphere", lessons=[get_lesson("sphere"), get_lesson("ellipsoid")],
+                       instructor_code=CODE, warm_up=False)
+    yield server
+    server.stop()
+
+
+@pytest.fixture(scope="module")
+def browser(lab: Any) -> Iterator[Any]:
+    from playwright.sync_api import sync_playwright
+
+    ARTIFACTS.mkdir(exist_ok=True)
+    with sync_playwright() as p:
+        b = p.chromium.launch(executable_path=CHROMIUM, args=LAUNCH_ARGS)
+        yield b
+        b.close()
+
+
+def _label(lesson_id: str) -> str:
+    from app.session import lesson_label
+    from lessons.catalog import get_lesson
+
+    return lesson_label(get_lesson(lesson_id))
+
+
+def _open_folder(p: Page, title: str) -> None:
+    p.page.get_by_text(title, exact=True).first.click()
+    time.sleep(0.2)
+
+
+def _instructor_buttons_visible(p: Page) -> list[str]:
+    return [name for name in INSTRUCTOR_BUTTONS if p.page.get_by_role("button", name=name, exact=True).count()]
+
+
+def test_follow_me_and_release_with_two_students(lab: Any, browser: Any) -> None:
+    inst, s1, s2 = Page(lab, browser), Page(lab, browser), Page(lab, browser)
+    try:
+        # students explore on their own first
+        s1.load(_label("sphere"), "example-1.2")
+        # the instructor signs in with the code (the panel exists only on that page)
+        _open_folder(inst, "Instructor")
+        inst.fill("Instructor code", CODE)
+        time.sleep(0.15)  # viser's 50 ms input throttle
+        inst.button("Become instructor")
+        inst.page.get_by_role("button", name="Follow me", exact=True).wait_for(timeout=10000)
+        assert lab.classroom.is_instructor(inst.view.client.client_id)
+        # a student page cannot reach any instructor control, even knowing where it would be
+        for s in (s1, s2):
+            _open_folder(s, "Instructor")
+            assert _instructor_buttons_visible(s) == []
+            assert s.page.get_by_text("Instructor panel", exact=True).count() == 0
+        # a wrong code on a student page is refused
+        s2.fill("Instructor code", "guess-0000")
+        time.sleep(0.15)
+        s2.button("Become instructor")
+        time.sleep(0.5)
+        assert not lab.classroom.is_instructor(s2.view.client.client_id) and _instructor_buttons_visible(s2) == []
+        # the instructor's demo: another lesson, a preset, playing
+        inst.select("Lesson", _label("ellipsoid"))
+        wait_until(lambda: inst.session.lesson.id == "ellipsoid", 10, "instructor lesson")
+        preset = inst.session.lesson.presets[0].name
+        inst.load(_label("ellipsoid"), preset)
+        inst.tab("Controls")
+        inst.page.get_by_text("pause at t_end").click()
+        inst.button("Play")
+        inst.button("Follow me")
+        for s in (s1, s2):
+            wait_until(lambda s=s: s.session is inst.session, 10, "following")
+            wait_until(lambda s=s: s.input_for("Lesson").input_value() == _label("ellipsoid"), 10, "the demo's lesson shown")
+            wait_until(lambda s=s: s.input_for("Preset").input_value() == preset, 10, "the demo's preset shown")
+        wait_until(lambda: inst.session.frame.t > 0.3, 10, "the demo plays")
+        s1.shot("classroom-student-following")
+        # a parameter change of the instructor reaches both students' pages
+        inst.fill("u3(t) =", "4")
+        wait_until(lambda: inst.session.raw_values()["u3"] == "4", 5, "u3 on the instructor")
+        for s in (s1, s2):
+            s.tab("Controls")
+            wait_until(lambda s=s: s.input_for("u3(t) =").input_value() == "4", 10, "u3 shown to the student")
+        # a following student's own edit is refused and does not touch the demo
+        s2.fill("u3(t) =", "1")
+        time.sleep(0.4)
+        assert inst.session.raw_values()["u3"] == "4"
+        wait_until(lambda: s2.input_for("u3(t) =").input_value() == "4", 10, "the student's field resynced")
+        inst.shot("classroom-instructor")
+        # release: each student has an own session again, starting from the demo
+        t_demo = inst.session.frame.t
+        inst.button("Release")
+        for s in (s1, s2):
+            wait_until(lambda s=s: s.session is not inst.session, 10, "released")
+            assert s.session.lesson.id == "ellipsoid" and s.session.preset == preset
+            assert s.session.raw_values()["u3"] == "4" and s.session.frame.t >= t_demo - 1e-6
+        assert s1.session is not s2.session
+        s1.fill("u3(t) =", "2")
+        wait_until(lambda: s1.session.raw_values()["u3"] == "2", 5, "the student's own edit")
+        assert inst.session.raw_values()["u3"] == "4" and s2.session.raw_values()["u3"] == "4"
+        s1.shot("classroom-student-released")
+        for p in (inst, s1, s2):
+            assert p.errors == [], p.errors
+    finally:
+        for p in (inst, s1, s2):
+            p.close()
+
+
+def test_presenter_mode_bookmarks(lab: Any, browser: Any) -> None:
+    p = Page(lab, browser)
+    try:
+        p.load(_label("sphere"), "(defaults)")
+        _open_folder(p, "Presenter")
+        small = p.page.evaluate("parseFloat(getComputedStyle(document.documentElement).fontSize)")
+        p.page.get_by_text("Presenter mode", exact=True).click()
+        wait_until(lambda: p.page.evaluate("parseFloat(getComputedStyle(document.documentElement).fontSize)") > small * 1.3, 10,
+                   "large fonts")
+        names = [q.name for q in p.session.lesson.presets]
+        p.button("Next ▶")
+        wait_until(lambda: p.session.preset == names[0], 5, "first bookmark")
+        p.button("Next ▶")
+        wait_until(lambda: p.session.preset == names[1], 5, "second bookmark")
+        p.button("◀ Previous")
+        wait_until(lambda: p.session.preset == names[0], 5, "back to the first")
+        # keyboard: PageDown (a presentation clicker) steps forward through viser's hotkeys
+        p.page.evaluate("document.activeElement && document.activeElement.blur()")
+        p.page.keyboard.press("PageDown")
+        wait_until(lambda: p.session.preset == names[1], 5, "PageDown")
+        p.page.keyboard.press("PageUp")
+        wait_until(lambda: p.session.preset == names[0], 5, "PageUp")
+        wait_until(lambda: p.page.locator(".al-bookmark.al-current").count() == 1, 5, "current bookmark marked")
+        p.shot("presenter-mode")
+        assert p.errors == [], p.errors
+    finally:
+        p.close()
