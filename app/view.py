@@ -237,7 +237,7 @@ class SessionView:
         self._size = 1.0
         self._frame_dirty = True
         self._visible_cache: set[str] | None = None
-        self._plots_fresh = False
+        self._plots_fresh_until = 0.0
         self.step_seconds = 0.0  # time spent in the lesson's stepper (frame loop)
         self.draw_seconds = 0.0  # time spent queueing the frame's updates
         # classroom hook: gate(view, event, retry) -> False refuses a GUI input (app.classroom)
@@ -385,7 +385,9 @@ class SessionView:
                                            aspect=2.0)
                     buf.dirty = False
                     self._plots.append((buf, handle))
-        self._plots_fresh = True  # no data updates in the window that creates the charts
+        # no data updates while the browser is still creating the charts (a busy browser
+        # can take a while; an early update is reported as an update of a missing component)
+        self._plots_fresh_until = time.monotonic() + 1.5
         esc = html.escape
         self.lesson_head.content = (
             f'<div style="font-size:0.95em"><b>{esc(lesson.problem)} · {esc(lesson.title)}</b><br>'
@@ -842,8 +844,7 @@ class SessionView:
     def _send_plots(self, all_plots: bool = False) -> None:
         if not self._plots:
             return
-        if self._plots_fresh:
-            self._plots_fresh = False
+        if time.monotonic() < self._plots_fresh_until:
             return
         if all_plots:
             for buf, handle in self._plots:
