@@ -589,10 +589,11 @@ class Classroom:
         if demo is None or view.closed:
             return
         own = view.session
+        if own is demo or view.client.client_id in self.instructors:
+            return
         with own.lock:
             with demo.lock:
-                own.playing = False
-                view.session = demo
+                view.session = demo  # the page's own session is dropped: release makes a fresh one
                 self.followers[view.client.client_id] = view
                 _reset_drawn(view)
                 _show(view)
