@@ -212,7 +212,7 @@ def lesson_label(lesson: Lesson) -> str:
     """Picker label: chapter, problem, title."""
     bits = []
     if lesson.chapter:
-        bits.append(f"Ch. {lesson.chapter}")
+        bits.append(f"Ch. {lesson.chapter}" if lesson.chapter.isdigit() else lesson.chapter)
     if lesson.problem:
         bits.append(lesson.problem)
     bits.append(lesson.title or lesson.id)

@@ -69,6 +69,8 @@ class Trail:
         self.max_chunks = max(2, max_points // self.chunk)
         self.handles: deque[Any] = deque()
         self.current: list[np.ndarray] = []
+        self.values: list[float | None] = []
+        self.color_by: tuple[float, float] | None = None
         self.counter = 0
         self.dirty = False
 
@@ -76,6 +78,7 @@ class Trail:
         while self.handles:
             self._remove(self.handles.popleft())
         self.current = []
+        self.values = []
         self.dirty = False
 
     @staticmethod
@@ -85,14 +88,28 @@ class Trail:
         except Exception:
             pass
 
-    def add(self, points: np.ndarray) -> None:
+    def add(self, points: np.ndarray, value: float | None = None) -> None:
         self.current.append(np.asarray(points, dtype=np.float32).reshape(-1, 3))
+        self.values.append(value)
         self.dirty = True
 
     def _segments(self) -> np.ndarray:
         n = min(len(p) for p in self.current)
         arr = np.stack([p[:n] for p in self.current], axis=1)  # (members, K, 3)
         return np.stack([arr[:, :-1], arr[:, 1:]], axis=2).reshape(-1, 2, 3)
+
+    def _colors(self, segs: np.ndarray) -> Any:
+        """One colour for the trail, or per segment from the scalar (green -> red)."""
+        if self.color_by is None or any(v is None for v in self.values):
+            return self.color
+        lo, hi = self.color_by
+        vals = np.asarray(self.values, dtype=float)
+        frac = np.clip((np.nan_to_num(vals, nan=hi) - lo) / (hi - lo if hi > lo else 1.0), 0.0, 1.0)
+        seg = np.maximum(frac[:-1], frac[1:])  # a segment takes its worse end
+        rgb = np.stack([40 + 200 * seg, 170 - 140 * seg, 60 - 30 * seg], axis=-1).astype(np.uint8)
+        members = len(segs) // max(1, len(seg))
+        per = np.repeat(np.tile(rgb, (members, 1))[:, None, :], 2, axis=1)
+        return per
 
     def flush(self) -> None:
         """Send the newest chunk (creating a node when a chunk starts)."""
@@ -103,17 +120,21 @@ class Trail:
             self.clear()
             return
         segs = self._segments()
+        colors = self._colors(segs)
         if not self.handles or getattr(self.handles[-1], "_al_full", False):
             self.counter += 1
-            h = self.scene.add_line_segments(f"{self.name}/c{self.counter}", segs, self.color, thickness=2.5, thickness_units="screen")
+            h = self.scene.add_line_segments(f"{self.name}/c{self.counter}", segs, colors, thickness=2.5, thickness_units="screen")
             self.handles.append(h)
             while len(self.handles) > self.max_chunks:
                 self._remove(self.handles.popleft())
         else:
             fast_set(self.handles[-1], "points", segs)
+            if np.ndim(colors) == 3:
+                fast_set(self.handles[-1], "colors", np.asarray(colors, dtype=np.uint8))
         if len(self.current) >= self.chunk + 1:
             self.handles[-1]._al_full = True
             self.current = [self.current[-1]]
+            self.values = [self.values[-1]]
 
 
 class PlotBuffer:
@@ -721,9 +742,13 @@ class SessionView:
         dist = 1.05 * float(np.linalg.norm(hi - lo)) + 1e-6
         try:
             cam = self.client.camera
+            # clipping planes to the scene's size (a machine in millimetres, a unit sphere)
+            cam.far = max(100.0, 20.0 * dist)
+            cam.near = max(1e-4, 1e-4 * dist)
             cam.up_direction = (0.0, 0.0, 1.0)
-            cam.look_at = tuple(map(float, center))
+            # viser moves look_at along with position: set the position first
             cam.position = tuple(map(float, center + direction * dist))
+            cam.look_at = tuple(map(float, center))
         except Exception:
             traceback.print_exc()
 
@@ -747,7 +772,9 @@ class SessionView:
                     tr = self._trails.get(name)
                     if tr is None:
                         tr = self._trails[name] = Trail(scene_api, f"/lab/live/trail/{_safe(name)}", tuple(color), cfg.trail_chunk, cfg.trail_max_points)
-                    tr.add(fr.points[name])
+                    by = spec.trail_color_by.get(name)
+                    tr.color_by = (float(by[1]), float(by[2])) if by else None
+                    tr.add(fr.points[name], fr.scalars.get(by[0]) if by else None)
         last = frames[-1]
         for name, color in spec.moving_points.items():
             pts = last.points.get(name)

@@ -750,7 +750,7 @@ PRESETS: tuple[Preset, ...] = tuple(
 class Laser5Axis(Lesson):
     id = "laser-5axis"
     title = "LSP-2000 five-axis laser: linear vs nonlinear interpolation"
-    chapter = "003"
+    chapter = "Articles"
     problem = "Article 003"
     source = SOURCE
     summary = ("A 5-axis laser machine follows a polyline on a paraboloid with the beam along the normal. Linear "
@@ -946,6 +946,8 @@ class Laser5Axis(Lesson):
             moving_points={"tool": (230, 40, 40)},
             moving_vectors={"beam": (255, 60, 30), "normal": (40, 160, 60)},
             bodies=machine_bodies(machine_of(params)),
+            # the tool-point trail: green within the tolerance, red at twice it and beyond
+            trail_color_by={"tool": ("deviation_um", float(params["tolerance_um"]), 2.0 * float(params["tolerance_um"]))},
         )
 
     def claims(self) -> list[Claim]:

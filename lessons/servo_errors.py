@@ -301,7 +301,7 @@ def _sig(x: float) -> str:
 class ServoErrorsLesson(Lesson):
     id = "servo-errors"
     title = "Dynamic contouring errors of two-coordinate servo systems"
-    chapter = "002"
+    chapter = "Articles"
     problem = "Leppik (1960)"
     source = "K. Leppik, On dynamic errors of two-coordinate servo systems with program control, eqs (1)-(35)"
     summary = ("A programming device draws lines, parabolas (degree 2, 3, 4), circles and ellipses; two second-order "

@@ -53,3 +53,15 @@ def test_preset_runs_headless_and_live(lesson_id, preset):
         assert np.all(np.isfinite(pts)), name
     st.set_params(params)
     assert st.reset().t == 0.0
+
+
+CHAPTER1 = [l for l in LESSONS if l.chapter == "1"]
+
+
+@pytest.mark.parametrize("lesson_id, preset", [(l.id, p.name) for l in CHAPTER1 for p in l.presets])
+def test_chapter1_run_json_has_positions_and_velocities(lesson_id, preset):
+    """`analyzer-lab run LESSON --preset P --format json` carries x, y, z, vx, vy, vz."""
+    l = get_lesson(lesson_id)
+    doc = l.run(preset, t_end=min(l.preset_t_end(preset), 1.0)).to_json_dict()
+    assert doc["preset"] == preset
+    assert {"x", "y", "z", "vx", "vy", "vz"} <= set(doc["series"])

@@ -385,3 +385,12 @@ def test_program_size_limits() -> None:
     run = LESSON.simulate(LESSON.resolve({"method": "bisection", "tolerance_um": 1, "segments": 3, "radius": 900}))
     assert run.metrics["converged"] and run.metrics["deviation_max_mm"] <= 0.001
     assert run.metrics["pieces"] <= 4096
+
+
+def test_scene_colours_the_tool_trail_by_deviation():
+    params = LESSON.resolve({"tolerance_um": 20})
+    scene = LESSON.scene(params)
+    name, lo, hi = scene.trail_color_by["tool"]
+    assert name == "deviation_um" and (lo, hi) == (20.0, 40.0)
+    frame = LESSON.stepper(params).advance(0.5)
+    assert name in frame.scalars and "tool" in frame.points

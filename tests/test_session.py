@@ -190,3 +190,27 @@ def test_control_changes_defer_the_scene(session: Session) -> None:
     session.set_value("R", 2.0)
     assert session.scene_revision == rev + 1
     assert not scenes_equal(SPHERE.scene(SPHERE.resolve()), session.scene)
+
+
+def test_trail_colours_segments_by_scalar():
+    from app.view import Trail
+
+    class Recorder:
+        def __init__(self):
+            self.calls = []
+
+        def add_line_segments(self, name, segs, colors, **kw):
+            self.calls.append((name, np.asarray(segs), colors))
+            return type("H", (), {"remove": lambda self: None})()
+
+    rec = Recorder()
+    tr = Trail(rec, "/t", (200, 0, 0), chunk=8, max_points=100)
+    tr.color_by = (20.0, 40.0)
+    for k, dev in enumerate([0.0, 10.0, 30.0, 80.0]):
+        tr.add(np.array([[k, 0.0, 0.0]]), dev)
+    tr.flush()
+    _, segs, colors = rec.calls[-1]
+    colors = np.asarray(colors)
+    assert segs.shape == (3, 2, 3) and colors.shape == (3, 2, 3)
+    assert colors[0, 0, 1] > colors[0, 0, 0]  # within tolerance: green
+    assert colors[2, 0, 0] > colors[2, 0, 1]  # beyond twice the tolerance: red

@@ -278,6 +278,9 @@ class SceneSpec:
     moving_vectors: dict[str, tuple[int, int, int]] = field(default_factory=dict)
     bodies: list[MeshItem] = field(default_factory=list)
     planar: bool = False
+    #: moving point name -> (frame scalar, low, high): its trail is coloured from green
+    #: (scalar <= low) to red (scalar >= high), e.g. the tool point by its deviation.
+    trail_color_by: dict[str, tuple[str, float, float]] = field(default_factory=dict)
 
 
 @dataclass
