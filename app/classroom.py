@@ -589,10 +589,11 @@ class Classroom:
         if demo is None or view.closed:
             return
         own = view.session
+        if own is demo or view.client.client_id in self.instructors:
+            return
         with own.lock:
             with demo.lock:
-                own.playing = False
-                view.session = demo
+                view.session = demo  # the page's own session is dropped: release makes a fresh one
                 self.followers[view.client.client_id] = view
                 _reset_drawn(view)
                 _show(view)
@@ -701,15 +702,23 @@ class Classroom:
                 None if s.playing else id(s.frame))
 
     def _sync_followers(self) -> None:
+        """Bring every follower in line with the demo after a change.  All followers
+        are done under ONE acquisition of the demo's lock, and their derivation is
+        rendered once, here (the frame loop skips a view whose lock is taken: many
+        short holds of the one shared lock would make it skip followers often)."""
         demo = self.demo
         if demo is None:
             return
         sig = self._signature(demo)
-        for cid, view in list(self.followers.items()):
-            old = self._synced.get(cid)
-            if old == sig or view.closed:
-                continue
-            with demo.lock:
+        stale = [(cid, v) for cid, v in list(self.followers.items()) if self._synced.get(cid) != sig and not v.closed]
+        if not stale:
+            return
+        derivation = self._derivation_of(demo) if any(
+            (self._synced.get(cid) or (None,) * 6)[:6] != sig[:6] for cid, _ in stale) else None
+        changed_bookmarks = []
+        with demo.lock:
+            for cid, view in stale:
+                old = self._synced.get(cid)
                 if view.session is not demo:
                     continue
                 if old is None or old[1] != sig[1]:
@@ -720,11 +729,31 @@ class Classroom:
                     view._visible_cache = None
                     view._vector_names = ()
                     _show(view)
+                    if derivation is not None:
+                        view.set_derivation(derivation)
+                        view.derivation_due = None
                 view._frame_dirty = True
                 self._synced[cid] = sig
+                if old is None or old[1:3] != sig[1:3]:
+                    changed_bookmarks.append(cid)
+        for cid in changed_bookmarks:
             p = self.presenters.get(cid)
-            if p is not None and (old is None or old[1:3] != sig[1:3]):
+            if p is not None:
                 p.update_bookmarks()
+
+    @staticmethod
+    def _derivation_of(demo: Session) -> str | None:
+        """The demo's derivation as HTML (shared cache with the server), outside the lock."""
+        try:
+            from app.math_render import derivation_to_html
+            from app.server import DERIVATION_CACHE
+            from app.session import params_key
+
+            with demo.lock:
+                lesson, params = demo.lesson, demo.params
+            return DERIVATION_CACHE.get_or_make(params_key(lesson, params), lambda: derivation_to_html(lesson.derivation(params)))
+        except Exception:
+            return None
 
     def _push_camera(self) -> None:
         if not self.camera_dirty or self.broadcaster is None:

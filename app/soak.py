@@ -4,7 +4,8 @@
 
 Runs ``python -m app serve`` as a subprocess.  An instructor page (a real websocket
 client speaking viser's protocol) enters the code, plays a preset and alternates
-"Follow me" and "Release" every 30 s; about ``--students`` student pages play their
+"Follow me" and "Release" every 30 s, moving to the next preset each time (a
+run that plays for ever keeps up to MAX_LOG samples for export, ~19 MB, by design); about ``--students`` student pages play their
 own sessions (or follow the demo), and every ``--churn`` seconds one student leaves
 and a new one joins.  The server's memory (RSS) is sampled every 5 s; the server
 prints its live session count (``[classroom]`` lines: views, sessions alive after a
@@ -91,7 +92,7 @@ async def soak(url: str, pid: int, log_path: str, seconds: float, students: int,
     following = False
     next_toggle = t0 + 30.0
     next_sample = t0
-    joined = left = 0
+    joined = left = toggles = 0
     while time.monotonic() - t0 < seconds:
         await asyncio.sleep(churn)
         # one leaves, one joins
@@ -103,6 +104,10 @@ async def soak(url: str, pid: int, log_path: str, seconds: float, students: int,
         joined += 1
         now = time.monotonic()
         if now >= next_toggle:
+            # the instructor moves to the next bookmark (its run restarts) and switches mode
+            toggles += 1
+            await inst.set("Preset", presets[toggles % len(presets)], 0.2)
+            await inst.set("Run", "Play", 0.05)
             await inst.click("Release" if following else "Follow me", 0.1)
             following = not following
             next_toggle = now + 30.0

@@ -10,7 +10,7 @@ import pytest
 
 from tests.test_browser import ARTIFACTS, CHROMIUM, LAUNCH_ARGS, Page, _require_browser, wait_until
 
-pytestmark = [pytest.mark.browser, pytest.mark.timeout(300)]
+pytestmark = [pytest.mark.browser, pytest.mark.timeout(600)]  # three SwiftShader pages on a shared 2-core machine
 CODE = "demo-7391"
 INSTRUCTOR_BUTTONS = ("Follow me", "Release", "Push preset to all", "Notify all")
 
