@@ -290,6 +290,9 @@ def test_out_of_range_nan_and_oversized_values_are_refused(lab: Any) -> None:
 
 def test_formula_flood_is_rate_limited_and_does_not_slow_others(lab: Any) -> None:
     async def go() -> None:
+        # a demo left over from an earlier test (its instructor's disconnect still in
+        # flight) would make the new pages followers, whose edits are refused by design
+        await until(lambda: lab.classroom.broadcaster is None and not lab.classroom.followers, 30, "no demo running")
         obs, ov = await page(lab)
         await obs.set("pause at t_end", False)
         await obs.set("Run", "Play", 0.5)
