@@ -27,6 +27,7 @@ import time
 from dataclasses import dataclass, field
 from typing import Any
 
+from app.loadtest import start_server as _start_server
 from app.loadtest import POINT_NODE, camera_message, decode_frame, encode, free_port, gui_update
 
 BENCH_CODE = "bench-code-2718"
@@ -229,24 +230,7 @@ async def explore_scenario(url: str, n: int, seconds: float, pid: int) -> Figure
 def start_server(port: int, code: str = BENCH_CODE, lesson: str = "sphere", log: Any = subprocess.DEVNULL,
                  fps: float = 30.0) -> subprocess.Popen:
     """``python -m app serve`` with an instructor code; returns when HTTP answers."""
-    import urllib.request
-
-    env = dict(os.environ)
-    root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-    env["PYTHONPATH"] = root + os.pathsep + env.get("PYTHONPATH", "")
-    proc = subprocess.Popen([sys.executable, "-m", "app", "serve", "--host", "127.0.0.1", "--port", str(port), "--no-browser",
-                             "--lesson", lesson, "--instructor-code", code, "--fps", str(fps)], env=env, stdout=subprocess.DEVNULL, stderr=log, cwd=root)
-    deadline = time.monotonic() + 30
-    while time.monotonic() < deadline:
-        try:
-            urllib.request.urlopen(f"http://127.0.0.1:{port}/", timeout=1).read(100)
-            return proc
-        except Exception:
-            if proc.poll() is not None:
-                raise RuntimeError(f"the server exited with code {proc.returncode}")
-            time.sleep(0.1)
-    proc.kill()
-    raise RuntimeError("the server did not answer within 30 s")
+    return _start_server(port, lesson, log, ("--instructor-code", code, "--fps", str(fps)))
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -205,13 +205,14 @@ async def measure(url: str, n: int, seconds: float, preset: str | None, lesson_l
     )
 
 
-def start_server(port: int, lesson: str, log: Any = subprocess.DEVNULL) -> subprocess.Popen:
+def start_server(port: int, lesson: str, log: Any = subprocess.DEVNULL, extra_args: tuple[str, ...] = ()) -> subprocess.Popen:
+    """``python -m app serve`` (plus ``extra_args``) in a subprocess; returns when HTTP answers."""
     env = dict(os.environ)
     root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
     env["PYTHONPATH"] = root + os.pathsep + env.get("PYTHONPATH", "")
     env.setdefault("ANALYZER_LAB_STATS", "5")
     proc = subprocess.Popen([sys.executable, "-m", "app", "serve", "--host", "127.0.0.1", "--port", str(port), "--no-browser",
-                             "--lesson", lesson], env=env, stdout=subprocess.DEVNULL, stderr=log, cwd=root)
+                             "--lesson", lesson, *extra_args], env=env, stdout=subprocess.DEVNULL, stderr=log, cwd=root)
     import urllib.request
 
     deadline = time.monotonic() + 30
