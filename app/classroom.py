@@ -26,6 +26,7 @@ connection and oversized ones dropped before viser decodes them
 
 from __future__ import annotations
 
+import contextvars
 import copy
 import gc
 import hmac
@@ -36,6 +37,8 @@ import threading
 import time
 import traceback
 import weakref
+from collections import deque
+from concurrent.futures import Future
 from typing import TYPE_CHECKING, Any, Callable
 
 from app.session import LabError, Session, lesson_label
@@ -115,6 +118,74 @@ _HARDEN_LOCK = threading.Lock()
 WS_STATS = {"dropped_oversized": 0, "paced": 0}
 
 
+#: The connection whose message is being handled (set around viser's dispatch; the
+#: asyncio tasks it creates copy the value).
+CONNECTION: contextvars.ContextVar[int | None] = contextvars.ContextVar("analyzer_lab_connection", default=None)
+
+
+class OrderedExecutor:
+    """viser's callback pool, but the callbacks of one connection run one after the other
+    in the order its messages arrived.
+
+    viser starts every GUI callback on a shared pool, so a preset choice and a checkbox
+    ticked right after it could run in either order (and the slower preset callback
+    could show the old checkbox value over the new one).  Callbacks of different
+    connections still run in parallel; work submitted outside a connection's message
+    (connect handlers, server code) goes to the pool directly."""
+
+    def __init__(self, pool: Any) -> None:
+        self.pool = pool
+        self._lock = threading.Lock()
+        self._queues: dict[int, deque[tuple[Future, Callable[..., Any], tuple, dict]]] = {}
+
+    def submit(self, fn: Callable[..., Any], /, *args: Any, **kwargs: Any) -> Future:
+        key = CONNECTION.get()
+        if key is None:
+            return self.pool.submit(fn, *args, **kwargs)
+        fut: Future = Future()
+        with self._lock:
+            queue = self._queues.get(key)
+            first = queue is None
+            if first:
+                queue = self._queues[key] = deque()
+            queue.append((fut, fn, args, kwargs))  # type: ignore[union-attr]
+        if first:
+            self.pool.submit(self._drain, key)
+        return fut
+
+    def _drain(self, key: int) -> None:
+        while True:
+            with self._lock:
+                queue = self._queues[key]
+                if not queue:
+                    del self._queues[key]
+                    return
+                fut, fn, args, kwargs = queue.popleft()
+            if not fut.set_running_or_notify_cancel():
+                continue
+            try:
+                fut.set_result(fn(*args, **kwargs))
+            except BaseException as exc:  # delivered to the future's callbacks (viser logs it)
+                fut.set_exception(exc)
+
+    def pending(self) -> int:
+        with self._lock:
+            return sum(len(q) for q in self._queues.values())
+
+    def shutdown(self, wait: bool = True, **kwargs: Any) -> None:
+        self.pool.shutdown(wait=wait, **kwargs)
+
+
+def order_callbacks(server: Any) -> OrderedExecutor:
+    """Route a :class:`viser.ViserServer`'s callbacks through an :class:`OrderedExecutor`
+    (before any client connects: per-client APIs copy the executor when created)."""
+    ordered = OrderedExecutor(server._thread_executor)
+    server._thread_executor = ordered
+    for api in (server.gui, server.scene):
+        api._thread_executor = ordered
+    return ordered
+
+
 def harden_websocket() -> None:
     """Replace viser's per-connection message consumer with one that drops messages
     larger than :data:`WS_MAX_BYTES` before decoding them and paces each connection
@@ -145,7 +216,12 @@ def harden_websocket() -> None:
                     message = message_class.deserialize(raw)
                 except Exception:
                     continue  # malformed: ignore
-                handle_message(message)
+                # the tasks viser creates for this message inherit the connection key
+                token = CONNECTION.set(id(websocket))
+                try:
+                    handle_message(message)
+                finally:
+                    CONNECTION.reset(token)
 
         _infra._message_consumer = paced_consumer  # type: ignore[assignment]
         _HARDENED = True
@@ -200,7 +276,7 @@ def _reset_drawn(view: "SessionView") -> None:
 def _show(view: "SessionView") -> None:
     """Rebuild the view from its session (caller holds the session lock)."""
     view.refresh(heavy=True)
-    view._sync_widgets()
+    view._sync_widgets(force=True)
     view.derivation_due = time.monotonic()
 
 
@@ -530,7 +606,7 @@ class Classroom:
                 except Exception:
                     pass
             with view.session.lock:
-                view._sync_widgets()
+                view._sync_widgets(force=True)
             return False
         bucket = self.buckets.get(cid)
         if bucket is None:
@@ -814,4 +890,4 @@ class Classroom:
         self._stop.set()
 
 
-__all__ = ["Classroom", "SharedTick", "TokenBucket", "generate_code", "harden_websocket", "normalize_code"]
+__all__ = ["CONNECTION", "OrderedExecutor", "order_callbacks", "Classroom", "SharedTick", "TokenBucket", "generate_code", "harden_websocket", "normalize_code"]

@@ -103,11 +103,14 @@ class LabClient:
                 await ws.send(encode(camera_message()))
                 self.stats.connected = time.monotonic()
                 started = False
+                stopping = asyncio.get_running_loop().create_task(stop.wait())
                 while not stop.is_set():
-                    try:
-                        raw = await asyncio.wait_for(ws.recv(), timeout=0.5)
-                    except asyncio.TimeoutError:
-                        continue
+                    receiving = asyncio.get_running_loop().create_task(ws.recv())
+                    await asyncio.wait((receiving, stopping), return_when=asyncio.FIRST_COMPLETED)
+                    if not receiving.done():
+                        receiving.cancel()
+                        break
+                    raw = receiving.result()
                     if not isinstance(raw, bytes):
                         continue
                     point = False
@@ -126,7 +129,7 @@ class LabClient:
                     now = time.monotonic()
                     if point and self.stats.played and not self.stats.playing_update and now > self.stats.played + 0.5:
                         self.stats.playing_update = now
-                    if not started and "Run" in self.stats.gui and "Preset" in self.stats.gui:
+                    if not started and all(k in self.stats.gui for k in ("Run", "Preset", "pause at t_end")):
                         started = True
                         asyncio.get_running_loop().create_task(self._start(ws))
         except Exception as exc:  # reported in the table
@@ -139,9 +142,9 @@ class LabClient:
         if self.preset:
             await ws.send(encode(gui_update(self.stats.gui["Preset"], self.preset)))
             await asyncio.sleep(0.3)
-        if "pause at t_end" in self.stats.gui:  # keep playing past the textbook's 10 s
-            await ws.send(encode(gui_update(self.stats.gui["pause at t_end"], False)))
-            await asyncio.sleep(0.1)
+        # keep playing past the textbook's 10 s
+        await ws.send(encode(gui_update(self.stats.gui["pause at t_end"], False)))
+        await asyncio.sleep(0.1)
         await ws.send(encode(gui_update(self.stats.gui["Run"], "Play")))
         self.stats.played = time.monotonic()
 
@@ -236,7 +239,17 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--lesson", default="sphere")
     ap.add_argument("--preset", default="example-1.1")
     ap.add_argument("--server-log", default="", help="file for the server's stderr (loop figures every 5 s)")
+    ap.add_argument("--clients-only", type=int, default=0, metavar="PORT",
+                    help="measure a server already running on this port (with --server-pid for its CPU)")
+    ap.add_argument("--server-pid", type=int, default=0)
     args = ap.parse_args(argv)
+    if args.clients_only:
+        for n in args.sessions:
+            fig = asyncio.run(measure(f"ws://127.0.0.1:{args.clients_only}/", n, args.seconds, args.preset, None,
+                                      args.server_pid or os.getpid(), args.settle))
+            print(fig.row(), flush=True)
+            print(sorted(round(u, 1) for u in fig.updates_per_s))
+        return 0
     port = free_port()
     log = open(args.server_log, "w") if args.server_log else subprocess.DEVNULL
     proc = start_server(port, args.lesson, log)

@@ -71,9 +71,10 @@ def _make_viser_server(host: str, port: int, verbose: bool) -> Any:
         except (AssertionError, KeyError):
             pass
     server.request_share_url = lambda *a, **k: None  # type: ignore[method-assign]
-    from app.classroom import harden_websocket  # classroom hook: paced, size-limited client messages
+    from app.classroom import harden_websocket, order_callbacks  # classroom hook: paced, size-limited client messages
 
     harden_websocket()
+    order_callbacks(server)  # one connection's callbacks run in the order its messages came
     server.gui.configure_theme(show_share_button=False, show_logo=False, control_width="large")
     server.gui.set_panel_label(PAGE_TITLE)
     return server
@@ -172,9 +173,17 @@ class LabServer:
         self.classroom = Classroom(self, instructor_code)
         self.server.on_client_connect(self._on_connect)
         self.server.on_client_disconnect(self._on_disconnect)
-        self._loop_thread = threading.Thread(target=self._loop, name="analyzer-lab-frames", daemon=True)
+        self._loop_done = threading.Event()
+        self._loop_thread: threading.Thread | None = None
+        loop = getattr(self.server._websock_server, "_background_event_loop", None)
+        if loop is not None and os.environ.get("ANALYZER_LAB_LOOP", "") != "thread":
+            import asyncio
+
+            asyncio.run_coroutine_threadsafe(self._async_loop(), loop)
+        else:
+            self._loop_thread = threading.Thread(target=self._loop, name="analyzer-lab-frames", daemon=True)
+            self._loop_thread.start()
         self._slow_thread = threading.Thread(target=self._slow_loop, name="analyzer-lab-slow", daemon=True)
-        self._loop_thread.start()
         self._slow_thread.start()
         if warm_up:
             threading.Thread(target=self._warm_up, name="analyzer-lab-warmup", daemon=True).start()
@@ -224,60 +233,87 @@ class LabServer:
     # -- loops ------------------------------------------------------------------------
 
     def _loop(self) -> None:
+        """The frame loop on its own thread (used when viser's event loop is not reachable)."""
         period = 1.0 / self.fps
         next_t = time.monotonic()
         while not self._stop.is_set():
-            start = time.monotonic()
-            with self._views_lock:
-                views = list(self.views.values())
-            substeps = 8 if self.stats.load < 0.5 else 4 if self.stats.load < 0.8 else 1
-            batch = _WakeBatch(self.server)
-            # round-robin with a time budget: under overload every session still gets
-            # its turn and viser's sending thread keeps its share of the interpreter
-            budget = start + self.duty * period
-            n = len(views)
-            offset = self._rr % n if n else 0
-            done = 0
-            for k in range(n):
-                view = views[(offset + k) % n]
-                if k and time.monotonic() > budget:
-                    break
-                done += 1
-                session = view.session
-                if not session.lock.acquire(blocking=False):
-                    self.stats.skipped += 1
-                    continue
-                if view.session is not session:  # classroom hook: switched (follow/release) meanwhile
-                    session.lock.release()
-                    continue
-                try:
-                    now = time.monotonic()
-                    dt = now - getattr(view, "last_tick", now)
-                    view.last_tick = now  # type: ignore[attr-defined]
-                    session.max_substeps = substeps
-                    grouped = batch.hold(view.client)
-                    view.tick(dt, atomic=not grouped)
-                except Exception as exc:
-                    traceback.print_exc()
-                    session.playing = False
-                    session.notify(f"internal error, playback paused: {type(exc).__name__}: {exc}", "error")
-                finally:
-                    session.lock.release()
-            self._rr = (offset + done) % n if n else 0
-            batch.release()
-            view = session = None  # type: ignore[assignment]  # classroom hook: no stale reference once every tab left
-            busy = time.monotonic() - start
-            if self._report_every and self.stats.ticks % self._report_every == 0 and self.stats.ticks:
-                self._report(views)
-            self.stats.ticks += 1
-            self.stats.busy += busy
-            self.stats.load = 0.9 * self.stats.load + 0.1 * (busy / period)
+            self._tick_all(period)
             next_t += period
             delay = next_t - time.monotonic()
             if delay < -period:
                 next_t = time.monotonic()  # behind: do not try to catch up with a burst
                 delay = 0.0
             self._stop.wait(max(0.0, delay))
+
+    async def _async_loop(self) -> None:
+        """The frame loop inside viser's event loop: stepping, drawing and sending run on
+        one thread, one after the other, instead of two threads handing the interpreter
+        lock back and forth for every websocket write."""
+        import asyncio
+
+        period = 1.0 / self.fps
+        next_t = time.monotonic()
+        while not self._stop.is_set():
+            try:
+                self._tick_all(period)
+            except Exception:
+                traceback.print_exc()
+            # a late tick is followed by the next after a short gap, not at once: a frame
+            # pushed right behind another would replace it in the send buffer unsent
+            now = time.monotonic()
+            next_t += period
+            if next_t < now - period:
+                next_t = now  # far behind: do not try to catch up with a burst
+            await asyncio.sleep(max(next_t - now, 0.25 * period))
+        self._loop_done.set()
+
+    def _tick_all(self, period: float) -> None:
+        """One frame for every session (round-robin, within the time budget)."""
+        start = time.monotonic()
+        with self._views_lock:
+            views = list(self.views.values())
+        substeps = 8 if self.stats.load < 0.5 else 4 if self.stats.load < 0.8 else 1
+        batch = _WakeBatch(self.server)
+        # round-robin with a time budget: under overload every session still gets
+        # its turn and viser's sending keeps its share of the interpreter
+        budget = start + self.duty * period
+        n = len(views)
+        offset = self._rr % n if n else 0
+        done = 0
+        for k in range(n):
+            view = views[(offset + k) % n]
+            if k and time.monotonic() > budget:
+                break
+            done += 1
+            session = view.session
+            if not session.lock.acquire(blocking=False):
+                self.stats.skipped += 1
+                continue
+            if view.session is not session:  # classroom hook: switched (follow/release) meanwhile
+                session.lock.release()
+                continue
+            try:
+                now = time.monotonic()
+                dt = now - getattr(view, "last_tick", now)
+                view.last_tick = now  # type: ignore[attr-defined]
+                session.max_substeps = substeps
+                grouped = batch.hold(view.client)
+                view.tick(dt, atomic=not grouped)
+            except Exception as exc:
+                traceback.print_exc()
+                session.playing = False
+                session.notify(f"internal error, playback paused: {type(exc).__name__}: {exc}", "error")
+            finally:
+                session.lock.release()
+        self._rr = (offset + done) % n if n else 0
+        batch.release()
+        view = session = None  # type: ignore[assignment]  # classroom hook: no stale reference once every tab left
+        busy = time.monotonic() - start
+        if self._report_every and self.stats.ticks % self._report_every == 0 and self.stats.ticks:
+            self._report(views)
+        self.stats.ticks += 1
+        self.stats.busy += busy
+        self.stats.load = 0.9 * self.stats.load + 0.1 * (busy / period)
 
     def _report(self, views: list[SessionView]) -> None:
         """One line of loop figures on stderr (ANALYZER_LAB_STATS=seconds)."""
@@ -361,7 +397,10 @@ class LabServer:
             self.views.clear()
         for v in views:
             v.close()
-        self._loop_thread.join(timeout=2.0)
+        if self._loop_thread is not None:
+            self._loop_thread.join(timeout=2.0)
+        else:
+            self._loop_done.wait(timeout=2.0)
         try:
             self.server.stop()
         except Exception:

@@ -33,6 +33,7 @@ STEP_DT = 1.0 / 30.0
 #: Longest lesson-time piece a frame advances in one stepper call (the trail gets a
 #: point per piece); a frame makes at most MAX_SUBSTEPS pieces.
 SUBSTEP_DT = 1.0 / 30.0
+TIME_QUANTUM = 1.0 / 600.0  # lesson seconds: the grain of a played tick
 MAX_SUBSTEPS = 8
 #: Samples of the recorded run kept for export (older ones are thinned out).
 MAX_LOG = 20000
@@ -238,6 +239,7 @@ class Session:
         self.visible_vectors: set[str] | None = None
         self.log = RunLog()
         self.max_substeps = MAX_SUBSTEPS  # lowered by the server under load
+        self._time_debt = 0.0  # lesson time owed to the next played tick (< TIME_QUANTUM / 2)
         self.scene_due: float | None = None  # when a deferred scene rebuild is due (monotonic time)
         self.revision = 0  # bumped on any change of lesson/params (the view re-renders what it needs)
         self.scene_revision = 0  # bumped when the static scene must be redrawn
@@ -469,7 +471,14 @@ class Session:
         """Advance by ``wall_dt`` seconds of wall time times the speed (when playing)."""
         if not self.playing:
             return []
-        return self._advance(min(wall_dt, 0.25) * self.speed)
+        # lesson time goes forward in whole quanta (the remainder is carried to the next
+        # tick): the same few step sizes recur, so cached step maps are reused
+        want = min(wall_dt, 0.25) * self.speed + self._time_debt
+        k = int(math.floor(want / TIME_QUANTUM + 0.5))
+        self._time_debt = want - k * TIME_QUANTUM
+        if k <= 0:
+            return []
+        return self._advance(k * TIME_QUANTUM)
 
     def step(self) -> list[Frame]:
         """One single step (paused): ``STEP_DT`` lesson seconds times the speed."""

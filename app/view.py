@@ -35,6 +35,7 @@ if TYPE_CHECKING:
 
 STORAGE_KEY = "analyzer-lab-state"
 NO_PRESET = "(defaults)"
+_UNSHOWN = object()
 PLOT_COLORS = ("#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#17becf", "#8c564b")
 LEVEL_COLORS = {"info": "#1c4f8a", "warning": "#8a5a00", "error": "#a61b1b"}
 
@@ -223,6 +224,8 @@ class SessionView:
         self._shown_frame_message = ""
         self._last_readout = ""
         self._param_widgets: dict[str, list[Any]] = {}
+        self._shown: dict[int, Any] = {}  # widget id -> the session value it last showed
+        self._current_target: Any = None  # the widget whose callback runs now
         self._lesson_folders: list[Any] = []
         self._plots: list[tuple[PlotBuffer, Any]] = []
         self._plot_rr = 0
@@ -256,6 +259,7 @@ class SessionView:
             if self.gate is not None and not self.gate(self, event, wrapped):  # classroom hook
                 return
             with self.session.lock:
+                self._current_target = getattr(event, "target", None)
                 try:
                     fn(event)
                 except (ParamError, LabError) as exc:
@@ -265,6 +269,8 @@ class SessionView:
                     traceback.print_exc()
                     self.session.notify(f"internal error: {type(exc).__name__}: {exc}", "error")
                     self._sync_widgets()
+                finally:
+                    self._current_target = None
                 self.refresh(heavy=True)
 
         return wrapped
@@ -340,6 +346,7 @@ class SessionView:
                 pass
         self._lesson_folders = []
         self._param_widgets = {}
+        self._shown = {}
         lesson = self.session.lesson
         groups: dict[str, list[Param]] = {}
         for p in lesson.params:
@@ -456,22 +463,31 @@ class SessionView:
             v = min(max(0.0, lo), hi)
         return min(max(v, lo), hi)
 
-    def _sync_widgets(self) -> None:
-        """Show the session's values in the widgets (programmatic: callbacks ignore it)."""
+    def _put(self, widget: Any, value: Any, force: bool) -> None:
+        """Show ``value`` in ``widget`` when the session's value changed since this view
+        last showed it (or when forced, or when it is the widget being handled).  A
+        value the user has just set in another widget, whose callback has not run yet,
+        is not overwritten with the session's old value."""
+        key = id(widget)
+        if force or widget is self._current_target or self._shown.get(key, _UNSHOWN) != value:
+            if widget.value != value:
+                widget.value = value
+        self._shown[key] = value
+
+    def _sync_widgets(self, force: bool = False) -> None:
+        """Show the session's values in the widgets (programmatic: callbacks ignore it).
+
+        ``force``: every widget, also those whose session value did not change."""
         s = self.session
         try:
-            if self.lesson_dd.value != self._ids.get(s.lesson.id):
-                self.lesson_dd.value = self._ids[s.lesson.id]
+            self._put(self.lesson_dd, self._ids[s.lesson.id], force)
             opts = self._preset_options()
             if tuple(self.preset_dd.options) != opts:
                 self.preset_dd.options = opts
-            want = s.preset or NO_PRESET
-            if self.preset_dd.value != want:
-                self.preset_dd.value = want
-            if self.speed_dd.value != _speed_label(s.speed):
-                self.speed_dd.value = _speed_label(s.speed)
-            if hasattr(self, "pause_cb") and self.pause_cb.value != s.pause_at_end:
-                self.pause_cb.value = s.pause_at_end
+            self._put(self.preset_dd, s.preset or NO_PRESET, force)
+            self._put(self.speed_dd, _speed_label(s.speed), force)
+            if hasattr(self, "pause_cb"):
+                self._put(self.pause_cb, bool(s.pause_at_end), force)
         except Exception:
             traceback.print_exc()
         for name, widgets in self._param_widgets.items():
@@ -483,23 +499,16 @@ class SessionView:
                 try:
                     if p.kind == "formula":
                         if hasattr(w, "min") and hasattr(w, "max") and not hasattr(w, "multiline"):
-                            const = self._const_of(value, p)
-                            if isinstance(value, Formula) and value.is_constant and w.value != const:
-                                w.value = const
+                            if isinstance(value, Formula) and value.is_constant:
+                                self._put(w, self._const_of(value, p), force)
                         else:
-                            text = value.text if isinstance(value, Formula) else str(value)
-                            if w.value != text:
-                                w.value = text
+                            self._put(w, value.text if isinstance(value, Formula) else str(value), force)
                     elif p.kind == "bool":
-                        if w.value != bool(value):
-                            w.value = bool(value)
+                        self._put(w, bool(value), force)
                     elif p.kind == "choice":
-                        if w.value != str(value):
-                            w.value = str(value)
+                        self._put(w, str(value), force)
                     else:
-                        v = int(value) if p.kind == "int" else float(value)
-                        if w.value != v:
-                            w.value = v
+                        self._put(w, int(value) if p.kind == "int" else float(value), force)
                 except Exception:
                     traceback.print_exc()
 

@@ -88,7 +88,7 @@ def _constant_value(u: Formula | float | None) -> float | None:
         return 0.0
     if not isinstance(u, Formula):
         return float(u)
-    return float(u.expr) if u.is_constant else None
+    return u.constant_value
 
 
 def _as_formula_values(u: Formula | float, t: np.ndarray) -> np.ndarray:

@@ -313,13 +313,17 @@ def _control_exprs(params: Params) -> tuple[sp.Expr, sp.Expr, sp.Expr]:
 _STEP_MAPS: dict[tuple, tuple[np.ndarray, np.ndarray]] = {}
 
 
-def _constant_step_map(model: AnalyzerModel, n_points: int, h: float, stages: int) -> tuple[np.ndarray, np.ndarray]:
-    """The Gauss-Legendre step map of a time-independent analyzer (cached, bounded)."""
-    key = (
+def _model_key(model: AnalyzerModel) -> tuple:
+    """What a constant step map depends on besides h: the surface and the control values."""
+    return (
         tuple(np.asarray(model.coeffs[n], dtype=float).tobytes() for n in COEFF_NAMES),
         tuple(float(v) for v in model.controls.at(np.zeros(1))[:, 0]),
-        n_points, round(h, 15), stages,
     )
+
+
+def _constant_step_map(model: AnalyzerModel, n_points: int, h: float, stages: int, model_key: tuple | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """The Gauss-Legendre step map of a time-independent analyzer (cached, bounded)."""
+    key = (model_key if model_key is not None else _model_key(model), n_points, round(h, 15), stages)
     hit = _STEP_MAPS.get(key)
     if hit is None:
         hit = gl_propagators(lambda ts: model.linear_coeffs(ts, n_points), 0.0, h, 1, stages)
@@ -360,6 +364,9 @@ class AnalyzerStepper(Stepper):
                 if not self.lesson.keep_level(params) and np.any(np.abs(q.F(self.R)) > 1e-9 * q.scale):
                     self.R = np.array([q.project(p) for p in self.R])
         self.F0 = prepared.model.F(self.R if hasattr(self, "R") else prepared.r0)
+        model = prepared.model
+        self._constant = model.controls.V is None and model.controls.constant()
+        self._model_key = _model_key(model) if self._constant else None
 
     def reset(self) -> Frame:
         self._t = 0.0
@@ -373,10 +380,10 @@ class AnalyzerStepper(Stepper):
         model = self.prepared.model
         n = max(1, int(np.ceil(dt / self.h - 1e-9)))
         h = dt / n
-        if model.controls.V is None and model.controls.constant():
+        if self._constant:
             # time-independent field: every step has the same map; build it once (shared by
             # every session running the same surface and controls)
-            D, phi = _constant_step_map(model, len(self.R), h, self.stages)
+            D, phi = _constant_step_map(model, len(self.R), h, self.stages, self._model_key)
             self.R = apply_propagators(np.broadcast_to(D, (n, *D.shape[1:])), np.broadcast_to(phi, (n, *phi.shape[1:])), self.R)[-1]
         elif model.controls.V is None:
             _, states = gl_linear(lambda ts: model.linear_coeffs(ts, len(self.R)), self.R, self._t, self._t + n * h, h, self.stages)

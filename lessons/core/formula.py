@@ -66,6 +66,13 @@ class Formula:
             object.__setattr__(self, "_is_constant", cached)
         return cached
 
+    @property
+    def constant_value(self) -> float | None:
+        """The number this formula stands for when it does not depend on its variables (cached)."""
+        if "_constant_value" not in self.__dict__:
+            object.__setattr__(self, "_constant_value", float(self.expr) if self.is_constant else None)
+        return self.__dict__["_constant_value"]
+
     def __call__(self, *args: float | np.ndarray) -> np.ndarray | float:
         """Evaluate (numpy broadcasting).  Non-finite results are returned as they are;
         callers that integrate check finiteness with :meth:`check_finite`."""
