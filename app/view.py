@@ -36,6 +36,7 @@ if TYPE_CHECKING:
 STORAGE_KEY = "analyzer-lab-state"
 NO_PRESET = "(defaults)"
 _UNSHOWN = object()
+RETIRE_DELAY = 1.5  # seconds a replaced GUI folder stays (hidden) before it is removed
 PLOT_COLORS = ("#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#17becf", "#8c564b")
 LEVEL_COLORS = {"info": "#1c4f8a", "warning": "#8a5a00", "error": "#a61b1b"}
 
@@ -225,6 +226,7 @@ class SessionView:
         self._last_readout = ""
         self._param_widgets: dict[str, list[Any]] = {}
         self._shown: dict[int, Any] = {}  # widget id -> the session value it last showed
+        self._retired: list[tuple[float, Any]] = []  # (when to remove, hidden GUI folder)
         self._current_target: Any = None  # the widget whose callback runs now
         self._lesson_folders: list[Any] = []
         self._plots: list[tuple[PlotBuffer, Any]] = []
@@ -336,14 +338,17 @@ class SessionView:
     def _build_lesson_gui(self) -> None:
         """(Re)build everything that depends on the lesson: controls, plots, header."""
         gui = self.client.gui
-        for _, handle in self._plots:  # children first: marks them removed, purges pending updates
-            _remove(handle)
+        # The old folders are hidden now and removed a little later: the page applies the
+        # property updates of a batch of messages after the batch's removals, so a chart
+        # update that is already on its way must still find its chart.
         self._plots = []
+        due = time.monotonic() + RETIRE_DELAY
         for f in self._lesson_folders:
             try:
-                f.remove()
+                f.visible = False
             except Exception:
                 pass
+            self._retired.append((due, f))
         self._lesson_folders = []
         self._param_widgets = {}
         self._shown = {}
@@ -954,6 +959,8 @@ class SessionView:
         for all sessions, see :class:`app.server.LabServer`)."""
         if self.closed:
             return
+        if self._retired and time.monotonic() >= self._retired[0][0]:
+            self._remove_retired()
         s = self.session
         was_playing = s.playing
         t0 = time.perf_counter()
@@ -980,8 +987,18 @@ class SessionView:
                 self._update_texts()
         self.draw_seconds += time.perf_counter() - t1
 
+    def _remove_retired(self, everything: bool = False) -> None:
+        now = time.monotonic()
+        while self._retired and (everything or now >= self._retired[0][0]):
+            _, folder = self._retired.pop(0)
+            try:
+                folder.remove()
+            except Exception:
+                pass
+
     def close(self) -> None:
         self.closed = True
+        self._retired = []
 
     # ------------------------------------------------------------------ export
 

@@ -1,0 +1,128 @@
+"""The server: frame loop on viser's event loop, callbacks of one page in arrival order.
+
+Pages are real websocket clients speaking viser's protocol against an in-process
+:class:`app.server.LabServer`.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import threading
+import time
+from concurrent.futures import ThreadPoolExecutor
+from typing import Any, Iterator
+
+import pytest
+
+from app.classroom import CONNECTION, OrderedExecutor
+from app.classroom_load import ProtoClient
+from app.loadtest import gui_update
+from lessons.sphere import LESSON as SPHERE
+
+pytestmark = pytest.mark.timeout(120)
+
+
+@pytest.fixture(scope="module")
+def lab() -> Iterator[Any]:
+    from app.server import LabServer
+
+    server = LabServer(host="127.0.0.1", port=0, lessons=[SPHERE], lesson="sphere", warm_up=False, restore=False)
+    yield server
+    server.stop()
+
+
+async def _until(cond: Any, timeout: float, what: str) -> Any:
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline:
+        value = cond()
+        if value:
+            return value
+        await asyncio.sleep(0.05)
+    raise AssertionError(f"timed out waiting for {what}")
+
+
+def test_frame_loop_runs_on_the_event_loop_and_advances_sessions(lab: Any) -> None:
+    async def go() -> None:
+        before = set(lab.views)
+        c = await ProtoClient(lab.url).start()
+        await c.wait_for("Run")
+        view = lab.views[max(await _until(lambda: set(lab.views) - before, 10, "the view"))]
+        c.measuring = True  # count point updates from now on
+        await c.send(gui_update(c.gui["Run"], "Play"))
+        await _until(lambda: view.session.frame.t > 0.3, 10, "playback")
+        await _until(lambda: c.point_updates >= 10, 10, "point updates at the page")
+        await c.close()
+
+    asyncio.run(go())
+    assert lab._loop_thread is None  # no second thread competing with the sending
+    assert lab.stats.ticks > 0
+
+
+def test_messages_of_one_page_apply_in_the_order_sent(lab: Any) -> None:
+    """Preset, 'pause at t_end' off and Play sent back to back by 12 pages at once: every
+    session ends with the preset, the box unticked and playing (the preset's slower
+    callback used to run beside the checkbox's and show the old value over it)."""
+
+    async def go() -> None:
+        before = set(lab.views)
+        pages = [await ProtoClient(lab.url).start() for _ in range(12)]
+        for p in pages:
+            await p.wait_for("pause at t_end")
+        views = await _until(lambda: len(set(lab.views) - before) >= 12 and [lab.views[k] for k in sorted(set(lab.views) - before)],
+                             15, "the views")
+        await asyncio.gather(*(
+            _burst(p) for p in pages
+        ))
+        for v in views:
+            await _until(lambda: v.session.playing, 10, "play")
+        await asyncio.sleep(0.3)
+        for v in views:
+            s = v.session
+            assert (s.preset, s.pause_at_end, s.playing) == ("example-1.3", False, True)
+            assert v.pause_cb.value is False
+        await asyncio.gather(*(p.close() for p in pages))
+
+    async def _burst(p: ProtoClient) -> None:
+        await p.send(gui_update(p.gui["Preset"], "example-1.3"))
+        await p.send(gui_update(p.gui["pause at t_end"], False))
+        await p.send(gui_update(p.gui["Run"], "Play"))
+
+    asyncio.run(go())
+
+
+def test_ordered_executor_keeps_order_per_connection_and_runs_connections_in_parallel() -> None:
+    pool = ThreadPoolExecutor(max_workers=4)
+    ex = OrderedExecutor(pool)
+    log: list[tuple[str, int]] = []
+    lock = threading.Lock()
+    started_b = threading.Event()
+
+    def job(tag: str, k: int, delay: float) -> int:
+        if tag == "b":
+            started_b.set()
+        time.sleep(delay)
+        with lock:
+            log.append((tag, k))
+        return k
+
+    futures = []
+    token = CONNECTION.set(1)
+    try:
+        futures += [ex.submit(job, "a", k, 0.05 if k == 0 else 0.0) for k in range(5)]  # the first one is slow
+    finally:
+        CONNECTION.reset(token)
+    token = CONNECTION.set(2)
+    try:
+        futures.append(ex.submit(job, "b", 0, 0.0))
+    finally:
+        CONNECTION.reset(token)
+    outside = ex.submit(lambda: "direct")
+    assert [f.result(5) for f in futures] == [0, 1, 2, 3, 4, 0]
+    assert outside.result(5) == "direct"
+    assert [k for tag, k in log if tag == "a"] == [0, 1, 2, 3, 4]
+    assert started_b.is_set() and log.index(("b", 0)) < log.index(("a", 0))  # b did not wait behind a's slow job
+    failing = ex.submit(lambda: 1 / 0)
+    with pytest.raises(ZeroDivisionError):
+        failing.result(5)
+    assert ex.pending() == 0
+    pool.shutdown()
