@@ -238,6 +238,7 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--settle", type=float, default=3.0, help="seconds after the last client started playing")
     ap.add_argument("--lesson", default="sphere")
     ap.add_argument("--preset", default="example-1.1")
+    ap.add_argument("--fps", type=float, default=None, help="the server's frame rate (serve --fps; default: its own)")
     ap.add_argument("--server-log", default="", help="file for the server's stderr (loop figures every 5 s)")
     ap.add_argument("--clients-only", type=int, default=0, metavar="PORT",
                     help="measure a server already running on this port (with --server-pid for its CPU)")
@@ -252,9 +253,10 @@ def main(argv: list[str] | None = None) -> int:
         return 0
     port = free_port()
     log = open(args.server_log, "w") if args.server_log else subprocess.DEVNULL
-    proc = start_server(port, args.lesson, log)
+    proc = start_server(port, args.lesson, log, extra_args=("--fps", str(args.fps)) if args.fps else ())
     url = f"ws://127.0.0.1:{port}/"
-    print(f"server pid {proc.pid} on port {port}; lesson {args.lesson}, preset {args.preset}; {os.cpu_count()} cores")
+    print(f"server pid {proc.pid} on port {port}; lesson {args.lesson}, preset {args.preset}; {os.cpu_count()} cores"
+          + (f"; server at {args.fps:g} frames/s" if args.fps else ""))
     print(f"{'sessions':>8} {'updates/s':>10} {'min':>9} {'MB/s/client':>12} {'max MB/s':>11} {'server CPU':>10} {'clients':>10} {'machine':>9}  errors")
     print(f"{'':>8} {'(mean)':>10} {'':>9} {'(mean)':>12} {'':>11} {'(1 core=100%)':>10} {'CPU':>10} {'(all cores)':>9}")
     try:

@@ -28,6 +28,10 @@ from app.view import STORAGE_KEY, SessionView, ViewConfig
 from lessons.core.contract import Lesson
 
 PAGE_TITLE = "Analyzer Lab"
+#: Frames per second of the live view: a little above 30 so that every page still gets
+#: 30 updates a second when a tick comes late (measured: 50 pages get 34/s at 36 fps,
+#: 28.7/s at 30 fps).
+DEFAULT_FPS = 36.0
 DERIVATION_CACHE = LRUCache(64)
 _PATCH_LOCK = threading.Lock()
 
@@ -133,7 +137,7 @@ class LoopStats:
 class LabServer:
     """The lab: viser server, sessions by client id, the frame loop."""
 
-    def __init__(self, host: str = "127.0.0.1", port: int = 8080, lesson: str | None = None, fps: float = 30.0,
+    def __init__(self, host: str = "127.0.0.1", port: int = 8080, lesson: str | None = None, fps: float = DEFAULT_FPS,
                  lessons: Sequence[Lesson] | None = None, verbose: bool = False, restore: bool = True,
                  config: ViewConfig | None = None, warm_up: bool = True, instructor_code: str | None = None) -> None:
         self.fps = float(fps)
@@ -408,7 +412,7 @@ class LabServer:
 
 
 def serve(host: str = "127.0.0.1", port: int = 8080, lesson: str | None = None, instructor_code: str | None = None,
-          open_browser: bool = True, fps: float = 30.0) -> int:
+          open_browser: bool = True, fps: float = DEFAULT_FPS) -> int:
     """Run the lab until interrupted; returns the exit code."""
     if not (0 <= int(port) <= 65535):
         print(f"analyzer-lab: error: port must be in 0..65535, got {port}", file=sys.stderr)

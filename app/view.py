@@ -49,11 +49,11 @@ def _speed_label(s: float) -> str:
 class ViewConfig:
     """Rates of the view (per session)."""
 
-    fps: float = 30.0
+    fps: float = 36.0  # app.server.DEFAULT_FPS
     trail_every: int = 2  # frames between trail uploads
     trail_chunk: int = 24  # points per trail chunk
     trail_max_points: int = 3000  # per moving point family member
-    plot_every: int = 3  # frames between plot samples (10 Hz at 30 fps)
+    plot_every: int = 3  # frames between plot samples (12 Hz at 36 fps)
     plot_window: int = 100  # samples in the sliding window
     plot_send_every: int = 6  # frames between plot uploads (round-robin over plots)
     readout_every: int = 6  # frames between time readouts

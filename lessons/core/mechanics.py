@@ -16,6 +16,7 @@
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from functools import lru_cache
 from typing import Any, Callable, Mapping, Sequence
 
 import numpy as np
@@ -311,10 +312,16 @@ class ConstrainedSystem:
 # ---------------------------------------------------------------- formulas and differentiation
 
 
+@lru_cache(maxsize=256)
+def _derivative_functions(exprs: tuple[sp.Expr, ...], t: sp.Symbol) -> tuple[tuple[Callable[..., Any], ...], ...]:
+    """Numeric functions of the 0th, 1st and 2nd derivatives (built once per set of laws)."""
+    return tuple(tuple(sp.lambdify(t, sp.diff(e, t, k), modules="numpy") for e in exprs) for k in range(3))
+
+
 def formula_derivatives(exprs: Sequence[sp.Expr], t: sp.Symbol) -> Callable[[Array | float], tuple[Array, Array, Array]]:
     """``t -> (q, q', q'')`` for motion laws typed as formulas (exact derivatives);
     each is an ``(n, *shape(t))`` array."""
-    fns = [[sp.lambdify(t, sp.diff(e, t, k), modules="numpy") for e in exprs] for k in range(3)]
+    fns = _derivative_functions(tuple(exprs), t)
 
     def ev(tt: Array | float) -> tuple[Array, Array, Array]:
         shape = np.shape(tt)
