@@ -228,7 +228,7 @@ async def explore_scenario(url: str, n: int, seconds: float, pid: int) -> Figure
 
 
 def start_server(port: int, code: str = BENCH_CODE, lesson: str = "sphere", log: Any = subprocess.DEVNULL,
-                 fps: float = 30.0) -> subprocess.Popen:
+                 fps: float = 36.0) -> subprocess.Popen:
     """``python -m app serve`` with an instructor code; returns when HTTP answers."""
     return _start_server(port, lesson, log, ("--instructor-code", code, "--fps", str(fps)))
 
@@ -239,7 +239,7 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--seconds", type=float, default=10.0)
     ap.add_argument("--scenarios", nargs="+", default=["follow", "explore"], choices=["follow", "explore"])
     ap.add_argument("--server-log", default="")
-    ap.add_argument("--fps", type=float, default=30.0, help="the server's frame rate (serve --fps)")
+    ap.add_argument("--fps", type=float, default=36.0, help="the server's frame rate (serve --fps; default 36, as serve)")
     args = ap.parse_args(argv)
     port = free_port()
     log = open(args.server_log, "w") if args.server_log else subprocess.DEVNULL

@@ -110,32 +110,110 @@ class LogSample:
 
 
 class RunLog:
-    """The samples a session has shown, for export (bounded: thinned when full)."""
+    """The samples a session has shown, for export: columns of preallocated arrays that
+    grow by doubling up to ``limit`` rows; when full, every second row is dropped and
+    from then on only every ``stride``-th frame is kept."""
 
     def __init__(self, limit: int = MAX_LOG) -> None:
-        self.limit = limit
-        self.samples: list[LogSample] = []
-        self.stride = 1
-        self._skip = 0
+        self.limit = max(2, int(limit))
+        self.clear()
 
     def clear(self) -> None:
-        self.samples.clear()
+        self.count = 0
         self.stride = 1
         self._skip = 0
+        self._cap = 0
+        self._t = np.empty(0)
+        self._points: dict[str, np.ndarray] = {}  # name -> (cap, members, 3)
+        self._scalars: dict[str, np.ndarray] = {}  # name -> (cap,)
+
+    def _grow(self) -> None:
+        cap = min(self.limit, max(64, 2 * self._cap))
+
+        def grown(a: np.ndarray) -> np.ndarray:
+            out = np.full((cap, *a.shape[1:]), np.nan)
+            out[: self.count] = a[: self.count]
+            return out
+
+        self._t = grown(self._t)
+        self._points = {k: grown(v) for k, v in self._points.items()}
+        self._scalars = {k: grown(v) for k, v in self._scalars.items()}
+        self._cap = cap
 
     def add(self, frame: Frame) -> None:
         if self._skip:
             self._skip -= 1
             return
         self._skip = self.stride - 1
-        self.samples.append(LogSample(float(frame.t), {k: np.array(v, dtype=float) for k, v in frame.points.items()},
-                                      {k: float(v) for k, v in frame.scalars.items()}))
-        if len(self.samples) >= self.limit:
-            self.samples = self.samples[::2]
+        if self.count == self._cap:
+            self._grow()
+        i = self.count
+        self._t[i] = float(frame.t)
+        for name, value in frame.points.items():
+            pts = np.asarray(value, dtype=float).reshape(-1, 3)
+            col = self._points.get(name)
+            if col is None:
+                col = self._points[name] = np.full((self._cap, len(pts), 3), np.nan)
+            n = min(len(pts), col.shape[1])
+            col[i, :n] = pts[:n]
+            col[i, n:] = np.nan
+        for name, col in self._points.items():
+            if name not in frame.points:
+                col[i] = np.nan
+        for name, value in frame.scalars.items():
+            col = self._scalars.get(name)
+            if col is None:
+                col = self._scalars[name] = np.full(self._cap, np.nan)
+            col[i] = float(value)
+        for name, col in self._scalars.items():
+            if name not in frame.scalars:
+                col[i] = np.nan
+        self.count += 1
+        if self.count >= self.limit:
+            keep = np.arange(0, self.count, 2)
+            m = len(keep)
+            self._t[:m] = self._t[keep]
+            for col in (*self._points.values(), *self._scalars.values()):
+                col[:m] = col[keep]
+                col[m:] = np.nan
+            self.count = m
             self.stride *= 2
 
+    @property
+    def t(self) -> np.ndarray:
+        return self._t[: self.count].copy()
+
+    def points(self, name: str) -> np.ndarray:
+        """``(samples, members, 3)``."""
+        return self._points[name][: self.count].copy()
+
+    def scalar(self, name: str) -> np.ndarray:
+        return self._scalars[name][: self.count].copy()
+
+    @property
+    def point_names(self) -> list[str]:
+        return list(self._points)
+
+    @property
+    def scalar_names(self) -> list[str]:
+        return list(self._scalars)
+
+    @property
+    def samples(self) -> list[LogSample]:
+        """The rows as :class:`LogSample` objects (a point missing from a frame is left out)."""
+        out = []
+        for i in range(self.count):
+            pts = {k: v[i].copy() for k, v in self._points.items() if not np.all(np.isnan(v[i]))}
+            sc = {k: float(v[i]) for k, v in self._scalars.items() if not np.isnan(v[i])}
+            out.append(LogSample(float(self._t[i]), pts, sc))
+        return out
+
+    @property
+    def nbytes(self) -> int:
+        return int(self._t.nbytes + sum(v.nbytes for v in self._points.values()) + sum(v.nbytes for v in self._scalars.values()))
+
     def __len__(self) -> int:
-        return len(self.samples)
+        return self.count
 
 
 class LRUCache:
@@ -555,29 +633,25 @@ class Session:
 
     def run_result(self) -> RunResult:
         """The run shown so far as a :class:`RunResult` (series from the frames)."""
-        samples = self.log.samples or [LogSample(self.frame.t, dict(self.frame.points), dict(self.frame.scalars))]
-        t = np.array([s.t for s in samples], dtype=float)
+        log = self.log
+        if not len(log):
+            log = RunLog(2)
+            log.add(self.frame)
+        t = log.t
         series: dict[str, np.ndarray] = {}
-        names = list(samples[0].points)
+        names = log.point_names
         for name in names:
-            count = min(np.asarray(s.points[name]).reshape(-1, 3).shape[0] for s in samples if name in s.points)
-            for k in range(count):
+            pts = log.points(name)
+            for k in range(pts.shape[1]):
                 prefix = "" if len(names) == 1 else f"{name}_"
                 suffix = "" if k == 0 else f"_{k + 1}"
                 for j, c in enumerate("xyz"):
-                    series[f"{prefix}{c}{suffix}"] = np.array(
-                        [np.asarray(s.points[name]).reshape(-1, 3)[k, j] if name in s.points else np.nan for s in samples])
-        scalar_names: list[str] = []
-        for s in samples:
-            for k in s.scalars:
-                if k not in scalar_names:
-                    scalar_names.append(k)
-        for k in scalar_names:
-            if k in series:
-                continue
-            series[k] = np.array([s.scalars.get(k, np.nan) for s in samples], dtype=float)
+                    series[f"{prefix}{c}{suffix}"] = pts[:, k, j]
+        for k in log.scalar_names:
+            if k not in series:
+                series[k] = log.scalar(k)
         metrics: dict[str, Any] = {"t_end": float(t[-1]), "samples": len(t), "source": "live run", "speed": self.speed}
-        if "drift" in series and len(series["drift"]):
+        if "drift" in series and len(series["drift"]) and not np.all(np.isnan(series["drift"])):
             metrics["invariant_drift_max"] = float(np.nanmax(series["drift"]))
         messages = [text for _, text in self.notices]
         return RunResult(self.lesson.id, self.preset, self.raw_values(), t, series, metrics, messages)

@@ -5,7 +5,8 @@
 Runs ``python -m app serve`` as a subprocess.  An instructor page (a real websocket
 client speaking viser's protocol) enters the code, plays a preset and alternates
 "Follow me" and "Release" every 30 s, moving to the next preset each time (a
-run that plays for ever keeps up to MAX_LOG samples for export, ~19 MB, by design); about ``--students`` student pages play their
+run that plays for ever keeps up to MAX_LOG samples for export, about 2 MB for the
+sphere); about ``--students`` student pages play their
 own sessions (or follow the demo), and every ``--churn`` seconds one student leaves
 and a new one joins.  The server's memory (RSS) is sampled every 5 s; the server
 prints its live session count (``[classroom]`` lines: views, sessions alive after a
