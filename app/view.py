@@ -247,7 +247,8 @@ class SessionView:
         self.draw_seconds = 0.0  # time spent queueing the frame's updates
         # classroom hook: gate(view, event, retry) -> False refuses a GUI input (app.classroom)
         self.gate: Callable[["SessionView", Any, Callable[[Any], None] | None], bool] | None = None
-        self._build_gui()
+        with session.lock:  # a callback of an early click waits until the page is built
+            self._build_gui()
 
     # ------------------------------------------------------------------ helpers
 

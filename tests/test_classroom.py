@@ -17,6 +17,7 @@ from app.classroom import Classroom, TokenBucket, normalize_code
 from app.classroom_load import ProtoClient
 from app.loadtest import gui_update
 from lessons.sphere import LESSON as SPHERE
+from tests.helpers import until
 
 CODE = "test-code-42"
 pytestmark = pytest.mark.timeout(120)
@@ -43,16 +44,6 @@ def fresh_room(lab: Any) -> Iterator[None]:
 
 def run(coro: Any) -> Any:
     return asyncio.run(coro)
-
-
-async def until(cond: Callable[[], Any], timeout: float = 10.0, what: str = "condition") -> Any:
-    deadline = time.monotonic() + timeout
-    while time.monotonic() < deadline:
-        value = cond()
-        if value:
-            return value
-        await asyncio.sleep(0.05)
-    raise AssertionError(f"timed out waiting for {what}")
 
 
 async def page(lab: Any) -> tuple[ProtoClient, Any]:

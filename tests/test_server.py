@@ -18,6 +18,7 @@ from app.classroom import CONNECTION, OrderedExecutor
 from app.classroom_load import ProtoClient
 from app.loadtest import gui_update
 from lessons.sphere import LESSON as SPHERE
+from tests.helpers import until
 
 pytestmark = pytest.mark.timeout(120)
 
@@ -31,26 +32,16 @@ def lab() -> Iterator[Any]:
     server.stop()
 
 
-async def _until(cond: Any, timeout: float, what: str) -> Any:
-    deadline = time.monotonic() + timeout
-    while time.monotonic() < deadline:
-        value = cond()
-        if value:
-            return value
-        await asyncio.sleep(0.05)
-    raise AssertionError(f"timed out waiting for {what}")
-
-
 def test_frame_loop_runs_on_the_event_loop_and_advances_sessions(lab: Any) -> None:
     async def go() -> None:
         before = set(lab.views)
         c = await ProtoClient(lab.url).start()
         await c.wait_for("Run")
-        view = lab.views[max(await _until(lambda: set(lab.views) - before, 10, "the view"))]
+        view = lab.views[max(await until(lambda: set(lab.views) - before, 10, "the view"))]
         c.measuring = True  # count point updates from now on
         await c.send(gui_update(c.gui["Run"], "Play"))
-        await _until(lambda: view.session.frame.t > 0.3, 10, "playback")
-        await _until(lambda: c.point_updates >= 10, 10, "point updates at the page")
+        await until(lambda: view.session.frame.t > 0.3, 10, "playback")
+        await until(lambda: c.point_updates >= 10, 10, "point updates at the page")
         await c.close()
 
     asyncio.run(go())
@@ -68,13 +59,13 @@ def test_messages_of_one_page_apply_in_the_order_sent(lab: Any) -> None:
         pages = [await ProtoClient(lab.url).start() for _ in range(12)]
         for p in pages:
             await p.wait_for("pause at t_end")
-        views = await _until(lambda: len(set(lab.views) - before) >= 12 and [lab.views[k] for k in sorted(set(lab.views) - before)],
+        views = await until(lambda: len(set(lab.views) - before) >= 12 and [lab.views[k] for k in sorted(set(lab.views) - before)],
                              15, "the views")
         await asyncio.gather(*(
             _burst(p) for p in pages
         ))
         for v in views:
-            await _until(lambda: v.session.playing, 10, "play")
+            await until(lambda: v.session.playing, 10, "play")
         await asyncio.sleep(0.3)
         for v in views:
             s = v.session
