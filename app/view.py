@@ -988,9 +988,10 @@ class SessionView:
                 self._update_texts()
         self.draw_seconds += time.perf_counter() - t1
 
-    def _remove_retired(self, everything: bool = False) -> None:
+    def _remove_retired(self) -> None:
+        """Remove the hidden folders whose delay has passed."""
         now = time.monotonic()
-        while self._retired and (everything or now >= self._retired[0][0]):
+        while self._retired and now >= self._retired[0][0]:
             _, folder = self._retired.pop(0)
             try:
                 folder.remove()

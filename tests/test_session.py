@@ -242,3 +242,24 @@ def test_trail_colours_segments_by_scalar():
     assert segs.shape == (3, 2, 3) and colors.shape == (3, 2, 3)
     assert colors[0, 0, 1] > colors[0, 0, 0]  # within tolerance: green
     assert colors[2, 0, 0] > colors[2, 0, 1]  # beyond twice the tolerance: red
+
+
+def test_played_time_follows_the_wall_clock_in_quanta_and_reuses_step_maps(session: Session) -> None:
+    """Wall-clock ticks jitter; lesson time advances in whole TIME_QUANTUM pieces with the
+    remainder carried over, so it stays within half a quantum of the wall time played and
+    the cached step maps of the constant-control sphere are reused."""
+    from app.session import TIME_QUANTUM
+    from lessons.core import analyzer_lesson
+
+    rng = np.random.default_rng(3)
+    session.play()
+    session.tick(1 / 36)
+    before = len(analyzer_lesson._STEP_MAPS)
+    wall = 1 / 36
+    for _ in range(300):
+        dt = float(rng.uniform(0.024, 0.032))
+        wall += dt
+        session.tick(dt)
+    assert abs(session.stepper.t - wall) <= TIME_QUANTUM / 2 + 1e-12
+    assert len(analyzer_lesson._STEP_MAPS) - before <= 6  # a handful of step sizes, not one per tick
+    assert session.frame.scalars["v2"] == pytest.approx(50.0, rel=1e-9)
