@@ -38,10 +38,11 @@ import time
 import traceback
 import weakref
 from collections import deque
+from collections.abc import Callable
 from concurrent.futures import Future
-from typing import TYPE_CHECKING, Any, Callable
+from typing import TYPE_CHECKING, Any
 
-from app.session import LabError, Session, lesson_label
+from app.session import LabError, Session
 
 if TYPE_CHECKING:
     from app.server import LabServer
@@ -120,7 +121,9 @@ WS_STATS = {"dropped_oversized": 0, "paced": 0}
 
 #: The connection whose message is being handled (set around viser's dispatch; the
 #: asyncio tasks it creates copy the value).
-CONNECTION: contextvars.ContextVar[int | None] = contextvars.ContextVar("analyzer_lab_connection", default=None)
+CONNECTION: contextvars.ContextVar[int | None] = contextvars.ContextVar(
+    "analyzer_lab_connection", default=None
+)
 
 
 class OrderedExecutor:
@@ -199,7 +202,9 @@ def harden_websocket() -> None:
 
         from viser.infra import _infra
 
-        async def paced_consumer(websocket: Any, handle_message: Callable[[Any], None], message_class: Any) -> None:
+        async def paced_consumer(
+            websocket: Any, handle_message: Callable[[Any], None], message_class: Any
+        ) -> None:
             bucket = TokenBucket(WS_RATE, WS_BURST)
             while True:
                 raw = await websocket.recv()
@@ -229,12 +234,13 @@ def harden_websocket() -> None:
 
 # ------------------------------------------------------------------ shared stepping
 
+
 class SharedTick:
     """Installed as ``session.tick`` of the demo: the first view that ticks the demo
     in a loop tick advances it (by the wall time since the last advance); the other
     views of that tick get the same frames."""
 
-    def __init__(self, session: Session, lab: "LabServer") -> None:
+    def __init__(self, session: Session, lab: LabServer) -> None:
         self.session = session
         self.lab = lab
         self.key = -1
@@ -258,7 +264,7 @@ class SharedTick:
         return self.frames
 
 
-def _reset_drawn(view: "SessionView") -> None:
+def _reset_drawn(view: SessionView) -> None:
     """Make the view redraw everything from its (new) session.  The lesson's GUI
     (controls, plots) is rebuilt only when the lesson differs: the widgets are
     re-synced instead (rebuilding plots while frames stream to them leaves updates
@@ -273,7 +279,7 @@ def _reset_drawn(view: "SessionView") -> None:
     view._shown_notice = view.session.notices[-1] if view.session.notices else None
 
 
-def _show(view: "SessionView") -> None:
+def _show(view: SessionView) -> None:
     """Rebuild the view from its session (caller holds the session lock)."""
     view.refresh(heavy=True)
     view._sync_widgets(force=True)
@@ -286,22 +292,29 @@ class Presenter:
     PageUp/PageDown keys (a presentation clicker) or P/N (viser commands with
     hotkeys; viser ignores them while a text field has focus)."""
 
-    CSS = ("<style>html{font-size:150%!important}:root{--mantine-scale:1.45}"
-           ".al-readout{font-size:1.4em!important}</style>")
+    CSS = (
+        "<style>html{font-size:150%!important}:root{--mantine-scale:1.45}"
+        ".al-readout{font-size:1.4em!important}</style>"
+    )
 
-    def __init__(self, room: "Classroom", view: "SessionView") -> None:
+    def __init__(self, room: Classroom, view: SessionView) -> None:
         self.room = room
         self.view = view
         gui = view.client.gui
         self.folder = gui.add_folder("Presenter", expand_by_default=False)
         with self.folder:
-            self.toggle = gui.add_checkbox("Presenter mode", initial_value=False,
-                                           hint="large fonts for a projector; presets become bookmarks")
+            self.toggle = gui.add_checkbox(
+                "Presenter mode",
+                initial_value=False,
+                hint="large fonts for a projector; presets become bookmarks",
+            )
             self.bookmarks = gui.add_html("")
             self.prev_btn = gui.add_button("◀ Previous")
             self.next_btn = gui.add_button("Next ▶")
-            gui.add_html('<div style="font-size:0.8em;color:#555">Keys: PageDown / N = next, PageUp / P = previous '
-                         '(also in the command palette).</div>')
+            gui.add_html(
+                '<div style="font-size:0.8em;color:#555">Keys: PageDown / N = next, PageUp / P = previous '
+                "(also in the command palette).</div>"
+            )
         self.style = gui.add_html("")
         self.commands: list[Any] = []
         self.toggle.on_update(lambda e: self._on_toggle(e))
@@ -326,9 +339,17 @@ class Presenter:
                 pass
         self.commands = []
         if on:
-            for label, key, step in (("Next bookmark", "pagedown", 1), ("Previous bookmark", "pageup", -1),
-                                     ("Next bookmark (N)", "N", 1), ("Previous bookmark (P)", "P", -1)):
-                cmd = gui.add_command(label, hotkey=key, description="presenter mode: step through the lesson's presets")
+            for label, key, step in (
+                ("Next bookmark", "pagedown", 1),
+                ("Previous bookmark", "pageup", -1),
+                ("Next bookmark (N)", "N", 1),
+                ("Previous bookmark (P)", "P", -1),
+            ):
+                cmd = gui.add_command(
+                    label,
+                    hotkey=key,
+                    description="presenter mode: step through the lesson's presets",
+                )
                 cmd.on_trigger(self.view._guard(lambda e, s=step: self.step(s)))
                 self.commands.append(cmd)
             try:
@@ -364,10 +385,15 @@ class Presenter:
         for k, p in enumerate(s.lesson.presets):
             cur = p.name == s.preset
             style = "font-weight:bold;color:#1c4f8a" if cur else "color:#444"
-            items.append(f'<li class="al-bookmark{" al-current" if cur else ""}" style="{style}">'
-                         f'{html.escape(p.name)}: {html.escape(p.title)}</li>')
-        content = (f'<ol class="al-bookmarks" style="font-size:0.85em;padding-left:1.4em">{"".join(items)}</ol>'
-                   if items else '<div class="al-bookmarks" style="font-size:0.85em">(this lesson has no presets)</div>')
+            items.append(
+                f'<li class="al-bookmark{" al-current" if cur else ""}" style="{style}">'
+                f"{html.escape(p.name)}: {html.escape(p.title)}</li>"
+            )
+        content = (
+            f'<ol class="al-bookmarks" style="font-size:0.85em;padding-left:1.4em">{"".join(items)}</ol>'
+            if items
+            else '<div class="al-bookmarks" style="font-size:0.85em">(this lesson has no presets)</div>'
+        )
         if self.bookmarks.content != content:
             self.bookmarks.content = content
 
@@ -375,15 +401,20 @@ class Presenter:
 class InstructorPanel:
     """The instructor's controls, in that page's ``client.gui`` only."""
 
-    def __init__(self, room: "Classroom", view: "SessionView") -> None:
+    def __init__(self, room: Classroom, view: SessionView) -> None:
         self.room = room
         self.view = view
         gui = view.client.gui
         self.folder = gui.add_folder("Instructor panel", order=-1000.0)
         with self.folder:
             self.counts = gui.add_html("")
-            self.follow_btn = gui.add_button("Follow me", hint="every student sees this page's lesson, values, play state and camera")
-            self.release_btn = gui.add_button("Release", hint="students get their own session back, from where the demo is")
+            self.follow_btn = gui.add_button(
+                "Follow me",
+                hint="every student sees this page's lesson, values, play state and camera",
+            )
+            self.release_btn = gui.add_button(
+                "Release", hint="students get their own session back, from where the demo is"
+            )
             self.push_dd = gui.add_dropdown("Preset for all", ("(choose)",))
             self.push_btn = gui.add_button("Push preset to all")
             self.message = gui.add_text("Message", initial_value="")
@@ -394,29 +425,42 @@ class InstructorPanel:
         self.notify_btn.on_click(self._cb(self._notify))
         self.camera: tuple[Any, ...] | None = None
         self.camera_t = 0.0  # when the instructor's browser last reported its camera
-        self.lesson_t = time.monotonic()  # when the instructor's lesson last changed (the view framed it)
+        self.lesson_t = (
+            time.monotonic()
+        )  # when the instructor's lesson last changed (the view framed it)
         self._lesson = view.session.lesson.id
         view.client.camera.on_update(self._on_camera)
         self.update()
 
     def _cb(self, fn: Callable[[], None]) -> Callable[[Any], None]:
         def wrapped(event: Any) -> None:
-            if getattr(event, "client", None) is None or event.client.client_id != self.view.client.client_id:
+            if (
+                getattr(event, "client", None) is None
+                or event.client.client_id != self.view.client.client_id
+            ):
                 return
             try:
                 fn()
             except LabError as exc:
-                self.view.client.add_notification("Instructor", f"refused: {exc}", auto_close_seconds=5.0, color="red")
+                self.view.client.add_notification(
+                    "Instructor", f"refused: {exc}", auto_close_seconds=5.0, color="red"
+                )
             except Exception as exc:
                 traceback.print_exc()
-                self.view.client.add_notification("Instructor", f"internal error: {exc}", auto_close_seconds=5.0, color="red")
+                self.view.client.add_notification(
+                    "Instructor", f"internal error: {exc}", auto_close_seconds=5.0, color="red"
+                )
             self.update()
 
         return wrapped
 
     def _on_camera(self, cam: Any) -> None:
         try:
-            self.camera = (tuple(map(float, cam.position)), tuple(map(float, cam.look_at)), tuple(map(float, cam.up_direction)))
+            self.camera = (
+                tuple(map(float, cam.position)),
+                tuple(map(float, cam.look_at)),
+                tuple(map(float, cam.up_direction)),
+            )
         except Exception:
             return
         self.camera_t = time.monotonic()
@@ -447,9 +491,15 @@ class InstructorPanel:
     def update(self) -> None:
         """Counts and the preset list (cheap; called a few times a second)."""
         students, following = self.room.counts()
-        mode = "following you" if self.room.broadcaster == self.view.client.client_id else "exploring on their own"
-        content = (f'<div class="al-class-counts" style="font-size:0.9em"><b>{students}</b> student(s) connected, '
-                   f'<b class="al-following">{following}</b> following; mode: {mode}</div>')
+        mode = (
+            "following you"
+            if self.room.broadcaster == self.view.client.client_id
+            else "exploring on their own"
+        )
+        content = (
+            f'<div class="al-class-counts" style="font-size:0.9em"><b>{students}</b> student(s) connected, '
+            f'<b class="al-following">{following}</b> following; mode: {mode}</div>'
+        )
         if self.counts.content != content:
             self.counts.content = content
         opts = ("(choose)", *(p.name for p in self.view.session.lesson.presets))
@@ -467,7 +517,7 @@ class Classroom:
     """Instructor sign-in, follow/release, push, notify and presenter mode for a
     :class:`~app.server.LabServer` (``lab.classroom``)."""
 
-    def __init__(self, lab: "LabServer", code: str | None = None) -> None:
+    def __init__(self, lab: LabServer, code: str | None = None) -> None:
         self.lab = lab
         self.code = code if code else generate_code()
         self._code_norm = normalize_code(self.code).encode()
@@ -479,7 +529,7 @@ class Classroom:
         self.entries: dict[int, tuple[Any, Any, Any]] = {}  # code folder, text, button
         self.broadcaster: int | None = None
         self.demo: Session | None = None
-        self.followers: dict[int, "SessionView"] = {}
+        self.followers: dict[int, SessionView] = {}
         self._synced: dict[int, tuple[Any, ...]] = {}
         self.camera_dirty = False
         self.wrong: dict[int, tuple[int, float]] = {}  # client -> (wrong count, locked until)
@@ -487,15 +537,17 @@ class Classroom:
         self.buckets: dict[int, TokenBucket] = {}
         self.pending: dict[tuple[int, str], tuple[Callable[[Any], None], Any]] = {}
         self._refused_note: dict[int, float] = {}
-        self.all_sessions: "weakref.WeakSet[Session]" = weakref.WeakSet()
+        self.all_sessions: weakref.WeakSet[Session] = weakref.WeakSet()
         self.stats = {"refused_follower": 0, "coalesced": 0, "replayed": 0, "wrong_codes": 0}
         self._stop = threading.Event()
-        self._thread = threading.Thread(target=self._run, name="analyzer-lab-classroom", daemon=True)
+        self._thread = threading.Thread(
+            target=self._run, name="analyzer-lab-classroom", daemon=True
+        )
         self._thread.start()
 
     # ------------------------------------------------------------------ pages
 
-    def attach(self, view: "SessionView") -> None:
+    def attach(self, view: SessionView) -> None:
         """A page connected (its view is built): gate, code entry, presenter, follow."""
         cid = view.client.client_id
         view.gate = self._gate  # type: ignore[attr-defined]
@@ -504,7 +556,9 @@ class Classroom:
         gui = view.client.gui
         folder = gui.add_folder("Instructor", expand_by_default=False)
         with folder:
-            text = gui.add_text("Instructor code", initial_value="", hint="the code printed when the lab started")
+            text = gui.add_text(
+                "Instructor code", initial_value="", hint="the code printed when the lab started"
+            )
             btn = gui.add_button("Become instructor")
         btn.on_click(lambda e: self._on_code(view, e))
         self.entries[cid] = (folder, text, btn)
@@ -513,7 +567,7 @@ class Classroom:
             if self.broadcaster is not None and self.demo is not None:
                 self._follow(view)
 
-    def detach(self, client_id: int, view: "SessionView | None") -> None:
+    def detach(self, client_id: int, view: SessionView | None) -> None:
         """A page left: forget it; if it was the broadcasting instructor, release."""
         with self.lock:
             self.entries.pop(client_id, None)
@@ -540,7 +594,7 @@ class Classroom:
 
     # ------------------------------------------------------------------ the code
 
-    def _on_code(self, view: "SessionView", event: Any) -> None:
+    def _on_code(self, view: SessionView, event: Any) -> None:
         client = getattr(event, "client", None)
         if client is None or client.client_id != view.client.client_id:
             return
@@ -563,8 +617,12 @@ class Classroom:
             self.instructors[cid] = InstructorPanel(self, view)
             self.entries.pop(cid, None)
             self.followers.pop(cid, None)
-        client.add_notification("Instructor", "you are the instructor: the Instructor panel is at the top", auto_close_seconds=5.0,
-                                color="green")
+        client.add_notification(
+            "Instructor",
+            "you are the instructor: the Instructor panel is at the top",
+            auto_close_seconds=5.0,
+            color="green",
+        )
 
     def check_code(self, client_id: int, text: Any) -> tuple[bool, str]:
         """Compare in constant time; refuse while this page or the server is locked out."""
@@ -573,7 +631,10 @@ class Classroom:
         if now < until:
             return False, f"too many wrong codes: wait {until - now:.0f} s"
         if self.global_wrong.wait_time() > 0:
-            return False, f"too many wrong codes on this server: wait {self.global_wrong.wait_time():.0f} s"
+            return (
+                False,
+                f"too many wrong codes on this server: wait {self.global_wrong.wait_time():.0f} s",
+            )
         given = normalize_code(text).encode()
         if given and hmac.compare_digest(given, self._code_norm):
             self.wrong.pop(client_id, None)
@@ -581,13 +642,17 @@ class Classroom:
         self.stats["wrong_codes"] += 1
         self.global_wrong.take()
         count += 1
-        wait = 0.0 if count < CODE_FREE_TRIES else min(CODE_MAX_WAIT, 2.0 ** (count - CODE_FREE_TRIES + 1))
+        wait = (
+            0.0
+            if count < CODE_FREE_TRIES
+            else min(CODE_MAX_WAIT, 2.0 ** (count - CODE_FREE_TRIES + 1))
+        )
         self.wrong[client_id] = (count, now + wait)
         return False, "wrong code" + (f"; next try in {wait:.0f} s" if wait else "")
 
     # ------------------------------------------------------------------ input gate
 
-    def _gate(self, view: "SessionView", event: Any, again: Callable[[Any], None] | None) -> bool:
+    def _gate(self, view: SessionView, event: Any, again: Callable[[Any], None] | None) -> bool:
         """Called by the view before any GUI callback: refuse followers' inputs,
         rate-limit (coalescing the newest value of a limited input)."""
         client = getattr(event, "client", None)
@@ -600,9 +665,12 @@ class Classroom:
             if now - self._refused_note.get(cid, 0.0) > 3.0:
                 self._refused_note[cid] = now
                 try:
-                    view.client.add_notification("Following the instructor",
-                                                 "your controls are paused while you follow the demo; they return on release",
-                                                 auto_close_seconds=4.0, color="blue")
+                    view.client.add_notification(
+                        "Following the instructor",
+                        "your controls are paused while you follow the demo; they return on release",
+                        auto_close_seconds=4.0,
+                        color="blue",
+                    )
                 except Exception:
                     pass
             with view.session.lock:
@@ -639,7 +707,7 @@ class Classroom:
 
     # ------------------------------------------------------------------ follow / release
 
-    def start_follow(self, instructor: "SessionView") -> None:
+    def start_follow(self, instructor: SessionView) -> None:
         cid = instructor.client.client_id
         if cid not in self.instructors:
             raise LabError("only the instructor can start a demo")
@@ -654,13 +722,16 @@ class Classroom:
             with self.lab._views_lock:
                 views = list(self.lab.views.values())
             for v in views:
-                if v.client.client_id not in self.instructors and v.client.client_id not in self.followers:
+                if (
+                    v.client.client_id not in self.instructors
+                    and v.client.client_id not in self.followers
+                ):
                     self._follow(v)
             panel = self.instructors.get(cid)
             if panel is not None and panel.camera is not None:
                 self.camera_dirty = True
 
-    def _follow(self, view: "SessionView") -> None:
+    def _follow(self, view: SessionView) -> None:
         demo = self.demo
         if demo is None or view.closed:
             return
@@ -676,8 +747,12 @@ class Classroom:
                 self._synced[view.client.client_id] = self._signature(demo)
         self.camera_dirty = True
         try:
-            view.client.add_notification("Following the instructor", "you now see the instructor's demo", auto_close_seconds=4.0,
-                                         color="blue")
+            view.client.add_notification(
+                "Following the instructor",
+                "you now see the instructor's demo",
+                auto_close_seconds=4.0,
+                color="blue",
+            )
         except Exception:
             pass
         presenter = self.presenters.get(view.client.client_id)
@@ -707,8 +782,12 @@ class Classroom:
                     _reset_drawn(view)
                     _show(view)
             try:
-                view.client.add_notification("Released", "your own session continues from where the demo was",
-                                             auto_close_seconds=4.0, color="green")
+                view.client.add_notification(
+                    "Released",
+                    "your own session continues from where the demo was",
+                    auto_close_seconds=4.0,
+                    color="green",
+                )
             except Exception:
                 pass
             presenter = self.presenters.get(view.client.client_id)
@@ -765,7 +844,9 @@ class Classroom:
             views = list(self.lab.views.values())
         for v in views:
             try:
-                v.client.add_notification("Instructor", text[:MAX_NOTICE_LENGTH], auto_close_seconds=20.0, color="blue")
+                v.client.add_notification(
+                    "Instructor", text[:MAX_NOTICE_LENGTH], auto_close_seconds=20.0, color="blue"
+                )
             except Exception:
                 pass
 
@@ -774,8 +855,16 @@ class Classroom:
     @staticmethod
     def _signature(s: Session) -> tuple[Any, ...]:
         vis = tuple(sorted(s.visible_vectors)) if s.visible_vectors is not None else None
-        return (s.revision, s.lesson.id, s.preset, s.speed, s.pause_at_end, vis, s.playing,
-                None if s.playing else id(s.frame))
+        return (
+            s.revision,
+            s.lesson.id,
+            s.preset,
+            s.speed,
+            s.pause_at_end,
+            vis,
+            s.playing,
+            None if s.playing else id(s.frame),
+        )
 
     def _sync_followers(self) -> None:
         """Bring every follower in line with the demo after a change.  All followers
@@ -786,11 +875,18 @@ class Classroom:
         if demo is None:
             return
         sig = self._signature(demo)
-        stale = [(cid, v) for cid, v in list(self.followers.items()) if self._synced.get(cid) != sig and not v.closed]
+        stale = [
+            (cid, v)
+            for cid, v in list(self.followers.items())
+            if self._synced.get(cid) != sig and not v.closed
+        ]
         if not stale:
             return
-        derivation = self._derivation_of(demo) if any(
-            (self._synced.get(cid) or (None,) * 6)[:6] != sig[:6] for cid, _ in stale) else None
+        derivation = (
+            self._derivation_of(demo)
+            if any((self._synced.get(cid) or (None,) * 6)[:6] != sig[:6] for cid, _ in stale)
+            else None
+        )
         changed_bookmarks = []
         with demo.lock:
             for cid, view in stale:
@@ -827,7 +923,9 @@ class Classroom:
 
             with demo.lock:
                 lesson, params = demo.lesson, demo.params
-            return DERIVATION_CACHE.get_or_make(params_key(lesson, params), lambda: derivation_to_html(lesson.derivation(params)))
+            return DERIVATION_CACHE.get_or_make(
+                params_key(lesson, params), lambda: derivation_to_html(lesson.derivation(params))
+            )
         except Exception:
             return None
 
@@ -853,7 +951,9 @@ class Classroom:
     def _run(self) -> None:
         period = 1.0 / SYNC_HZ
         k = 0
-        every = self.lab._report_every / self.lab.fps if getattr(self.lab, "_report_every", 0) else 0.0
+        every = (
+            self.lab._report_every / self.lab.fps if getattr(self.lab, "_report_every", 0) else 0.0
+        )
         last_report = time.monotonic()
         while not self._stop.wait(period):
             k += 1
@@ -880,14 +980,35 @@ class Classroom:
         gc.collect()
         with self.lab._views_lock:
             views = len(self.lab.views)
-        figures = {"views": views, "sessions_alive": len(self.all_sessions), "followers": len(self.followers),
-                   "instructors": len(self.instructors), "presenters": len(self.presenters), "entries": len(self.entries),
-                   "buckets": len(self.buckets), "pending": len(self.pending)}
-        print("[classroom] " + " ".join(f"{k} {v}" for k, v in figures.items()), file=sys.stderr, flush=True)
+        figures = {
+            "views": views,
+            "sessions_alive": len(self.all_sessions),
+            "followers": len(self.followers),
+            "instructors": len(self.instructors),
+            "presenters": len(self.presenters),
+            "entries": len(self.entries),
+            "buckets": len(self.buckets),
+            "pending": len(self.pending),
+        }
+        print(
+            "[classroom] " + " ".join(f"{k} {v}" for k, v in figures.items()),
+            file=sys.stderr,
+            flush=True,
+        )
         return figures
 
     def stop(self) -> None:
         self._stop.set()
 
 
-__all__ = ["CONNECTION", "OrderedExecutor", "order_callbacks", "Classroom", "SharedTick", "TokenBucket", "generate_code", "harden_websocket", "normalize_code"]
+__all__ = [
+    "CONNECTION",
+    "OrderedExecutor",
+    "order_callbacks",
+    "Classroom",
+    "SharedTick",
+    "TokenBucket",
+    "generate_code",
+    "harden_websocket",
+    "normalize_code",
+]

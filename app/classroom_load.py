@@ -22,13 +22,12 @@ import asyncio
 import os
 import statistics
 import subprocess
-import sys
 import time
 from dataclasses import dataclass, field
 from typing import Any
 
-from app.loadtest import start_server as _start_server
 from app.loadtest import POINT_NODE, camera_message, decode_frame, encode, free_port, gui_update
+from app.loadtest import start_server as _start_server
 
 BENCH_CODE = "bench-code-2718"
 
@@ -53,7 +52,7 @@ class ProtoClient:
         self.connected = asyncio.Event()
         self._task: asyncio.Task | None = None
 
-    async def start(self) -> "ProtoClient":
+    async def start(self) -> ProtoClient:
         self._task = asyncio.create_task(self._run())
         await asyncio.wait_for(self.connected.wait(), 30)
         return self
@@ -65,8 +64,13 @@ class ProtoClient:
 
         dec = zstandard.ZstdDecompressor()
         try:
-            async with websockets.connect(self.url, subprotocols=[f"viser-v{viser.__version__}"], max_size=None,
-                                          compression=None, open_timeout=30) as ws:
+            async with websockets.connect(
+                self.url,
+                subprotocols=[f"viser-v{viser.__version__}"],
+                max_size=None,
+                compression=None,
+                open_timeout=30,
+            ) as ws:
                 self.ws = ws
                 await ws.send(encode(camera_message()))
                 self.connected.set()
@@ -86,7 +90,9 @@ class ProtoClient:
                                 self.values[m.get("uuid")] = upd["value"]
                             if "content" in upd:
                                 self.html[m.get("uuid")] = upd["content"]
-                        elif t.startswith("Gui") and isinstance(m.get("props"), dict) and "uuid" in m:
+                        elif (
+                            t.startswith("Gui") and isinstance(m.get("props"), dict) and "uuid" in m
+                        ):
                             props = m["props"]
                             label = props.get("label")
                             if isinstance(label, str):
@@ -97,7 +103,9 @@ class ProtoClient:
                                 self.html[m["uuid"]] = props["content"]
                         elif t == "NotificationShowMessage":
                             props = m.get("props", {}) if isinstance(m.get("props"), dict) else m
-                            self.notifications.append(f"{props.get('title', '')}: {props.get('body', '')}")
+                            self.notifications.append(
+                                f"{props.get('title', '')}: {props.get('body', '')}"
+                            )
                     if self.measuring:
                         self.frames += 1
                         self.bytes += len(raw)
@@ -151,11 +159,15 @@ class Figures:
     def row(self) -> str:
         u = self.updates or [0.0]
         b = self.mb or [0.0]
-        return (f"{self.scenario:8s} {self.students:8d} {statistics.mean(u):10.1f} {min(u):8.1f} {statistics.mean(b):12.4f}"
-                f" {self.cpu:10.0f}%  {len(self.errors)}")
+        return (
+            f"{self.scenario:8s} {self.students:8d} {statistics.mean(u):10.1f} {min(u):8.1f} {statistics.mean(b):12.4f}"
+            f" {self.cpu:10.0f}%  {len(self.errors)}"
+        )
 
 
-async def _measure(students: list[ProtoClient], seconds: float, pid: int) -> tuple[list[float], list[float], float]:
+async def _measure(
+    students: list[ProtoClient], seconds: float, pid: int
+) -> tuple[list[float], list[float], float]:
     import psutil
 
     proc = psutil.Process(pid)
@@ -179,7 +191,9 @@ async def _play(c: ProtoClient, preset: str = "example-1.1") -> None:
     await c.set("Run", "Play", 0.1)
 
 
-async def follow_scenario(url: str, n: int, seconds: float, pid: int, code: str = BENCH_CODE) -> Figures:
+async def follow_scenario(
+    url: str, n: int, seconds: float, pid: int, code: str = BENCH_CODE
+) -> Figures:
     fig = Figures("follow", n)
     inst = await ProtoClient(url).start()
     await inst.become_instructor(code)
@@ -227,26 +241,44 @@ async def explore_scenario(url: str, n: int, seconds: float, pid: int) -> Figure
     return fig
 
 
-def start_server(port: int, code: str = BENCH_CODE, lesson: str = "sphere", log: Any = subprocess.DEVNULL,
-                 fps: float = 36.0) -> subprocess.Popen:
+def start_server(
+    port: int,
+    code: str = BENCH_CODE,
+    lesson: str = "sphere",
+    log: Any = subprocess.DEVNULL,
+    fps: float = 36.0,
+) -> subprocess.Popen:
     """``python -m app serve`` with an instructor code; returns when HTTP answers."""
     return _start_server(port, lesson, log, ("--instructor-code", code, "--fps", str(fps)))
 
 
 def main(argv: list[str] | None = None) -> int:
-    ap = argparse.ArgumentParser(prog="python -m app.classroom_load", description=__doc__.split("\n\n")[0])
+    ap = argparse.ArgumentParser(
+        prog="python -m app.classroom_load", description=__doc__.split("\n\n")[0]
+    )
     ap.add_argument("--students", type=int, default=50)
     ap.add_argument("--seconds", type=float, default=10.0)
-    ap.add_argument("--scenarios", nargs="+", default=["follow", "explore"], choices=["follow", "explore"])
+    ap.add_argument(
+        "--scenarios", nargs="+", default=["follow", "explore"], choices=["follow", "explore"]
+    )
     ap.add_argument("--server-log", default="")
-    ap.add_argument("--fps", type=float, default=36.0, help="the server's frame rate (serve --fps; default 36, as serve)")
+    ap.add_argument(
+        "--fps",
+        type=float,
+        default=36.0,
+        help="the server's frame rate (serve --fps; default 36, as serve)",
+    )
     args = ap.parse_args(argv)
     port = free_port()
     log = open(args.server_log, "w") if args.server_log else subprocess.DEVNULL
     proc = start_server(port, log=log, fps=args.fps)
     url = f"ws://127.0.0.1:{port}/"
-    print(f"server pid {proc.pid}; {os.cpu_count()} cores; lesson sphere, example-1.1; server at {args.fps:g} frames/s")
-    print(f"{'scenario':8s} {'students':>8} {'updates/s':>10} {'min':>8} {'MB/s/client':>12} {'server CPU':>11}  errors")
+    print(
+        f"server pid {proc.pid}; {os.cpu_count()} cores; lesson sphere, example-1.1; server at {args.fps:g} frames/s"
+    )
+    print(
+        f"{'scenario':8s} {'students':>8} {'updates/s':>10} {'min':>8} {'MB/s/client':>12} {'server CPU':>11}  errors"
+    )
     try:
         for name in args.scenarios:
             if name == "follow":

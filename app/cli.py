@@ -9,7 +9,7 @@ import argparse
 import json
 import sys
 import time
-from typing import Sequence
+from collections.abc import Sequence
 
 EXIT_USAGE = 2
 
@@ -102,13 +102,24 @@ def cmd_check(args: argparse.Namespace) -> int:
         dt = time.perf_counter() - t0
         print(f" {'pass' if ok else 'FAIL'} ({dt:.1f} s)", file=sys.stderr, flush=True)
         failed += not ok
-        rows.append({"lesson": lesson.id, "claim": claim.id, "statement": claim.statement, "source": claim.source,
-                     "expected": expected, "got": got, "pass": ok})
+        rows.append(
+            {
+                "lesson": lesson.id,
+                "claim": claim.id,
+                "statement": claim.statement,
+                "source": claim.source,
+                "expected": expected,
+                "got": got,
+                "pass": ok,
+            }
+        )
     if args.json:
         print(json.dumps(rows, indent=1))
     else:
         for r in rows:
-            print(f"{'PASS' if r['pass'] else 'FAIL'}  {r['lesson']}: {r['statement']}  [{r['source']}]")
+            print(
+                f"{'PASS' if r['pass'] else 'FAIL'}  {r['lesson']}: {r['statement']}  [{r['source']}]"
+            )
             print(f"      expected {r['expected']}; got {r['got']}")
         print(f"{len(rows) - failed}/{len(rows)} claims pass")
     return 1 if failed else 0
@@ -125,22 +136,42 @@ def cmd_bench(args: argparse.Namespace) -> int:
 def cmd_serve(args: argparse.Namespace) -> int:
     from app.server import serve
 
-    return serve(host=args.host, port=args.port, lesson=args.lesson, instructor_code=getattr(args, "instructor_code", None), open_browser=not args.no_browser,
-                 fps=getattr(args, "fps", 36.0))  # fps: classroom hook
+    return serve(
+        host=args.host,
+        port=args.port,
+        lesson=args.lesson,
+        instructor_code=getattr(args, "instructor_code", None),
+        open_browser=not args.no_browser,
+        fps=getattr(args, "fps", 36.0),
+    )  # fps: classroom hook
 
 
 def build_parser() -> argparse.ArgumentParser:
-    p = argparse.ArgumentParser(prog="analyzer-lab", description="Analyzer Lab: programmed motion of mechatronic systems.")
+    p = argparse.ArgumentParser(
+        prog="analyzer-lab", description="Analyzer Lab: programmed motion of mechatronic systems."
+    )
     sub = p.add_subparsers(dest="command", required=True)
 
     s = sub.add_parser("serve", help="start the browser lab")
-    s.add_argument("--host", default="127.0.0.1", help="interface to bind (default loopback; 0.0.0.0 = every interface)")
+    s.add_argument(
+        "--host",
+        default="127.0.0.1",
+        help="interface to bind (default loopback; 0.0.0.0 = every interface)",
+    )
     s.add_argument("--port", type=int, default=8080)
     s.add_argument("--lesson", default="sphere", help="lesson shown first")
-    s.add_argument("--instructor-code", default=None, help="code that makes a page the instructor (generated if omitted)")
+    s.add_argument(
+        "--instructor-code",
+        default=None,
+        help="code that makes a page the instructor (generated if omitted)",
+    )
     s.add_argument("--no-browser", action="store_true", help="do not open a browser window")
-    s.add_argument("--fps", type=float, default=36.0,
-                   help="frames per second of the live view (default 36: every page gets 30 updates/s or more)")
+    s.add_argument(
+        "--fps",
+        type=float,
+        default=36.0,
+        help="frames per second of the live view (default 36: every page gets 30 updates/s or more)",
+    )
     s.set_defaults(func=cmd_serve)
 
     s = sub.add_parser("lessons", help="list the lessons")
@@ -150,7 +181,9 @@ def build_parser() -> argparse.ArgumentParser:
     s = sub.add_parser("run", help="run one lesson headless")
     s.add_argument("lesson")
     s.add_argument("--preset")
-    s.add_argument("--set", action="append", metavar="NAME=VALUE", help="set a parameter (repeatable)")
+    s.add_argument(
+        "--set", action="append", metavar="NAME=VALUE", help="set a parameter (repeatable)"
+    )
     s.add_argument("--t-end", type=float)
     s.add_argument("--format", choices=("json", "csv"), default="json")
     s.add_argument("--out")

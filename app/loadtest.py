@@ -45,8 +45,15 @@ def camera_message() -> Any:
     from viser import _messages
 
     return _messages.ViewerCameraMessage(
-        wxyz=(1.0, 0.0, 0.0, 0.0), position=(3.0, 3.0, 3.0), fov=1.0, near=0.01, far=100.0,
-        image_height=720, image_width=1280, look_at=(0.0, 0.0, 0.0), up_direction=(0.0, 0.0, 1.0),
+        wxyz=(1.0, 0.0, 0.0, 0.0),
+        position=(3.0, 3.0, 3.0),
+        fov=1.0,
+        near=0.01,
+        far=100.0,
+        image_height=720,
+        image_width=1280,
+        look_at=(0.0, 0.0, 0.0),
+        up_direction=(0.0, 0.0, 1.0),
     )
 
 
@@ -63,7 +70,9 @@ def decode_frame(raw: bytes, decompressor: Any = None) -> list[dict[str, Any]]:
 
     inner = int.from_bytes(raw[0:8], "little")
     comp = int.from_bytes(raw[8:16], "little")
-    payload = (decompressor or zstandard.ZstdDecompressor()).decompress(raw[16:16 + comp], max_output_size=inner)
+    payload = (decompressor or zstandard.ZstdDecompressor()).decompress(
+        raw[16 : 16 + comp], max_output_size=inner
+    )
     return list(msgspec.msgpack.decode(payload).get("messages", ()))
 
 
@@ -97,8 +106,13 @@ class LabClient:
 
         dec = zstandard.ZstdDecompressor()
         try:
-            async with websockets.connect(self.url, subprotocols=[f"viser-v{viser.__version__}"], max_size=None,
-                                          compression=None, open_timeout=30) as ws:
+            async with websockets.connect(
+                self.url,
+                subprotocols=[f"viser-v{viser.__version__}"],
+                max_size=None,
+                compression=None,
+                open_timeout=30,
+            ) as ws:
                 self.ws = ws
                 await ws.send(encode(camera_message()))
                 self.stats.connected = time.monotonic()
@@ -116,20 +130,35 @@ class LabClient:
                     point = False
                     for m in decode_frame(raw, dec):
                         t = m.get("type", "")
-                        if t.startswith("Gui") and t.endswith("Message") and isinstance(m.get("props"), dict):
+                        if (
+                            t.startswith("Gui")
+                            and t.endswith("Message")
+                            and isinstance(m.get("props"), dict)
+                        ):
                             label = m["props"].get("label")
                             if isinstance(label, str) and "uuid" in m:
                                 self.stats.gui[label] = m["uuid"]
-                        elif t == "SceneNodeUpdateMessage" and m.get("name") == POINT_NODE and "points" in m.get("updates", {}):
+                        elif (
+                            t == "SceneNodeUpdateMessage"
+                            and m.get("name") == POINT_NODE
+                            and "points" in m.get("updates", {})
+                        ):
                             point = True
                     if self.measuring:
                         self.stats.frames += 1
                         self.stats.bytes += len(raw)
                         self.stats.point_updates += point
                     now = time.monotonic()
-                    if point and self.stats.played and not self.stats.playing_update and now > self.stats.played + 0.5:
+                    if (
+                        point
+                        and self.stats.played
+                        and not self.stats.playing_update
+                        and now > self.stats.played + 0.5
+                    ):
                         self.stats.playing_update = now
-                    if not started and all(k in self.stats.gui for k in ("Run", "Preset", "pause at t_end")):
+                    if not started and all(
+                        k in self.stats.gui for k in ("Run", "Preset", "pause at t_end")
+                    ):
                         started = True
                         asyncio.get_running_loop().create_task(self._start(ws))
         except Exception as exc:  # reported in the table
@@ -162,12 +191,21 @@ class RunFigures:
     def row(self) -> str:
         u = self.updates_per_s or [0.0]
         b = self.mb_per_s or [0.0]
-        return (f"{self.sessions:8d} {statistics.mean(u):10.1f} {min(u):9.1f} {statistics.mean(b):12.4f} {max(b):11.4f}"
-                f" {self.cpu_percent:9.0f}% {self.client_cpu:9.0f}% {self.machine_cpu:8.0f}%  {len(self.errors)}")
+        return (
+            f"{self.sessions:8d} {statistics.mean(u):10.1f} {min(u):9.1f} {statistics.mean(b):12.4f} {max(b):11.4f}"
+            f" {self.cpu_percent:9.0f}% {self.client_cpu:9.0f}% {self.machine_cpu:8.0f}%  {len(self.errors)}"
+        )
 
 
-async def measure(url: str, n: int, seconds: float, preset: str | None, lesson_label: str | None, server_pid: int,
-                  settle: float) -> RunFigures:
+async def measure(
+    url: str,
+    n: int,
+    seconds: float,
+    preset: str | None,
+    lesson_label: str | None,
+    server_pid: int,
+    settle: float,
+) -> RunFigures:
     import psutil
 
     stop = asyncio.Event()
@@ -177,7 +215,9 @@ async def measure(url: str, n: int, seconds: float, preset: str | None, lesson_l
         tasks.append(asyncio.create_task(c.run(stop)))
         await asyncio.sleep(0.02)
     deadline = time.monotonic() + 60
-    while time.monotonic() < deadline and not all(c.stats.playing_update or c.stats.error for c in clients):
+    while time.monotonic() < deadline and not all(
+        c.stats.playing_update or c.stats.error for c in clients
+    ):
         await asyncio.sleep(0.2)
     await asyncio.sleep(settle)
     proc = psutil.Process(server_pid)
@@ -208,14 +248,34 @@ async def measure(url: str, n: int, seconds: float, preset: str | None, lesson_l
     )
 
 
-def start_server(port: int, lesson: str, log: Any = subprocess.DEVNULL, extra_args: tuple[str, ...] = ()) -> subprocess.Popen:
+def start_server(
+    port: int, lesson: str, log: Any = subprocess.DEVNULL, extra_args: tuple[str, ...] = ()
+) -> subprocess.Popen:
     """``python -m app serve`` (plus ``extra_args``) in a subprocess; returns when HTTP answers."""
     env = dict(os.environ)
     root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
     env["PYTHONPATH"] = root + os.pathsep + env.get("PYTHONPATH", "")
     env.setdefault("ANALYZER_LAB_STATS", "5")
-    proc = subprocess.Popen([sys.executable, "-m", "app", "serve", "--host", "127.0.0.1", "--port", str(port), "--no-browser",
-                             "--lesson", lesson, *extra_args], env=env, stdout=subprocess.DEVNULL, stderr=log, cwd=root)
+    proc = subprocess.Popen(
+        [
+            sys.executable,
+            "-m",
+            "app",
+            "serve",
+            "--host",
+            "127.0.0.1",
+            "--port",
+            str(port),
+            "--no-browser",
+            "--lesson",
+            lesson,
+            *extra_args,
+        ],
+        env=env,
+        stdout=subprocess.DEVNULL,
+        stderr=log,
+        cwd=root,
+    )
     import urllib.request
 
     deadline = time.monotonic() + 30
@@ -232,36 +292,71 @@ def start_server(port: int, lesson: str, log: Any = subprocess.DEVNULL, extra_ar
 
 
 def main(argv: list[str] | None = None) -> int:
-    ap = argparse.ArgumentParser(prog="python -m app.loadtest", description=__doc__.split("\n\n")[0])
+    ap = argparse.ArgumentParser(
+        prog="python -m app.loadtest", description=__doc__.split("\n\n")[0]
+    )
     ap.add_argument("--sessions", type=int, nargs="+", default=[1, 10, 30, 50])
     ap.add_argument("--seconds", type=float, default=10.0, help="measuring window per run")
-    ap.add_argument("--settle", type=float, default=3.0, help="seconds after the last client started playing")
+    ap.add_argument(
+        "--settle", type=float, default=3.0, help="seconds after the last client started playing"
+    )
     ap.add_argument("--lesson", default="sphere")
     ap.add_argument("--preset", default="example-1.1")
-    ap.add_argument("--fps", type=float, default=None, help="the server's frame rate (serve --fps; default: its own)")
-    ap.add_argument("--server-log", default="", help="file for the server's stderr (loop figures every 5 s)")
-    ap.add_argument("--clients-only", type=int, default=0, metavar="PORT",
-                    help="measure a server already running on this port (with --server-pid for its CPU)")
+    ap.add_argument(
+        "--fps",
+        type=float,
+        default=None,
+        help="the server's frame rate (serve --fps; default: its own)",
+    )
+    ap.add_argument(
+        "--server-log", default="", help="file for the server's stderr (loop figures every 5 s)"
+    )
+    ap.add_argument(
+        "--clients-only",
+        type=int,
+        default=0,
+        metavar="PORT",
+        help="measure a server already running on this port (with --server-pid for its CPU)",
+    )
     ap.add_argument("--server-pid", type=int, default=0)
     args = ap.parse_args(argv)
     if args.clients_only:
         for n in args.sessions:
-            fig = asyncio.run(measure(f"ws://127.0.0.1:{args.clients_only}/", n, args.seconds, args.preset, None,
-                                      args.server_pid or os.getpid(), args.settle))
+            fig = asyncio.run(
+                measure(
+                    f"ws://127.0.0.1:{args.clients_only}/",
+                    n,
+                    args.seconds,
+                    args.preset,
+                    None,
+                    args.server_pid or os.getpid(),
+                    args.settle,
+                )
+            )
             print(fig.row(), flush=True)
             print(sorted(round(u, 1) for u in fig.updates_per_s))
         return 0
     port = free_port()
     log = open(args.server_log, "w") if args.server_log else subprocess.DEVNULL
-    proc = start_server(port, args.lesson, log, extra_args=("--fps", str(args.fps)) if args.fps else ())
+    proc = start_server(
+        port, args.lesson, log, extra_args=("--fps", str(args.fps)) if args.fps else ()
+    )
     url = f"ws://127.0.0.1:{port}/"
-    print(f"server pid {proc.pid} on port {port}; lesson {args.lesson}, preset {args.preset}; {os.cpu_count()} cores"
-          + (f"; server at {args.fps:g} frames/s" if args.fps else ""))
-    print(f"{'sessions':>8} {'updates/s':>10} {'min':>9} {'MB/s/client':>12} {'max MB/s':>11} {'server CPU':>10} {'clients':>10} {'machine':>9}  errors")
-    print(f"{'':>8} {'(mean)':>10} {'':>9} {'(mean)':>12} {'':>11} {'(1 core=100%)':>10} {'CPU':>10} {'(all cores)':>9}")
+    print(
+        f"server pid {proc.pid} on port {port}; lesson {args.lesson}, preset {args.preset}; {os.cpu_count()} cores"
+        + (f"; server at {args.fps:g} frames/s" if args.fps else "")
+    )
+    print(
+        f"{'sessions':>8} {'updates/s':>10} {'min':>9} {'MB/s/client':>12} {'max MB/s':>11} {'server CPU':>10} {'clients':>10} {'machine':>9}  errors"
+    )
+    print(
+        f"{'':>8} {'(mean)':>10} {'':>9} {'(mean)':>12} {'':>11} {'(1 core=100%)':>10} {'CPU':>10} {'(all cores)':>9}"
+    )
     try:
         for n in args.sessions:
-            fig = asyncio.run(measure(url, n, args.seconds, args.preset, None, proc.pid, args.settle))
+            fig = asyncio.run(
+                measure(url, n, args.seconds, args.preset, None, proc.pid, args.settle)
+            )
             print(fig.row(), flush=True)
             for e in fig.errors[:3]:
                 print("   ", e)

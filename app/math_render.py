@@ -11,8 +11,9 @@ from __future__ import annotations
 
 import html
 import re
+from collections.abc import Iterable, Sequence
 from html.parser import HTMLParser
-from typing import Any, Iterable, Sequence
+from typing import Any
 
 import sympy as sp
 from sympy.core.function import AppliedUndef
@@ -29,26 +30,43 @@ MATHML_ATTRS = frozenset(
     columnspacing rowspacing notation form largeop movablelimits symmetric minsize maxsize""".split()
 )
 #: Elements whose content is dropped with them (never shown as text).
-DROP_CONTENT = frozenset({"script", "style", "annotation", "annotation-xml", "iframe", "object", "svg"})
+DROP_CONTENT = frozenset(
+    {"script", "style", "annotation", "annotation-xml", "iframe", "object", "svg"}
+)
 _SAFE_VALUE = re.compile(r"^[\w .,:%#+\-]*$")
 
 
 #: SVG figures (block diagrams) are rebuilt from this whitelist: shapes and text only.
-SVG_TAGS = frozenset("svg g defs marker rect line polyline polygon path circle ellipse text tspan title".split())
+SVG_TAGS = frozenset(
+    "svg g defs marker rect line polyline polygon path circle ellipse text tspan title".split()
+)
 SVG_ATTRS = frozenset(
     """width height viewbox x y x1 y1 x2 y2 cx cy r rx ry d points fill stroke stroke-width
     stroke-dasharray font-family font-size font-weight text-anchor dominant-baseline transform
     marker-end marker-start id refx refy markerwidth markerheight orient opacity role aria-label""".split()
 )
-_SAFE_SVG_VALUE = re.compile(r"^(?!.*(?:javascript|data:|expression))[\w .,:%#+\-()]*$", re.IGNORECASE)
-_SVG_NAMES = {"viewbox": "viewBox", "refx": "refX", "refy": "refY", "markerwidth": "markerWidth", "markerheight": "markerHeight"}
+_SAFE_SVG_VALUE = re.compile(
+    r"^(?!.*(?:javascript|data:|expression))[\w .,:%#+\-()]*$", re.IGNORECASE
+)
+_SVG_NAMES = {
+    "viewbox": "viewBox",
+    "refx": "refX",
+    "refy": "refY",
+    "markerwidth": "markerWidth",
+    "markerheight": "markerHeight",
+}
 
 
 class _Sanitizer(HTMLParser):
-    def __init__(self, tags: frozenset[str] = MATHML_TAGS, attrs: frozenset[str] = MATHML_ATTRS,
-                 drop: frozenset[str] = DROP_CONTENT, safe: re.Pattern[str] = _SAFE_VALUE,
-                 root: tuple[str, str] = ("math", 'xmlns="http://www.w3.org/1998/Math/MathML"'),
-                 names: dict[str, str] | None = None) -> None:
+    def __init__(
+        self,
+        tags: frozenset[str] = MATHML_TAGS,
+        attrs: frozenset[str] = MATHML_ATTRS,
+        drop: frozenset[str] = DROP_CONTENT,
+        safe: re.Pattern[str] = _SAFE_VALUE,
+        root: tuple[str, str] = ("math", 'xmlns="http://www.w3.org/1998/Math/MathML"'),
+        names: dict[str, str] | None = None,
+    ) -> None:
         super().__init__(convert_charrefs=True)
         self.out: list[str] = []
         self.open: list[str] = []
@@ -112,8 +130,14 @@ def sanitize_mathml(markup: str) -> str:
 def sanitize_svg(markup: str) -> str:
     """Rebuild an SVG figure from the whitelist (shapes and text; no scripts, links,
     styles, foreign objects or event attributes); text is escaped."""
-    s = _Sanitizer(SVG_TAGS, SVG_ATTRS, frozenset({"script", "style", "foreignobject", "a", "image", "use", "iframe", "object"}),
-                   _SAFE_SVG_VALUE, ("svg", 'xmlns="http://www.w3.org/2000/svg"'), _SVG_NAMES)
+    s = _Sanitizer(
+        SVG_TAGS,
+        SVG_ATTRS,
+        frozenset({"script", "style", "foreignobject", "a", "image", "use", "iframe", "object"}),
+        _SAFE_SVG_VALUE,
+        ("svg", 'xmlns="http://www.w3.org/2000/svg"'),
+        _SVG_NAMES,
+    )
     s.feed(markup)
     return s.result()
 
@@ -172,21 +196,27 @@ def step_to_html(step: DerivationStep, index: int | None = None) -> str:
     prose, then each statement as a display ``<math>``."""
     esc = html.escape
     head = f"{index}. " if index is not None else ""
-    parts = [f'<div class="al-step" style="margin:0 0 12px 0">']
-    parts.append(f'<div><b>{esc(head + step.title)}</b>')
+    parts = ['<div class="al-step" style="margin:0 0 12px 0">']
+    parts.append(f"<div><b>{esc(head + step.title)}</b>")
     if step.source:
         parts.append(f'<span class="al-source" style="{SOURCE_STYLE}">{esc(step.source)}</span>')
     if step.reconstructed:
-        parts.append(f' <span class="al-reconstructed" style="{RECON_STYLE}" title="{esc(step.reconstructed)}">reconstructed</span>')
+        parts.append(
+            f' <span class="al-reconstructed" style="{RECON_STYLE}" title="{esc(step.reconstructed)}">reconstructed</span>'
+        )
     parts.append("</div>")
     if step.text:
         parts.append(f'<div style="font-size:0.9em;margin:2px 0">{esc(step.text)}</div>')
     for item in _as_list(step.math):
         parts.append(f'<div style="overflow-x:auto">{expr_to_mathml(item)}</div>')
     if step.svg:
-        parts.append(f'<div class="al-figure" style="overflow-x:auto;max-width:100%">{sanitize_svg(step.svg)}</div>')
+        parts.append(
+            f'<div class="al-figure" style="overflow-x:auto;max-width:100%">{sanitize_svg(step.svg)}</div>'
+        )
     if step.reconstructed:
-        parts.append(f'<div style="font-size:0.8em;color:#7a5600">reconstructed: {esc(step.reconstructed)}</div>')
+        parts.append(
+            f'<div style="font-size:0.8em;color:#7a5600">reconstructed: {esc(step.reconstructed)}</div>'
+        )
     parts.append("</div>")
     return "".join(parts)
 
@@ -198,4 +228,10 @@ def derivation_to_html(steps: Iterable[DerivationStep], header: str = "") -> str
     return f'<div class="al-derivation" style="font-size:0.95em;line-height:1.35">{top}{body}</div>'
 
 
-__all__ = ["derivation_to_html", "expr_to_mathml", "sanitize_mathml", "sanitize_svg", "step_to_html"]
+__all__ = [
+    "derivation_to_html",
+    "expr_to_mathml",
+    "sanitize_mathml",
+    "sanitize_svg",
+    "step_to_html",
+]

@@ -71,7 +71,9 @@ def _recording_scene(filter_all: bool = True) -> tuple[Any, Any]:
             pass
 
     owner = _Owner()
-    serializer = owner._websock_connection.get_message_serializer(filter=lambda m: getattr(m, "include_in_scene_serialization", True))
+    serializer = owner._websock_connection.get_message_serializer(
+        filter=lambda m: getattr(m, "include_in_scene_serialization", True)
+    )
     import asyncio
 
     loop = asyncio.new_event_loop()
@@ -87,23 +89,50 @@ def replay_html(session: Session) -> str:
     spec = session.scene
     lo, hi, size = _bounds_info(spec)
     center = (lo + hi) / 2
-    scene_api.add_grid("/lab/grid", width=float(hi[0] - lo[0]) * 1.4 + 1e-9, height=float(hi[1] - lo[1]) * 1.4 + 1e-9,
-                       cell_size=_nice(size / 10), section_size=_nice(size / 2),
-                       position=(float(center[0]), float(center[1]), float(lo[2] if not spec.planar else 0.0)), shadow_opacity=0.0)
-    scene_api.add_frame("/lab/axes", axes_length=0.35 * size, axes_radius=0.006 * size, origin_radius=0.012 * size)
+    scene_api.add_grid(
+        "/lab/grid",
+        width=float(hi[0] - lo[0]) * 1.4 + 1e-9,
+        height=float(hi[1] - lo[1]) * 1.4 + 1e-9,
+        cell_size=_nice(size / 10),
+        section_size=_nice(size / 2),
+        position=(float(center[0]), float(center[1]), float(lo[2] if not spec.planar else 0.0)),
+        shadow_opacity=0.0,
+    )
+    scene_api.add_frame(
+        "/lab/axes", axes_length=0.35 * size, axes_radius=0.006 * size, origin_radius=0.012 * size
+    )
     for m in spec.meshes:
         if len(m.vertices) and len(m.faces):
-            scene_api.add_mesh_simple(f"/lab/static/mesh/{_safe(m.name)}", np.asarray(m.vertices, np.float32), np.asarray(m.faces, np.uint32),
-                                      color=tuple(m.color), opacity=float(m.opacity), side="double", cast_shadow=False, receive_shadow=False)
+            scene_api.add_mesh_simple(
+                f"/lab/static/mesh/{_safe(m.name)}",
+                np.asarray(m.vertices, np.float32),
+                np.asarray(m.faces, np.uint32),
+                color=tuple(m.color),
+                opacity=float(m.opacity),
+                side="double",
+                cast_shadow=False,
+                receive_shadow=False,
+            )
     for c in spec.curves:
         pts = np.asarray(c.points, np.float32).reshape(-1, 3)
         if len(pts) >= 2:
-            scene_api.add_line_segments(f"/lab/static/curve/{_safe(c.name)}", np.stack([pts[:-1], pts[1:]], 1), tuple(c.color),
-                                        thickness=float(c.width), thickness_units="screen")
+            scene_api.add_line_segments(
+                f"/lab/static/curve/{_safe(c.name)}",
+                np.stack([pts[:-1], pts[1:]], 1),
+                tuple(c.color),
+                thickness=float(c.width),
+                thickness_units="screen",
+            )
     for mk in spec.markers:
         pts = np.asarray(mk.points, np.float32).reshape(-1, 3)
-        scene_api.add_point_cloud(f"/lab/static/marker/{_safe(mk.name)}", pts, tuple(mk.color), point_size=float(mk.size) * 1.2,
-                                  point_shape="diamond", precision="float32")
+        scene_api.add_point_cloud(
+            f"/lab/static/marker/{_safe(mk.name)}",
+            pts,
+            tuple(mk.color),
+            point_size=float(mk.size) * 1.2,
+            point_shape="diamond",
+            precision="float32",
+        )
     samples = session.log.samples
     if samples:
         stride = max(1, int(np.ceil(len(samples) / MAX_REPLAY_FRAMES)))
@@ -111,13 +140,23 @@ def replay_html(session: Session) -> str:
         if chosen_idx[-1] != len(samples) - 1:
             chosen_idx.append(len(samples) - 1)
         for name, color in spec.moving_points.items():
-            seq = [np.asarray(s.points[name], np.float32).reshape(-1, 3) for s in samples if name in s.points]
+            seq = [
+                np.asarray(s.points[name], np.float32).reshape(-1, 3)
+                for s in samples
+                if name in s.points
+            ]
             if not seq:
                 continue
             n = min(len(p) for p in seq)
             arr = np.stack([p[:n] for p in seq], axis=1)  # (members, K, 3)
-            handle = scene_api.add_point_cloud(f"/lab/live/point/{_safe(name)}", arr[:, 0], tuple(color), point_size=0.045 * size,
-                                               point_shape="circle", precision="float32")
+            handle = scene_api.add_point_cloud(
+                f"/lab/live/point/{_safe(name)}",
+                arr[:, 0],
+                tuple(color),
+                point_size=0.045 * size,
+                point_shape="circle",
+                precision="float32",
+            )
             trail = None
             t_prev = samples[0].t
             for k, idx in enumerate(chosen_idx):
@@ -129,8 +168,13 @@ def replay_html(session: Session) -> str:
                 if upto is not None and upto >= 2:
                     segs = np.stack([arr[:, : upto - 1], arr[:, 1:upto]], axis=2).reshape(-1, 2, 3)
                     if trail is None:
-                        trail = scene_api.add_line_segments(f"/lab/live/trail/{_safe(name)}", segs, tuple(color), thickness=2.5,
-                                                            thickness_units="screen")
+                        trail = scene_api.add_line_segments(
+                            f"/lab/live/trail/{_safe(name)}",
+                            segs,
+                            tuple(color),
+                            thickness=2.5,
+                            thickness_units="screen",
+                        )
                     else:
                         trail.points = segs
                 dt = (s.t - t_prev) / max(session.speed, 1e-9)

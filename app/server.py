@@ -19,9 +19,10 @@ import tempfile
 import threading
 import time
 import traceback
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Sequence
+from typing import Any
 
 from app.session import LabError, LRUCache, Session, SessionState, lesson_scene, params_key
 from app.view import STORAGE_KEY, SessionView, ViewConfig
@@ -75,7 +76,10 @@ def _make_viser_server(host: str, port: int, verbose: bool) -> Any:
         except (AssertionError, KeyError):
             pass
     server.request_share_url = lambda *a, **k: None  # type: ignore[method-assign]
-    from app.classroom import harden_websocket, order_callbacks  # classroom hook: paced, size-limited client messages
+    from app.classroom import (
+        harden_websocket,
+        order_callbacks,
+    )  # classroom hook: paced, size-limited client messages
 
     harden_websocket()
     order_callbacks(server)  # one connection's callbacks run in the order its messages came
@@ -113,6 +117,7 @@ class _WakeBatch:
                 woken.append(buf)
         self.held = []
         if woken and self.loop is not None:
+
             def wake() -> None:
                 for b in woken:
                     b.message_event.set()
@@ -137,9 +142,19 @@ class LoopStats:
 class LabServer:
     """The lab: viser server, sessions by client id, the frame loop."""
 
-    def __init__(self, host: str = "127.0.0.1", port: int = 8080, lesson: str | None = None, fps: float = DEFAULT_FPS,
-                 lessons: Sequence[Lesson] | None = None, verbose: bool = False, restore: bool = True,
-                 config: ViewConfig | None = None, warm_up: bool = True, instructor_code: str | None = None) -> None:
+    def __init__(
+        self,
+        host: str = "127.0.0.1",
+        port: int = 8080,
+        lesson: str | None = None,
+        fps: float = DEFAULT_FPS,
+        lessons: Sequence[Lesson] | None = None,
+        verbose: bool = False,
+        restore: bool = True,
+        config: ViewConfig | None = None,
+        warm_up: bool = True,
+        instructor_code: str | None = None,
+    ) -> None:
         self.fps = float(fps)
         self.restore = restore
         self.config = config or ViewConfig(fps=self.fps)
@@ -169,8 +184,15 @@ class LabServer:
         if sys.getswitchinterval() > 0.002:
             sys.setswitchinterval(0.002)
         every = os.environ.get("ANALYZER_LAB_STATS", "")
-        self._report_every = int(float(every) * self.fps) if every.replace(".", "", 1).isdigit() else 0
-        self._report_t, self._report_busy, self._report_steps, self._report_ticks = time.monotonic(), 0.0, 0.0, 0
+        self._report_every = (
+            int(float(every) * self.fps) if every.replace(".", "", 1).isdigit() else 0
+        )
+        self._report_t, self._report_busy, self._report_steps, self._report_ticks = (
+            time.monotonic(),
+            0.0,
+            0.0,
+            0,
+        )
         self._report_draws = 0.0
         from app.classroom import Classroom  # classroom hook
 
@@ -185,16 +207,24 @@ class LabServer:
 
             asyncio.run_coroutine_threadsafe(self._async_loop(), loop)
         else:
-            self._loop_thread = threading.Thread(target=self._loop, name="analyzer-lab-frames", daemon=True)
+            self._loop_thread = threading.Thread(
+                target=self._loop, name="analyzer-lab-frames", daemon=True
+            )
             self._loop_thread.start()
-        self._slow_thread = threading.Thread(target=self._slow_loop, name="analyzer-lab-slow", daemon=True)
+        self._slow_thread = threading.Thread(
+            target=self._slow_loop, name="analyzer-lab-slow", daemon=True
+        )
         self._slow_thread.start()
         if warm_up:
             threading.Thread(target=self._warm_up, name="analyzer-lab-warmup", daemon=True).start()
 
     @property
     def url(self) -> str:
-        host = "127.0.0.1" if self.host in ("0.0.0.0", "") else ("[::1]" if self.host == "::" else self.host)
+        host = (
+            "127.0.0.1"
+            if self.host in ("0.0.0.0", "")
+            else ("[::1]" if self.host == "::" else self.host)
+        )
         return f"http://{host}:{self.port}/"
 
     # -- sessions ---------------------------------------------------------------------
@@ -306,7 +336,9 @@ class LabServer:
             except Exception as exc:
                 traceback.print_exc()
                 session.playing = False
-                session.notify(f"internal error, playback paused: {type(exc).__name__}: {exc}", "error")
+                session.notify(
+                    f"internal error, playback paused: {type(exc).__name__}: {exc}", "error"
+                )
             finally:
                 session.lock.release()
         self._rr = (offset + done) % n if n else 0
@@ -326,10 +358,19 @@ class LabServer:
         steps = sum(v.step_seconds for v in views)
         draws = sum(v.draw_seconds for v in views)
         busy = self.stats.busy - self._report_busy
-        print(f"[loop] sessions {len(views)} ticks/s {(self.stats.ticks - self._report_ticks) / span:.1f} "
-              f"busy {busy / span:.0%} stepping {(steps - self._report_steps) / span:.0%} drawing {(draws - self._report_draws) / span:.0%} load {self.stats.load:.2f} "
-              f"skipped {self.stats.skipped}", file=sys.stderr, flush=True)
-        self._report_t, self._report_busy, self._report_steps, self._report_ticks = now, self.stats.busy, steps, self.stats.ticks
+        print(
+            f"[loop] sessions {len(views)} ticks/s {(self.stats.ticks - self._report_ticks) / span:.1f} "
+            f"busy {busy / span:.0%} stepping {(steps - self._report_steps) / span:.0%} drawing {(draws - self._report_draws) / span:.0%} load {self.stats.load:.2f} "
+            f"skipped {self.stats.skipped}",
+            file=sys.stderr,
+            flush=True,
+        )
+        self._report_t, self._report_busy, self._report_steps, self._report_ticks = (
+            now,
+            self.stats.busy,
+            steps,
+            self.stats.ticks,
+        )
         self._report_draws = draws
 
     def _slow_loop(self) -> None:
@@ -367,7 +408,10 @@ class LabServer:
             with session.lock:
                 lesson, params, rev = session.lesson, session.params, session.revision
             try:
-                content = DERIVATION_CACHE.get_or_make(params_key(lesson, params), lambda: derivation_to_html(lesson.derivation(params)))
+                content = DERIVATION_CACHE.get_or_make(
+                    params_key(lesson, params),
+                    lambda: derivation_to_html(lesson.derivation(params)),
+                )
             except Exception as exc:
                 import html
 
@@ -389,7 +433,10 @@ class LabServer:
                 lesson_scene(lesson, params)
                 from app.math_render import derivation_to_html
 
-                DERIVATION_CACHE.get_or_make(params_key(lesson, params), lambda: derivation_to_html(lesson.derivation(params)))
+                DERIVATION_CACHE.get_or_make(
+                    params_key(lesson, params),
+                    lambda: derivation_to_html(lesson.derivation(params)),
+                )
             except Exception:
                 pass
 
@@ -411,8 +458,14 @@ class LabServer:
             pass
 
 
-def serve(host: str = "127.0.0.1", port: int = 8080, lesson: str | None = None, instructor_code: str | None = None,
-          open_browser: bool = True, fps: float = DEFAULT_FPS) -> int:
+def serve(
+    host: str = "127.0.0.1",
+    port: int = 8080,
+    lesson: str | None = None,
+    instructor_code: str | None = None,
+    open_browser: bool = True,
+    fps: float = DEFAULT_FPS,
+) -> int:
     """Run the lab until interrupted; returns the exit code."""
     if not (0 <= int(port) <= 65535):
         print(f"analyzer-lab: error: port must be in 0..65535, got {port}", file=sys.stderr)
@@ -422,7 +475,9 @@ def serve(host: str = "127.0.0.1", port: int = 8080, lesson: str | None = None, 
         return 2
     t0 = time.perf_counter()
     try:
-        lab = LabServer(host=host, port=port, lesson=lesson, fps=fps, instructor_code=instructor_code)
+        lab = LabServer(
+            host=host, port=port, lesson=lesson, fps=fps, instructor_code=instructor_code
+        )
     except LabError as exc:
         print(f"analyzer-lab: error: {exc}", file=sys.stderr)
         return 2
@@ -432,11 +487,19 @@ def serve(host: str = "127.0.0.1", port: int = 8080, lesson: str | None = None, 
     if lab.port != port and port != 0:
         print(f"analyzer-lab: port {port} is in use; using {lab.port}", flush=True)
     where = "every interface" if host in ("0.0.0.0", "::", "") else host
-    print(f"Analyzer Lab: {lab.url}  (listening on {where}, port {lab.port}; ready in {time.perf_counter() - t0:.1f} s; Ctrl-C stops)",
-          flush=True)
-    print(f"Instructor code: {lab.classroom.code}  (type it in a page's Instructor folder)", flush=True)  # classroom hook
+    print(
+        f"Analyzer Lab: {lab.url}  (listening on {where}, port {lab.port}; ready in {time.perf_counter() - t0:.1f} s; Ctrl-C stops)",
+        flush=True,
+    )
+    print(
+        f"Instructor code: {lab.classroom.code}  (type it in a page's Instructor folder)",
+        flush=True,
+    )  # classroom hook
     if host in ("0.0.0.0", "::", ""):
-        print("analyzer-lab: note: bound to every interface: anyone on your network can open the lab", flush=True)
+        print(
+            "analyzer-lab: note: bound to every interface: anyone on your network can open the lab",
+            flush=True,
+        )
     if open_browser:
         import webbrowser
 

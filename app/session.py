@@ -18,12 +18,21 @@ import math
 import threading
 import time
 from collections import deque
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import asdict, dataclass, field
-from typing import Any, Callable, Mapping, Sequence
+from typing import Any
 
 import numpy as np
 
-from lessons.core.contract import Frame, Lesson, Param, ParamError, Params, RunResult, SceneSpec, Stepper
+from lessons.core.contract import (
+    Frame,
+    Lesson,
+    ParamError,
+    Params,
+    RunResult,
+    SceneSpec,
+    Stepper,
+)
 from lessons.core.formula import Formula
 
 #: Playback speeds offered (lesson seconds per wall-clock second).
@@ -63,7 +72,7 @@ class SessionState:
         return json.dumps(asdict(self), allow_nan=False, default=str)
 
     @classmethod
-    def from_json(cls, text: str) -> "SessionState":
+    def from_json(cls, text: str) -> SessionState:
         """Parse a saved state; raise :class:`LabError` on anything malformed."""
         if not isinstance(text, str) or len(text) > MAX_STATE_BYTES:
             raise LabError("saved state is missing or too large")
@@ -87,9 +96,13 @@ class SessionState:
             lesson=data["lesson"][:80],
             preset=preset[:80] if isinstance(preset, str) else None,
             values=clean,
-            speed=float(speed) if isinstance(speed, (int, float)) and not isinstance(speed, bool) else 1.0,
+            speed=float(speed)
+            if isinstance(speed, (int, float)) and not isinstance(speed, bool)
+            else 1.0,
             pause_at_end=bool(data.get("pause_at_end", True)),
-            visible_vectors=[str(v)[:40] for v in vectors][:20] if isinstance(vectors, list) else None,
+            visible_vectors=[str(v)[:40] for v in vectors][:20]
+            if isinstance(vectors, list)
+            else None,
         )
 
 
@@ -210,7 +223,11 @@ class RunLog:
 
     @property
     def nbytes(self) -> int:
-        return int(self._t.nbytes + sum(v.nbytes for v in self._points.values()) + sum(v.nbytes for v in self._scalars.values()))
+        return int(
+            self._t.nbytes
+            + sum(v.nbytes for v in self._points.values())
+            + sum(v.nbytes for v in self._scalars.values())
+        )
 
     def __len__(self) -> int:
         return self.count
@@ -224,7 +241,7 @@ class LRUCache:
         from collections import OrderedDict
 
         self.maxsize = maxsize
-        self._data: "OrderedDict[Any, Any]" = OrderedDict()
+        self._data: OrderedDict[Any, Any] = OrderedDict()
         self._lock = threading.Lock()
 
     def get_or_make(self, key: Any, make: Callable[[], Any]) -> Any:
@@ -272,17 +289,31 @@ def scenes_equal(a: SceneSpec, b: SceneSpec) -> bool:
         if len(xs) != len(ys):
             return False
         for x, y in zip(xs, ys):
-            if (x.name, tuple(x.color), x.opacity, x.wireframe) != (y.name, tuple(y.color), y.opacity, y.wireframe):
+            if (x.name, tuple(x.color), x.opacity, x.wireframe) != (
+                y.name,
+                tuple(y.color),
+                y.opacity,
+                y.wireframe,
+            ):
                 return False
             if not (_arrays_equal(x.vertices, y.vertices) and _arrays_equal(x.faces, y.faces)):
                 return False
     if len(a.curves) != len(b.curves) or len(a.markers) != len(b.markers):
         return False
     for x, y in zip(a.curves, b.curves):
-        if (x.name, tuple(x.color), x.width) != (y.name, tuple(y.color), y.width) or not _arrays_equal(x.points, y.points):
+        if (x.name, tuple(x.color), x.width) != (
+            y.name,
+            tuple(y.color),
+            y.width,
+        ) or not _arrays_equal(x.points, y.points):
             return False
     for x, y in zip(a.markers, b.markers):
-        if (x.name, tuple(x.color), x.size, x.label) != (y.name, tuple(y.color), y.size, y.label) or not _arrays_equal(x.points, y.points):
+        if (x.name, tuple(x.color), x.size, x.label) != (
+            y.name,
+            tuple(y.color),
+            y.size,
+            y.label,
+        ) or not _arrays_equal(x.points, y.points):
             return False
     return True
 
@@ -305,7 +336,9 @@ class Session:
     on a thread pool, frames on the server's loop thread).
     """
 
-    def __init__(self, lessons: Sequence[Lesson], lesson_id: str | None = None, preset: str | None = None) -> None:
+    def __init__(
+        self, lessons: Sequence[Lesson], lesson_id: str | None = None, preset: str | None = None
+    ) -> None:
         if not lessons:
             raise LabError("no lessons are installed")
         self.lessons: dict[str, Lesson] = {l.id: l for l in lessons}
@@ -319,7 +352,9 @@ class Session:
         self.max_substeps = MAX_SUBSTEPS  # lowered by the server under load
         self._time_debt = 0.0  # lesson time owed to the next played tick (< TIME_QUANTUM / 2)
         self.scene_due: float | None = None  # when a deferred scene rebuild is due (monotonic time)
-        self.revision = 0  # bumped on any change of lesson/params (the view re-renders what it needs)
+        self.revision = (
+            0  # bumped on any change of lesson/params (the view re-renders what it needs)
+        )
         self.scene_revision = 0  # bumped when the static scene must be redrawn
         self.reset_revision = 0  # bumped when the run restarts (trail cleared)
         self.on_change: Callable[[str], None] | None = None
@@ -340,7 +375,9 @@ class Session:
     def lesson_id(self) -> str:
         return self.lesson.id
 
-    def _build(self, lesson: Lesson, preset: str | None, values: Mapping[str, Any]) -> tuple[Params, Stepper, SceneSpec]:
+    def _build(
+        self, lesson: Lesson, preset: str | None, values: Mapping[str, Any]
+    ) -> tuple[Params, Stepper, SceneSpec]:
         params = lesson.resolve(values, preset)
         try:
             stepper = lesson.stepper(params)
@@ -382,7 +419,9 @@ class Session:
     def select_lesson(self, lesson_id: str, preset: str | None = None) -> None:
         """Switch lesson (defaults, or the given preset); refuses unknown ids."""
         if not isinstance(lesson_id, str) or lesson_id not in self.lessons:
-            raise LabError(f"unknown lesson {str(lesson_id)[:60]!r}; known: {', '.join(self.lessons)}")
+            raise LabError(
+                f"unknown lesson {str(lesson_id)[:60]!r}; known: {', '.join(self.lessons)}"
+            )
         lesson = self.lessons[lesson_id]
         if preset is not None:
             lesson.preset(preset)  # raises ParamError for an unknown preset
@@ -475,7 +514,11 @@ class Session:
             # the family is spread around the base point: snap the base point itself
             pts = np.asarray(next(iter(fresh.points.values())), dtype=float).reshape(-1, 3)
             p = pts[len(pts) // 2] if len(pts) % 2 else pts.mean(axis=0)
-        values = {"x0": round(float(p[0]), 12), "y0": round(float(p[1]), 12), "z0": round(float(p[2]), 12)}
+        values = {
+            "x0": round(float(p[0]), 12),
+            "y0": round(float(p[1]), 12),
+            "z0": round(float(p[2]), 12),
+        }
         self.set_values(values)
         return values["x0"], values["y0"], values["z0"]
 
@@ -504,7 +547,9 @@ class Session:
         except (TypeError, ValueError):
             raise LabError(f"speed must be one of {', '.join(f'{s:g}x' for s in SPEEDS)}") from None
         if not any(abs(value - s) < 1e-9 for s in SPEEDS):
-            raise LabError(f"speed must be one of {', '.join(f'{s:g}x' for s in SPEEDS)}; got {value!r}")
+            raise LabError(
+                f"speed must be one of {', '.join(f'{s:g}x' for s in SPEEDS)}; got {value!r}"
+            )
         self.speed = value
 
     def reset(self) -> Frame:
@@ -539,10 +584,17 @@ class Session:
             if self.stepper.t <= t_before and self.playing:
                 # the lesson's run cannot go on (e.g. an end condition was reached)
                 self.playing = False
-                self.notify(f"the run stopped at t = {self.stepper.t:.4g} s" + (f": {self.frame.message}" if self.frame.message else ""), "info")
+                self.notify(
+                    f"the run stopped at t = {self.stepper.t:.4g} s"
+                    + (f": {self.frame.message}" if self.frame.message else ""),
+                    "info",
+                )
         if self.pause_at_end and self.stepper.t >= self.t_end - 1e-9 and self.playing:
             self.playing = False
-            self.notify(f"t = {self.t_end:g} s reached (the textbook's run); press play to run again, or untick 'pause at t_end'", "info")
+            self.notify(
+                f"t = {self.t_end:g} s reached (the textbook's run); press play to run again, or untick 'pause at t_end'",
+                "info",
+            )
         return frames
 
     def tick(self, wall_dt: float) -> list[Frame]:
@@ -562,7 +614,9 @@ class Session:
         """One single step (paused): ``STEP_DT`` lesson seconds times the speed."""
         self.playing = False
         if self.pause_at_end and self.stepper.t >= self.t_end - 1e-9:
-            self.notify(f"t_end = {self.t_end:g} s reached; reset or untick 'pause at t_end'", "info")
+            self.notify(
+                f"t_end = {self.t_end:g} s reached; reset or untick 'pause at t_end'", "info"
+            )
             return []
         return self._advance(STEP_DT * self.speed)
 
@@ -576,7 +630,9 @@ class Session:
             values=self.raw_values(),
             speed=self.speed,
             pause_at_end=self.pause_at_end,
-            visible_vectors=sorted(self.visible_vectors) if self.visible_vectors is not None else None,
+            visible_vectors=sorted(self.visible_vectors)
+            if self.visible_vectors is not None
+            else None,
         )
 
     def apply_state(self, state: SessionState) -> list[str]:
@@ -607,7 +663,13 @@ class Session:
                 else:
                     raise LabError(str(exc)) from None
         self.playing = False
-        self.lesson, self.preset, self.params, self.stepper, self.scene = lesson, preset, params, stepper, scene
+        self.lesson, self.preset, self.params, self.stepper, self.scene = (
+            lesson,
+            preset,
+            params,
+            stepper,
+            scene,
+        )
         self.frame = stepper.reset()
         self.t_end = lesson.preset_t_end(preset)
         self.log.clear()
@@ -620,12 +682,14 @@ class Session:
         except LabError as exc:
             problems.append(str(exc))
         self.pause_at_end = bool(state.pause_at_end)
-        self.visible_vectors = set(state.visible_vectors) if state.visible_vectors is not None else None
+        self.visible_vectors = (
+            set(state.visible_vectors) if state.visible_vectors is not None else None
+        )
         for p in problems:
             self.notify(p, "warning")
         return problems
 
-    def copy_from(self, other: "Session") -> None:
+    def copy_from(self, other: Session) -> None:
         """Take another session's state (lesson, values, playback settings)."""
         self.apply_state(other.state())
 
@@ -650,11 +714,18 @@ class Session:
         for k in log.scalar_names:
             if k not in series:
                 series[k] = log.scalar(k)
-        metrics: dict[str, Any] = {"t_end": float(t[-1]), "samples": len(t), "source": "live run", "speed": self.speed}
+        metrics: dict[str, Any] = {
+            "t_end": float(t[-1]),
+            "samples": len(t),
+            "source": "live run",
+            "speed": self.speed,
+        }
         if "drift" in series and len(series["drift"]) and not np.all(np.isnan(series["drift"])):
             metrics["invariant_drift_max"] = float(np.nanmax(series["drift"]))
         messages = [text for _, text in self.notices]
-        return RunResult(self.lesson.id, self.preset, self.raw_values(), t, series, metrics, messages)
+        return RunResult(
+            self.lesson.id, self.preset, self.raw_values(), t, series, metrics, messages
+        )
 
 
 __all__ = ["LabError", "RunLog", "SPEEDS", "Session", "SessionState", "lesson_label", "raw_value"]

@@ -42,7 +42,11 @@ def last_report(path: str) -> dict[str, int]:
     if not lines:
         return {}
     parts = lines[-1].split()[1:]
-    return {parts[i]: int(parts[i + 1]) for i in range(0, len(parts) - 1, 2) if re.fullmatch(r"-?\d+", parts[i + 1])}
+    return {
+        parts[i]: int(parts[i + 1])
+        for i in range(0, len(parts) - 1, 2)
+        if re.fullmatch(r"-?\d+", parts[i + 1])
+    }
 
 
 def _count(path: str) -> int:
@@ -61,8 +65,16 @@ async def wait_report(path: str, timeout: float = 30.0) -> dict[str, int]:
     return last_report(path)
 
 
-async def soak(url: str, pid: int, log_path: str, seconds: float, students: int, churn: float, warmup: float,
-               out: Any = sys.stdout) -> dict[str, Any]:
+async def soak(
+    url: str,
+    pid: int,
+    log_path: str,
+    seconds: float,
+    students: int,
+    churn: float,
+    warmup: float,
+    out: Any = sys.stdout,
+) -> dict[str, Any]:
     import psutil
 
     proc = psutil.Process(pid)
@@ -118,10 +130,17 @@ async def soak(url: str, pid: int, log_path: str, seconds: float, students: int,
             next_sample = now + 5.0
             if not warm_rss and now - t0 >= warmup:
                 warm_rss = rss
-                print(f"[soak] t={now - t0:6.0f} s  warm-up done: server RSS {rss:.1f} MB", file=out, flush=True)
+                print(
+                    f"[soak] t={now - t0:6.0f} s  warm-up done: server RSS {rss:.1f} MB",
+                    file=out,
+                    flush=True,
+                )
             elif int(now - t0) % 60 < 5:
-                print(f"[soak] t={now - t0:6.0f} s  RSS {rss:.1f} MB  students {len(pool)}  joined {joined} left {left}",
-                      file=out, flush=True)
+                print(
+                    f"[soak] t={now - t0:6.0f} s  RSS {rss:.1f} MB  students {len(pool)}  joined {joined} left {left}",
+                    file=out,
+                    flush=True,
+                )
     if following:
         await inst.click("Release", 0.5)
     end_rss = proc.memory_info().rss / 1e6
@@ -139,9 +158,17 @@ async def soak(url: str, pid: int, log_path: str, seconds: float, students: int,
         warm_rss = samples[0][1] if samples else end_rss
     peak = max([r for _, r in samples] + [end_rss])
     result = {
-        "minutes": seconds / 60, "joined": joined + students, "left": left + students, "warm_rss_mb": warm_rss,
-        "end_rss_mb": end_rss, "peak_rss_mb": peak, "final_rss_mb": final_rss, "end_vs_warm": end_rss / warm_rss - 1.0,
-        "during": during, "after_students_left": after_students, "after_all_left": after_all,
+        "minutes": seconds / 60,
+        "joined": joined + students,
+        "left": left + students,
+        "warm_rss_mb": warm_rss,
+        "end_rss_mb": end_rss,
+        "peak_rss_mb": peak,
+        "final_rss_mb": final_rss,
+        "end_vs_warm": end_rss / warm_rss - 1.0,
+        "during": during,
+        "after_students_left": after_students,
+        "after_all_left": after_all,
     }
     return result
 
@@ -150,8 +177,18 @@ def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(prog="python -m app.soak", description=__doc__.split("\n\n")[0])
     ap.add_argument("--minutes", type=float, default=30.0)
     ap.add_argument("--students", type=int, default=20, help="students connected at any time")
-    ap.add_argument("--churn", type=float, default=3.0, help="seconds between a student leaving and another joining")
-    ap.add_argument("--warmup", type=float, default=None, help="seconds of warm-up (default 10%% of the run, 30..180 s)")
+    ap.add_argument(
+        "--churn",
+        type=float,
+        default=3.0,
+        help="seconds between a student leaving and another joining",
+    )
+    ap.add_argument(
+        "--warmup",
+        type=float,
+        default=None,
+        help="seconds of warm-up (default 10%% of the run, 30..180 s)",
+    )
     args = ap.parse_args(argv)
     seconds = args.minutes * 60.0
     warmup = args.warmup if args.warmup is not None else min(180.0, max(30.0, 0.1 * seconds))
@@ -167,10 +204,23 @@ def main(argv: list[str] | None = None) -> int:
             os.environ.pop("ANALYZER_LAB_STATS", None)
         else:
             os.environ["ANALYZER_LAB_STATS"] = env_before
-    print(f"[soak] server pid {proc.pid}, log {log_path}; {args.minutes:g} min, {args.students} students, "
-          f"one leaves and one joins every {args.churn:g} s; warm-up {warmup:.0f} s", flush=True)
+    print(
+        f"[soak] server pid {proc.pid}, log {log_path}; {args.minutes:g} min, {args.students} students, "
+        f"one leaves and one joins every {args.churn:g} s; warm-up {warmup:.0f} s",
+        flush=True,
+    )
     try:
-        r = asyncio.run(soak(f"ws://127.0.0.1:{port}/", proc.pid, log_path, seconds, args.students, args.churn, warmup))
+        r = asyncio.run(
+            soak(
+                f"ws://127.0.0.1:{port}/",
+                proc.pid,
+                log_path,
+                seconds,
+                args.students,
+                args.churn,
+                warmup,
+            )
+        )
     finally:
         proc.terminate()
         try:
@@ -179,14 +229,23 @@ def main(argv: list[str] | None = None) -> int:
             proc.kill()
     ok_mem = abs(r["end_vs_warm"]) <= 0.10
     left = r["after_all_left"]
-    ok_sessions = bool(left) and left.get("views", 1) == 0 and left.get("sessions_alive", 1) == 0 and left.get("followers", 1) == 0
+    ok_sessions = (
+        bool(left)
+        and left.get("views", 1) == 0
+        and left.get("sessions_alive", 1) == 0
+        and left.get("followers", 1) == 0
+    )
     print(f"[soak] students joined {r['joined']}, left {r['left']} in {r['minutes']:g} min")
-    print(f"[soak] server RSS: after warm-up {r['warm_rss_mb']:.1f} MB, end {r['end_rss_mb']:.1f} MB "
-          f"({r['end_vs_warm']:+.1%}), peak {r['peak_rss_mb']:.1f} MB, after everybody left {r['final_rss_mb']:.1f} MB"
-          f" -> {'OK' if ok_mem else 'FAIL'} (limit 10%)")
+    print(
+        f"[soak] server RSS: after warm-up {r['warm_rss_mb']:.1f} MB, end {r['end_rss_mb']:.1f} MB "
+        f"({r['end_vs_warm']:+.1%}), peak {r['peak_rss_mb']:.1f} MB, after everybody left {r['final_rss_mb']:.1f} MB"
+        f" -> {'OK' if ok_mem else 'FAIL'} (limit 10%)"
+    )
     print(f"[soak] sessions while running: {r['during']}")
     print(f"[soak] after the students left: {r['after_students_left']}")
-    print(f"[soak] after everybody left: {left} -> {'OK: no orphaned sessions' if ok_sessions else 'FAIL: orphaned sessions'}")
+    print(
+        f"[soak] after everybody left: {left} -> {'OK: no orphaned sessions' if ok_sessions else 'FAIL: orphaned sessions'}"
+    )
     return 0 if ok_mem and ok_sessions else 1
 
 

@@ -20,8 +20,9 @@ import math
 import time
 import traceback
 from collections import deque
+from collections.abc import Callable
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any, Callable
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -63,7 +64,9 @@ class Trail:
     """A bounded polyline drawn as chunks of line segments; only the newest chunk
     is re-sent, full chunks stay, the oldest are removed past ``max_points``."""
 
-    def __init__(self, scene: Any, name: str, color: tuple[int, int, int], chunk: int, max_points: int) -> None:
+    def __init__(
+        self, scene: Any, name: str, color: tuple[int, int, int], chunk: int, max_points: int
+    ) -> None:
         self.scene = scene
         self.name = name
         self.color = color
@@ -125,7 +128,13 @@ class Trail:
         colors = self._colors(segs)
         if not self.handles or getattr(self.handles[-1], "_al_full", False):
             self.counter += 1
-            h = self.scene.add_line_segments(f"{self.name}/c{self.counter}", segs, colors, thickness=2.5, thickness_units="screen")
+            h = self.scene.add_line_segments(
+                f"{self.name}/c{self.counter}",
+                segs,
+                colors,
+                thickness=2.5,
+                thickness_units="screen",
+            )
             self.handles.append(h)
             while len(self.handles) > self.max_chunks:
                 self._remove(self.handles.popleft())
@@ -164,7 +173,9 @@ class PlotBuffer:
     def data(self) -> tuple[np.ndarray, ...]:
         if len(self.t) == 0:
             return (np.zeros(1),) + tuple(np.zeros(1) for _ in self.values)
-        return (np.fromiter(self.t, float, len(self.t)),) + tuple(np.fromiter(v, float, len(v)) for v in self.values.values())
+        return (np.fromiter(self.t, float, len(self.t)),) + tuple(
+            np.fromiter(v, float, len(v)) for v in self.values.values()
+        )
 
 
 def _bounds_info(scene: SceneSpec) -> tuple[np.ndarray, np.ndarray, float]:
@@ -176,7 +187,9 @@ def _bounds_info(scene: SceneSpec) -> tuple[np.ndarray, np.ndarray, float]:
     return lo, hi, size
 
 
-def ray_mesh_hit(origin: np.ndarray, direction: np.ndarray, vertices: np.ndarray, faces: np.ndarray) -> np.ndarray | None:
+def ray_mesh_hit(
+    origin: np.ndarray, direction: np.ndarray, vertices: np.ndarray, faces: np.ndarray
+) -> np.ndarray | None:
     """Nearest intersection of a ray with a triangle mesh (Moller-Trumbore, vectorized)."""
     o = np.asarray(origin, dtype=float)
     d = np.asarray(direction, dtype=float)
@@ -208,8 +221,13 @@ def ray_mesh_hit(origin: np.ndarray, direction: np.ndarray, vertices: np.ndarray
 class SessionView:
     """One browser tab: its GUI, its scene, and the frames of its session."""
 
-    def __init__(self, client: "viser.ClientHandle", session: Session, config: ViewConfig | None = None,
-                 on_state: Callable[["SessionView"], None] | None = None) -> None:
+    def __init__(
+        self,
+        client: viser.ClientHandle,
+        session: Session,
+        config: ViewConfig | None = None,
+        on_state: Callable[[SessionView], None] | None = None,
+    ) -> None:
         self.client = client
         self.session = session
         self.config = config or ViewConfig()
@@ -246,7 +264,7 @@ class SessionView:
         self.step_seconds = 0.0  # time spent in the lesson's stepper (frame loop)
         self.draw_seconds = 0.0  # time spent queueing the frame's updates
         # classroom hook: gate(view, event, retry) -> False refuses a GUI input (app.classroom)
-        self.gate: Callable[["SessionView", Any, Callable[[Any], None] | None], bool] | None = None
+        self.gate: Callable[[SessionView, Any, Callable[[Any], None] | None], bool] | None = None
         with session.lock:  # a callback of an early click waits until the page is built
             self._build_gui()
 
@@ -282,19 +300,30 @@ class SessionView:
 
     def _build_gui(self) -> None:
         gui = self.client.gui
-        gui.configure_theme(control_width="large", show_share_button=False, show_logo=False, brand_color=(40, 90, 160))
+        gui.configure_theme(
+            control_width="large",
+            show_share_button=False,
+            show_logo=False,
+            brand_color=(40, 90, 160),
+        )
         gui.set_panel_label("Analyzer Lab")
         s = self.session
         self._labels = {lesson_label(l): l.id for l in s.lessons.values()}
         self._ids = {v: k for k, v in self._labels.items()}
-        self.lesson_dd = gui.add_dropdown("Lesson", tuple(self._labels), initial_value=self._ids[s.lesson.id])
+        self.lesson_dd = gui.add_dropdown(
+            "Lesson", tuple(self._labels), initial_value=self._ids[s.lesson.id]
+        )
         self.lesson_dd.on_update(self._guard(self._on_lesson))
-        self.preset_dd = gui.add_dropdown("Preset", self._preset_options(), initial_value=s.preset or NO_PRESET)
+        self.preset_dd = gui.add_dropdown(
+            "Preset", self._preset_options(), initial_value=s.preset or NO_PRESET
+        )
         self.preset_dd.on_update(self._guard(self._on_preset))
         self.preset_note = gui.add_html("")
         self.transport = gui.add_button_group("Run", ("Play", "Pause", "Step", "Reset"))
         self.transport.on_click(self._guard(self._on_transport))
-        self.speed_dd = gui.add_dropdown("Speed", tuple(_speed_label(x) for x in SPEEDS), initial_value=_speed_label(s.speed))
+        self.speed_dd = gui.add_dropdown(
+            "Speed", tuple(_speed_label(x) for x in SPEEDS), initial_value=_speed_label(s.speed)
+        )
         self.speed_dd.on_update(self._guard(self._on_speed))
         self.readout = gui.add_html(self._readout_html())
         self.status = gui.add_html(self._status_html())
@@ -307,7 +336,9 @@ class SessionView:
             self.lesson_head = gui.add_html("")
             self.derivation_html = gui.add_html("")
         with self.tab_export:
-            gui.add_html('<div style="font-size:0.9em">The run shown so far (every frame since the last reset):</div>')
+            gui.add_html(
+                '<div style="font-size:0.9em">The run shown so far (every frame since the last reset):</div>'
+            )
             self.btn_csv = gui.add_button("Download CSV")
             self.btn_json = gui.add_button("Download JSON")
             self.btn_html = gui.add_button("Download HTML replay")
@@ -323,17 +354,23 @@ class SessionView:
     def _readout_html(self) -> str:
         s = self.session
         state = "playing" if s.playing else "paused"
-        return (f'<div class="al-readout" style="font-family:monospace;font-size:1.05em">t = {s.frame.t:8.3f} s'
-                f' &nbsp; {_speed_label(s.speed)} &nbsp; {state}</div>')
+        return (
+            f'<div class="al-readout" style="font-family:monospace;font-size:1.05em">t = {s.frame.t:8.3f} s'
+            f" &nbsp; {_speed_label(s.speed)} &nbsp; {state}</div>"
+        )
 
     def _status_html(self) -> str:
         parts = []
         if self.session.notices:
             level, text = self.session.notices[-1]
             color = LEVEL_COLORS.get(level, "#333")
-            parts.append(f'<div class="al-message al-{level}" style="color:{color};font-size:0.9em">{html.escape(text)}</div>')
+            parts.append(
+                f'<div class="al-message al-{level}" style="color:{color};font-size:0.9em">{html.escape(text)}</div>'
+            )
         if self.session.frame.message:
-            parts.append(f'<div class="al-frame-message" style="color:#8a5a00;font-size:0.9em">{html.escape(self.session.frame.message)}</div>')
+            parts.append(
+                f'<div class="al-frame-message" style="color:#8a5a00;font-size:0.9em">{html.escape(self.session.frame.message)}</div>'
+            )
         return "".join(parts) or '<div class="al-message"></div>'
 
     def _build_lesson_gui(self) -> None:
@@ -357,10 +394,17 @@ class SessionView:
         groups: dict[str, list[Param]] = {}
         for p in lesson.params:
             groups.setdefault(p.group, []).append(p)
-        titles = {"controls": "Controls", "initial": "Initial point", "surface": "Surface", "method": "Integrator"}
+        titles = {
+            "controls": "Controls",
+            "initial": "Initial point",
+            "surface": "Surface",
+            "method": "Integrator",
+        }
         with self.tab_controls:
             for group, params in groups.items():
-                folder = gui.add_folder(titles.get(group, group.capitalize()), expand_by_default=group != "method")
+                folder = gui.add_folder(
+                    titles.get(group, group.capitalize()), expand_by_default=group != "method"
+                )
                 self._lesson_folders.append(folder)
                 with folder:
                     for p in params:
@@ -368,7 +412,9 @@ class SessionView:
                     if group == "initial" and {"x0", "y0", "z0"} <= {q.name for q in lesson.params}:
                         snap = gui.add_button("Snap to surface")
                         snap.on_click(self._guard(self._on_snap))
-                        gui.add_html('<div style="font-size:0.8em;color:#555">Click the surface to set the start point.</div>')
+                        gui.add_html(
+                            '<div style="font-size:0.8em;color:#555">Click the surface to set the start point.</div>'
+                        )
             vec_names = tuple(self.session.scene.moving_vectors)
             if vec_names:
                 folder = gui.add_folder("Vectors")
@@ -377,11 +423,15 @@ class SessionView:
                     visible = self._visible_vectors()
                     for name in vec_names:
                         cb = gui.add_checkbox(f"show {name}", initial_value=name in visible)
-                        cb.on_update(self._guard(lambda e, n=name: self._on_vector_toggle(n, e.target.value)))
+                        cb.on_update(
+                            self._guard(lambda e, n=name: self._on_vector_toggle(n, e.target.value))
+                        )
             folder = gui.add_folder("Playback")
             self._lesson_folders.append(folder)
             with folder:
-                self.pause_cb = gui.add_checkbox("pause at t_end", initial_value=self.session.pause_at_end)
+                self.pause_cb = gui.add_checkbox(
+                    "pause at t_end", initial_value=self.session.pause_at_end
+                )
                 self.pause_cb.on_update(self._guard(self._on_pause_at_end))
         self._plots = []
         with self.tab_plots:
@@ -391,11 +441,17 @@ class SessionView:
                 for spec in lesson.plots:
                     buf = PlotBuffer(spec, self.config.plot_window)
                     series = [{"label": "t"}] + [
-                        {"label": name, "stroke": PLOT_COLORS[i % len(PLOT_COLORS)], "width": 1.5} for i, name in enumerate(spec.series)
+                        {"label": name, "stroke": PLOT_COLORS[i % len(PLOT_COLORS)], "width": 1.5}
+                        for i, name in enumerate(spec.series)
                     ]
                     title = spec.title + (f" [{spec.units}]" if spec.units else "")
-                    handle = gui.add_uplot(buf.data(), tuple(series), title=title, scales={"x": {"time": False}, "y": {"auto": True}},
-                                           aspect=2.0)
+                    handle = gui.add_uplot(
+                        buf.data(),
+                        tuple(series),
+                        title=title,
+                        scales={"x": {"time": False}, "y": {"auto": True}},
+                        aspect=2.0,
+                    )
                     buf.dirty = False
                     self._plots.append((buf, handle))
         # no data updates while the browser is still creating the charts (a busy browser
@@ -426,10 +482,21 @@ class SessionView:
             if p.min is not None and p.max is not None:
                 const = self._const_of(value, p)
                 step = p.step or (p.max - p.min) / 200.0
-                slider = gui.add_slider(f"{p.name}", min=float(p.min), max=float(p.max), step=float(step), initial_value=const, hint=hint)
+                slider = gui.add_slider(
+                    f"{p.name}",
+                    min=float(p.min),
+                    max=float(p.max),
+                    step=float(step),
+                    initial_value=const,
+                    hint=hint,
+                )
                 slider.on_update(self._guard(lambda e, p=p: self._on_slider(p, e.target.value)))
                 widgets.append(slider)
-            text = gui.add_text(f"{label} =", initial_value=value.text if isinstance(value, Formula) else str(value), hint=hint)
+            text = gui.add_text(
+                f"{label} =",
+                initial_value=value.text if isinstance(value, Formula) else str(value),
+                hint=hint,
+            )
             text.on_update(self._guard(lambda e, p=p: self._on_text(p, e.target.value)))
             widgets.append(text)
         elif p.kind == "choice":
@@ -441,12 +508,18 @@ class SessionView:
             cb.on_update(self._guard(lambda e, p=p: self._on_value(p, e.target.value)))
             widgets.append(cb)
         elif p.kind == "int" and p.min is not None and p.max is not None and p.max - p.min <= 100:
-            sl = gui.add_slider(label, min=int(p.min), max=int(p.max), step=1, initial_value=int(value), hint=hint)
+            sl = gui.add_slider(
+                label, min=int(p.min), max=int(p.max), step=1, initial_value=int(value), hint=hint
+            )
             sl.on_update(self._guard(lambda e, p=p: self._on_value(p, e.target.value)))
             widgets.append(sl)
         else:
-            num = gui.add_number(label, initial_value=float(value) if p.kind == "float" else int(value),
-                                 step=float(p.step) if p.step else None, hint=hint)
+            num = gui.add_number(
+                label,
+                initial_value=float(value) if p.kind == "float" else int(value),
+                step=float(p.step) if p.step else None,
+                hint=hint,
+            )
             num.on_update(self._guard(lambda e, p=p: self._on_value(p, e.target.value)))
             widgets.append(num)
         self._param_widgets[p.name] = widgets
@@ -508,7 +581,9 @@ class SessionView:
                             if isinstance(value, Formula) and value.is_constant:
                                 self._put(w, self._const_of(value, p), force)
                         else:
-                            self._put(w, value.text if isinstance(value, Formula) else str(value), force)
+                            self._put(
+                                w, value.text if isinstance(value, Formula) else str(value), force
+                            )
                     elif p.kind == "bool":
                         self._put(w, bool(value), force)
                     elif p.kind == "choice":
@@ -606,7 +681,9 @@ class SessionView:
     def _on_snap(self, event: Any) -> None:
         pt = self.session.snap_start()
         if pt is not None:
-            self.session.notify("start point snapped to the surface: (" + ", ".join(f"{v:.6g}" for v in pt) + ")")
+            self.session.notify(
+                "start point snapped to the surface: (" + ", ".join(f"{v:.6g}" for v in pt) + ")"
+            )
         self._param_changed()
 
     def _on_surface_click(self, event: Any) -> None:
@@ -618,13 +695,24 @@ class SessionView:
             try:
                 hit = None
                 for vertices, faces in self._meshes_for_click:
-                    h = ray_mesh_hit(np.asarray(event.ray_origin), np.asarray(event.ray_direction), vertices, faces)
-                    if h is not None and (hit is None or np.linalg.norm(h - np.asarray(event.ray_origin)) < np.linalg.norm(hit - np.asarray(event.ray_origin))):
+                    h = ray_mesh_hit(
+                        np.asarray(event.ray_origin),
+                        np.asarray(event.ray_direction),
+                        vertices,
+                        faces,
+                    )
+                    if h is not None and (
+                        hit is None
+                        or np.linalg.norm(h - np.asarray(event.ray_origin))
+                        < np.linalg.norm(hit - np.asarray(event.ray_origin))
+                    ):
                         hit = h
                 if hit is None:
                     raise LabError("the click did not hit the surface")
                 self.session.set_start(hit)
-                self.session.notify("start point set by click: (" + ", ".join(f"{v:.4g}" for v in hit) + ")")
+                self.session.notify(
+                    "start point set by click: (" + ", ".join(f"{v:.4g}" for v in hit) + ")"
+                )
                 self._param_changed()
             except (ParamError, LabError) as exc:
                 self.session.notify(f"refused: {exc}", "error")
@@ -667,7 +755,9 @@ class SessionView:
             try:
                 state = SessionState.from_json(text)
                 self.session.apply_state(state)
-                self.session.notify(f"restored your last lesson: {lesson_label(self.session.lesson)}")
+                self.session.notify(
+                    f"restored your last lesson: {lesson_label(self.session.lesson)}"
+                )
             except (LabError, ParamError) as exc:
                 self.session.notify(f"saved state ignored: {exc}", "warning")
                 return False
@@ -702,18 +792,42 @@ class SessionView:
         center = (lo + hi) / 2
         add = self._static_handles.append
         grid_z = lo[2] if not spec.planar else 0.0
-        add(scene_api.add_grid("/lab/grid", width=float(hi[0] - lo[0]) * 1.4 + 1e-9, height=float(hi[1] - lo[1]) * 1.4 + 1e-9,
-                               cell_size=_nice(size / 10), section_size=_nice(size / 2), position=(float(center[0]), float(center[1]), float(grid_z)),
-                               shadow_opacity=0.0))
-        add(scene_api.add_frame("/lab/axes", axes_length=0.35 * size, axes_radius=0.006 * size, origin_radius=0.012 * size))
+        add(
+            scene_api.add_grid(
+                "/lab/grid",
+                width=float(hi[0] - lo[0]) * 1.4 + 1e-9,
+                height=float(hi[1] - lo[1]) * 1.4 + 1e-9,
+                cell_size=_nice(size / 10),
+                section_size=_nice(size / 2),
+                position=(float(center[0]), float(center[1]), float(grid_z)),
+                shadow_opacity=0.0,
+            )
+        )
+        add(
+            scene_api.add_frame(
+                "/lab/axes",
+                axes_length=0.35 * size,
+                axes_radius=0.006 * size,
+                origin_radius=0.012 * size,
+            )
+        )
         for m in spec.meshes:
             v = np.asarray(m.vertices, dtype=np.float32)
             f = np.asarray(m.faces, dtype=np.uint32)
             if len(v) == 0 or len(f) == 0:
                 continue
-            h = scene_api.add_mesh_simple(f"/lab/static/mesh/{_safe(m.name)}", v, f, color=tuple(m.color), opacity=float(m.opacity),
-                                          wireframe=bool(m.wireframe), side="double", cast_shadow=False, receive_shadow=False,
-                                          flat_shading=False)
+            h = scene_api.add_mesh_simple(
+                f"/lab/static/mesh/{_safe(m.name)}",
+                v,
+                f,
+                color=tuple(m.color),
+                opacity=float(m.opacity),
+                wireframe=bool(m.wireframe),
+                side="double",
+                cast_shadow=False,
+                receive_shadow=False,
+                flat_shading=False,
+            )
             h.on_click(self._on_surface_click)
             self._meshes_for_click.append((v, f))
             add(h)
@@ -722,14 +836,35 @@ class SessionView:
             if len(pts) < 2:
                 continue
             segs = np.stack([pts[:-1], pts[1:]], axis=1)
-            add(scene_api.add_line_segments(f"/lab/static/curve/{_safe(c.name)}", segs, tuple(c.color), thickness=float(c.width),
-                                            thickness_units="screen"))
+            add(
+                scene_api.add_line_segments(
+                    f"/lab/static/curve/{_safe(c.name)}",
+                    segs,
+                    tuple(c.color),
+                    thickness=float(c.width),
+                    thickness_units="screen",
+                )
+            )
         for mk in spec.markers:
             pts = np.asarray(mk.points, dtype=np.float32).reshape(-1, 3)
-            add(scene_api.add_point_cloud(f"/lab/static/marker/{_safe(mk.name)}", pts, tuple(mk.color), point_size=float(mk.size) * 1.2,
-                                          point_shape="diamond", precision="float32"))
+            add(
+                scene_api.add_point_cloud(
+                    f"/lab/static/marker/{_safe(mk.name)}",
+                    pts,
+                    tuple(mk.color),
+                    point_size=float(mk.size) * 1.2,
+                    point_shape="diamond",
+                    precision="float32",
+                )
+            )
             if mk.label and len(pts):
-                add(scene_api.add_label(f"/lab/static/marker_label/{_safe(mk.name)}", mk.label, position=tuple(map(float, pts[0]))))
+                add(
+                    scene_api.add_label(
+                        f"/lab/static/marker_label/{_safe(mk.name)}",
+                        mk.label,
+                        position=tuple(map(float, pts[0])),
+                    )
+                )
         # moving items: fresh nodes for this scene
         for h in self._point_handles.values():
             _remove(h)
@@ -739,8 +874,14 @@ class SessionView:
         self._body_handles = {}
         for body in spec.bodies:
             self._body_handles[body.name] = scene_api.add_mesh_simple(
-                f"/lab/live/body/{_safe(body.name)}", np.asarray(body.vertices, dtype=np.float32), np.asarray(body.faces, dtype=np.uint32),
-                color=tuple(body.color), opacity=float(body.opacity), cast_shadow=False, receive_shadow=False)
+                f"/lab/live/body/{_safe(body.name)}",
+                np.asarray(body.vertices, dtype=np.float32),
+                np.asarray(body.faces, dtype=np.uint32),
+                color=tuple(body.color),
+                opacity=float(body.opacity),
+                cast_shadow=False,
+                receive_shadow=False,
+            )
         if self._vector_handle is not None:
             _remove(self._vector_handle)
             self._vector_handle = None
@@ -788,7 +929,13 @@ class SessionView:
                 if name in fr.points:
                     tr = self._trails.get(name)
                     if tr is None:
-                        tr = self._trails[name] = Trail(scene_api, f"/lab/live/trail/{_safe(name)}", tuple(color), cfg.trail_chunk, cfg.trail_max_points)
+                        tr = self._trails[name] = Trail(
+                            scene_api,
+                            f"/lab/live/trail/{_safe(name)}",
+                            tuple(color),
+                            cfg.trail_chunk,
+                            cfg.trail_max_points,
+                        )
                     by = spec.trail_color_by.get(name)
                     tr.color_by = (float(by[1]), float(by[2])) if by else None
                     tr.add(fr.points[name], fr.scalars.get(by[0]) if by else None)
@@ -803,8 +950,13 @@ class SessionView:
                 if h is not None:
                     _remove(h)
                 self._point_handles[name] = scene_api.add_point_cloud(
-                    f"/lab/live/point/{_safe(name)}", pts, tuple(color), point_size=0.045 * self._size, point_shape="circle",
-                    precision="float32")
+                    f"/lab/live/point/{_safe(name)}",
+                    pts,
+                    tuple(color),
+                    point_size=0.045 * self._size,
+                    point_shape="circle",
+                    precision="float32",
+                )
             else:
                 fast_set(h, "points", pts)
         self._draw_vectors(last)
@@ -846,12 +998,22 @@ class SessionView:
             self._vector_names = names
             return
         pts = np.concatenate(segs, axis=0).astype(np.float32)
-        if self._vector_handle is None or names != self._vector_names or self._vector_handle.points.shape != pts.shape:
+        if (
+            self._vector_handle is None
+            or names != self._vector_names
+            or self._vector_handle.points.shape != pts.shape
+        ):
             if self._vector_handle is not None:
                 _remove(self._vector_handle)
             r = 0.006 * self._size
-            self._vector_handle = self.client.scene.add_arrows("/lab/live/vectors", pts, np.asarray(colors, dtype=np.uint8),
-                                                               shaft_radius=r, head_radius=2.5 * r, head_length=6 * r)
+            self._vector_handle = self.client.scene.add_arrows(
+                "/lab/live/vectors",
+                pts,
+                np.asarray(colors, dtype=np.uint8),
+                shaft_radius=r,
+                head_radius=2.5 * r,
+                head_length=6 * r,
+            )
             self._vector_names = names
         else:
             fast_set(self._vector_handle, "points", pts)
@@ -905,7 +1067,9 @@ class SessionView:
             if s.preset:
                 try:
                     pr = s.lesson.preset(s.preset)
-                    note = f"<b>{html.escape(pr.title)}</b>" + (f"<br>{html.escape(pr.note)}" if pr.note else "")
+                    note = f"<b>{html.escape(pr.title)}</b>" + (
+                        f"<br>{html.escape(pr.note)}" if pr.note else ""
+                    )
                 except ParamError:
                     note = ""
             content = f'<div class="al-preset-note" style="font-size:0.85em">{note}</div>'
@@ -943,10 +1107,18 @@ class SessionView:
         notice = self.session.notices[-1] if self.session.notices else None
         fmsg = self.session.frame.message
         if notice != self._shown_notice or fmsg != self._shown_frame_message:
-            if notice is not None and notice != self._shown_notice and notice[0] in ("warning", "error"):
+            if (
+                notice is not None
+                and notice != self._shown_notice
+                and notice[0] in ("warning", "error")
+            ):
                 try:
-                    self.client.add_notification("Analyzer Lab", notice[1], auto_close_seconds=6.0,
-                                                 color="red" if notice[0] == "error" else "yellow")
+                    self.client.add_notification(
+                        "Analyzer Lab",
+                        notice[1],
+                        auto_close_seconds=6.0,
+                        color="red" if notice[0] == "error" else "yellow",
+                    )
                 except Exception:
                     pass
             self._shown_notice = notice
@@ -969,13 +1141,22 @@ class SessionView:
         self.step_seconds += time.perf_counter() - t0
         self.frame_count += 1
         cfg = self.config
-        if not frames and not self._frame_dirty and s.scene_revision == self._drawn_scene_rev and s.reset_revision == self._drawn_reset_rev:
+        if (
+            not frames
+            and not self._frame_dirty
+            and s.scene_revision == self._drawn_scene_rev
+            and s.reset_revision == self._drawn_reset_rev
+        ):
             if was_playing != s.playing or self.frame_count % cfg.readout_every == 0:
                 self._update_texts()
             return
         t1 = time.perf_counter()
-        with (self.client.atomic() if atomic else _nullcontext()):
-            if s.scene_revision != self._drawn_scene_rev or s.reset_revision != self._drawn_reset_rev or self._frame_dirty:
+        with self.client.atomic() if atomic else _nullcontext():
+            if (
+                s.scene_revision != self._drawn_scene_rev
+                or s.reset_revision != self._drawn_reset_rev
+                or self._frame_dirty
+            ):
                 self.refresh()
             if frames:
                 self._push_frames(frames)

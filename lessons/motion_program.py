@@ -21,13 +21,14 @@ curve, and the run says so.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 from functools import lru_cache
-from typing import Any, Callable
+from typing import Any
 
 import numpy as np
 import sympy as sp
-from scipy import integrate, optimize
+from scipy import integrate
 
 from lessons.core.arclength import ArcLengthCurve
 from lessons.core.contract import (
@@ -87,7 +88,9 @@ class CurveFormulaParam(Param):
                 raise ParamError(self.name, f"must be finite, got {float(raw)}")
             raw = repr(float(raw))
         if not isinstance(raw, str):
-            raise ParamError(self.name, f"expected a formula of {self.variable}, got {type(raw).__name__}")
+            raise ParamError(
+                self.name, f"expected a formula of {self.variable}, got {type(raw).__name__}"
+            )
         return parse_formula(raw, variables=(self.variable,))
 
 
@@ -145,7 +148,10 @@ def curve_model(x: str, y: str, z: str, phi0: float, phi1: float) -> CurveModel:
     for k, name in enumerate("xyz"):
         bad = ~np.isfinite(vals[:, k])
         if bad.any():
-            raise ParamError(name, f"{forms[name].text!r} is not a finite real number at phi = {probe[np.argmax(bad)]:.6g}")
+            raise ParamError(
+                name,
+                f"{forms[name].text!r} is not a finite real number at phi = {probe[np.argmax(bad)]:.6g}",
+            )
     for name in "xyz":
         _check_continuous(name, forms[name], phi0, phi1)
     try:
@@ -153,7 +159,10 @@ def curve_model(x: str, y: str, z: str, phi0: float, phi1: float) -> CurveModel:
     except ValueError as exc:
         raise ParamError("x", f"arc length (1.12) cannot be computed: {exc}") from None
     if arc.table.accuracy > 1e-6 * max(arc.S_l, 1.0):
-        raise ParamError("x", f"arc length (1.12) does not settle (S_l ~ {arc.S_l:.4g}): the curve may have a pole or a jump in [phi0, phi1]")
+        raise ParamError(
+            "x",
+            f"arc length (1.12) does not settle (S_l ~ {arc.S_l:.4g}): the curve may have a pole or a jump in [phi0, phi1]",
+        )
     if not arc.S_l > 1e-12:
         raise ParamError("x", "the curve has zero length: x, y, z do not change over [phi0, phi1]")
     s = np.linspace(0.0, arc.S_l, 801)
@@ -162,7 +171,20 @@ def curve_model(x: str, y: str, z: str, phi0: float, phi1: float) -> CurveModel:
     origin_s, rmin = _zero_passes(arc, r, dr)
     cusp_s, _ = _zero_passes(arc, dr, _vector_fn([sp.diff(e, PHI) for e in dexprs]))
     nonsmooth = any(e.has(sp.sign, sp.Abs, sp.Heaviside) for e in dexprs)
-    return CurveModel((x, y, z), exprs, dexprs, float(phi0), float(phi1), arc, scale, pts, origin_s, rmin, cusp_s, nonsmooth)
+    return CurveModel(
+        (x, y, z),
+        exprs,
+        dexprs,
+        float(phi0),
+        float(phi1),
+        arc,
+        scale,
+        pts,
+        origin_s,
+        rmin,
+        cusp_s,
+        nonsmooth,
+    )
 
 
 def _check_continuous(name: str, f: Formula, phi0: float, phi1: float) -> None:
@@ -178,10 +200,17 @@ def _check_continuous(name: str, f: Formula, phi0: float, phi1: float) -> None:
     if missing.is_empty is not False:
         return
     where = missing.inf
-    raise ParamError(name, f"{f.text!r} is not continuous on [phi0, phi1]: undefined or singular at phi = {float(where):.6g}")
+    raise ParamError(
+        name,
+        f"{f.text!r} is not continuous on [phi0, phi1]: undefined or singular at phi = {float(where):.6g}",
+    )
 
 
-def _zero_passes(arc: ArcLengthCurve, fn: Callable[[np.ndarray], np.ndarray], dfn: Callable[[np.ndarray], np.ndarray]) -> tuple[tuple[float, ...], float]:
+def _zero_passes(
+    arc: ArcLengthCurve,
+    fn: Callable[[np.ndarray], np.ndarray],
+    dfn: Callable[[np.ndarray], np.ndarray],
+) -> tuple[tuple[float, ...], float]:
     """Arc lengths where fn(phi) = 0 (fn = r: passes through the origin, the singular case
     of (1.14)/(1.15); fn = r': cusps) and min |fn|.
 
@@ -257,10 +286,17 @@ class Program:
         w = np.diff(nodes)
         if self.rate_t is None or self.rate is None:
             return np.full(w.shape, max(minimum, SUBSTEPS), dtype=int)
-        r = np.maximum(np.interp(nodes[:-1], self.rate_t, self.rate), np.interp(nodes[1:], self.rate_t, self.rate))
+        r = np.maximum(
+            np.interp(nodes[:-1], self.rate_t, self.rate),
+            np.interp(nodes[1:], self.rate_t, self.rate),
+        )
         r = np.maximum(r, np.interp(0.5 * (nodes[:-1] + nodes[1:]), self.rate_t, self.rate))
         m = np.ceil(w * r / STEP_ANGLE)
-        return np.clip(np.nan_to_num(m, nan=1.0, posinf=MAX_STEPS_PER_INTERVAL), minimum, MAX_STEPS_PER_INTERVAL).astype(int)
+        return np.clip(
+            np.nan_to_num(m, nan=1.0, posinf=MAX_STEPS_PER_INTERVAL),
+            minimum,
+            MAX_STEPS_PER_INTERVAL,
+        ).astype(int)
 
     def state(self, t: np.ndarray) -> dict[str, np.ndarray]:
         """X(t) (1.11), Xdot(t) = r'/|r'| v(t), s(t), phi, D, v(t) at the times ``t``."""
@@ -290,7 +326,9 @@ class Program:
 
 
 @lru_cache(maxsize=32)
-def _program(x: str, y: str, z: str, phi0: float, phi1: float, v0: float, Delta0: float, Delta1: float) -> Program:
+def _program(
+    x: str, y: str, z: str, phi0: float, phi1: float, v0: float, Delta0: float, Delta1: float
+) -> Program:
     cm = curve_model(x, y, z, phi0, phi1)
     prof = speed_profile(cm.arc.S_l, v0, Delta0, Delta1)
     ts = tuple(float(v) for v in prof.time_at(np.array(cm.origin_s))) if cm.origin_s else ()
@@ -315,13 +353,27 @@ def _program(x: str, y: str, z: str, phi0: float, phi1: float, v0: float, Delta0
 
 def program_of(params: Params) -> Program:
     return _program(
-        params["x"].text, params["y"].text, params["z"].text,
-        float(params["phi0"]), float(params["phi1"]),
-        float(params["v0"]), float(params["Delta0"]), float(params["Delta1"]),
+        params["x"].text,
+        params["y"].text,
+        params["z"].text,
+        float(params["phi0"]),
+        float(params["phi1"]),
+        float(params["v0"]),
+        float(params["Delta0"]),
+        float(params["Delta1"]),
     )
 
 
-def program_from(x: str, y: str, z: str, phi0: float, phi1: float, v0: float = 1.0, Delta0: float = 1.0, Delta1: float = 1.0) -> Program:
+def program_from(
+    x: str,
+    y: str,
+    z: str,
+    phi0: float,
+    phi1: float,
+    v0: float = 1.0,
+    Delta0: float = 1.0,
+    Delta1: float = 1.0,
+) -> Program:
     """Build a program from text (used by claims and tests)."""
     return _program(x, y, z, float(phi0), float(phi1), float(v0), float(Delta0), float(Delta1))
 
@@ -329,7 +381,9 @@ def program_from(x: str, y: str, z: str, phi0: float, phi1: float, v0: float = 1
 # ------------------------------------------------------------------ integrating (1.5)
 
 
-def integrate_15(prog: Program, nodes: np.ndarray, y0: np.ndarray, substeps: int | np.ndarray | None = None) -> np.ndarray:
+def integrate_15(
+    prog: Program, nodes: np.ndarray, y0: np.ndarray, substeps: int | np.ndarray | None = None
+) -> np.ndarray:
     """Integrate (1.5) with the controls (1.15) by classical RK4 (fixed steps inside each
     interval of ``nodes``); returns the state at every node (N, 3).
 
@@ -384,7 +438,16 @@ def integrate_15(prog: Program, nodes: np.ndarray, y0: np.ndarray, substeps: int
     return out
 
 
-def _rk4_step(y: list[float], h: float, a0: list[float], x0: list[float], a1: list[float], x1: list[float], a2: list[float], x2: list[float]) -> list[float]:
+def _rk4_step(
+    y: list[float],
+    h: float,
+    a0: list[float],
+    x0: list[float],
+    a1: list[float],
+    x1: list[float],
+    a2: list[float],
+    x2: list[float],
+) -> list[float]:
     """One RK4 step of y' = a(t) (x(t) . y) (the rank-one field (1.5) + (1.15))."""
     c1 = x0[0] * y[0] + x0[1] * y[1] + x0[2] * y[2]
     k1 = [a0[0] * c1, a0[1] * c1, a0[2] * c1]
@@ -417,7 +480,9 @@ def _output_nodes(prog: Program, t_end: float, samples: int = OUTPUT_SAMPLES) ->
         parts.append(np.linspace(a, b, k + 1)[:-1])
     arc = prog.curve.arc
     q = max(samples // 4, 2)
-    s_geo = np.concatenate([np.linspace(0.0, arc.S_l, q + 1), arc.s_of_theta(np.linspace(0.0, np.pi, q + 1))])
+    s_geo = np.concatenate(
+        [np.linspace(0.0, arc.S_l, q + 1), arc.s_of_theta(np.linspace(0.0, np.pi, q + 1))]
+    )
     t_geo = prog.profile.time_at(s_geo)
     parts.append(t_geo[(t_geo > 0) & (t_geo < t_end)])
     # log-spaced too: |U| ~ v/|X| may fall like 1/t over many decades of a huge curve
@@ -430,14 +495,21 @@ def _output_nodes(prog: Program, t_end: float, samples: int = OUTPUT_SAMPLES) ->
     last = -math.inf
     for i, v in enumerate(t):
         tiny = 1e-12 * max(abs(v), 1e-15 * t_end)
-        if not is_mark[i] and (v - last < tiny or (i + 1 < len(t) and is_mark[i + 1] and t[i + 1] - v < tiny)):
+        if not is_mark[i] and (
+            v - last < tiny or (i + 1 < len(t) and is_mark[i + 1] and t[i + 1] - v < tiny)
+        ):
             keep[i] = False
         else:
             last = v
     return t[keep]
 
 
-def reproduce(prog: Program, t_end: float | None = None, samples: int = OUTPUT_SAMPLES, substeps: int | None = None) -> dict[str, np.ndarray]:
+def reproduce(
+    prog: Program,
+    t_end: float | None = None,
+    samples: int = OUTPUT_SAMPLES,
+    substeps: int | None = None,
+) -> dict[str, np.ndarray]:
     """Program state and (1.5) solution on an output grid (the core of simulate())."""
     t_end = prog.T if t_end is None else float(t_end)
     t = _output_nodes(prog, t_end, samples)
@@ -495,25 +567,61 @@ PRESETS = (
     Preset(
         "circle",
         "Circle of radius 2 in the plane z = 1",
-        {"x": "2*cos(phi)", "y": "2*sin(phi)", "z": "1", "phi0": "0", "phi1": "2*pi", "v0": 2.0, "Delta0": 1.0, "Delta1": 1.0},
+        {
+            "x": "2*cos(phi)",
+            "y": "2*sin(phi)",
+            "z": "1",
+            "phi0": "0",
+            "phi1": "2*pi",
+            "v0": 2.0,
+            "Delta0": 1.0,
+            "Delta1": 1.0,
+        },
         t_end=8.0,
     ),
     Preset(
         "spiral",
         "Conical spiral, two turns",
-        {"x": "(1 + phi/5)*cos(phi)", "y": "(1 + phi/5)*sin(phi)", "z": "phi/10", "phi0": "0", "phi1": "4*pi", "v0": 2.0, "Delta0": 1.0, "Delta1": 1.0},
+        {
+            "x": "(1 + phi/5)*cos(phi)",
+            "y": "(1 + phi/5)*sin(phi)",
+            "z": "phi/10",
+            "phi0": "0",
+            "phi1": "4*pi",
+            "v0": 2.0,
+            "Delta0": 1.0,
+            "Delta1": 1.0,
+        },
         t_end=16.0,
     ),
     Preset(
         "line",
         "Straight segment from (1, 2, 0) to (3, 0, 1)",
-        {"x": "1 + phi", "y": "2 - phi", "z": "phi/2", "phi0": "0", "phi1": "2", "v0": 1.0, "Delta0": 0.5, "Delta1": 0.5},
+        {
+            "x": "1 + phi",
+            "y": "2 - phi",
+            "z": "phi/2",
+            "phi0": "0",
+            "phi1": "2",
+            "v0": 1.0,
+            "Delta0": 0.5,
+            "Delta1": 0.5,
+        },
         t_end=4.0,
     ),
     Preset(
         "line-through-origin",
         "Segment through the origin: (1.14) fails, (1.15) divides by zero",
-        {"x": "phi", "y": "phi", "z": "phi", "phi0": "-1", "phi1": "1", "v0": 1.0, "Delta0": 0.5, "Delta1": 0.5},
+        {
+            "x": "phi",
+            "y": "phi",
+            "z": "phi",
+            "phi0": "-1",
+            "phi1": "1",
+            "v0": 1.0,
+            "Delta0": 0.5,
+            "Delta1": 0.5,
+        },
         t_end=4.5,
         note="X(t) passes through 0 at t = 1.982: no phase curve of (1.5) can pass the origin.",
     ),
@@ -531,7 +639,7 @@ def _scene_size(prog: Program) -> float:
 class MotionStepper(Stepper):
     """Live run: the program point X(t) and the state of (1.5) integrated with (1.15)."""
 
-    def __init__(self, lesson: "MotionProgramLesson", params: Params) -> None:
+    def __init__(self, lesson: MotionProgramLesson, params: Params) -> None:
         self._lesson = lesson
         self._params = params
         self._prog = program_of(params)
@@ -561,7 +669,10 @@ class MotionStepper(Stepper):
             marks.update(e for e in (g0, g1) if a < e < b)
         h = max(prog.T, 1e-9) / LIVE_STEPS
         ml = sorted(marks)
-        nodes = [np.linspace(p, q, max(1, int(math.ceil((q - p) / h))) + 1)[:-1] for p, q in zip(ml[:-1], ml[1:])]
+        nodes = [
+            np.linspace(p, q, max(1, int(math.ceil((q - p) / h))) + 1)[:-1]
+            for p, q in zip(ml[:-1], ml[1:])
+        ]
         nodes_arr = np.concatenate([*nodes, [b]])
         was_nan = not np.all(np.isfinite(self._y))
         if a >= prog.T and np.all(np.isfinite(self._y)):
@@ -590,7 +701,9 @@ class MotionStepper(Stepper):
             self._y = new.state(np.array([self._t]))["X"][0].copy()
             if new.in_gap(self._t):
                 self._y[:] = np.nan
-            self._note = f"parameters changed: (1.5) restarted from the curve point at t = {self._t:.4g}"
+            self._note = (
+                f"parameters changed: (1.5) restarted from the curve point at t = {self._t:.4g}"
+            )
 
     def reset(self) -> Frame:
         self._t = 0.0
@@ -620,14 +733,88 @@ class MotionProgramLesson(Lesson):
     order = 1.1
     t_end = 6.0
     params = (
-        CurveFormulaParam("x", "formula", HELIX_12[0], label="x = f1(phi)", group="controls", help="formula of phi (1.1)"),
-        CurveFormulaParam("y", "formula", HELIX_12[1], label="y = f2(phi)", group="controls", help="formula of phi (1.1)"),
-        CurveFormulaParam("z", "formula", HELIX_12[2], label="z = f3(phi)", group="controls", help="formula of phi (1.1)"),
-        Param("phi0", "float", "0", label="phi0", min=-1000.0, max=1000.0, step=0.01, group="initial", help="start of the range I"),
-        Param("phi1", "float", "pi", label="phi1", min=-1000.0, max=1000.0, step=0.01, group="initial", help="end of the range I"),
-        Param("v0", "float", 1.0, label="v0", unit="m/s", min=1e-3, max=1000.0, step=0.01, group="method", help="speed of the constant segment"),
-        Param("Delta0", "float", 1.0, label="Delta0", unit="s", min=0.0, max=1000.0, step=0.01, group="method", help="acceleration time"),
-        Param("Delta1", "float", 1.0, label="Delta1", unit="s", min=0.0, max=1000.0, step=0.01, group="method", help="deceleration time"),
+        CurveFormulaParam(
+            "x",
+            "formula",
+            HELIX_12[0],
+            label="x = f1(phi)",
+            group="controls",
+            help="formula of phi (1.1)",
+        ),
+        CurveFormulaParam(
+            "y",
+            "formula",
+            HELIX_12[1],
+            label="y = f2(phi)",
+            group="controls",
+            help="formula of phi (1.1)",
+        ),
+        CurveFormulaParam(
+            "z",
+            "formula",
+            HELIX_12[2],
+            label="z = f3(phi)",
+            group="controls",
+            help="formula of phi (1.1)",
+        ),
+        Param(
+            "phi0",
+            "float",
+            "0",
+            label="phi0",
+            min=-1000.0,
+            max=1000.0,
+            step=0.01,
+            group="initial",
+            help="start of the range I",
+        ),
+        Param(
+            "phi1",
+            "float",
+            "pi",
+            label="phi1",
+            min=-1000.0,
+            max=1000.0,
+            step=0.01,
+            group="initial",
+            help="end of the range I",
+        ),
+        Param(
+            "v0",
+            "float",
+            1.0,
+            label="v0",
+            unit="m/s",
+            min=1e-3,
+            max=1000.0,
+            step=0.01,
+            group="method",
+            help="speed of the constant segment",
+        ),
+        Param(
+            "Delta0",
+            "float",
+            1.0,
+            label="Delta0",
+            unit="s",
+            min=0.0,
+            max=1000.0,
+            step=0.01,
+            group="method",
+            help="acceleration time",
+        ),
+        Param(
+            "Delta1",
+            "float",
+            1.0,
+            label="Delta1",
+            unit="s",
+            min=0.0,
+            max=1000.0,
+            step=0.01,
+            group="method",
+            help="deceleration time",
+        ),
     )
     presets = PRESETS
     plots = (
@@ -653,7 +840,9 @@ class MotionProgramLesson(Lesson):
         if not t_end > 0:
             raise ParamError("t_end", f"must be positive, got {t_end:g}")
         if t_end < prof.T:
-            messages.append(f"stopped at t = {t_end:g} before the end of the motion (T = {prof.T:.6g})")
+            messages.append(
+                f"stopped at t = {t_end:g} before the end of the motion (T = {prof.T:.6g})"
+            )
         res = reproduce(prog, t_end)
         t, X, V, Y, U, V5 = res["t"], res["X"], res["V"], res["X5"], res["U"], res["V5"]
         speed5 = np.linalg.norm(V5, axis=1)
@@ -665,26 +854,43 @@ class MotionProgramLesson(Lesson):
         excess_prog = float(np.max(np.linalg.norm(V, axis=1) - vlim))
         cm = prog.curve
         if cm.arc.table.accuracy > 1e-9 * max(1.0, cm.arc.S_l):
-            messages.append(f"arc length (1.12) settled only to {cm.arc.table.accuracy:.2g}: the curve is hard to integrate")
+            messages.append(
+                f"arc length (1.12) settled only to {cm.arc.table.accuracy:.2g}: the curve is hard to integrate"
+            )
         for ts, (g0, g1) in zip(prog.singular_t, prog.gaps):
             messages.append(
                 f"X(t) = 0 at t = {ts:.6g}: (1.14) fails and (1.15) divides by zero there; the zero solution "
                 f"of (1.5) cannot be left or reached, so (1.5) is suspended on ({max(g0, 0):.4g}, {g1:.4g}) and restarted from the curve"
             )
         for tc in prog.cusp_t:
-            messages.append(f"r'(phi) = 0 at t = {tc:.6g}: the curve is not regular there (a cusp); the RK4 steps are split there")
+            messages.append(
+                f"r'(phi) = 0 at t = {tc:.6g}: the curve is not regular there (a cusp); the RK4 steps are split there"
+            )
         if cm.nonsmooth:
-            messages.append("the curve uses abs(): its tangent may jump; RK4 loses accuracy on a step across a corner (see the error)")
+            messages.append(
+                "the curve uses abs(): its tangent may jump; RK4 loses accuracy on a step across a corner (see the error)"
+            )
         if not prog.singular_t and cm.min_radius < 1e-3 * cm.scale:
             messages.append(
                 f"the curve passes at {cm.min_radius:.3g} from the origin (curve size {cm.scale:.3g}): "
                 "|u_ij| ~ v/|X| is large there"
             )
         series = {
-            "x": X[:, 0], "y": X[:, 1], "z": X[:, 2],
-            "vx": V[:, 0], "vy": V[:, 1], "vz": V[:, 2],
-            "v": speed5, "v_limit": vlim, "s": res["s"], "phi": res["phi"],
-            "x5": Y[:, 0], "y5": Y[:, 1], "z5": Y[:, 2], "error": res["err"], "D": res["D"],
+            "x": X[:, 0],
+            "y": X[:, 1],
+            "z": X[:, 2],
+            "vx": V[:, 0],
+            "vy": V[:, 1],
+            "vz": V[:, 2],
+            "v": speed5,
+            "v_limit": vlim,
+            "s": res["s"],
+            "phi": res["phi"],
+            "x5": Y[:, 0],
+            "y5": Y[:, 1],
+            "z5": Y[:, 2],
+            "error": res["err"],
+            "D": res["D"],
         }
         gap = np.array([prog.in_gap(float(v)) for v in t], dtype=bool)
         U = U.copy()
@@ -741,8 +947,12 @@ class MotionProgramLesson(Lesson):
         size = _scene_size(prog)
         vscale = 0.25 * size / max(prog.profile.v1, 1e-12)
         scalars = {
-            "x": float(X[0]), "y": float(X[1]), "z": float(X[2]),
-            "v": v5, "v_limit": float(st["v"][0]), "s": float(st["s"][0]),
+            "x": float(X[0]),
+            "y": float(X[1]),
+            "z": float(X[2]),
+            "v": v5,
+            "v_limit": float(st["v"][0]),
+            "s": float(st["s"][0]),
             "error": float(np.linalg.norm(y - X)) if finite else 0.0,
             "D": float(st["D"][0]),
         }
@@ -750,7 +960,10 @@ class MotionProgramLesson(Lesson):
             scalars[name] = float(U[k // 3, k % 3])
         return Frame(
             t=float(t),
-            points={"point": X[None, :].copy(), "analyzer": np.asarray(y_show, dtype=float)[None, :].copy()},
+            points={
+                "point": X[None, :].copy(),
+                "analyzer": np.asarray(y_show, dtype=float)[None, :].copy(),
+            },
             vectors={"velocity": (X[None, :].copy(), (V * vscale)[None, :])},
             scalars=scalars,
             message=" ".join(msgs),
@@ -768,8 +981,16 @@ class MotionProgramLesson(Lesson):
             bounds=(tuple(float(v) for v in lo - pad), tuple(float(v) for v in hi + pad)),  # type: ignore[arg-type]
             curves=[CurveItem("curve l (1.1)", pts.copy(), color=(40, 40, 40), width=2.0)],
             markers=[
-                MarkerItem("start", start[None, :].copy(), color=(30, 160, 60), size=0.06, label="start r(phi0)"),
-                MarkerItem("end", end[None, :].copy(), color=(200, 60, 60), size=0.05, label="end r(phi1)"),
+                MarkerItem(
+                    "start",
+                    start[None, :].copy(),
+                    color=(30, 160, 60),
+                    size=0.06,
+                    label="start r(phi0)",
+                ),
+                MarkerItem(
+                    "end", end[None, :].copy(), color=(200, 60, 60), size=0.05, label="end r(phi1)"
+                ),
                 MarkerItem("origin", np.zeros((1, 3)), color=(120, 120, 120), size=0.04, label="O"),
             ],
             moving_points={"point": (220, 60, 60), "analyzer": (40, 90, 220)},
@@ -810,7 +1031,11 @@ class MotionProgramLesson(Lesson):
             DerivationStep(
                 "The same helix, second form",
                 "phi in [0, pi/2]; (1.3)(phi) = (1.2)(2 phi).",
-                [sp.Eq(x, 2 * sp.sin(PHI) * sp.cos(PHI)), sp.Eq(y, 2 * sp.cos(PHI) ** 2 - 1), sp.Eq(z, 2 * PHI)],
+                [
+                    sp.Eq(x, 2 * sp.sin(PHI) * sp.cos(PHI)),
+                    sp.Eq(y, 2 * sp.cos(PHI) ** 2 - 1),
+                    sp.Eq(z, 2 * PHI),
+                ],
                 source="(1.3)",
             ),
             DerivationStep(
@@ -825,7 +1050,9 @@ class MotionProgramLesson(Lesson):
                 "The differential analyzer",
                 "A linear system of the 3rd order whose coefficients u_ij(t) are the controls; its phase curve must "
                 "start at r(phi0), describe l and only l, and never exceed the speed v(t).",
-                sp.Eq(Xv.diff(t), sp.Matrix(3, 3, lambda i, j: sp.Symbol(f"u_{i + 1}{j + 1}")) * Xv),
+                sp.Eq(
+                    Xv.diff(t), sp.Matrix(3, 3, lambda i, j: sp.Symbol(f"u_{i + 1}{j + 1}")) * Xv
+                ),
                 source="(1.5)",
                 reconstructed="(1.5) was lost in extraction; rebuilt from the text, article 001 and (1.15)",
             ),
@@ -834,21 +1061,40 @@ class MotionProgramLesson(Lesson):
                 f"For this curve |r'(phi)|^2 is shown below; S_l = s(phi1) = {cm.arc.S_l:.12g}. "
                 "Numerically: the substitution phi = phi0 + (phi1 - phi0) sin^2(theta/2) removes end-point "
                 "singularities such as that of (1.4).",
-                [sp.Eq(sp.Function("s")(PHI), sp.Integral(sp.sqrt(sum(sp.Derivative(sp.Function(f"f_{i}")(PHI), PHI) ** 2 for i in (1, 2, 3))), (PHI, phi0, PHI))),
-                 sp.Eq(sp.Symbol("|r'|^2"), speed2)],
+                [
+                    sp.Eq(
+                        sp.Function("s")(PHI),
+                        sp.Integral(
+                            sp.sqrt(
+                                sum(
+                                    sp.Derivative(sp.Function(f"f_{i}")(PHI), PHI) ** 2
+                                    for i in (1, 2, 3)
+                                )
+                            ),
+                            (PHI, phi0, PHI),
+                        ),
+                    ),
+                    sp.Eq(sp.Symbol("|r'|^2"), speed2),
+                ],
                 source="(1.12)",
                 reconstructed="decoded from the scrambled extraction; the radical sign was restored",
             ),
             DerivationStep(
                 "Arc-length form",
                 "s(phi) increases, so phi = omega(s) exists and x = f1(omega(s)) = x(s), ...",
-                [sp.Eq(x, sp.Function("f_1")(sp.Function("omega")(s))), sp.Eq(x, sp.Function("x")(s))],
+                [
+                    sp.Eq(x, sp.Function("f_1")(sp.Function("omega")(s))),
+                    sp.Eq(x, sp.Function("x")(s)),
+                ],
                 source="(1.13), (1.6)",
             ),
             DerivationStep(
                 "Path covered in time",
                 "",
-                sp.Eq(sp.Function("s")(t), sp.Integral(sp.Function("v")(sp.Symbol("xi")), (sp.Symbol("xi"), 0, t))),
+                sp.Eq(
+                    sp.Function("s")(t),
+                    sp.Integral(sp.Function("v")(sp.Symbol("xi")), (sp.Symbol("xi"), 0, t)),
+                ),
                 source="(1.7)",
             ),
             DerivationStep(
@@ -902,7 +1148,11 @@ class MotionProgramLesson(Lesson):
             DerivationStep(
                 "No phase curve through the origin",
                 f"(1.5) has the zero solution and unique solutions. Here min D = {float(np.min(prog.state(np.linspace(0, prof.T, 401))['D'])):.6g}"
-                + (f"; the curve meets the origin at t = {', '.join(f'{v:.6g}' for v in prog.singular_t)}." if prog.singular_t else "."),
+                + (
+                    f"; the curve meets the origin at t = {', '.join(f'{v:.6g}' for v in prog.singular_t)}."
+                    if prog.singular_t
+                    else "."
+                ),
                 sp.Ne(X**2 + Y**2 + Z**2, 0),
                 source="(1.14)",
             ),
@@ -920,25 +1170,120 @@ class MotionProgramLesson(Lesson):
 
     def claims(self) -> list[Claim]:
         return [
-            Claim("helix-length-1.2", "(1.2) has arc length pi sqrt(2) = 4.442883", "(1.2), (1.12)", lambda: close(SQRT2PI, helix_length(HELIX_12), atol=1e-9)),
-            Claim("helix-length-1.3", "(1.3) has arc length pi sqrt(2)", "(1.3), (1.12)", lambda: close(SQRT2PI, helix_length(HELIX_13), atol=1e-9)),
-            Claim("helix-length-1.4", "(1.4) has arc length pi sqrt(2) despite |r'|^2 = 2/(1 - phi^2)", "(1.4), (1.12)", lambda: close(SQRT2PI, helix_length(HELIX_14), atol=1e-9)),
-            Claim("helix-same-curve", "(1.2), (1.3), (1.4) are one point set (sampled Hausdorff distance <= 1e-9)", "(1.2)-(1.4)", lambda: at_most(1e-9, helix_hausdorff(), "Hausdorff ")),
-            Claim("helix-speeds", "|r'|^2 = 2, 8 and 2/(1 - phi^2) for (1.2), (1.3), (1.4); (1.3)(phi) = (1.2)(2 phi), (1.4)(phi) = (1.2)(arccos phi)", "(1.2)-(1.4)", check_helix_symbolic),
-            Claim("helix-1.4-reversed", "(1.4) runs the other way: r_(1.4)(s) = r_(1.2)(S_l - s), start (0, -1, pi)", "(1.4)", lambda: at_most(1e-9, helix_reversal_gap(), "max distance ")),
-            Claim("helix-1.4-radical", "with the root x^2 + y^2 = 1 on (1.4); without it (x = 1 - phi^2) x^2 + y^2 = 0.8125 at phi = 0.5", "(1.4)", check_radical),
-            Claim("trapezoid-numbers", "v0 = 1, Delta0 = Delta1 = 1 on the helix: L = 3.442883, T = 5.442883", "(1.8)", check_trapezoid_numbers),
-            Claim("trapezoid-covers", "the trapezoid law covers exactly S_l: integral of v = s(T) = S_l, v <= v0, slopes v0/Delta", "(1.7), (1.8)", lambda: check_covers(1.0, 1.0, 1.0)),
-            Claim("triangle-numbers", "v0 = 4, Delta0 = Delta1 = 2 on the helix: L = -3.557117, t1 = 1.490450, tau = v1 = 2.980900", "(1.9)", check_triangle_numbers),
-            Claim("triangle-covers", "the triangle law covers exactly S_l with v1 <= v0 and the ramps' slopes", "(1.7), (1.9)", lambda: check_covers(4.0, 1.0, 3.0)),
-            Claim("triangle-formulas", "(1.9) solves v1 = k1 t1 = k2 (tau - t1), v1 tau/2 = S_l", "(1.9)", check_triangle_symbolic),
-            Claim("profiles-join", "at L = 0 the triangle has v1 = v0 and equals the trapezoid (Delta = 0)", "(1.8), (1.9)", check_join),
-            Claim("controls-identity", "U X = Xdot for u_ij = Xdot_i X_j / D; the reading X_i Xdot_j / D fails", "(1.15)", check_controls_symbolic),
-            Claim("reproduce-trapezoid", "(1.5) with (1.15) reproduces the helix, trapezoid law, to 1e-6 (RK4)", "(1.5), (1.15)", lambda: at_most(1e-6, reproduction_error(1.0, 1.0, 1.0), "max |X5 - X| ")),
-            Claim("reproduce-triangle", "(1.5) with (1.15) reproduces the helix, triangle law, to 1e-6 (RK4)", "(1.5), (1.15)", lambda: at_most(1e-6, reproduction_error(4.0, 2.0, 2.0), "max |X5 - X| ")),
-            Claim("speed-limit", "the speed of (1.5) never exceeds v(t) (within 1e-6)", "(1.5), (1.15)", lambda: at_most(1e-6, speed_excess(), "max(|U X5| - v) ")),
-            Claim("end-point", "the motion ends at (0, -1, pi), the end of the helix", "(1.2), (1.11)", check_end_point),
-            Claim("helix-D", "(1.14) holds on the helix: D = 1 + Z^2 >= 1", "(1.14)", lambda: close(1.0, helix_min_D(), atol=1e-12)),
+            Claim(
+                "helix-length-1.2",
+                "(1.2) has arc length pi sqrt(2) = 4.442883",
+                "(1.2), (1.12)",
+                lambda: close(SQRT2PI, helix_length(HELIX_12), atol=1e-9),
+            ),
+            Claim(
+                "helix-length-1.3",
+                "(1.3) has arc length pi sqrt(2)",
+                "(1.3), (1.12)",
+                lambda: close(SQRT2PI, helix_length(HELIX_13), atol=1e-9),
+            ),
+            Claim(
+                "helix-length-1.4",
+                "(1.4) has arc length pi sqrt(2) despite |r'|^2 = 2/(1 - phi^2)",
+                "(1.4), (1.12)",
+                lambda: close(SQRT2PI, helix_length(HELIX_14), atol=1e-9),
+            ),
+            Claim(
+                "helix-same-curve",
+                "(1.2), (1.3), (1.4) are one point set (sampled Hausdorff distance <= 1e-9)",
+                "(1.2)-(1.4)",
+                lambda: at_most(1e-9, helix_hausdorff(), "Hausdorff "),
+            ),
+            Claim(
+                "helix-speeds",
+                "|r'|^2 = 2, 8 and 2/(1 - phi^2) for (1.2), (1.3), (1.4); (1.3)(phi) = (1.2)(2 phi), (1.4)(phi) = (1.2)(arccos phi)",
+                "(1.2)-(1.4)",
+                check_helix_symbolic,
+            ),
+            Claim(
+                "helix-1.4-reversed",
+                "(1.4) runs the other way: r_(1.4)(s) = r_(1.2)(S_l - s), start (0, -1, pi)",
+                "(1.4)",
+                lambda: at_most(1e-9, helix_reversal_gap(), "max distance "),
+            ),
+            Claim(
+                "helix-1.4-radical",
+                "with the root x^2 + y^2 = 1 on (1.4); without it (x = 1 - phi^2) x^2 + y^2 = 0.8125 at phi = 0.5",
+                "(1.4)",
+                check_radical,
+            ),
+            Claim(
+                "trapezoid-numbers",
+                "v0 = 1, Delta0 = Delta1 = 1 on the helix: L = 3.442883, T = 5.442883",
+                "(1.8)",
+                check_trapezoid_numbers,
+            ),
+            Claim(
+                "trapezoid-covers",
+                "the trapezoid law covers exactly S_l: integral of v = s(T) = S_l, v <= v0, slopes v0/Delta",
+                "(1.7), (1.8)",
+                lambda: check_covers(1.0, 1.0, 1.0),
+            ),
+            Claim(
+                "triangle-numbers",
+                "v0 = 4, Delta0 = Delta1 = 2 on the helix: L = -3.557117, t1 = 1.490450, tau = v1 = 2.980900",
+                "(1.9)",
+                check_triangle_numbers,
+            ),
+            Claim(
+                "triangle-covers",
+                "the triangle law covers exactly S_l with v1 <= v0 and the ramps' slopes",
+                "(1.7), (1.9)",
+                lambda: check_covers(4.0, 1.0, 3.0),
+            ),
+            Claim(
+                "triangle-formulas",
+                "(1.9) solves v1 = k1 t1 = k2 (tau - t1), v1 tau/2 = S_l",
+                "(1.9)",
+                check_triangle_symbolic,
+            ),
+            Claim(
+                "profiles-join",
+                "at L = 0 the triangle has v1 = v0 and equals the trapezoid (Delta = 0)",
+                "(1.8), (1.9)",
+                check_join,
+            ),
+            Claim(
+                "controls-identity",
+                "U X = Xdot for u_ij = Xdot_i X_j / D; the reading X_i Xdot_j / D fails",
+                "(1.15)",
+                check_controls_symbolic,
+            ),
+            Claim(
+                "reproduce-trapezoid",
+                "(1.5) with (1.15) reproduces the helix, trapezoid law, to 1e-6 (RK4)",
+                "(1.5), (1.15)",
+                lambda: at_most(1e-6, reproduction_error(1.0, 1.0, 1.0), "max |X5 - X| "),
+            ),
+            Claim(
+                "reproduce-triangle",
+                "(1.5) with (1.15) reproduces the helix, triangle law, to 1e-6 (RK4)",
+                "(1.5), (1.15)",
+                lambda: at_most(1e-6, reproduction_error(4.0, 2.0, 2.0), "max |X5 - X| "),
+            ),
+            Claim(
+                "speed-limit",
+                "the speed of (1.5) never exceeds v(t) (within 1e-6)",
+                "(1.5), (1.15)",
+                lambda: at_most(1e-6, speed_excess(), "max(|U X5| - v) "),
+            ),
+            Claim(
+                "end-point",
+                "the motion ends at (0, -1, pi), the end of the helix",
+                "(1.2), (1.11)",
+                check_end_point,
+            ),
+            Claim(
+                "helix-D",
+                "(1.14) holds on the helix: D = 1 + Z^2 >= 1",
+                "(1.14)",
+                lambda: close(1.0, helix_min_D(), atol=1e-12),
+            ),
         ]
 
 
@@ -954,7 +1299,10 @@ def helix_length(c: tuple[str, str, str, str, str]) -> float:
 def _helix_arcs() -> list[ArcLengthCurve]:
     from lessons.core.formula import parse_number
 
-    return [curve_model(c[0], c[1], c[2], parse_number(c[3]), parse_number(c[4])).arc for c in (HELIX_12, HELIX_13, HELIX_14)]
+    return [
+        curve_model(c[0], c[1], c[2], parse_number(c[3]), parse_number(c[4])).arc
+        for c in (HELIX_12, HELIX_13, HELIX_14)
+    ]
 
 
 def _nearest_distance(arc: ArcLengthCurve, pts: np.ndarray) -> np.ndarray:
@@ -1001,10 +1349,20 @@ def check_helix_symbolic() -> ClaimResult:
     f13 = sp.Matrix([2 * sp.sin(PHI) * sp.cos(PHI), 2 * sp.cos(PHI) ** 2 - 1, 2 * PHI])
     f14 = sp.Matrix([sp.sqrt(1 - PHI**2), PHI, sp.acos(PHI)])
     sq = [sp.simplify(sum(d**2 for d in f.diff(PHI))) for f in (f12, f13, f14)]
-    ok_sq = sp.simplify(sq[0] - 2) == 0 and sp.simplify(sq[1] - 8) == 0 and sp.simplify(sq[2] - 2 / (1 - PHI**2)) == 0
-    ok_13 = all(sp.simplify(sp.expand_trig(a - b)) == 0 for a, b in zip(f13, f12.subs(PHI, 2 * PHI)))
+    ok_sq = (
+        sp.simplify(sq[0] - 2) == 0
+        and sp.simplify(sq[1] - 8) == 0
+        and sp.simplify(sq[2] - 2 / (1 - PHI**2)) == 0
+    )
+    ok_13 = all(
+        sp.simplify(sp.expand_trig(a - b)) == 0 for a, b in zip(f13, f12.subs(PHI, 2 * PHI))
+    )
     ok_14 = all(sp.simplify(a - b) == 0 for a, b in zip(f14, f12.subs(PHI, sp.acos(PHI))))
-    return ClaimResult("|r'|^2 = 2, 8, 2/(1-phi^2); both substitutions exact", f"{sq}; (1.3)~(1.2): {ok_13}; (1.4)~(1.2): {ok_14}", bool(ok_sq and ok_13 and ok_14))
+    return ClaimResult(
+        "|r'|^2 = 2, 8, 2/(1-phi^2); both substitutions exact",
+        f"{sq}; (1.3)~(1.2): {ok_13}; (1.4)~(1.2): {ok_14}",
+        bool(ok_sq and ok_13 and ok_14),
+    )
 
 
 def check_radical() -> ClaimResult:
@@ -1013,13 +1371,23 @@ def check_radical() -> ClaimResult:
     without = parse_formula("1 - phi^2", variables=("phi",)).value(0.5) ** 2 + 0.5**2
     dev = float(np.max(np.abs(with_root - 1.0)))
     ok = dev < 1e-14 and abs(without - 0.8125) < 1e-15
-    return ClaimResult("max |x^2 + y^2 - 1| < 1e-14 with the root; 0.8125 without", f"{dev:.2g}; {without:.10g}", ok)
+    return ClaimResult(
+        "max |x^2 + y^2 - 1| < 1e-14 with the root; 0.8125 without",
+        f"{dev:.2g}; {without:.10g}",
+        ok,
+    )
 
 
 def check_trapezoid_numbers() -> ClaimResult:
     p = speed_profile(SQRT2PI, 1.0, 1.0, 1.0)
-    ok = p.kind == "trapezoid" and abs(p.L - 3.442882938158366) < 1e-9 and abs(p.T - 5.442882938158366) < 1e-9
-    return ClaimResult("trapezoid, L = 3.442883, T = 5.442883", f"{p.kind}, L = {p.L:.9g}, T = {p.T:.9g}", ok)
+    ok = (
+        p.kind == "trapezoid"
+        and abs(p.L - 3.442882938158366) < 1e-9
+        and abs(p.T - 5.442882938158366) < 1e-9
+    )
+    return ClaimResult(
+        "trapezoid, L = 3.442883, T = 5.442883", f"{p.kind}, L = {p.L:.9g}, T = {p.T:.9g}", ok
+    )
 
 
 def check_triangle_numbers() -> ClaimResult:
@@ -1071,7 +1439,11 @@ def check_triangle_symbolic() -> ClaimResult:
     v0, D0, D1 = sp.symbols("v_0 Delta_0 Delta_1", positive=True)
     v1sq = sp.simplify((printed["v_1"] ** 2).subs({k1: v0 / D0, k2: v0 / D1}))
     ok = ok and sp.simplify(v1sq - 2 * S * v0 / (D0 + D1)) == 0
-    return ClaimResult("(1.9) - sympy solution = 0 for t1, tau, v1; v1^2 = 2 S_l v0/(Delta0+Delta1)", f"{diffs}; v1^2 = {v1sq}", bool(ok))
+    return ClaimResult(
+        "(1.9) - sympy solution = 0 for t1, tau, v1; v1^2 = 2 S_l v0/(Delta0+Delta1)",
+        f"{diffs}; v1^2 = {v1sq}",
+        bool(ok),
+    )
 
 
 def check_join() -> ClaimResult:
@@ -1081,8 +1453,18 @@ def check_join() -> ClaimResult:
     near = speed_profile(S0 * (1 + 1e-9), v0, D0, D1)  # L slightly > 0: trapezoid
     t = np.linspace(0.0, tri.T, 2001)
     dv = float(np.max(np.abs(tri.v(t) - near.v(t))))
-    ok = tri.kind == "triangle" and near.kind == "trapezoid" and abs(tri.v1 - v0) < 1e-12 and abs(tri.T - (D0 + D1)) < 1e-12 and dv < 1e-8
-    return ClaimResult("at L = 0: v1 = v0 = 1.5, tau = Delta0 + Delta1 = 2, laws coincide", f"{tri.kind}/{near.kind}, v1 = {tri.v1:.12g}, tau = {tri.T:.12g}, max |dv| = {dv:.2g}", ok)
+    ok = (
+        tri.kind == "triangle"
+        and near.kind == "trapezoid"
+        and abs(tri.v1 - v0) < 1e-12
+        and abs(tri.T - (D0 + D1)) < 1e-12
+        and dv < 1e-8
+    )
+    return ClaimResult(
+        "at L = 0: v1 = v0 = 1.5, tau = Delta0 + Delta1 = 2, laws coincide",
+        f"{tri.kind}/{near.kind}, v1 = {tri.v1:.12g}, tau = {tri.T:.12g}, max |dv| = {dv:.2g}",
+        ok,
+    )
 
 
 def check_controls_symbolic() -> ClaimResult:
@@ -1094,7 +1476,11 @@ def check_controls_symbolic() -> ClaimResult:
     r1 = sp.simplify(U * Xv - Xv.diff(t))
     r2 = sp.simplify(U_alt * Xv - Xv.diff(t))
     ok = r1 == sp.zeros(3, 1) and r2 != sp.zeros(3, 1) and U.rank() == 1
-    return ClaimResult("U X - Xdot = 0, rank U = 1; alternative reading != 0", f"{list(r1)}; alternative zero: {r2 == sp.zeros(3, 1)}", bool(ok))
+    return ClaimResult(
+        "U X - Xdot = 0, rank U = 1; alternative reading != 0",
+        f"{list(r1)}; alternative zero: {r2 == sp.zeros(3, 1)}",
+        bool(ok),
+    )
 
 
 def reproduction_error(v0: float, Delta0: float, Delta1: float) -> float:
@@ -1107,7 +1493,11 @@ def speed_excess() -> float:
     for v0, d0, d1 in ((1.0, 1.0, 1.0), (4.0, 2.0, 2.0), (4.0, 1.0, 3.0)):
         prog = program_from(*HELIX_12[:3], 0.0, math.pi, v0, d0, d1)
         r = reproduce(prog)
-        worst = max(worst, float(np.max(np.linalg.norm(r["V5"], axis=1) - r["v"])), float(np.max(np.linalg.norm(r["V"], axis=1) - r["v"])))
+        worst = max(
+            worst,
+            float(np.max(np.linalg.norm(r["V5"], axis=1) - r["v"])),
+            float(np.max(np.linalg.norm(r["V"], axis=1) - r["v"])),
+        )
     return worst
 
 

@@ -18,7 +18,16 @@ from __future__ import annotations
 import numpy as np
 import sympy as sp
 
-from lessons.core.contract import Claim, ClaimResult, DerivationStep, Param, ParamError, Params, Preset, at_most
+from lessons.core.contract import (
+    Claim,
+    ClaimResult,
+    DerivationStep,
+    Param,
+    ParamError,
+    Params,
+    Preset,
+    at_most,
+)
 from lessons.core.planar import PlanarModel, conic_expr
 from lessons.core.planar_lesson import PlanarLesson, PlanarPrepared
 
@@ -47,33 +56,75 @@ class ParabolaLesson(PlanarLesson):
     order = 1.1
     t_end = 10.0
     own_params = (
-        Param("lambda", "float", 0.5, "λ = a11/a12 = a12/a22", min=-100.0, max=100.0, step=0.01, group="surface"),
-        Param("omega", "float", -1.0, "ω", min=-20.0, max=20.0, step=0.1, group="controls", help="enters (1.32)-(1.33) as ω²"),
+        Param(
+            "lambda",
+            "float",
+            0.5,
+            "λ = a11/a12 = a12/a22",
+            min=-100.0,
+            max=100.0,
+            step=0.01,
+            group="surface",
+        ),
+        Param(
+            "omega",
+            "float",
+            -1.0,
+            "ω",
+            min=-20.0,
+            max=20.0,
+            step=0.1,
+            group="controls",
+            help="enters (1.32)-(1.33) as ω²",
+        ),
         Param("a12", "float", 0.5, "a12", min=-100.0, max=100.0, step=0.1, group="surface"),
         Param("a13", "float", -7.0, "a13", min=-1e3, max=1e3, step=0.5, group="surface"),
         Param("a23", "float", -5.0, "a23", min=-1e3, max=1e3, step=0.5, group="surface"),
         Param("x0", "float", 4.0, "x0", min=-1e4, max=1e4, step=0.5, group="initial"),
         Param("y0", "float", 10.0, "y0", min=-1e4, max=1e4, step=0.5, group="initial"),
-        Param("family", "bool", False, "also run the textbook's λ = 0.05, 0.1, 0.5", group="surface",
-              help="the family of Figs. 1.8-1.10 beside the chosen λ"),
+        Param(
+            "family",
+            "bool",
+            False,
+            "also run the textbook's λ = 0.05, 0.1, 0.5",
+            group="surface",
+            help="the family of Figs. 1.8-1.10 beside the chosen λ",
+        ),
     )
     presets = (
-        Preset("figs-1.8-1.10", "Figs. 1.8-1.10: the family λ = 0.05, 0.1, 0.5", {**BOOK, "lambda": 0.05, "family": True}, 10.0,
-               "ω = -1, a12 = 0.5, a13 = -7, a23 = -5, start (4, 10); series x, y (λ = 0.05), x_2, y_2 (0.1), x_3, y_3 (0.5)"),
+        Preset(
+            "figs-1.8-1.10",
+            "Figs. 1.8-1.10: the family λ = 0.05, 0.1, 0.5",
+            {**BOOK, "lambda": 0.05, "family": True},
+            10.0,
+            "ω = -1, a12 = 0.5, a13 = -7, a23 = -5, start (4, 10); series x, y (λ = 0.05), x_2, y_2 (0.1), x_3, y_3 (0.5)",
+        ),
         Preset("lambda-0.05", "λ = 0.05", {**BOOK, "lambda": 0.05}, 10.0, "a11 = 0.025, a22 = 10"),
         Preset("lambda-0.1", "λ = 0.1", {**BOOK, "lambda": 0.1}, 10.0, "a11 = 0.05, a22 = 5"),
         Preset("lambda-0.5", "λ = 0.5", {**BOOK, "lambda": 0.5}, 10.0, "a11 = 0.25, a22 = 1"),
-        Preset("digital-simple", "Digital analyzer (1.25), simple additions, λ = 0.5", {**BOOK, "lambda": 0.5, "digital": "simple", "delta": 0.01, "pulse": 0.01}, 3.0,
-               "the staircase path of a CNC interpolator and its pulses per axis"),
-        Preset("digital-improved", "Digital analyzer (1.25), improved additions, λ = 0.5", {**BOOK, "lambda": 0.5, "digital": "improved", "delta": 0.01, "pulse": 0.01}, 3.0,
-               "the y addition uses the x already updated"),
+        Preset(
+            "digital-simple",
+            "Digital analyzer (1.25), simple additions, λ = 0.5",
+            {**BOOK, "lambda": 0.5, "digital": "simple", "delta": 0.01, "pulse": 0.01},
+            3.0,
+            "the staircase path of a CNC interpolator and its pulses per axis",
+        ),
+        Preset(
+            "digital-improved",
+            "Digital analyzer (1.25), improved additions, λ = 0.5",
+            {**BOOK, "lambda": 0.5, "digital": "improved", "delta": 0.01, "pulse": 0.01},
+            3.0,
+            "the y addition uses the x already updated",
+        ),
     )
 
     def validate(self, params: Params) -> None:
         if params["lambda"] == 0:
             raise ParamError("lambda", "λ must not be 0 (a22 = a12/λ)")
         if params["a12"] == 0:
-            raise ParamError("a12", "a12 must not be 0 (the parabola degenerates into parallel lines)")
+            raise ParamError(
+                "a12", "a12 must not be 0 (the parabola degenerates into parallel lines)"
+            )
 
     def lambdas(self, params: Params) -> list[float]:
         lam = float(params["lambda"])
@@ -83,7 +134,14 @@ class ParabolaLesson(PlanarLesson):
         lams = self.lambdas(params)
         coeffs = [parabola_coeffs(l, params["a12"], params["a13"], params["a23"]) for l in lams]
         r0 = np.repeat(np.array([[params["x0"], params["y0"]]], dtype=float), len(lams), axis=0)
-        notes = [f"family: series without suffix λ = {lams[0]:g}" + "".join(f", _{k + 1} λ = {l:g}" for k, l in enumerate(lams[1:], 1))] if len(lams) > 1 else []
+        notes = (
+            [
+                f"family: series without suffix λ = {lams[0]:g}"
+                + "".join(f", _{k + 1} λ = {l:g}" for k, l in enumerate(lams[1:], 1))
+            ]
+            if len(lams) > 1
+            else []
+        )
         return PlanarModel.of(coeffs, float(params["omega"]) ** 2), r0, notes
 
     block_figure = "Fig. 1.6"
@@ -97,46 +155,121 @@ class ParabolaLesson(PlanarLesson):
         a11, a12, a22, a13, a23 = sp.symbols("a11 a12 a22 a13 a23")
         x, y = sp.symbols("x y")
         A = w**2 * sp.Matrix([[a12, a12 / lam], [-lam * a12, -a12]])
-        num = {k: sp.nsimplify(float(prepared.model.coeffs[k][0]), rational=True) for k in ("a11", "a12", "a22", "a13", "a23", "a33")}
+        num = {
+            k: sp.nsimplify(float(prepared.model.coeffs[k][0]), rational=True)
+            for k in ("a11", "a12", "a22", "a13", "a23", "a33")
+        }
         return [
-            DerivationStep("Coordinate speeds", "(1.30) with dφ = ω dt: ω appears squared, so its sign no longer sets the direction.",
-                           [sp.Eq(sp.Symbol("dx/dt"), w**2 * (a12 * x + a22 * y + a23)), sp.Eq(sp.Symbol("dy/dt"), -w**2 * (a11 * x + a12 * y + a13))], "(1.32)",
-                           reconstructed=None),
-            DerivationStep("The parabola condition", "The quadratic part is degenerate.",
-                           [sp.Eq(sp.Matrix([[a11, a12], [a12, a22]]).det(), 0), sp.Eq(a11, lam * a12), sp.Eq(a22, a12 / lam)], "Problem 1.1"),
-            DerivationStep("The parabola analyzer", "", [sp.Eq(sp.Symbol("dx/dt"), w**2 * (a12 * x + a12 / lam * y + a23)),
-                                                          sp.Eq(sp.Symbol("dy/dt"), -w**2 * (lam * a12 * x + a12 * y + a13))], "(1.33)"),
-            DerivationStep("With these numbers", f"λ = {float(params['lambda']):g}, ω = {float(params['omega']):g}; a33 is set by the start point.",
-                           [sp.Eq(conic_expr(num), 0), *prepared.model.equations()], "(1.33)"),
-            DerivationStep("A double integrator", "The matrix of (1.33) is nilpotent, so x(t), y(t) are quadratics in t: X(t) = X0 + t v0 + t²/2 A v0.",
-                           sp.Eq(sp.MatMul(A, A, evaluate=False), sp.simplify(A * A)), "(1.23)",
-                           reconstructed="derived, not in source: explains the quadratic x(t), y(t) of Figs. 1.9-1.10"),
+            DerivationStep(
+                "Coordinate speeds",
+                "(1.30) with dφ = ω dt: ω appears squared, so its sign no longer sets the direction.",
+                [
+                    sp.Eq(sp.Symbol("dx/dt"), w**2 * (a12 * x + a22 * y + a23)),
+                    sp.Eq(sp.Symbol("dy/dt"), -(w**2) * (a11 * x + a12 * y + a13)),
+                ],
+                "(1.32)",
+                reconstructed=None,
+            ),
+            DerivationStep(
+                "The parabola condition",
+                "The quadratic part is degenerate.",
+                [
+                    sp.Eq(sp.Matrix([[a11, a12], [a12, a22]]).det(), 0),
+                    sp.Eq(a11, lam * a12),
+                    sp.Eq(a22, a12 / lam),
+                ],
+                "Problem 1.1",
+            ),
+            DerivationStep(
+                "The parabola analyzer",
+                "",
+                [
+                    sp.Eq(sp.Symbol("dx/dt"), w**2 * (a12 * x + a12 / lam * y + a23)),
+                    sp.Eq(sp.Symbol("dy/dt"), -(w**2) * (lam * a12 * x + a12 * y + a13)),
+                ],
+                "(1.33)",
+            ),
+            DerivationStep(
+                "With these numbers",
+                f"λ = {float(params['lambda']):g}, ω = {float(params['omega']):g}; a33 is set by the start point.",
+                [sp.Eq(conic_expr(num), 0), *prepared.model.equations()],
+                "(1.33)",
+            ),
+            DerivationStep(
+                "A double integrator",
+                "The matrix of (1.33) is nilpotent, so x(t), y(t) are quadratics in t: X(t) = X0 + t v0 + t²/2 A v0.",
+                sp.Eq(sp.MatMul(A, A, evaluate=False), sp.simplify(A * A)),
+                "(1.23)",
+                reconstructed="derived, not in source: explains the quadratic x(t), y(t) of Figs. 1.9-1.10",
+            ),
         ]
 
-    def extra_metrics(self, params: Params, prep: PlanarPrepared, t: np.ndarray, r: np.ndarray, v: np.ndarray) -> dict[str, object]:
-        return {"a11": float(prep.model.coeffs["a11"][0]), "a22": float(prep.model.coeffs["a22"][0]), "a33": float(prep.model.coeffs["a33"][0]),
-                "x_end": float(r[-1, 0, 0]), "y_end": float(r[-1, 0, 1])}
+    def extra_metrics(
+        self, params: Params, prep: PlanarPrepared, t: np.ndarray, r: np.ndarray, v: np.ndarray
+    ) -> dict[str, object]:
+        return {
+            "a11": float(prep.model.coeffs["a11"][0]),
+            "a22": float(prep.model.coeffs["a22"][0]),
+            "a33": float(prep.model.coeffs["a33"][0]),
+            "x_end": float(r[-1, 0, 0]),
+            "y_end": float(r[-1, 0, 1]),
+        }
 
     # -- claims -------------------------------------------------------------------
 
     def claims(self) -> list[Claim]:
         return [
-            Claim("slope", "(1.29) is -F_x/F_y and the analyzer (1.30) is tangent to every conic (∇F·v ≡ 0)", "(1.29)-(1.30)", self._claim_symbolic),
-            Claim("nilpotent", "The matrix of (1.33) squares to zero for every λ, a12, ω", "(1.33), (1.23)", self._claim_nilpotent),
-            Claim("a33", "The parabolas through (4, 10) have a33 = -884.4, -384.8, 12 for λ = 0.05, 0.1, 0.5", "digest §4.1", self._claim_a33),
-            Claim("closed-form", "x(t), y(t) are X0 + t v0 + t²/2 A v0 with v0 = (97, 1.9), (47, 1.8), (7, 1); X(10) = (4349, -139.75), (2099, -134.5), (299, -92.5)",
-                  "digest §4.1 (Figs. 1.9-1.10)", self._claim_closed_form),
-            Claim("on-parabola", "The point stays on its parabola: |F| / scale ≤ 1e-13 over 10 s for all three λ", "(1.21)", self._claim_invariant),
-            Claim("omega-sign", "ω = -1 and ω = +1 give identical runs (ω enters as ω²)", "(1.32), AMBIGUITY 12", self._claim_omega),
+            Claim(
+                "slope",
+                "(1.29) is -F_x/F_y and the analyzer (1.30) is tangent to every conic (∇F·v ≡ 0)",
+                "(1.29)-(1.30)",
+                self._claim_symbolic,
+            ),
+            Claim(
+                "nilpotent",
+                "The matrix of (1.33) squares to zero for every λ, a12, ω",
+                "(1.33), (1.23)",
+                self._claim_nilpotent,
+            ),
+            Claim(
+                "a33",
+                "The parabolas through (4, 10) have a33 = -884.4, -384.8, 12 for λ = 0.05, 0.1, 0.5",
+                "digest §4.1",
+                self._claim_a33,
+            ),
+            Claim(
+                "closed-form",
+                "x(t), y(t) are X0 + t v0 + t²/2 A v0 with v0 = (97, 1.9), (47, 1.8), (7, 1); X(10) = (4349, -139.75), (2099, -134.5), (299, -92.5)",
+                "digest §4.1 (Figs. 1.9-1.10)",
+                self._claim_closed_form,
+            ),
+            Claim(
+                "on-parabola",
+                "The point stays on its parabola: |F| / scale ≤ 1e-13 over 10 s for all three λ",
+                "(1.21)",
+                self._claim_invariant,
+            ),
+            Claim(
+                "omega-sign",
+                "ω = -1 and ω = +1 give identical runs (ω enters as ω²)",
+                "(1.32), AMBIGUITY 12",
+                self._claim_omega,
+            ),
         ]
 
     def _claim_symbolic(self) -> ClaimResult:
         a = {n: sp.Symbol(n) for n in ("a11", "a12", "a22", "a13", "a23", "a33")}
         x, y, w = sp.symbols("x y omega")
         F = conic_expr(a, x, y)
-        dx, dy = w * (a["a12"] * x + a["a22"] * y + a["a23"]), -w * (a["a11"] * x + a["a12"] * y + a["a13"])
+        dx, dy = (
+            w * (a["a12"] * x + a["a22"] * y + a["a23"]),
+            -w * (a["a11"] * x + a["a12"] * y + a["a13"]),
+        )
         tang = sp.expand(sp.diff(F, x) * dx + sp.diff(F, y) * dy)
-        slope = sp.simplify(-(a["a11"] * x + a["a12"] * y + a["a13"]) / (a["a12"] * x + a["a22"] * y + a["a23"]) + sp.diff(F, x) / sp.diff(F, y))
+        slope = sp.simplify(
+            -(a["a11"] * x + a["a12"] * y + a["a13"]) / (a["a12"] * x + a["a22"] * y + a["a23"])
+            + sp.diff(F, x) / sp.diff(F, y)
+        )
         return ClaimResult("0 and 0", f"{tang} and {slope}", tang == 0 and slope == 0)
 
     def _claim_nilpotent(self) -> ClaimResult:
@@ -161,7 +294,11 @@ class ParabolaLesson(PlanarLesson):
             v0, Av0 = np.array(TABLE[lam]["v0"]), np.array(TABLE[lam]["Av0"])
             exact = X0 + t[:, None] * v0 + 0.5 * t[:, None] ** 2 * Av0
             got = np.stack([res.series["x"], res.series["y"]], axis=1)
-            worst = max(worst, float(np.max(np.abs(got - exact))) / 4349.0, float(np.max(np.abs(got[-1] - np.array(TABLE[lam]["X10"])))) / 4349.0)
+            worst = max(
+                worst,
+                float(np.max(np.abs(got - exact))) / 4349.0,
+                float(np.max(np.abs(got[-1] - np.array(TABLE[lam]["X10"])))) / 4349.0,
+            )
         return at_most(1e-12, worst, "max |X - closed form| / 4349 ")
 
     def _claim_invariant(self) -> ClaimResult:

@@ -17,14 +17,45 @@ import sympy as sp
 
 from lessons.core.analyzer import AnalyzerModel, Controls, integrate, x, y, z
 from lessons.core.analyzer_lesson import AnalyzerLesson, Prepared
-from lessons.core.contract import Claim, ClaimResult, DerivationStep, Param, Params, Preset, at_most, close
-from lessons.core.formula import parse_formula
+from lessons.core.contract import (
+    Claim,
+    ClaimResult,
+    DerivationStep,
+    Param,
+    Params,
+    Preset,
+    at_most,
+)
 from lessons.core.quadric import Quadric
 
 #: |v|² of Examples 1.2 and 1.3 at t = 0, 1, ..., 10 (digest §4.4, computed at tight tolerance).
 V2_TABLE = {
-    "example-1.2": (25.000, 25.171, 25.757, 27.414, 31.567, 36.752, 40.519, 48.224, 54.364, 62.338, 71.802),
-    "example-1.3": (0.000, 0.384, 3.061, 4.019, 0.597, 5.538, 1.627, 8.942, 34.357, 69.655, 119.337),
+    "example-1.2": (
+        25.000,
+        25.171,
+        25.757,
+        27.414,
+        31.567,
+        36.752,
+        40.519,
+        48.224,
+        54.364,
+        62.338,
+        71.802,
+    ),
+    "example-1.3": (
+        0.000,
+        0.384,
+        3.061,
+        4.019,
+        0.597,
+        5.538,
+        1.627,
+        8.942,
+        34.357,
+        69.655,
+        119.337,
+    ),
 }
 
 
@@ -38,21 +69,62 @@ class SphereLesson(AnalyzerLesson):
     summary = "The analyzer (1.54) turns the point about w = -(u3, u2, u1): constant controls draw circles, varying ones spirals."
     order = 1.4
     t_end = 10.0
-    surface_params = (Param("R", "float", 1.0, "sphere radius R", min=1e-3, max=1e3, step=0.1, group="surface"),)
+    surface_params = (
+        Param("R", "float", 1.0, "sphere radius R", min=1e-3, max=1e3, step=0.1, group="surface"),
+    )
     presets = (
-        Preset("example-1.1", "Example 1.1: u1 = u2 = u3 = 5 (a circle)", {"u1": "5", "u2": "5", "u3": "5", "x0": 1, "y0": 0, "z0": 0}, 10.0,
-               "constant equal controls: a circle; |v|² = 50 at all times (Figs. 1.16-1.18)"),
-        Preset("example-1.2", "Example 1.2: u1 = t, u2 = u3 = 5 (circles travelling along a meridian)", {"u1": "t", "u2": "5", "u3": "5", "x0": 1, "y0": 0, "z0": 0}, 10.0,
-               "a family of circles whose centre travels along a meridian (Figs. 1.19-1.21)"),
-        Preset("example-1.3", "Example 1.3: u1 = sin 10t, u2 = t, u3 = 5", {"u1": "sin(10*t)", "u2": "t", "u3": "5", "x0": 1, "y0": 0, "z0": 0}, 10.0,
-               "a non-cyclic trajectory; |v|² is not constant (Figs. 1.22-1.24)"),
-        Preset("example-1.4-xy", "Example 1.4: circles in planes parallel to xy (u1 = 1)",
-               {"u1": "1", "u2": "0", "u3": "0", "x0": 0.6, "y0": 0, "z0": 0.0, "family": 5, "family_axis": "z", "family_step": 0.35}, 10.0,
-               "z stays constant: (1.55); several heights as in Fig. 1.26 (start points are not given in the source)"),
-        Preset("example-1.4-xz", "Example 1.4: circles in planes parallel to xz (u2 = 1)",
-               {"u1": "0", "u2": "1", "u3": "0", "x0": 0.8, "y0": 0.6, "z0": 0}, 10.0, "y stays constant: (1.56)"),
-        Preset("example-1.4-yz", "Example 1.4: circles in planes parallel to yz (u3 = 1)",
-               {"u1": "0", "u2": "0", "u3": "1", "x0": 0.6, "y0": 0.8, "z0": 0}, 10.0, "x stays constant: (1.57)"),
+        Preset(
+            "example-1.1",
+            "Example 1.1: u1 = u2 = u3 = 5 (a circle)",
+            {"u1": "5", "u2": "5", "u3": "5", "x0": 1, "y0": 0, "z0": 0},
+            10.0,
+            "constant equal controls: a circle; |v|² = 50 at all times (Figs. 1.16-1.18)",
+        ),
+        Preset(
+            "example-1.2",
+            "Example 1.2: u1 = t, u2 = u3 = 5 (circles travelling along a meridian)",
+            {"u1": "t", "u2": "5", "u3": "5", "x0": 1, "y0": 0, "z0": 0},
+            10.0,
+            "a family of circles whose centre travels along a meridian (Figs. 1.19-1.21)",
+        ),
+        Preset(
+            "example-1.3",
+            "Example 1.3: u1 = sin 10t, u2 = t, u3 = 5",
+            {"u1": "sin(10*t)", "u2": "t", "u3": "5", "x0": 1, "y0": 0, "z0": 0},
+            10.0,
+            "a non-cyclic trajectory; |v|² is not constant (Figs. 1.22-1.24)",
+        ),
+        Preset(
+            "example-1.4-xy",
+            "Example 1.4: circles in planes parallel to xy (u1 = 1)",
+            {
+                "u1": "1",
+                "u2": "0",
+                "u3": "0",
+                "x0": 0.6,
+                "y0": 0,
+                "z0": 0.0,
+                "family": 5,
+                "family_axis": "z",
+                "family_step": 0.35,
+            },
+            10.0,
+            "z stays constant: (1.55); several heights as in Fig. 1.26 (start points are not given in the source)",
+        ),
+        Preset(
+            "example-1.4-xz",
+            "Example 1.4: circles in planes parallel to xz (u2 = 1)",
+            {"u1": "0", "u2": "1", "u3": "0", "x0": 0.8, "y0": 0.6, "z0": 0},
+            10.0,
+            "y stays constant: (1.56)",
+        ),
+        Preset(
+            "example-1.4-yz",
+            "Example 1.4: circles in planes parallel to yz (u3 = 1)",
+            {"u1": "0", "u2": "0", "u3": "1", "x0": 0.6, "y0": 0.8, "z0": 0},
+            10.0,
+            "x stays constant: (1.57)",
+        ),
     )
 
     def surface(self, params: Params) -> Quadric:
@@ -65,26 +137,79 @@ class SphereLesson(AnalyzerLesson):
         t = sp.Symbol("t")
         return [
             DerivationStep("The sphere", "", sp.Eq(x**2 + y**2 + z**2, R**2), "(1.52)"),
-            DerivationStep("Its coefficients", "a11 = a22 = a33 = 1, the mixed and linear ones zero, a44 = -R².",
-                           [sp.Eq(sp.Symbol("a11"), 1), sp.Eq(sp.Symbol("a22"), 1), sp.Eq(sp.Symbol("a33"), 1), sp.Eq(sp.Symbol("a44"), -R**2)], "(1.53)",
-                           reconstructed="lost in the source; read off (1.52)"),
-            DerivationStep("The sphere analyzer", "(1.50) with (1.53): a rotation r' = w × r, w = -(u3, u2, u1); the radius is set by the start point.",
-                           [sp.Eq(sp.Symbol("dx/dt"), u1 * y - u2 * z), sp.Eq(sp.Symbol("dy/dt"), -u1 * x + u3 * z), sp.Eq(sp.Symbol("dz/dt"), u2 * x - u3 * y)],
-                           "(1.54)", reconstructed="lost in the source; equals the surviving (1.63) with a = b = c = 1"),
-            DerivationStep("Constant controls: plane curves", "For constant u the combination u3 x + u2 y + u1 z is a first integral, so the path is a circle in that plane.",
-                           sp.Eq(sp.Symbol("d/dt")*(u3 * x + u2 * y + u1 * z), 0), "Problem 1.3 text"),
-            DerivationStep("Constant controls: constant speed", "|v|² = |u|²R² - (u3 x0 + u2 y0 + u1 z0)²; Example 1.1 gives 75 - 25 = 50.",
-                           sp.Eq(sp.Symbol("|v|²"), (u1**2 + u2**2 + u3**2) * R**2 - (u3 * sp.Symbol("x0") + u2 * sp.Symbol("y0") + u1 * sp.Symbol("z0")) ** 2),
-                           "Example 1.1", reconstructed="derived (not printed in the source); checks the statement that the speed stays constant"),
-            DerivationStep("Planes parallel to xy (u1 = 1)", "z = z0 stays; the general form (1.55) on the sphere gives x' = y, y' = -x.",
-                           [sp.Eq(sp.Symbol("dx/dt"), y), sp.Eq(sp.Symbol("dy/dt"), -x), sp.Eq(sp.Symbol("z"), sp.Symbol("z0"))], "(1.55)",
-                           reconstructed="rebuilt from surviving fragments (indices a11, a12, a31, z0, a14)"),
-            DerivationStep("Planes parallel to xz (u2 = 1)", "y = y0 stays.",
-                           [sp.Eq(sp.Symbol("dx/dt"), -z), sp.Eq(sp.Symbol("dz/dt"), x), sp.Eq(sp.Symbol("y"), sp.Symbol("y0"))], "(1.56)",
-                           reconstructed="lost in the source; (1.50) with u1 = u3 = 0, u2 = 1"),
-            DerivationStep("Planes parallel to yz (u3 = 1)", "x = x0 stays.",
-                           [sp.Eq(sp.Symbol("dy/dt"), z), sp.Eq(sp.Symbol("dz/dt"), -y), sp.Eq(sp.Symbol("x"), sp.Symbol("x0"))], "(1.57)",
-                           reconstructed="rebuilt from fragments; the printed sign of a24 is corrected (it only matters when a24 ≠ 0)"),
+            DerivationStep(
+                "Its coefficients",
+                "a11 = a22 = a33 = 1, the mixed and linear ones zero, a44 = -R².",
+                [
+                    sp.Eq(sp.Symbol("a11"), 1),
+                    sp.Eq(sp.Symbol("a22"), 1),
+                    sp.Eq(sp.Symbol("a33"), 1),
+                    sp.Eq(sp.Symbol("a44"), -(R**2)),
+                ],
+                "(1.53)",
+                reconstructed="lost in the source; read off (1.52)",
+            ),
+            DerivationStep(
+                "The sphere analyzer",
+                "(1.50) with (1.53): a rotation r' = w × r, w = -(u3, u2, u1); the radius is set by the start point.",
+                [
+                    sp.Eq(sp.Symbol("dx/dt"), u1 * y - u2 * z),
+                    sp.Eq(sp.Symbol("dy/dt"), -u1 * x + u3 * z),
+                    sp.Eq(sp.Symbol("dz/dt"), u2 * x - u3 * y),
+                ],
+                "(1.54)",
+                reconstructed="lost in the source; equals the surviving (1.63) with a = b = c = 1",
+            ),
+            DerivationStep(
+                "Constant controls: plane curves",
+                "For constant u the combination u3 x + u2 y + u1 z is a first integral, so the path is a circle in that plane.",
+                sp.Eq(sp.Symbol("d/dt") * (u3 * x + u2 * y + u1 * z), 0),
+                "Problem 1.3 text",
+            ),
+            DerivationStep(
+                "Constant controls: constant speed",
+                "|v|² = |u|²R² - (u3 x0 + u2 y0 + u1 z0)²; Example 1.1 gives 75 - 25 = 50.",
+                sp.Eq(
+                    sp.Symbol("|v|²"),
+                    (u1**2 + u2**2 + u3**2) * R**2
+                    - (u3 * sp.Symbol("x0") + u2 * sp.Symbol("y0") + u1 * sp.Symbol("z0")) ** 2,
+                ),
+                "Example 1.1",
+                reconstructed="derived (not printed in the source); checks the statement that the speed stays constant",
+            ),
+            DerivationStep(
+                "Planes parallel to xy (u1 = 1)",
+                "z = z0 stays; the general form (1.55) on the sphere gives x' = y, y' = -x.",
+                [
+                    sp.Eq(sp.Symbol("dx/dt"), y),
+                    sp.Eq(sp.Symbol("dy/dt"), -x),
+                    sp.Eq(sp.Symbol("z"), sp.Symbol("z0")),
+                ],
+                "(1.55)",
+                reconstructed="rebuilt from surviving fragments (indices a11, a12, a31, z0, a14)",
+            ),
+            DerivationStep(
+                "Planes parallel to xz (u2 = 1)",
+                "y = y0 stays.",
+                [
+                    sp.Eq(sp.Symbol("dx/dt"), -z),
+                    sp.Eq(sp.Symbol("dz/dt"), x),
+                    sp.Eq(sp.Symbol("y"), sp.Symbol("y0")),
+                ],
+                "(1.56)",
+                reconstructed="lost in the source; (1.50) with u1 = u3 = 0, u2 = 1",
+            ),
+            DerivationStep(
+                "Planes parallel to yz (u3 = 1)",
+                "x = x0 stays.",
+                [
+                    sp.Eq(sp.Symbol("dy/dt"), z),
+                    sp.Eq(sp.Symbol("dz/dt"), -y),
+                    sp.Eq(sp.Symbol("x"), sp.Symbol("x0")),
+                ],
+                "(1.57)",
+                reconstructed="rebuilt from fragments; the printed sign of a24 is corrected (it only matters when a24 ≠ 0)",
+            ),
         ]
 
     def extra_metrics(self, params: Params, prepared: Prepared, run) -> dict[str, float]:
@@ -96,14 +221,54 @@ class SphereLesson(AnalyzerLesson):
 
     def claims(self) -> list[Claim]:
         return [
-            Claim("ex1.1-speed", "Example 1.1: |v|² = 50 at every sample (to 1e-9)", "Example 1.1, Fig. 1.18", self._claim_ex11_speed),
-            Claim("ex1.1-circle", "Example 1.1: the path is the circle in the plane x + y + z = 1, centre (1/3, 1/3, 1/3), radius √(2/3)", "Example 1.1, Fig. 1.16", self._claim_ex11_circle),
-            Claim("const-speed", "Constant controls keep |v|² constant (random constants and start points)", "Example 1.1 text", self._claim_const_speed),
-            Claim("const-plane", "Constant controls give plane curves: u3 x + u2 y + u1 z stays constant", "Problem 1.3 text", self._claim_const_plane),
-            Claim("ex1.4-planes", "Example 1.4: u1 = 1 keeps z, u2 = 1 keeps y, u3 = 1 keeps x", "Example 1.4, (1.55)-(1.57)", self._claim_ex14),
-            Claim("ex1.2-speed-table", "Example 1.2: |v|² at t = 0..10 matches the tabulated 25.000 ... 71.802 (to 1e-3)", "digest §4.4 (Fig. 1.21)", lambda: self._claim_table("example-1.2")),
-            Claim("ex1.3-speed-table", "Example 1.3: |v|² at t = 0..10 matches the tabulated 0.000 ... 119.337 (to 1e-3)", "digest §4.4 (Fig. 1.24)", lambda: self._claim_table("example-1.3")),
-            Claim("invariant", "Ex. 1.3 over 10 s (10^4 steps): |F - F0| ≤ 1e-12 (the point stays on the sphere)", "(1.52)", self._claim_invariant),
+            Claim(
+                "ex1.1-speed",
+                "Example 1.1: |v|² = 50 at every sample (to 1e-9)",
+                "Example 1.1, Fig. 1.18",
+                self._claim_ex11_speed,
+            ),
+            Claim(
+                "ex1.1-circle",
+                "Example 1.1: the path is the circle in the plane x + y + z = 1, centre (1/3, 1/3, 1/3), radius √(2/3)",
+                "Example 1.1, Fig. 1.16",
+                self._claim_ex11_circle,
+            ),
+            Claim(
+                "const-speed",
+                "Constant controls keep |v|² constant (random constants and start points)",
+                "Example 1.1 text",
+                self._claim_const_speed,
+            ),
+            Claim(
+                "const-plane",
+                "Constant controls give plane curves: u3 x + u2 y + u1 z stays constant",
+                "Problem 1.3 text",
+                self._claim_const_plane,
+            ),
+            Claim(
+                "ex1.4-planes",
+                "Example 1.4: u1 = 1 keeps z, u2 = 1 keeps y, u3 = 1 keeps x",
+                "Example 1.4, (1.55)-(1.57)",
+                self._claim_ex14,
+            ),
+            Claim(
+                "ex1.2-speed-table",
+                "Example 1.2: |v|² at t = 0..10 matches the tabulated 25.000 ... 71.802 (to 1e-3)",
+                "digest §4.4 (Fig. 1.21)",
+                lambda: self._claim_table("example-1.2"),
+            ),
+            Claim(
+                "ex1.3-speed-table",
+                "Example 1.3: |v|² at t = 0..10 matches the tabulated 0.000 ... 119.337 (to 1e-3)",
+                "digest §4.4 (Fig. 1.24)",
+                lambda: self._claim_table("example-1.3"),
+            ),
+            Claim(
+                "invariant",
+                "Ex. 1.3 over 10 s (10^4 steps): |F - F0| ≤ 1e-12 (the point stays on the sphere)",
+                "(1.52)",
+                self._claim_invariant,
+            ),
         ]
 
     def _claim_ex11_speed(self) -> ClaimResult:

@@ -17,7 +17,7 @@ from __future__ import annotations
 import numpy as np
 import sympy as sp
 
-from lessons.core.analyzer import AnalyzerModel, Controls, integrate, x, y, z
+from lessons.core.analyzer import AnalyzerModel, Controls, x, y, z
 from lessons.core.analyzer_lesson import AnalyzerLesson, Prepared
 from lessons.core.contract import Claim, ClaimResult, DerivationStep, Param, Params, Preset, at_most
 from lessons.core.formula import parse_formula
@@ -38,23 +38,95 @@ class SphereConstantSpeedLesson(AnalyzerLesson):
     order = 1.5
     t_end = 10.0
     constant_speed = True
-    surface_params = (Param("R", "float", 1.0, "sphere radius R", min=1e-3, max=1e3, step=0.1, group="surface"),)
+    surface_params = (
+        Param("R", "float", 1.0, "sphere radius R", min=1e-3, max=1e3, step=0.1, group="surface"),
+    )
     presets = (
-        Preset("fig-1.28", "Fig. 1.28: V = 1 with u1 = u2 = u3 = 5",
-               {"V": "1", "direction": "+", "u1": "5", "u2": "5", "u3": "5", "x0": 1, "y0": 0, "z0": 0, "h": 0.05}, 10.0,
-               "the source gives V = 1 only; controls and start point are illustrative (digest AMBIGUITY 13)"),
-        Preset("varying-controls", "V = 1 with u1 = t, u2 = u3 = 5 (the controls of Example 1.2)",
-               {"V": "1", "direction": "+", "u1": "t", "u2": "5", "u3": "5", "x0": 1, "y0": 0, "z0": 0, "h": 0.05}, 10.0,
-               "the path of Example 1.2, now at constant speed: |v| = 1 while |v|² of Example 1.2 grows from 25 to 72"),
-        Preset("reverse", "Direction reversed: ω < 0 (the -1 scale block of Fig. 1.27)",
-               {"V": "1", "direction": "-", "u1": "t", "u2": "5", "u3": "5", "x0": 1, "y0": 0, "z0": 0, "h": 0.05}, 10.0,
-               "the same controls, the point runs the other way"),
-        Preset("speed-profile", "A speed profile V(t) = 0.5 + 0.4 sin(t) (the speed setter of Fig. 1.27)",
-               {"V": "0.5 + 0.4*sin(t)", "direction": "+", "u1": "5", "u2": "5", "u3": "5", "x0": 1, "y0": 0, "z0": 0, "h": 0.05}, 10.0,
-               "|v| follows the profile V(t)"),
-        Preset("example-1.3-zero-field", "Controls of Example 1.3 (u1 = sin 10t, u2 = t, u3 = 5): the field is zero at t = 0",
-               {"V": "1", "direction": "+", "u1": "sin(10*t)", "u2": "t", "u3": "5", "x0": 1, "y0": 0, "z0": 0, "h": 0.05}, 10.0,
-               "at t = 0 the field (0, -sin 10t, t) vanishes at (1, 0, 0): ω is undefined, the point holds; from t > 0 it moves at V = 1"),
+        Preset(
+            "fig-1.28",
+            "Fig. 1.28: V = 1 with u1 = u2 = u3 = 5",
+            {
+                "V": "1",
+                "direction": "+",
+                "u1": "5",
+                "u2": "5",
+                "u3": "5",
+                "x0": 1,
+                "y0": 0,
+                "z0": 0,
+                "h": 0.05,
+            },
+            10.0,
+            "the source gives V = 1 only; controls and start point are illustrative (digest AMBIGUITY 13)",
+        ),
+        Preset(
+            "varying-controls",
+            "V = 1 with u1 = t, u2 = u3 = 5 (the controls of Example 1.2)",
+            {
+                "V": "1",
+                "direction": "+",
+                "u1": "t",
+                "u2": "5",
+                "u3": "5",
+                "x0": 1,
+                "y0": 0,
+                "z0": 0,
+                "h": 0.05,
+            },
+            10.0,
+            "the path of Example 1.2, now at constant speed: |v| = 1 while |v|² of Example 1.2 grows from 25 to 72",
+        ),
+        Preset(
+            "reverse",
+            "Direction reversed: ω < 0 (the -1 scale block of Fig. 1.27)",
+            {
+                "V": "1",
+                "direction": "-",
+                "u1": "t",
+                "u2": "5",
+                "u3": "5",
+                "x0": 1,
+                "y0": 0,
+                "z0": 0,
+                "h": 0.05,
+            },
+            10.0,
+            "the same controls, the point runs the other way",
+        ),
+        Preset(
+            "speed-profile",
+            "A speed profile V(t) = 0.5 + 0.4 sin(t) (the speed setter of Fig. 1.27)",
+            {
+                "V": "0.5 + 0.4*sin(t)",
+                "direction": "+",
+                "u1": "5",
+                "u2": "5",
+                "u3": "5",
+                "x0": 1,
+                "y0": 0,
+                "z0": 0,
+                "h": 0.05,
+            },
+            10.0,
+            "|v| follows the profile V(t)",
+        ),
+        Preset(
+            "example-1.3-zero-field",
+            "Controls of Example 1.3 (u1 = sin 10t, u2 = t, u3 = 5): the field is zero at t = 0",
+            {
+                "V": "1",
+                "direction": "+",
+                "u1": "sin(10*t)",
+                "u2": "t",
+                "u3": "5",
+                "x0": 1,
+                "y0": 0,
+                "z0": 0,
+                "h": 0.05,
+            },
+            10.0,
+            "at t = 0 the field (0, -sin 10t, t) vanishes at (1, 0, 0): ω is undefined, the point holds; from t > 0 it moves at V = 1",
+        ),
     )
 
     block_figure = "Fig. 1.27"
@@ -68,18 +140,36 @@ class SphereConstantSpeedLesson(AnalyzerLesson):
         w, Vs = sp.Symbol("ω"), sp.Symbol("V")
         rows = (u1 * y - u2 * z, -u1 * x + u3 * z, u2 * x - u3 * y)
         return [
-            DerivationStep("Target speed", "The speed along the curve is fixed at V.",
-                           sp.Eq(Vs**2, sp.Symbol("v_x")**2 + sp.Symbol("v_y")**2 + sp.Symbol("v_z")**2), "Problem 1.5"),
-            DerivationStep("ω on the sphere", "With dφ = ω dt the sphere analyzer (1.54) gives v = ω·(field); squaring:",
-                           sp.Eq(w**2, Vs**2 / sum(r**2 for r in rows)), "(1.58)",
-                           reconstructed="lost in the source; follows from V² = vx² + vy² + vz² with dφ = ω dt"),
-            DerivationStep("The constant-speed sphere analyzer", "The last row is the argument ω; V may be a number or a profile V(t).",
-                           [*(sp.Eq(sp.Symbol(f"d{c}/dt"), w * r) for c, r in zip("xyz", rows)),
-                            sp.Eq(w, sp.Symbol("±") * Vs / sp.sqrt(sum(r**2 for r in rows)))], "(1.59)",
-                           reconstructed="only 'φ' survived; rebuilt from (1.54) and (1.58)"),
-            DerivationStep("Where ω is undefined", "The denominator vanishes where r ∥ (u3, u2, u1) (the field of (1.54) is zero): "
-                           "the lab holds the point there and says so. Example 1.3's controls vanish at t = 0 at (1, 0, 0).",
-                           sp.Eq(sp.Symbol("|field|"), 0), "DESIGN §3.4"),
+            DerivationStep(
+                "Target speed",
+                "The speed along the curve is fixed at V.",
+                sp.Eq(Vs**2, sp.Symbol("v_x") ** 2 + sp.Symbol("v_y") ** 2 + sp.Symbol("v_z") ** 2),
+                "Problem 1.5",
+            ),
+            DerivationStep(
+                "ω on the sphere",
+                "With dφ = ω dt the sphere analyzer (1.54) gives v = ω·(field); squaring:",
+                sp.Eq(w**2, Vs**2 / sum(r**2 for r in rows)),
+                "(1.58)",
+                reconstructed="lost in the source; follows from V² = vx² + vy² + vz² with dφ = ω dt",
+            ),
+            DerivationStep(
+                "The constant-speed sphere analyzer",
+                "The last row is the argument ω; V may be a number or a profile V(t).",
+                [
+                    *(sp.Eq(sp.Symbol(f"d{c}/dt"), w * r) for c, r in zip("xyz", rows)),
+                    sp.Eq(w, sp.Symbol("±") * Vs / sp.sqrt(sum(r**2 for r in rows))),
+                ],
+                "(1.59)",
+                reconstructed="only 'φ' survived; rebuilt from (1.54) and (1.58)",
+            ),
+            DerivationStep(
+                "Where ω is undefined",
+                "The denominator vanishes where r ∥ (u3, u2, u1) (the field of (1.54) is zero): "
+                "the lab holds the point there and says so. Example 1.3's controls vanish at t = 0 at (1, 0, 0).",
+                sp.Eq(sp.Symbol("|field|"), 0),
+                "DESIGN §3.4",
+            ),
         ]
 
     def extra_metrics(self, params: Params, prepared: Prepared, run) -> dict[str, float]:
@@ -87,17 +177,46 @@ class SphereConstantSpeedLesson(AnalyzerLesson):
         V = prepared.model.controls.speed(run.t)
         moving = ~run.held[:, 0]
         err = float(np.max(np.abs(speed[moving] - np.abs(V[moving])))) if moving.any() else 0.0
-        return {"speed_min": float(speed.min()), "speed_max": float(speed.max()), "speed_error_max": err}
+        return {
+            "speed_min": float(speed.min()),
+            "speed_max": float(speed.max()),
+            "speed_error_max": err,
+        }
 
     # -- claims -------------------------------------------------------------------
 
     def claims(self) -> list[Claim]:
         return [
-            Claim("speed-held", "V = 1, u = (t, 5, 5): |v| = V at every sample to 1e-9", "(1.59), Fig. 1.29", self._claim_speed),
-            Claim("profile", "A speed profile V(t) = 0.5 + 0.4 sin t is followed: ||v| - V(t)| ≤ 1e-9", "(1.59) text: V may be variable", self._claim_profile),
-            Claim("direction", "The sign of ω reverses the direction: at t = 0 the velocities of '+' and '-' are opposite", "(1.58)", self._claim_direction),
-            Claim("on-sphere", "The point stays on the sphere: |x²+y²+z² - 1| ≤ 1e-12 over 10 s (RK45 at default tolerances: 2.9e-2)", "(1.52), digest C3", self._claim_invariant),
-            Claim("zero-field", "Example 1.3 controls from (1, 0, 0): the field vanishes at t = 0, the point holds there, then moves at |v| = 1", "DESIGN §3.4, digest C3", self._claim_zero_field),
+            Claim(
+                "speed-held",
+                "V = 1, u = (t, 5, 5): |v| = V at every sample to 1e-9",
+                "(1.59), Fig. 1.29",
+                self._claim_speed,
+            ),
+            Claim(
+                "profile",
+                "A speed profile V(t) = 0.5 + 0.4 sin t is followed: ||v| - V(t)| ≤ 1e-9",
+                "(1.59) text: V may be variable",
+                self._claim_profile,
+            ),
+            Claim(
+                "direction",
+                "The sign of ω reverses the direction: at t = 0 the velocities of '+' and '-' are opposite",
+                "(1.58)",
+                self._claim_direction,
+            ),
+            Claim(
+                "on-sphere",
+                "The point stays on the sphere: |x²+y²+z² - 1| ≤ 1e-12 over 10 s (RK45 at default tolerances: 2.9e-2)",
+                "(1.52), digest C3",
+                self._claim_invariant,
+            ),
+            Claim(
+                "zero-field",
+                "Example 1.3 controls from (1, 0, 0): the field vanishes at t = 0, the point holds there, then moves at |v| = 1",
+                "DESIGN §3.4, digest C3",
+                self._claim_zero_field,
+            ),
         ]
 
     def _speed_err(self, preset: str) -> float:
@@ -113,7 +232,10 @@ class SphereConstantSpeedLesson(AnalyzerLesson):
     def _claim_direction(self) -> ClaimResult:
         out = []
         for d in ("+", "-"):
-            model = AnalyzerModel.of(Quadric.sphere(1.0).coeffs(), Controls(parse_formula("t"), 5.0, 5.0, V=1.0, sign=1.0 if d == "+" else -1.0))
+            model = AnalyzerModel.of(
+                Quadric.sphere(1.0).coeffs(),
+                Controls(parse_formula("t"), 5.0, 5.0, V=1.0, sign=1.0 if d == "+" else -1.0),
+            )
             out.append(model.velocity(0.0, np.array([1.0, 0.0, 0.0]))[0])
         return at_most(1e-12, float(np.linalg.norm(out[0] + out[1])), "|v+ + v-| ")
 
@@ -124,8 +246,16 @@ class SphereConstantSpeedLesson(AnalyzerLesson):
     def _claim_zero_field(self) -> ClaimResult:
         res = self.run("example-1.3-zero-field")
         speed = np.sqrt(res.series["v2"])
-        ok = speed[0] == 0.0 and bool(np.all(np.abs(speed[1:] - 1.0) <= 1e-9)) and any("held" in m for m in res.messages)
-        return ClaimResult("|v(0)| = 0 (held, explained), |v(t>0)| = 1", f"|v(0)| = {speed[0]:.3g}, max ||v|-1| for t>0 = {np.max(np.abs(speed[1:] - 1)):.3g}", ok)
+        ok = (
+            speed[0] == 0.0
+            and bool(np.all(np.abs(speed[1:] - 1.0) <= 1e-9))
+            and any("held" in m for m in res.messages)
+        )
+        return ClaimResult(
+            "|v(0)| = 0 (held, explained), |v(t>0)| = 1",
+            f"|v(0)| = {speed[0]:.3g}, max ||v|-1| for t>0 = {np.max(np.abs(speed[1:] - 1)):.3g}",
+            ok,
+        )
 
 
 LESSON = SphereConstantSpeedLesson()

@@ -4,7 +4,17 @@ import numpy as np
 import pytest
 import sympy as sp
 
-from lessons.core.analyzer import COEFF_NAMES, AnalyzerModel, Controls, field_expr, integrate, quadric_expr, x, y, z
+from lessons.core.analyzer import (
+    COEFF_NAMES,
+    AnalyzerModel,
+    Controls,
+    field_expr,
+    integrate,
+    quadric_expr,
+    x,
+    y,
+    z,
+)
 from lessons.core.formula import parse_formula
 from lessons.core.quadric import Quadric
 
@@ -46,7 +56,11 @@ def test_ellipsoid_field_is_163():
     a, b, c = 10, 5, 1
     u1, u2, u3 = sp.symbols("u1 u2 u3", real=True)
     f = field_expr(x**2 / sp.Integer(a**2) + y**2 / sp.Integer(b**2) + z**2 / sp.Integer(c**2) - 1)
-    expected = [u1 * y / b**2 - u2 * z / c**2, -u1 * x / a**2 + u3 * z / c**2, u2 * x / a**2 - u3 * y / b**2]
+    expected = [
+        u1 * y / b**2 - u2 * z / c**2,
+        -u1 * x / a**2 + u3 * z / c**2,
+        u2 * x / a**2 - u3 * y / b**2,
+    ]
     assert all(sp.simplify(e - g) == 0 for e, g in zip(f, expected))
 
 
@@ -60,7 +74,9 @@ def family_model(V):
     return AnalyzerModel(coeffs, controls), r0, scales
 
 
-@pytest.mark.parametrize("V", [None, parse_formula("1 + 0.5*sin(t)")], ids=["analyzer", "constant-speed"])
+@pytest.mark.parametrize(
+    "V", [None, parse_formula("1 + 0.5*sin(t)")], ids=["analyzer", "constant-speed"]
+)
 def test_invariant_round_off_over_1e5_steps_every_type(V):
     model, r0, scales = family_model(V)
     assert np.all(np.abs(model.F(r0)) < 1e-12)
@@ -78,7 +94,9 @@ def test_invariant_round_off_over_1e5_steps_every_type(V):
 def test_constant_speed_holds_where_field_vanishes():
     """Ex. 1.3 controls at t = 0 from (1, 0, 0): the field is zero; the point holds, then moves."""
     f = parse_formula
-    model = AnalyzerModel.of(Quadric.sphere(1.0).coeffs(), Controls(f("sin(10*t)"), f("t"), f("5"), V=1.0))
+    model = AnalyzerModel.of(
+        Quadric.sphere(1.0).coeffs(), Controls(f("sin(10*t)"), f("t"), f("5"), V=1.0)
+    )
     v0 = model.velocity(0.0, np.array([[1.0, 0.0, 0.0]]))
     assert np.all(v0 == 0.0)
     run = integrate(model, [1.0, 0.0, 0.0], 1.0, h=1e-3, samples=101)
@@ -89,7 +107,9 @@ def test_constant_speed_holds_where_field_vanishes():
 
 def test_speed_parallel_controls_hold():
     """u parallel to the gradient in constant-speed mode: grad F x w = 0, hold."""
-    model = AnalyzerModel.of(Quadric.sphere(1.0).coeffs(), Controls(0.0, 0.0, 2.0, V=1.0))  # w ~ (u3,u2,u1) = (2,0,0)
+    model = AnalyzerModel.of(
+        Quadric.sphere(1.0).coeffs(), Controls(0.0, 0.0, 2.0, V=1.0)
+    )  # w ~ (u3,u2,u1) = (2,0,0)
     run = integrate(model, [1.0, 0.0, 0.0], 0.5, h=1e-2)
     assert run.held.all() and np.allclose(run.r, [1.0, 0.0, 0.0])
 

@@ -19,10 +19,19 @@ def vec(*fs):
     return f
 
 
-H12 = (vec(np.sin, np.cos, lambda p: p), vec(np.cos, lambda p: -np.sin(p), lambda p: np.ones_like(p)), 0.0, math.pi)
+H12 = (
+    vec(np.sin, np.cos, lambda p: p),
+    vec(np.cos, lambda p: -np.sin(p), lambda p: np.ones_like(p)),
+    0.0,
+    math.pi,
+)
 H14 = (
     vec(lambda p: np.sqrt(1 - p**2), lambda p: p, np.arccos),
-    vec(lambda p: -p / np.sqrt(1 - p**2), lambda p: np.ones_like(p), lambda p: -1 / np.sqrt(1 - p**2)),
+    vec(
+        lambda p: -p / np.sqrt(1 - p**2),
+        lambda p: np.ones_like(p),
+        lambda p: -1 / np.sqrt(1 - p**2),
+    ),
     -1.0,
     1.0,
 )

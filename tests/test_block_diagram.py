@@ -3,7 +3,6 @@
 import re
 import xml.etree.ElementTree as ET
 
-import pytest
 import sympy as sp
 
 from lessons.core.block_diagram import block_diagram, label_of
@@ -11,7 +10,11 @@ from lessons.core.block_diagram import block_diagram, label_of
 x, y, z, u, u1, u2, u3, w = sp.symbols("x y z u u1 u2 u3 ω", real=True)
 a11, a12, a22, a13, a23 = sp.symbols("a11 a12 a22 a13 a23")
 D = lambda n: sp.Symbol(f"d{n}/dt")  # noqa: E731
-SPHERE = [sp.Eq(D("x"), u1 * y - u2 * z), sp.Eq(D("y"), -u1 * x + u3 * z), sp.Eq(D("z"), u2 * x - u3 * y)]
+SPHERE = [
+    sp.Eq(D("x"), u1 * y - u2 * z),
+    sp.Eq(D("y"), -u1 * x + u3 * z),
+    sp.Eq(D("z"), u2 * x - u3 * y),
+]
 
 
 def test_sphere_154_counts():
@@ -23,10 +26,20 @@ def test_sphere_154_counts():
 
 
 def test_fig_1_6_conic():
-    eqs = [sp.Eq(D("x"), w**2 * (a12 * x + a22 * y + a23)), sp.Eq(D("y"), -w**2 * (a11 * x + a12 * y + a13))]
+    eqs = [
+        sp.Eq(D("x"), w**2 * (a12 * x + a22 * y + a23)),
+        sp.Eq(D("y"), -(w**2) * (a11 * x + a12 * y + a13)),
+    ]
     d = block_diagram(eqs, signals=("u",))
-    assert d.count("integrator") == 2 and d.count("summer") == 2 and d.count("scale") == 6 and d.count("multiplier") == 0
-    assert sorted(b.label for b in d.blocks if b.kind == "scale") == sorted(["a12", "a22", "a11", "a12", "ω^2", "-ω^2"])
+    assert (
+        d.count("integrator") == 2
+        and d.count("summer") == 2
+        and d.count("scale") == 6
+        and d.count("multiplier") == 0
+    )
+    assert sorted(b.label for b in d.blocks if b.kind == "scale") == sorted(
+        ["a12", "a22", "a11", "a12", "ω^2", "-ω^2"]
+    )
     assert sorted(b.label for b in d.blocks if b.kind == "constant") == ["a13", "a23"]
 
 
@@ -42,16 +55,29 @@ def test_fig_1_27_and_1_30():
     d = block_diagram([sp.Eq(e.lhs, w * e.rhs) for e in SPHERE])
     assert d.count("multiplier") == 9 and d.count("summer") == 3 and d.count("source") == 4
     a, b, c = sp.symbols("a b c", positive=True)
-    ell = [sp.Eq(D("x"), u1 * y / b**2 - u2 * z / c**2), sp.Eq(D("y"), -u1 * x / a**2 + u3 * z / c**2), sp.Eq(D("z"), u2 * x / a**2 - u3 * y / b**2)]
+    ell = [
+        sp.Eq(D("x"), u1 * y / b**2 - u2 * z / c**2),
+        sp.Eq(D("y"), -u1 * x / a**2 + u3 * z / c**2),
+        sp.Eq(D("z"), u2 * x / a**2 - u3 * y / b**2),
+    ]
     d = block_diagram(ell)
     assert d.count("multiplier") == 6 and d.count("scale") == 6
-    assert sorted(b.label for b in d.blocks if b.kind == "scale") == ["1/a^2", "1/a^2", "1/b^2", "1/b^2", "1/c^2", "1/c^2"]
+    assert sorted(b.label for b in d.blocks if b.kind == "scale") == [
+        "1/a^2",
+        "1/a^2",
+        "1/b^2",
+        "1/b^2",
+        "1/c^2",
+        "1/c^2",
+    ]
 
 
 def test_derivative_lhs_and_time_functions():
     t = sp.Symbol("t", real=True)
     X, Y = sp.Function("x")(t), sp.Function("y")(t)
-    d = block_diagram([sp.Eq(sp.Derivative(X, t), sp.sin(10 * t) * Y), sp.Eq(sp.Derivative(Y, t), -t * X)])
+    d = block_diagram(
+        [sp.Eq(sp.Derivative(X, t), sp.sin(10 * t) * Y), sp.Eq(sp.Derivative(Y, t), -t * X)]
+    )
     assert d.states == ("x", "y")
     assert sorted(b.label for b in d.blocks if b.kind == "source") == ["sin(10·t)", "t"]
     assert d.count("multiplier") == 2

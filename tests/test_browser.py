@@ -9,8 +9,9 @@ from __future__ import annotations
 import os
 import re
 import time
+from collections.abc import Callable, Iterator
 from pathlib import Path
-from typing import Any, Callable, Iterator
+from typing import Any
 
 import numpy as np
 import pytest
@@ -18,8 +19,14 @@ import pytest
 pytestmark = [pytest.mark.browser, pytest.mark.timeout(300)]
 
 CHROMIUM = "/usr/bin/chromium"
-LAUNCH_ARGS = ["--no-sandbox", "--disable-gpu", "--disable-background-networking", "--disable-component-update",
-               "--disable-sync", "--no-first-run"]
+LAUNCH_ARGS = [
+    "--no-sandbox",
+    "--disable-gpu",
+    "--disable-background-networking",
+    "--disable-component-update",
+    "--disable-sync",
+    "--no-first-run",
+]
 ARTIFACTS = Path(__file__).parent / "artifacts"
 
 
@@ -74,7 +81,9 @@ class Page:
 
     def __init__(self, lab: Any, browser: Any, context: Any = None) -> None:
         self.lab = lab
-        self.context = context or browser.new_context(viewport={"width": 1100, "height": 760}, accept_downloads=True)
+        self.context = context or browser.new_context(
+            viewport={"width": 1100, "height": 760}, accept_downloads=True
+        )
         self.page = self.context.new_page()
         self.errors: list[str] = []
         self.page.on("console", lambda m: self.errors.append(m.text) if m.type == "error" else None)
@@ -95,8 +104,12 @@ class Page:
 
     def input_for(self, label: str) -> Any:
         """The visible input in the row of this label (viser puts label and input side by side)."""
-        return self.label(label).locator("xpath=ancestor::div[.//input[not(@type='hidden')]][1]").locator(
-            "input:not([type='hidden'])").first
+        return (
+            self.label(label)
+            .locator("xpath=ancestor::div[.//input[not(@type='hidden')]][1]")
+            .locator("input:not([type='hidden'])")
+            .first
+        )
 
     def options(self, label: str) -> list[str]:
         self.input_for(label).click()
@@ -137,7 +150,11 @@ class Page:
             if current != lesson_label:
                 self.select("Lesson", lesson_label)
         self.select("Preset", preset)
-        wait_until(lambda: self.session.preset == (None if preset == "(defaults)" else preset), 10, f"preset {preset}")
+        wait_until(
+            lambda: self.session.preset == (None if preset == "(defaults)" else preset),
+            10,
+            f"preset {preset}",
+        )
 
     def close(self) -> None:
         self.context.close()
@@ -223,7 +240,11 @@ def test_switching_lessons_while_charts_update_logs_no_error(tab: Page) -> None:
         wait_until(lambda: tab.session.playing and tab.session.frame.t > 0.1, 10, "playback")
         time.sleep(0.35)  # chart updates are flowing when the next switch comes
     charts = tab.page.locator(".uplot")
-    wait_until(lambda: charts.count() == len(tab.session.lesson.plots), 10, "only the current lesson's charts")
+    wait_until(
+        lambda: charts.count() == len(tab.session.lesson.plots),
+        10,
+        "only the current lesson's charts",
+    )
     assert tab.errors == []
 
 
@@ -234,7 +255,9 @@ def test_bad_input_shows_a_message_and_changes_nothing(tab: Page) -> None:
     wait_until(lambda: "refused" in tab.status(), 5, "a refusal message")
     assert "u1" in tab.status()
     assert tab.session.raw_values() == before
-    assert tab.input_for("u1(t) =").input_value() == before["u1"]  # the field shows the value in force
+    assert (
+        tab.input_for("u1(t) =").input_value() == before["u1"]
+    )  # the field shows the value in force
     tab.fill("sphere radius R", "-5")
     wait_until(lambda: "minimum" in tab.status(), 5, "a range message")
     tab.fill("sphere radius R", "nan")
@@ -254,7 +277,9 @@ def test_two_contexts_are_independent(lab: Any, browser: Any) -> None:
         a.load(_label_of(a.session.lesson), "example-1.2")
         a.button("Play")
         wait_until(lambda: a.session.frame.t > 0.3, 10, "playback in a")
-        assert b.session.preset != "example-1.2" and b.session.frame.t == 0.0 and not b.session.playing
+        assert (
+            b.session.preset != "example-1.2" and b.session.frame.t == 0.0 and not b.session.playing
+        )
         b.tab("Controls")
         b.fill("u2(t) =", "1.5")
         wait_until(lambda: b.session.raw_values()["u2"] == "1.5", 5, "u2 in b")
@@ -333,7 +358,11 @@ def test_every_lesson_and_preset_plays(shared_tab: Page, lesson_id: str, preset:
     t0 = tab.session.frame.t
     tab.page.get_by_role("button", name="Play", exact=True).click()
     # lessons choose their own time scale (slow motion for vibrations): any progress counts
-    wait_until(lambda: tab.session.frame.t > t0 or (not tab.session.playing and tab.session.notices), 10, "playback")
+    wait_until(
+        lambda: tab.session.frame.t > t0 or (not tab.session.playing and tab.session.notices),
+        10,
+        "playback",
+    )
     assert tab.page.locator("math").count() > 0
     assert "internal error" not in tab.status()
     errors = list(tab.errors)

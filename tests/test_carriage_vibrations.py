@@ -7,7 +7,12 @@ import math
 import numpy as np
 import pytest
 
-from lessons.carriage_vibrations import LESSONS, CarriageForcedVibration, CarriageFreeVibration, carriage_from_params
+from lessons.carriage_vibrations import (
+    LESSONS,
+    CarriageForcedVibration,
+    CarriageFreeVibration,
+    carriage_from_params,
+)
 from lessons.catalog import get_lesson
 from lessons.core.contract import DerivationStep, ParamError
 from lessons.core.vibration import closed_form_frequencies, eigen_frequencies
@@ -104,7 +109,9 @@ def test_forced_presets_run(preset: str) -> None:
     run = FORCED.run(preset=preset)
     for name in ("q", "v", "q_steady", "F_drive"):
         assert run.series[name].shape == run.t.shape and np.all(np.isfinite(run.series[name]))
-    assert run.series["q"][0] == pytest.approx(params["q0"]) and run.series["v"][0] == pytest.approx(params["v0"])
+    assert run.series["q"][0] == pytest.approx(params["q0"]) and run.series["v"][
+        0
+    ] == pytest.approx(params["v0"])
     js = run.to_json_dict()
     assert set(js["series"]) >= {"q", "v"} and len(js["t"]) == len(js["series"]["q"])
     assert np.all(np.isfinite(np.array(FORCED.scene(params).bounds)))
@@ -112,7 +119,9 @@ def test_forced_presets_run(preset: str) -> None:
 
 
 def test_forced_headless_run_example_numbers() -> None:
-    run = FORCED.run(values={"m": 2, "b": 0.8, "c": 50, "F0": 3, "w0": 4, "q0": 0.05, "v0": 0}, t_end=10)
+    run = FORCED.run(
+        values={"m": 2, "b": 0.8, "c": 50, "F0": 3, "w0": 4, "q0": 0.05, "v0": 0}, t_end=10
+    )
     assert run.metrics["A0"] == pytest.approx(0.164094, abs=5e-7)
     assert run.metrics["phi1"] == pytest.approx(-0.175940, abs=5e-7)
     assert run.metrics["regime"] == "underdamped"

@@ -40,7 +40,9 @@ def test_family_fig_1_12():
     res = LESSON.run("fig-1.12")
     for k in range(1, 6):
         sfx = "" if k == 1 else f"_{k}"
-        assert np.allclose(np.hypot(res.series["x" + sfx], res.series["y" + sfx]), float(k), atol=1e-12)
+        assert np.allclose(
+            np.hypot(res.series["x" + sfx], res.series["y" + sfx]), float(k), atol=1e-12
+        )
 
 
 def test_stepper_and_scene():

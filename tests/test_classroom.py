@@ -9,7 +9,8 @@ from __future__ import annotations
 import asyncio
 import math
 import time
-from typing import Any, Callable, Iterator
+from collections.abc import Iterator
+from typing import Any
 
 import pytest
 
@@ -27,8 +28,15 @@ pytestmark = pytest.mark.timeout(120)
 def lab() -> Iterator[Any]:
     from app.server import LabServer
 
-    server = LabServer(host="127.0.0.1", port=0, lessons=[SPHERE], lesson="sphere", instructor_code=CODE, warm_up=False,
-                       restore=False)
+    server = LabServer(
+        host="127.0.0.1",
+        port=0,
+        lessons=[SPHERE],
+        lesson="sphere",
+        instructor_code=CODE,
+        warm_up=False,
+        restore=False,
+    )
     yield server
     server.stop()
 
@@ -39,7 +47,9 @@ def fresh_room(lab: Any) -> Iterator[None]:
     yield
     lab.classroom.release()
     lab.classroom.wrong.clear()
-    lab.classroom.global_wrong = TokenBucket(lab.classroom.global_wrong.rate, lab.classroom.global_wrong.burst)
+    lab.classroom.global_wrong = TokenBucket(
+        lab.classroom.global_wrong.rate, lab.classroom.global_wrong.burst
+    )
 
 
 def run(coro: Any) -> Any:
@@ -100,8 +110,18 @@ def test_nothing_of_the_classroom_is_on_server_gui(lab: Any) -> None:
     async def go() -> None:
         c, view = await page(lab)
         await c.become_instructor(CODE)
-        labels = {h.label for h in lab.server.gui._gui_input_handle_from_uuid.values() if hasattr(h, "label")}
-        assert not labels & {"Follow me", "Release", "Push preset to all", "Notify all", "Instructor code"}
+        labels = {
+            h.label
+            for h in lab.server.gui._gui_input_handle_from_uuid.values()
+            if hasattr(h, "label")
+        }
+        assert not labels & {
+            "Follow me",
+            "Release",
+            "Push preset to all",
+            "Notify all",
+            "Instructor code",
+        }
         await close(c)
 
     run(go())
@@ -127,8 +147,13 @@ def test_follow_release_late_joiner_and_live_changes(lab: Any) -> None:
         await until(lambda: a.values.get(a.gui["Preset"]) == "example-1.3", 5, "preset shown to a")
         await inst.set("u3(t) =", "2.5", 0.3)
         assert iv.session.raw_values()["u3"] == "2.5"
-        await until(lambda: a.values.get(a.gui["u3(t) ="]) == "2.5" and b.values.get(b.gui["u3(t) ="]) == "2.5", 5,
-                    "u3 shown to the followers")
+        await until(
+            lambda: (
+                a.values.get(a.gui["u3(t) ="]) == "2.5" and b.values.get(b.gui["u3(t) ="]) == "2.5"
+            ),
+            5,
+            "u3 shown to the followers",
+        )
         # one stepping for all: the demo advances once per frame however many follow
         tick = iv.session.tick
         await asyncio.sleep(0.5)
@@ -141,7 +166,10 @@ def test_follow_release_late_joiner_and_live_changes(lab: Any) -> None:
         # the instructor panel counts them
         panel = lab.classroom.instructors[iv.client.client_id]
         panel.update()
-        assert "<b>2</b> student(s)" in panel.counts.content and '"al-following">2<' in panel.counts.content
+        assert (
+            "<b>2</b> student(s)" in panel.counts.content
+            and '"al-following">2<' in panel.counts.content
+        )
         # a late joiner joins the demo
         late, lv = await page(lab)
         await until(lambda: lv.session is iv.session, 5, "late joiner follows")
@@ -170,7 +198,9 @@ def test_push_preset_and_notify_all(lab: Any) -> None:
         await until(lambda: av.session.preset == "example-1.2", 5, "pushed preset")
         await inst.set("Message", "look at the pole", 0.1)
         await inst.click("Notify all", 0.3)
-        await until(lambda: any("look at the pole" in n for n in a.notifications), 5, "notification")
+        await until(
+            lambda: any("look at the pole" in n for n in a.notifications), 5, "notification"
+        )
         await close(inst, a)
 
     run(go())
@@ -184,7 +214,9 @@ def test_instructor_leaving_releases_the_class(lab: Any) -> None:
         await inst.click("Follow me", 0.3)
         await until(lambda: av.session is iv.session, 5, "following")
         await close(inst)
-        await until(lambda: av.session is not iv.session and not lab.classroom.followers, 5, "released")
+        await until(
+            lambda: av.session is not iv.session and not lab.classroom.followers, 5, "released"
+        )
         await close(a)
 
     run(go())
@@ -216,7 +248,11 @@ def test_student_cannot_start_stop_or_alter_a_broadcast(lab: Any) -> None:
         await s.set("u1(t) =", "99", 0.1)
         await s.set("Run", "Play" if not playing else "Pause", 0.1)
         await s.set("Preset", "example-1.2", 0.3)
-        assert iv.session.raw_values() == before and iv.session.playing == playing and iv.session.preset != "example-1.2"
+        assert (
+            iv.session.raw_values() == before
+            and iv.session.playing == playing
+            and iv.session.preset != "example-1.2"
+        )
         assert lab.classroom.stats["refused_follower"] >= 3
         # and the field the student typed in shows the demo's value again
         await until(lambda: s.values.get(s.gui["u1(t) ="]) == before["u1"], 5, "widget resynced")
@@ -230,10 +266,19 @@ def test_student_cannot_change_another_students_session(lab: Any) -> None:
         a, av = await page(lab)
         b, bv = await page(lab)
         before = bv.session.raw_values()
-        for label, value in (("u1(t) =", "7"), ("Run", "Play"), ("Preset", "example-1.3"), ("sphere radius R", 3.0)):
+        for label, value in (
+            ("u1(t) =", "7"),
+            ("Run", "Play"),
+            ("Preset", "example-1.3"),
+            ("sphere radius R", 3.0),
+        ):
             await a.send(gui_update(b.gui[label], value))
         await asyncio.sleep(0.5)
-        assert bv.session.raw_values() == before and not bv.session.playing and bv.session.preset != "example-1.3"
+        assert (
+            bv.session.raw_values() == before
+            and not bv.session.playing
+            and bv.session.preset != "example-1.3"
+        )
         await close(a, b)
 
     run(go())
@@ -272,7 +317,9 @@ def test_out_of_range_nan_and_oversized_values_are_refused(lab: Any) -> None:
         await asyncio.sleep(0.4)
         assert WS_STATS["dropped_oversized"] == dropped + 1
         assert av.session.raw_values() == before
-        assert all(math.isfinite(float(v)) for k, v in before.items() if k in ("R", "x0", "y0", "z0"))
+        assert all(
+            math.isfinite(float(v)) for k, v in before.items() if k in ("R", "x0", "y0", "z0")
+        )
         assert any("refused" in text for _, text in av.session.notices)
         await close(a)
 
@@ -283,7 +330,11 @@ def test_formula_flood_is_rate_limited_and_does_not_slow_others(lab: Any) -> Non
     async def go() -> None:
         # a demo left over from an earlier test (its instructor's disconnect still in
         # flight) would make the new pages followers, whose edits are refused by design
-        await until(lambda: lab.classroom.broadcaster is None and not lab.classroom.followers, 30, "no demo running")
+        await until(
+            lambda: lab.classroom.broadcaster is None and not lab.classroom.followers,
+            30,
+            "no demo running",
+        )
         obs, ov = await page(lab)
         await obs.set("pause at t_end", False)
         await obs.set("Run", "Play", 0.5)
@@ -310,12 +361,17 @@ def test_formula_flood_is_rate_limited_and_does_not_slow_others(lab: Any) -> Non
             await flood.send(gui_update(uuid, f"sin({k % 97 + 1}*t)"))
         await flood.send(gui_update(uuid, "cos(3*t)"))
         # the server paces this one connection (150 messages/s): the flooder waits on itself
-        await until(lambda: fv.session.raw_values()["u1"] == "cos(3*t)", 30, "the newest value applied")
+        await until(
+            lambda: fv.session.raw_values()["u1"] == "cos(3*t)", 30, "the newest value applied"
+        )
         dt = time.monotonic() - t0
         obs.measuring = False
         during = obs.point_updates / dt
         assert dt > 2.0  # paced
-        assert len(applied) <= 5 * dt + 10, (len(applied), sent)  # formula edits cost 4 tokens of 20/s
+        assert len(applied) <= 5 * dt + 10, (
+            len(applied),
+            sent,
+        )  # formula edits cost 4 tokens of 20/s
         assert lab.classroom.stats["coalesced"] > 0
         assert during >= 0.75 * base, (base, during)
         await close(obs, flood)
@@ -325,12 +381,31 @@ def test_formula_flood_is_rate_limited_and_does_not_slow_others(lab: Any) -> Non
 
 @pytest.mark.slow
 @pytest.mark.timeout(300)
-@pytest.mark.skipif(__import__("os").environ.get("ANALYZER_LAB_SLOW") != "1", reason="a 1-minute soak; set ANALYZER_LAB_SLOW=1")
+@pytest.mark.skipif(
+    __import__("os").environ.get("ANALYZER_LAB_SLOW") != "1",
+    reason="a 1-minute soak; set ANALYZER_LAB_SLOW=1",
+)
 def test_short_soak_keeps_memory_and_leaves_no_sessions() -> None:
     import subprocess
     import sys
 
-    out = subprocess.run([sys.executable, "-m", "app.soak", "--minutes", "1", "--students", "6", "--churn", "2", "--warmup", "20"],
-                         capture_output=True, text=True, timeout=240)
+    out = subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "app.soak",
+            "--minutes",
+            "1",
+            "--students",
+            "6",
+            "--churn",
+            "2",
+            "--warmup",
+            "20",
+        ],
+        capture_output=True,
+        text=True,
+        timeout=240,
+    )
     assert out.returncode == 0, out.stdout + out.stderr
     assert "no orphaned sessions" in out.stdout and "-> OK (limit 10%)" in out.stdout

@@ -4,13 +4,17 @@ Debian's Chromium; skipped without it, failing with CI=true, like tests/test_bro
 from __future__ import annotations
 
 import time
-from typing import Any, Iterator
+from collections.abc import Iterator
+from typing import Any
 
 import pytest
 
 from tests.test_browser import ARTIFACTS, CHROMIUM, LAUNCH_ARGS, Page, _require_browser, wait_until
 
-pytestmark = [pytest.mark.browser, pytest.mark.timeout(600)]  # three SwiftShader pages on a shared 2-core machine
+pytestmark = [
+    pytest.mark.browser,
+    pytest.mark.timeout(600),
+]  # three SwiftShader pages on a shared 2-core machine
 CODE = "demo-7391"
 INSTRUCTOR_BUTTONS = ("Follow me", "Release", "Push preset to all", "Notify all")
 
@@ -21,8 +25,14 @@ def lab() -> Iterator[Any]:
     from app.server import LabServer
     from lessons.catalog import get_lesson
 
-    server = LabServer(host="127.0.0.1", port=0, lesson="sphere", lessons=[get_lesson("sphere"), get_lesson("ellipsoid")],
-                       instructor_code=CODE, warm_up=False)
+    server = LabServer(
+        host="127.0.0.1",
+        port=0,
+        lesson="sphere",
+        lessons=[get_lesson("sphere"), get_lesson("ellipsoid")],
+        instructor_code=CODE,
+        warm_up=False,
+    )
     yield server
     server.stop()
 
@@ -51,7 +61,11 @@ def _open_folder(p: Page, title: str) -> None:
 
 
 def _instructor_buttons_visible(p: Page) -> list[str]:
-    return [name for name in INSTRUCTOR_BUTTONS if p.page.get_by_role("button", name=name, exact=True).count()]
+    return [
+        name
+        for name in INSTRUCTOR_BUTTONS
+        if p.page.get_by_role("button", name=name, exact=True).count()
+    ]
 
 
 def test_follow_me_and_release_with_two_students(lab: Any, browser: Any) -> None:
@@ -76,7 +90,10 @@ def test_follow_me_and_release_with_two_students(lab: Any, browser: Any) -> None
         time.sleep(0.15)
         s2.button("Become instructor")
         time.sleep(0.5)
-        assert not lab.classroom.is_instructor(s2.view.client.client_id) and _instructor_buttons_visible(s2) == []
+        assert (
+            not lab.classroom.is_instructor(s2.view.client.client_id)
+            and _instructor_buttons_visible(s2) == []
+        )
         # the instructor's demo: another lesson, a preset, playing
         inst.select("Lesson", _label("ellipsoid"))
         wait_until(lambda: inst.session.lesson.id == "ellipsoid", 10, "instructor lesson")
@@ -88,8 +105,16 @@ def test_follow_me_and_release_with_two_students(lab: Any, browser: Any) -> None
         inst.button("Follow me")
         for s in (s1, s2):
             wait_until(lambda s=s: s.session is inst.session, 10, "following")
-            wait_until(lambda s=s: s.input_for("Lesson").input_value() == _label("ellipsoid"), 10, "the demo's lesson shown")
-            wait_until(lambda s=s: s.input_for("Preset").input_value() == preset, 10, "the demo's preset shown")
+            wait_until(
+                lambda s=s: s.input_for("Lesson").input_value() == _label("ellipsoid"),
+                10,
+                "the demo's lesson shown",
+            )
+            wait_until(
+                lambda s=s: s.input_for("Preset").input_value() == preset,
+                10,
+                "the demo's preset shown",
+            )
         wait_until(lambda: inst.session.frame.t > 0.3, 10, "the demo plays")
         s1.shot("classroom-student-following")
         # a parameter change of the instructor reaches both students' pages
@@ -97,12 +122,18 @@ def test_follow_me_and_release_with_two_students(lab: Any, browser: Any) -> None
         wait_until(lambda: inst.session.raw_values()["u3"] == "4", 5, "u3 on the instructor")
         for s in (s1, s2):
             s.tab("Controls")
-            wait_until(lambda s=s: s.input_for("u3(t) =").input_value() == "4", 10, "u3 shown to the student")
+            wait_until(
+                lambda s=s: s.input_for("u3(t) =").input_value() == "4",
+                10,
+                "u3 shown to the student",
+            )
         # a following student's own edit is refused and does not touch the demo
         s2.fill("u3(t) =", "1")
         time.sleep(0.4)
         assert inst.session.raw_values()["u3"] == "4"
-        wait_until(lambda: s2.input_for("u3(t) =").input_value() == "4", 10, "the student's field resynced")
+        wait_until(
+            lambda: s2.input_for("u3(t) =").input_value() == "4", 10, "the student's field resynced"
+        )
         inst.shot("classroom-instructor")
         # release: each student has an own session again, starting from the demo
         t_demo = inst.session.frame.t
@@ -130,8 +161,14 @@ def test_presenter_mode_bookmarks(lab: Any, browser: Any) -> None:
         _open_folder(p, "Presenter")
         small = p.page.evaluate("parseFloat(getComputedStyle(document.documentElement).fontSize)")
         p.page.get_by_text("Presenter mode", exact=True).click()
-        wait_until(lambda: p.page.evaluate("parseFloat(getComputedStyle(document.documentElement).fontSize)") > small * 1.3, 10,
-                   "large fonts")
+        wait_until(
+            lambda: (
+                p.page.evaluate("parseFloat(getComputedStyle(document.documentElement).fontSize)")
+                > small * 1.3
+            ),
+            10,
+            "large fonts",
+        )
         names = [q.name for q in p.session.lesson.presets]
         p.button("Next ▶")
         wait_until(lambda: p.session.preset == names[0], 5, "first bookmark")
@@ -145,7 +182,11 @@ def test_presenter_mode_bookmarks(lab: Any, browser: Any) -> None:
         wait_until(lambda: p.session.preset == names[1], 5, "PageDown")
         p.page.keyboard.press("PageUp")
         wait_until(lambda: p.session.preset == names[0], 5, "PageUp")
-        wait_until(lambda: p.page.locator(".al-bookmark.al-current").count() == 1, 5, "current bookmark marked")
+        wait_until(
+            lambda: p.page.locator(".al-bookmark.al-current").count() == 1,
+            5,
+            "current bookmark marked",
+        )
         p.shot("presenter-mode")
         assert p.errors == [], p.errors
     finally:

@@ -11,7 +11,9 @@ import pytest
 
 
 def cli(*args, timeout=300):
-    return subprocess.run([sys.executable, "-m", "app", *args], capture_output=True, text=True, timeout=timeout)
+    return subprocess.run(
+        [sys.executable, "-m", "app", *args], capture_output=True, text=True, timeout=timeout
+    )
 
 
 def test_lessons_json_lists_sphere():
@@ -32,13 +34,30 @@ def test_run_json_example_1_1(tmp_path):
     assert doc["lesson"] == "sphere" and doc["preset"] == "example-1.1"
     assert {"x", "y", "z", "vx", "vy", "vz"} <= set(doc["series"])
     assert doc["t"][-1] == pytest.approx(10.0)
-    v2 = np.array(doc["series"]["vx"]) ** 2 + np.array(doc["series"]["vy"]) ** 2 + np.array(doc["series"]["vz"]) ** 2
+    v2 = (
+        np.array(doc["series"]["vx"]) ** 2
+        + np.array(doc["series"]["vy"]) ** 2
+        + np.array(doc["series"]["vz"]) ** 2
+    )
     assert np.abs(v2 - 50).max() < 1e-9
 
 
 def test_run_csv_to_file_with_set(tmp_path):
     path = tmp_path / "run.csv"
-    out = cli("run", "sphere", "--set", "u1=t", "--set", "u2=2", "--t-end", "2", "--format", "csv", "--out", str(path))
+    out = cli(
+        "run",
+        "sphere",
+        "--set",
+        "u1=t",
+        "--set",
+        "u2=2",
+        "--t-end",
+        "2",
+        "--format",
+        "csv",
+        "--out",
+        str(path),
+    )
     assert out.returncode == 0, out.stderr
     rows = list(csv.reader(io.StringIO(path.read_text())))
     assert rows[0][:7] == ["t", "x", "y", "z", "vx", "vy", "vz"]

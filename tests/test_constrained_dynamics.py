@@ -5,7 +5,13 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from lessons.constrained_dynamics import LESSON, pendulum_drift, planar3_acceleration_difference, run_constrained, system
+from lessons.constrained_dynamics import (
+    LESSON,
+    pendulum_drift,
+    planar3_acceleration_difference,
+    run_constrained,
+    system,
+)
 
 
 def test_claims_pass() -> None:
@@ -32,7 +38,16 @@ def test_shapes() -> None:
 
 
 def test_knife_edge_no_side_slip() -> None:
-    p = LESSON.resolve({"example": "knife-edge", "F": 3.0, "m": 2.0, "omega0": 2.0, "integrator": "DOP853", "rtol": 1e-10})
+    p = LESSON.resolve(
+        {
+            "example": "knife-edge",
+            "F": 3.0,
+            "m": 2.0,
+            "omega0": 2.0,
+            "integrator": "DOP853",
+            "rtol": 1e-10,
+        }
+    )
     t = np.linspace(0, 3, 121)
     r = run_constrained("knife-edge", p, t)
     assert np.max(np.abs(r["c"])) < 1e-8

@@ -34,7 +34,9 @@ def test_start_sets_the_size():
     G = (res.series["x"] / 100) ** 2 + (res.series["y"] / 50) ** 2 + (res.series["z"] / 10) ** 2
     assert np.max(np.abs(G - 1)) < 1e-12
     # scaling the start by 10 scales the whole path by 10 (the field is linear)
-    small = LESSON.run(None, {"x0": 0, "y0": 5, "z0": 0, "u1": "5*t", "u2": "t/10", "u3": "5"}, t_end=3.0)
+    small = LESSON.run(
+        None, {"x0": 0, "y0": 5, "z0": 0, "u1": "5*t", "u2": "t/10", "u3": "5"}, t_end=3.0
+    )
     assert np.allclose(res.series["x"], 10 * small.series["x"], atol=1e-9)
 
 
@@ -43,7 +45,9 @@ def test_normalized_coefficients_and_derivation():
     q = LESSON.surface(params)
     assert (q.a11, q.a22, q.a33, q.a44) == pytest.approx((0.01, 0.04, 1.0, -1.0))
     steps = LESSON.derivation(params)
-    assert any(s.source == "(1.63)" for s in steps) and any(s.source == "(1.61)" and s.reconstructed for s in steps)
+    assert any(s.source == "(1.63)" for s in steps) and any(
+        s.source == "(1.61)" and s.reconstructed for s in steps
+    )
 
 
 def test_stepper_and_scene():

@@ -39,21 +39,34 @@ def test_linear_convergence_order(s, order):
 
 
 def test_linear_keeps_circle_over_1e5_steps():
-    t, r = gl_linear(rotation_coeffs(lambda t: 3.0 + np.sin(t)), np.array([[1.0, 0.0], [0.0, 2.0]]), 0.0, 100.0, 1e-3, 3)
+    t, r = gl_linear(
+        rotation_coeffs(lambda t: 3.0 + np.sin(t)),
+        np.array([[1.0, 0.0], [0.0, 2.0]]),
+        0.0,
+        100.0,
+        1e-3,
+        3,
+    )
     assert len(t) == 100_001
     drift = np.abs((r**2).sum(-1) - (r[0] ** 2).sum(-1)).max()
     assert drift < 1e-13
 
 
 def test_last_step_shortened():
-    t, _ = gl_linear(rotation_coeffs(lambda t: 1.0 + 0 * t), np.array([[1.0, 0.0]]), 0.0, 1.05, 0.1, 2)
+    t, _ = gl_linear(
+        rotation_coeffs(lambda t: 1.0 + 0 * t), np.array([[1.0, 0.0]]), 0.0, 1.05, 0.1, 2
+    )
     assert t[-1] == pytest.approx(1.05) and len(t) == 12
 
 
 def test_nonlinear_stepper_keeps_quadratic_invariant():
     # normalized rotation field r' = J r / |r| (nonlinear); |r| is a quadratic invariant
     def field(t, R):
-        return np.stack([R[:, 1], -R[:, 0]], axis=1) / np.linalg.norm(R, axis=1)[:, None] * (2 + np.cos(t))
+        return (
+            np.stack([R[:, 1], -R[:, 0]], axis=1)
+            / np.linalg.norm(R, axis=1)[:, None]
+            * (2 + np.cos(t))
+        )
 
     def jac(t, R):
         return np.broadcast_to(np.array([[0.0, 1.0], [-1.0, 0.0]]), (len(R), 2, 2)) * 2

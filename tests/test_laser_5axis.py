@@ -30,8 +30,16 @@ from lessons.core.kinematics5 import (
     point_speed_ratio,
     sagitta_estimate,
 )
-from lessons.laser_5axis import LESSON, adaptive, body_poses, machine_of, study, to_view, translate, uniform_levels
-
+from lessons.laser_5axis import (
+    LESSON,
+    adaptive,
+    body_poses,
+    machine_of,
+    study,
+    to_view,
+    translate,
+    uniform_levels,
+)
 
 # ---------------------------------------------------------------- kinematics
 
@@ -130,14 +138,24 @@ def test_linear_interpolation_deviates() -> None:
     assert dev == pytest.approx(1.398, abs=0.001)
     assert dev > 0.020 * 50
     assert sagitta_estimate(s.machine, s.qa, s.qb) == pytest.approx(dev, rel=0.005)
-    assert move_deviation(study("S2").machine, study("S2").linear()) == pytest.approx(0.1305, abs=1e-4)
-    assert move_deviation(study("S3").machine, study("S3").linear()) == pytest.approx(3.058, abs=1e-3)
+    assert move_deviation(study("S2").machine, study("S2").linear()) == pytest.approx(
+        0.1305, abs=1e-4
+    )
+    assert move_deviation(study("S3").machine, study("S3").linear()) == pytest.approx(
+        3.058, abs=1e-3
+    )
 
 
 def test_linear_speed_nonuniform() -> None:
-    assert point_speed_ratio(study("S1").machine, study("S1").linear()) == pytest.approx(1.008, abs=1e-3)
-    assert point_speed_ratio(study("S3").machine, study("S3").linear()) == pytest.approx(1.061, abs=1e-3)
-    assert point_speed_ratio(study("S4").machine, study("S4").linear()) == pytest.approx(2.295, abs=2e-3)
+    assert point_speed_ratio(study("S1").machine, study("S1").linear()) == pytest.approx(
+        1.008, abs=1e-3
+    )
+    assert point_speed_ratio(study("S3").machine, study("S3").linear()) == pytest.approx(
+        1.061, abs=1e-3
+    )
+    assert point_speed_ratio(study("S4").machine, study("S4").linear()) == pytest.approx(
+        2.295, abs=2e-3
+    )
 
 
 def test_bisection_levels_quarter_per_split() -> None:
@@ -177,7 +195,13 @@ def test_nonlinear_keeps_point_on_segment_at_constant_speed() -> None:
 def test_nonlinear_as_linear_submoves_falls_as_inverse_square() -> None:
     s = study("S1")
     pa, _, pb, _ = s.ends
-    devs = [max(move_deviation(s.machine, mv, pa, pb) for mv in nonlinear_submoves(s.machine, s.nonlinear(), N)) for N in (4, 16, 64)]
+    devs = [
+        max(
+            move_deviation(s.machine, mv, pa, pb)
+            for mv in nonlinear_submoves(s.machine, s.nonlinear(), N)
+        )
+        for N in (4, 16, 64)
+    ]
     assert devs == pytest.approx([0.0874, 0.00547, 0.000342], rel=0.01)
     assert devs[0] / devs[1] == pytest.approx(16.0, rel=0.03)
 
@@ -189,15 +213,23 @@ def test_fixed_normal_half_angle() -> None:
         mv = fixed_normal_moves(s.machine, pa, na, pb, nb, float(s.qa[3]))
         assert mv.q0[3:] == pytest.approx(mv.q1[3:])
         assert move_deviation(s.machine, mv) <= 1e-9
-        assert math.degrees(off_normal_max(s.machine, s.task, [mv], samples=1025)) == pytest.approx(half, abs=1e-3)
-        assert math.degrees(float(angle_between(mean_normal(na, nb), na))) == pytest.approx(half, abs=1e-3)
+        assert math.degrees(off_normal_max(s.machine, s.task, [mv], samples=1025)) == pytest.approx(
+            half, abs=1e-3
+        )
+        assert math.degrees(float(angle_between(mean_normal(na, nb), na))) == pytest.approx(
+            half, abs=1e-3
+        )
 
 
 def test_nonlinear_orientation_and_axis_travel() -> None:
     for name, beam, xy in (("S1", 0.079, 5.9), ("S2", 0.006, 42.5), ("S3", 0.248, 35.9)):
         s = study(name)
-        assert math.degrees(off_normal_max(s.machine, s.task, [s.nonlinear()])) == pytest.approx(beam, abs=1e-3)
-        assert axis_path_length(s.machine, [s.nonlinear()], slice(0, 2)) == pytest.approx(xy, abs=0.05)
+        assert math.degrees(off_normal_max(s.machine, s.task, [s.nonlinear()])) == pytest.approx(
+            beam, abs=1e-3
+        )
+        assert axis_path_length(s.machine, [s.nonlinear()], slice(0, 2)) == pytest.approx(
+            xy, abs=0.05
+        )
 
 
 def test_near_vertical_original_limits() -> None:
@@ -218,7 +250,9 @@ def test_near_vertical_improved_limits() -> None:
     assert math.degrees(s.qb[3] - s.qa[3]) == pytest.approx(-18.925, abs=0.01)
     assert math.degrees(s.qb[4] - s.qa[4]) == pytest.approx(-3.484, abs=0.01)
     assert move_deviation(s.machine, s.linear()) == pytest.approx(1.509, abs=1e-3)
-    assert uniform_levels("S4", "improved")[1:] == pytest.approx([41.4, 34.7, 22.4, 9.92, 3.18, 0.861], rel=0.01)
+    assert uniform_levels("S4", "improved")[1:] == pytest.approx(
+        [41.4, 34.7, 22.4, 9.92, 3.18, 0.861], rel=0.01
+    )
     b = adaptive("S4", "improved")
     assert b.converged and (len(b.moves), b.max_depth) == (122, 9)
     pa, na, pb, nb = s.ends
@@ -265,11 +299,18 @@ def test_presets_resolve_and_run(preset: str) -> None:
 
 def test_run_metrics_by_method() -> None:
     base = {"path": "line", "segments": 1, "u0": 300, "v0": 0, "u1": 300, "v1": 60, "V": 10}
-    lin, bis, nl, fn = (LESSON.simulate(LESSON.resolve({**base, "method": m})) for m in ("linear", "bisection", "nonlinear", "fixed-normal"))
+    lin, bis, nl, fn = (
+        LESSON.simulate(LESSON.resolve({**base, "method": m}))
+        for m in ("linear", "bisection", "nonlinear", "fixed-normal")
+    )
     assert nl.t[-1] == pytest.approx(6.0027, abs=1e-4)
     assert lin.metrics["deviation_max_mm"] == pytest.approx(1.398, abs=1e-3)
     assert bis.metrics["pieces"] == 16 and bis.metrics["deviation_max_mm"] <= 0.020
-    assert nl.metrics["deviation_max_mm"] <= 1e-9 and np.ptp(nl.series["speed_mm_s"]) < 1e-3 and nl.series["speed_mm_s"][0] == pytest.approx(10.0)
+    assert (
+        nl.metrics["deviation_max_mm"] <= 1e-9
+        and np.ptp(nl.series["speed_mm_s"]) < 1e-3
+        and nl.series["speed_mm_s"][0] == pytest.approx(10.0)
+    )
     assert fn.metrics["off_normal_max_deg"] == pytest.approx(1.645, abs=1e-3)
     assert max(lin.series["deviation_mm"]) == pytest.approx(1.398, abs=2e-3)
 
@@ -362,15 +403,35 @@ def test_task_translation_sequential() -> None:
 
 def test_vertical_start_takes_next_c() -> None:
     """A task starting at the apex (vertical beam) takes C from the next pose: no lever swing."""
-    run = LESSON.simulate(LESSON.resolve({"path": "line", "u0": 0, "v0": 0, "u1": 100, "v1": 0, "segments": 4,
-                                          "method": "bisection", "limits": "original"}))
+    run = LESSON.simulate(
+        LESSON.resolve(
+            {
+                "path": "line",
+                "u0": 0,
+                "v0": 0,
+                "u1": 100,
+                "v1": 0,
+                "segments": 4,
+                "method": "bisection",
+                "limits": "original",
+            }
+        )
+    )
     assert run.series["C_deg"][0] == pytest.approx(90.0) and run.series["B_deg"][0] == 0.0
     assert run.metrics["converged"] and run.metrics["pieces"] == 8
 
 
 def test_line_through_apex_needs_improved_limits() -> None:
     """Across the apex the azimuth jumps by pi: C in [0, 2pi) must swing the lever, B of both signs need not."""
-    base = {"path": "line", "u0": -100, "v0": 0, "u1": 100, "v1": 0, "segments": 1, "method": "bisection"}
+    base = {
+        "path": "line",
+        "u0": -100,
+        "v0": 0,
+        "u1": 100,
+        "v1": 0,
+        "segments": 1,
+        "method": "bisection",
+    }
     orig = LESSON.simulate(LESSON.resolve({**base, "limits": "original"}))
     impr = LESSON.simulate(LESSON.resolve({**base, "limits": "improved"}))
     assert not orig.metrics["converged"] and orig.metrics["deviation_max_mm"] > 100.0
@@ -382,7 +443,9 @@ def test_line_through_apex_needs_improved_limits() -> None:
 def test_program_size_limits() -> None:
     with pytest.raises(ParamError):
         LESSON.resolve({"method": "nonlinear", "segments": 200, "sub_moves": 256})
-    run = LESSON.simulate(LESSON.resolve({"method": "bisection", "tolerance_um": 1, "segments": 3, "radius": 900}))
+    run = LESSON.simulate(
+        LESSON.resolve({"method": "bisection", "tolerance_um": 1, "segments": 3, "radius": 900})
+    )
     assert run.metrics["converged"] and run.metrics["deviation_max_mm"] <= 0.001
     assert run.metrics["pieces"] <= 4096
 

@@ -39,7 +39,13 @@ def test_sanitizer_drops_foreign_elements_and_attributes() -> None:
 
 
 def test_step_html_escapes_prose_and_shows_tags() -> None:
-    step = DerivationStep("Title <b>", "a & b < c", [sp.Symbol("x"), sp.Symbol("y")], "(1.54)", reconstructed="lost <here>")
+    step = DerivationStep(
+        "Title <b>",
+        "a & b < c",
+        [sp.Symbol("x"), sp.Symbol("y")],
+        "(1.54)",
+        reconstructed="lost <here>",
+    )
     out = step_to_html(step, 3)
     assert "3. Title &lt;b&gt;" in out and "a &amp; b &lt; c" in out
     assert "(1.54)" in out and 'class="al-reconstructed"' in out and "lost &lt;here&gt;" in out
@@ -68,11 +74,27 @@ def test_block_diagram_svg_is_rendered_and_sanitized():
     lesson = get_lesson("sphere")
     step = lesson.block_diagram_step(lesson.resolve(), lesson.prepare(lesson.resolve()))
     out = step_to_html(step)
-    assert out.count("<svg") == 1 and "viewBox=" in out and out.count("<rect") >= 6 and out.count("<circle") >= 6
-    hostile = ('<svg onload="alert(1)"><script>alert(2)</script><a href="javascript:x"><text>t</text></a>'
-               '<rect fill="url(javascript:alert(3))" width="5"/><text x="1">&lt;b&gt;</text>'
-               '<foreignObject><div>x</div></foreignObject><image href="data:x"/></svg>')
+    assert (
+        out.count("<svg") == 1
+        and "viewBox=" in out
+        and out.count("<rect") >= 6
+        and out.count("<circle") >= 6
+    )
+    hostile = (
+        '<svg onload="alert(1)"><script>alert(2)</script><a href="javascript:x"><text>t</text></a>'
+        '<rect fill="url(javascript:alert(3))" width="5"/><text x="1">&lt;b&gt;</text>'
+        '<foreignObject><div>x</div></foreignObject><image href="data:x"/></svg>'
+    )
     clean = sanitize_svg(hostile)
-    for bad in ("onload", "script", "javascript", "<a", "foreignobject", "<image", "<div", "alert(2)"):
+    for bad in (
+        "onload",
+        "script",
+        "javascript",
+        "<a",
+        "foreignobject",
+        "<image",
+        "<div",
+        "alert(2)",
+    ):
         assert bad not in clean.lower(), bad
     assert "&lt;b&gt;" in clean and '<rect width="5">' in clean

@@ -54,9 +54,13 @@ def test_lagrange_model_numeric(pendulum_angle: LagrangeModel) -> None:
     qdd = pendulum_angle.accelerations(np.array([0.3]), np.array([1.0]), 0.0, p, np.array([0.7]))
     assert qdd[0] == pytest.approx((0.7 - 2 * 9.81 * 0.5 * np.sin(0.3)) / (2 * 0.25), rel=1e-12)
     # inverse at one instant recovers the input exactly
-    u = pendulum_angle.solve_inputs(np.array([0.3]), np.array([1.0]), qdd, 0.0, p, np.array([123.0]), [0])
+    u = pendulum_angle.solve_inputs(
+        np.array([0.3]), np.array([1.0]), qdd, 0.0, p, np.array([123.0]), [0]
+    )
     assert u[0] == pytest.approx(0.7, abs=1e-12)
-    assert pendulum_angle.G(np.array([0.3]), np.array([1.0]), 0.0, p, np.zeros(1))[0, 0] == pytest.approx(1.0)
+    assert pendulum_angle.G(np.array([0.3]), np.array([1.0]), 0.0, p, np.zeros(1))[
+        0, 0
+    ] == pytest.approx(1.0)
 
 
 def _cartesian_pendulum(rheonomic: bool = False) -> ConstrainedSystem:
@@ -65,7 +69,15 @@ def _cartesian_pendulum(rheonomic: bool = False) -> ConstrainedSystem:
     t = T_
     L = 1 + sp.Rational(1, 5) * sp.sin(2 * t) if rheonomic else sp.Symbol("L", positive=True)
     params = [m, g] if rheonomic else [m, g, L]
-    return ConstrainedSystem.build([x, y], [xd, yd], t, sp.diag(m, m), sp.Matrix([0, -m * g]), params, f_hol=[x**2 + y**2 - L**2])
+    return ConstrainedSystem.build(
+        [x, y],
+        [xd, yd],
+        t,
+        sp.diag(m, m),
+        sp.Matrix([0, -m * g]),
+        params,
+        f_hol=[x**2 + y**2 - L**2],
+    )
 
 
 def test_constrained_forms() -> None:
@@ -85,7 +97,10 @@ def test_rheonomic_psi_phi() -> None:
     L = 1 + sp.Rational(1, 5) * sp.sin(2 * t)
     xd, yd = cs.qd
     assert sp.simplify(cs.psi[0] + 2 * L * L.diff(t)) == 0
-    assert sp.simplify(cs.Phi[0] - (2 * (xd**2 + yd**2) - 2 * (L.diff(t) ** 2 + L * L.diff(t, 2)))) == 0
+    assert (
+        sp.simplify(cs.Phi[0] - (2 * (xd**2 + yd**2) - 2 * (L.diff(t) ** 2 + L * L.diff(t, 2))))
+        == 0
+    )
 
 
 def test_constrained_multiplier_and_projection() -> None:
@@ -95,7 +110,9 @@ def test_constrained_multiplier_and_projection() -> None:
     qdd, lam = cs.solve(0.0, q, np.zeros(2), p, np.zeros(0))
     assert np.allclose(qdd, 0.0, atol=1e-14)
     assert lam[0] == pytest.approx(-1.5 * 9.81 / (2 * 2.0), rel=1e-12)  # H^T lambda = (0, m g)
-    q0, qd0 = cs.consistent_initial(0.0, np.array([1.0, -1.0]), np.array([1.0, 1.0]), p, np.zeros(0))
+    q0, qd0 = cs.consistent_initial(
+        0.0, np.array([1.0, -1.0]), np.array([1.0, 1.0]), p, np.zeros(0)
+    )
     f, c = cs.residuals(0.0, q0, qd0, p, np.zeros(0))
     assert abs(f[0]) < 1e-12 and abs(c[0]) < 1e-12
 
@@ -106,7 +123,9 @@ def test_baumgarte_reduces_drift() -> None:
     y0 = np.array([np.sin(1.0), -np.cos(1.0), 0.0, 0.0])
     drift = []
     for a in (0.0, 5.0):
-        sol = solve_ivp(cs.rhs(p, lambda t, q, qd: np.zeros(0), a, a), (0, 10), y0, rtol=1e-5, atol=1e-5)
+        sol = solve_ivp(
+            cs.rhs(p, lambda t, q, qd: np.zeros(0), a, a), (0, 10), y0, rtol=1e-5, atol=1e-5
+        )
         drift.append(float(np.max(np.abs(sol.y[0] ** 2 + sol.y[1] ** 2 - 1.0))))
     assert drift[1] < drift[0] / 10
 
@@ -134,7 +153,13 @@ def test_poses() -> None:
     pos, qt = segment_pose(np.zeros(3), np.array([1.0, 0.0, 0.0]))
     assert np.allclose(pos, [0.5, 0, 0])
     w, x, y, z = qt
-    Rm = np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)], [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)], [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)]])
+    Rm = np.array(
+        [
+            [1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
+            [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
+            [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)],
+        ]
+    )
     assert np.allclose(Rm @ [0, 0, 1], [1, 0, 0])
     b = box("b", (1, 2, 3))
     assert np.allclose(b.vertices.max(axis=0) - b.vertices.min(axis=0), [1, 2, 3])
@@ -145,7 +170,11 @@ def test_poses() -> None:
 def test_steppers() -> None:
     def make(params):  # type: ignore[no-untyped-def]
         k = float(params["k"])
-        return np.array([1.0]), (lambda t, y: -k * y), (lambda t, y: Frame(t=t, scalars={"y": float(y[0])}))
+        return (
+            np.array([1.0]),
+            (lambda t, y: -k * y),
+            (lambda t, y: Frame(t=t, scalars={"y": float(y[0])})),
+        )
 
     st = OdeStepper(make, {"k": 1.0})  # type: ignore[arg-type]
     f = st.advance(1.0)
@@ -154,13 +183,17 @@ def test_steppers() -> None:
     f = st.advance(1.0)
     assert f.t == pytest.approx(2.0) and f.scalars["y"] == pytest.approx(np.exp(-1.0), rel=1e-6)
     assert st.reset().scalars["y"] == 1.0
-    ps = ProgramStepper(lambda params: (lambda t: Frame(t=t, scalars={"s": t * 2})), {})  # type: ignore[arg-type]
+    ps = ProgramStepper(lambda params: lambda t: Frame(t=t, scalars={"s": t * 2}), {})  # type: ignore[arg-type]
     assert ps.advance(0.25).scalars["s"] == 0.5 and ps.reset().t == 0.0
 
 
 def test_stepper_stops_on_non_finite() -> None:
     def make(params):  # type: ignore[no-untyped-def]
-        return np.array([1.0]), (lambda t, y: np.array([np.nan]) if t > 0.5 else -y), (lambda t, y: Frame(t=t, scalars={"y": float(y[0])}))
+        return (
+            np.array([1.0]),
+            (lambda t, y: np.array([np.nan]) if t > 0.5 else -y),
+            (lambda t, y: Frame(t=t, scalars={"y": float(y[0])})),
+        )
 
     st = OdeStepper(make, {})  # type: ignore[arg-type]
     st.advance(0.4)

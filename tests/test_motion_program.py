@@ -81,7 +81,9 @@ def test_every_preset_resolves_simulates_and_finishes(preset):
     assert r.metrics["max_error"] < 1e-6
     assert r.metrics["max_speed_excess"] < 1e-9
     # the last point is the end of the curve
-    end = program_from(params["x"].text, params["y"].text, params["z"].text, params["phi0"], params["phi1"]).curve.samples[-1]
+    end = program_from(
+        params["x"].text, params["y"].text, params["z"].text, params["phi0"], params["phi1"]
+    ).curve.samples[-1]
     assert np.allclose([r.series["x"][-1], r.series["y"][-1], r.series["z"][-1]], end, atol=1e-9)
     json.dumps(r.to_json_dict())
     assert r.to_csv().count("\n") == len(r.t) + 1
@@ -161,7 +163,15 @@ def test_rk4_reproduction_and_independent_dop853(v0, d0, d1):
         U = prog.controls(st)[0]
         return U @ y
 
-    sol = solve_ivp(rhs, (0.0, prog.T), res["X"][0], method="DOP853", rtol=1e-11, atol=1e-12, t_eval=res["t"][::50])
+    sol = solve_ivp(
+        rhs,
+        (0.0, prog.T),
+        res["X"][0],
+        method="DOP853",
+        rtol=1e-11,
+        atol=1e-12,
+        t_eval=res["t"][::50],
+    )
     X = prog.state(sol.t)["X"]
     assert np.max(np.linalg.norm(sol.y.T - X, axis=1)) <= 1e-6
 
@@ -199,7 +209,17 @@ def test_pass_through_origin_is_reported_and_handled():
 
 
 def test_curve_starting_at_the_origin():
-    r = LESSON.run(values={"x": "phi*cos(phi)", "y": "phi*sin(phi)", "z": "0", "phi0": "0", "phi1": "2*pi", "v0": 2}, t_end=None)
+    r = LESSON.run(
+        values={
+            "x": "phi*cos(phi)",
+            "y": "phi*sin(phi)",
+            "z": "0",
+            "phi0": "0",
+            "phi1": "2*pi",
+            "v0": 2,
+        },
+        t_end=None,
+    )
     assert r.metrics["singular_times"] == [0.0]
     assert math.isnan(r.series["x5"][1])
     assert r.metrics["max_error"] < 1e-6
@@ -236,7 +256,12 @@ def test_stepper_advance_set_params_reset():
     u = np.array([[f.scalars[f"u{i}{j}"] for j in (1, 2, 3)] for i in (1, 2, 3)])
     X = f.points["point"][0]
     assert np.linalg.matrix_rank(u, tol=1e-12) == 1
-    assert u @ X == pytest.approx(f.vectors["velocity"][1][0] / np.linalg.norm(f.vectors["velocity"][1][0]) * f.scalars["v_limit"], abs=1e-9)
+    assert u @ X == pytest.approx(
+        f.vectors["velocity"][1][0]
+        / np.linalg.norm(f.vectors["velocity"][1][0])
+        * f.scalars["v_limit"],
+        abs=1e-9,
+    )
     st.set_params(LESSON.resolve(preset="helix-triangle"))
     assert st.t == pytest.approx(2.0)
     f = st.frame()

@@ -28,11 +28,19 @@ def test_every_preset_runs_with_series(preset):
 def test_closed_form_and_a33(lam):
     res = LESSON.run(f"lambda-{lam:g}")
     t = res.t
-    exact = np.array([4.0, 10.0]) + t[:, None] * np.array(TABLE[lam]["v0"]) + 0.5 * t[:, None] ** 2 * np.array(TABLE[lam]["Av0"])
+    exact = (
+        np.array([4.0, 10.0])
+        + t[:, None] * np.array(TABLE[lam]["v0"])
+        + 0.5 * t[:, None] ** 2 * np.array(TABLE[lam]["Av0"])
+    )
     assert np.allclose(np.stack([res.series["x"], res.series["y"]], 1), exact, rtol=0, atol=1e-9)
     assert res.metrics["a33"] == pytest.approx(TABLE[lam]["a33"], abs=1e-9)
-    assert (res.metrics["x_end"], res.metrics["y_end"]) == pytest.approx(TABLE[lam]["X10"], abs=1e-8)
-    assert res.metrics["a11"] == pytest.approx(lam * 0.5) and res.metrics["a22"] == pytest.approx(0.5 / lam)
+    assert (res.metrics["x_end"], res.metrics["y_end"]) == pytest.approx(
+        TABLE[lam]["X10"], abs=1e-8
+    )
+    assert res.metrics["a11"] == pytest.approx(lam * 0.5) and res.metrics["a22"] == pytest.approx(
+        0.5 / lam
+    )
 
 
 def test_family_series_and_invariant():

@@ -17,7 +17,13 @@ SMALL = ["linear-positioner", "rotary-positioner", "planar-2axis", "planar-3axis
 
 def test_ids_in_catalog() -> None:
     ids = {l.id for l in all_lessons()}
-    assert {"linear-positioner", "rotary-positioner", "planar-2axis", "planar-3axis", "table-6dof"} <= ids
+    assert {
+        "linear-positioner",
+        "rotary-positioner",
+        "planar-2axis",
+        "planar-3axis",
+        "table-6dof",
+    } <= ids
 
 
 @pytest.mark.parametrize("lesson", LESSONS, ids=lambda l: l.id)
@@ -129,7 +135,9 @@ def test_table_inverse_kinematics_geometry() -> None:
     for k in range(3):
         radial = J[k, :2] / np.linalg.norm(J[k, :2])
         d = ind[2 * k : 2 * k + 2] - J[k, :2]
-        assert np.dot(d, radial) == pytest.approx(np.sqrt(0.05), abs=1e-12)  # outward along its axis
+        assert np.dot(d, radial) == pytest.approx(
+            np.sqrt(0.05), abs=1e-12
+        )  # outward along its axis
     _, ok = inverse_kinematics(np.array([0, 0, 0.35, 0, 0, 0.0]), 0.3, 0.15)
     assert not ok
 
@@ -182,5 +190,7 @@ def test_leg_energy_equals_three_particles() -> None:
     s = np.linspace(0, 1, 20001)
     v = vA[None, :] + s[:, None] * (vJ - vA)[None, :]
     integral = m / 2 * np.trapezoid(np.sum(v * v, axis=1), s)
-    particles = 0.5 * (m / 6) * (vA @ vA + vJ @ vJ) + 0.5 * (2 * m / 3) * np.sum(((vA + vJ) / 2) ** 2)
+    particles = 0.5 * (m / 6) * (vA @ vA + vJ @ vJ) + 0.5 * (2 * m / 3) * np.sum(
+        ((vA + vJ) / 2) ** 2
+    )
     assert rod == pytest.approx(integral, rel=1e-8) and rod == pytest.approx(particles, rel=1e-12)

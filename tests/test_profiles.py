@@ -15,7 +15,10 @@ S_HELIX = math.pi * math.sqrt(2.0)
 
 
 def area(p) -> float:
-    return sum(integrate.quad(lambda t: float(p.v(t)), a, b, epsabs=1e-13, epsrel=1e-13)[0] for a, b in zip(p.breakpoints[:-1], p.breakpoints[1:]))
+    return sum(
+        integrate.quad(lambda t: float(p.v(t)), a, b, epsabs=1e-13, epsrel=1e-13)[0]
+        for a, b in zip(p.breakpoints[:-1], p.breakpoints[1:])
+    )
 
 
 def test_trapezoid_helix_numbers():
@@ -53,7 +56,10 @@ def test_asymmetric_triangle_respects_slopes_and_v0():
     assert area(p) == pytest.approx(S_HELIX, abs=1e-10)
 
 
-@pytest.mark.parametrize("v0,d0,d1", [(1.0, 1.0, 1.0), (4.0, 2.0, 2.0), (2.0, 0.0, 1.0), (3.0, 0.5, 0.0), (0.5, 0.0, 0.0)])
+@pytest.mark.parametrize(
+    "v0,d0,d1",
+    [(1.0, 1.0, 1.0), (4.0, 2.0, 2.0), (2.0, 0.0, 1.0), (3.0, 0.5, 0.0), (0.5, 0.0, 0.0)],
+)
 def test_s_is_the_integral_of_v_and_time_at_inverts_it(v0, d0, d1):
     p = speed_profile(S_HELIX, v0, d0, d1)
     t = np.linspace(0, p.T, 4001)
@@ -75,7 +81,11 @@ def test_cases_join_at_L_zero():
     S0 = v0 * (d0 + d1) / 2
     assert trapezoid_L(S0, v0, d0, d1) == pytest.approx(0.0, abs=1e-15)
     tri = speed_profile(S0, v0, d0, d1)
-    assert tri.kind == "triangle" and tri.v1 == pytest.approx(v0, abs=1e-14) and tri.T == pytest.approx(d0 + d1, abs=1e-14)
+    assert (
+        tri.kind == "triangle"
+        and tri.v1 == pytest.approx(v0, abs=1e-14)
+        and tri.T == pytest.approx(d0 + d1, abs=1e-14)
+    )
     above = speed_profile(S0 * (1 + 1e-10), v0, d0, d1)
     below = speed_profile(S0 * (1 - 1e-10), v0, d0, d1)
     assert above.kind == "trapezoid" and below.kind == "triangle"
@@ -102,7 +112,9 @@ def test_triangle_symbolic_matches_printed_1_9():
     assert sp.simplify(sol["v_1"] - sp.sqrt(2 * S * k1 * k2 / (k1 + k2))) == 0
 
 
-@pytest.mark.parametrize("args", [(0.0, 1, 1, 1), (1, 0.0, 1, 1), (1, 1, -1, 1), (math.nan, 1, 1, 1)])
+@pytest.mark.parametrize(
+    "args", [(0.0, 1, 1, 1), (1, 0.0, 1, 1), (1, 1, -1, 1), (math.nan, 1, 1, 1)]
+)
 def test_bad_inputs_raise(args):
     with pytest.raises(ValueError):
         speed_profile(*args)

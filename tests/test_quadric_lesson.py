@@ -5,13 +5,16 @@ import pytest
 import sympy as sp
 
 from lessons.core.contract import ParamError
-from lessons.core.quadric import CONSTRUCTORS, Quadric
+from lessons.core.quadric import CONSTRUCTORS
 from lessons.core.tangent_fields import MONOMIALS, UNKNOWNS, analyze, field_150_vectors, system_147
 from lessons.quadric_lesson import GENERAL, LESSON
 
 
 def test_147_rows_match_the_source():
-    a = {n: sp.Symbol(n, real=True) for n in ("a11", "a22", "a33", "a12", "a23", "a31", "a14", "a24", "a34", "a44")}
+    a = {
+        n: sp.Symbol(n, real=True)
+        for n in ("a11", "a22", "a33", "a12", "a23", "a31", "a14", "a24", "a34", "a44")
+    }
     b0, b1, b2, b3, c0, c1, c2, c3, d0, d1, d2, d3 = UNKNOWNS
     M = system_147()
     rows = [sp.expand((M[i, :] * sp.Matrix(UNKNOWNS))[0]) for i in range(10)]
@@ -20,12 +23,42 @@ def test_147_rows_match_the_source():
         A("a11") * b1 + A("a12") * c1 + A("a31") * d1,
         A("a12") * b2 + A("a22") * c2 + A("a23") * d2,
         A("a31") * b3 + A("a23") * c3 + A("a33") * d3,
-        A("a11") * b2 + A("a12") * b1 + A("a22") * c1 + A("a12") * c2 + A("a23") * d1 + A("a31") * d2,
-        A("a11") * b3 + A("a31") * b1 + A("a12") * c3 + A("a23") * c1 + A("a31") * d3 + A("a33") * d1,
-        A("a12") * b3 + A("a31") * b2 + A("a22") * c3 + A("a23") * c2 + A("a23") * d3 + A("a33") * d2,
-        A("a11") * b0 + A("a14") * b1 + A("a12") * c0 + A("a24") * c1 + A("a31") * d0 + A("a34") * d1,
-        A("a12") * b0 + A("a14") * b2 + A("a22") * c0 + A("a24") * c2 + A("a23") * d0 + A("a34") * d2,
-        A("a31") * b0 + A("a14") * b3 + A("a23") * c0 + A("a24") * c3 + A("a33") * d0 + A("a34") * d3,
+        A("a11") * b2
+        + A("a12") * b1
+        + A("a22") * c1
+        + A("a12") * c2
+        + A("a23") * d1
+        + A("a31") * d2,
+        A("a11") * b3
+        + A("a31") * b1
+        + A("a12") * c3
+        + A("a23") * c1
+        + A("a31") * d3
+        + A("a33") * d1,
+        A("a12") * b3
+        + A("a31") * b2
+        + A("a22") * c3
+        + A("a23") * c2
+        + A("a23") * d3
+        + A("a33") * d2,
+        A("a11") * b0
+        + A("a14") * b1
+        + A("a12") * c0
+        + A("a24") * c1
+        + A("a31") * d0
+        + A("a34") * d1,
+        A("a12") * b0
+        + A("a14") * b2
+        + A("a22") * c0
+        + A("a24") * c2
+        + A("a23") * d0
+        + A("a34") * d2,
+        A("a31") * b0
+        + A("a14") * b3
+        + A("a23") * c0
+        + A("a24") * c3
+        + A("a33") * d0
+        + A("a34") * d3,
         A("a14") * b0 + A("a24") * c0 + A("a34") * d0,
     ]
     for got, want in zip(rows, source):
@@ -44,7 +77,10 @@ def test_rank_per_surface(sid):
 
 def test_150_satisfies_147_symbolically():
     M = system_147()
-    a = {n: sp.Symbol(n, real=True) for n in ("a11", "a22", "a33", "a12", "a23", "a31", "a14", "a24", "a34", "a44")}
+    a = {
+        n: sp.Symbol(n, real=True)
+        for n in ("a11", "a22", "a33", "a12", "a23", "a31", "a14", "a24", "a34", "a44")
+    }
     assert sp.simplify(M * field_150_vectors(a)) == sp.zeros(10, 3)
 
 

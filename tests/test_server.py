@@ -9,8 +9,9 @@ from __future__ import annotations
 import asyncio
 import threading
 import time
+from collections.abc import Iterator
 from concurrent.futures import ThreadPoolExecutor
-from typing import Any, Iterator
+from typing import Any
 
 import pytest
 
@@ -27,7 +28,9 @@ pytestmark = pytest.mark.timeout(120)
 def lab() -> Iterator[Any]:
     from app.server import LabServer
 
-    server = LabServer(host="127.0.0.1", port=0, lessons=[SPHERE], lesson="sphere", warm_up=False, restore=False)
+    server = LabServer(
+        host="127.0.0.1", port=0, lessons=[SPHERE], lesson="sphere", warm_up=False, restore=False
+    )
     yield server
     server.stop()
 
@@ -55,7 +58,9 @@ def test_thread_frame_loop_for_comparison_still_plays(monkeypatch: pytest.Monkey
     from app.server import LabServer
 
     monkeypatch.setenv("ANALYZER_LAB_LOOP", "thread")
-    server = LabServer(host="127.0.0.1", port=0, lessons=[SPHERE], lesson="sphere", warm_up=False, restore=False)
+    server = LabServer(
+        host="127.0.0.1", port=0, lessons=[SPHERE], lesson="sphere", warm_up=False, restore=False
+    )
     try:
         assert server._loop_thread is not None and server._loop_thread.is_alive()
 
@@ -83,11 +88,15 @@ def test_messages_of_one_page_apply_in_the_order_sent(lab: Any) -> None:
         pages = [await ProtoClient(lab.url).start() for _ in range(12)]
         for p in pages:
             await p.wait_for("pause at t_end")
-        views = await until(lambda: len(set(lab.views) - before) >= 12 and [lab.views[k] for k in sorted(set(lab.views) - before)],
-                             15, "the views")
-        await asyncio.gather(*(
-            _burst(p) for p in pages
-        ))
+        views = await until(
+            lambda: (
+                len(set(lab.views) - before) >= 12
+                and [lab.views[k] for k in sorted(set(lab.views) - before)]
+            ),
+            15,
+            "the views",
+        )
+        await asyncio.gather(*(_burst(p) for p in pages))
         for v in views:
             await until(lambda: v.session.playing, 10, "play")
         await asyncio.sleep(0.3)
@@ -123,7 +132,9 @@ def test_ordered_executor_keeps_order_per_connection_and_runs_connections_in_par
     futures = []
     token = CONNECTION.set(1)
     try:
-        futures += [ex.submit(job, "a", k, 0.05 if k == 0 else 0.0) for k in range(5)]  # the first one is slow
+        futures += [
+            ex.submit(job, "a", k, 0.05 if k == 0 else 0.0) for k in range(5)
+        ]  # the first one is slow
     finally:
         CONNECTION.reset(token)
     token = CONNECTION.set(2)
@@ -135,7 +146,9 @@ def test_ordered_executor_keeps_order_per_connection_and_runs_connections_in_par
     assert [f.result(5) for f in futures] == [0, 1, 2, 3, 4, 0]
     assert outside.result(5) == "direct"
     assert [k for tag, k in log if tag == "a"] == [0, 1, 2, 3, 4]
-    assert started_b.is_set() and log.index(("b", 0)) < log.index(("a", 0))  # b did not wait behind a's slow job
+    assert started_b.is_set() and log.index(("b", 0)) < log.index(
+        ("a", 0)
+    )  # b did not wait behind a's slow job
     failing = ex.submit(lambda: 1 / 0)
     with pytest.raises(ZeroDivisionError):
         failing.result(5)

@@ -36,7 +36,9 @@ def test_open_loop_channel_matches_closed_loop_of_W() -> None:
     # closed loop of W = k/((Ts+1)s) is k / (T s^2 + s + k) = 1 / ((T/k) s^2 + (1/k) s + 1)
     ss = ch.state_space()
     b, a = signal.ss2tf(ss.A, ss.B, ss.C, ss.D)
-    assert np.allclose(b[0] / a[-1], [0.0, 0.0, 1.0]) and np.allclose(a / a[-1], [T / k, 1 / k, 1.0])
+    assert np.allclose(b[0] / a[-1], [0.0, 0.0, 1.0]) and np.allclose(
+        a / a[-1], [T / k, 1 / k, 1.0]
+    )
     w = 3.0
     expected = k / ((1j * w) * (T * 1j * w + 1) + k)
     assert ch.response(w) == pytest.approx(expected, rel=1e-12)
@@ -56,7 +58,9 @@ def test_exact_step_agrees_with_lsim() -> None:
 
 
 def test_distances() -> None:
-    d, fx, fy = power_distance(np.array([0.0, 3.0]), np.array([-0.2, 0.45 - 0.1]), 2, 0.0, 0.0, 20.0)
+    d, fx, fy = power_distance(
+        np.array([0.0, 3.0]), np.array([-0.2, 0.45 - 0.1]), 2, 0.0, 0.0, 20.0
+    )
     assert d[0] == pytest.approx(-0.2, abs=1e-12)
     assert d[1] < 0 and abs(d[1]) < 0.1
     assert fy[1] == pytest.approx(fx[1] ** 2 / 20.0)
@@ -78,15 +82,20 @@ def test_parabola_table_three_ways() -> None:
     for r in rows:
         assert r["simulated"] == pytest.approx(r["formula_13"], rel=0.01)
         assert r["within_print_rounding"], r
-        assert abs(r["printed"] - r["formula_13"]) > 0.1 * abs(r["formula_13"])  # the printed values are not (13)
+        assert abs(r["printed"] - r["formula_13"]) > 0.1 * abs(
+            r["formula_13"]
+        )  # the printed values are not (13)
     lo, hi = table_ratio_interval()
     assert lo == pytest.approx(0.79467, abs=1e-4) and hi == pytest.approx(0.80533, abs=1e-4)
 
 
 def test_table_with_omega_squared_20_matches_the_print() -> None:
     rows = parabola_table(omega=math.sqrt(20.0))  # omega^2 = 20 reproduces the printed values
-    assert all(abs(r.simulated - r.printed) <= 0.5 * 10 ** -(len(r.printed_text.split(".")[1]) if "." in r.printed_text else 0) + 1e-9
-               for r in rows)
+    assert all(
+        abs(r.simulated - r.printed)
+        <= 0.5 * 10 ** -(len(r.printed_text.split(".")[1]) if "." in r.printed_text else 0) + 1e-9
+        for r in rows
+    )
 
 
 # ---------------------------------------------------------------- presets, runs
@@ -131,7 +140,9 @@ def test_line_at_rest_has_no_error_and_transient_follows_4() -> None:
     peak = float(np.max(np.abs(r.series["delta"])))
     assert peak == pytest.approx(0.580629, abs=1e-5)  # (4) with xdot0 = 50 mm/s at 45 deg
     T1, T2sq = 0.01, 0.0005
-    assert 50 * math.sqrt(0.5) * 1.05 * T2sq / (T1 + math.sqrt(T2sq)) == pytest.approx(peak, rel=0.05)
+    assert 50 * math.sqrt(0.5) * 1.05 * T2sq / (T1 + math.sqrt(T2sq)) == pytest.approx(
+        peak, rel=0.05
+    )
 
 
 def test_circle_28() -> None:
@@ -147,7 +158,9 @@ def test_circle_nonidentical_29_30() -> None:
     assert m["sim_semi_major"] == pytest.approx(12.00691, abs=1e-4)
     assert m["sim_semi_minor"] == pytest.approx(10.78178, abs=1e-4)
     assert m["semi_major_30"] == pytest.approx(m["sim_semi_major"], rel=1e-5)
-    assert m["semi_major_30_printed"] == pytest.approx(12.02954, abs=1e-4)  # the printed (30) misses the square
+    assert m["semi_major_30_printed"] == pytest.approx(
+        12.02954, abs=1e-4
+    )  # the printed (30) misses the square
 
 
 def test_axes_printed_vs_corrected_differ_by_cos() -> None:
@@ -159,13 +172,27 @@ def test_axes_printed_vs_corrected_differ_by_cos() -> None:
 
 def test_ellipse_presets() -> None:
     m = LESSON.run("ellipse").metrics
-    assert (m["sim_semi_major"], m["sim_semi_minor"]) == pytest.approx((15.96743, 6.38697), abs=1e-4)
+    assert (m["sim_semi_major"], m["sim_semi_minor"]) == pytest.approx(
+        (15.96743, 6.38697), abs=1e-4
+    )
     m = LESSON.run("ellipse-nonidentical").metrics
-    assert (m["sim_semi_major"], m["sim_semi_minor"]) == pytest.approx((15.97402, 6.62696), abs=1e-4)
+    assert (m["sim_semi_major"], m["sim_semi_minor"]) == pytest.approx(
+        (15.97402, 6.62696), abs=1e-4
+    )
     assert m["sim_tilt_deg"] == pytest.approx(1.809, abs=1e-3)
 
 
-@pytest.mark.parametrize("preset", ["table-parabola", "line-45", "circle-nonidentical", "ellipse-nonidentical", "cubic", "quartic"])
+@pytest.mark.parametrize(
+    "preset",
+    [
+        "table-parabola",
+        "line-45",
+        "circle-nonidentical",
+        "ellipse-nonidentical",
+        "cubic",
+        "quartic",
+    ],
+)
 def test_correction_removes_steady_error(preset: str) -> None:
     off = LESSON.run(preset).metrics
     on = LESSON.run(preset, values={"correction": "on"}, t_end=LESSON.preset_t_end(preset) + 3.0)
@@ -179,14 +206,18 @@ def test_parabola_correction_starts_at_22() -> None:
     r = LESSON.run("parabola-corrected")
     omega, p, T1, T2sq = 5.0, 20.0, 0.01, 0.001
     assert r.metrics["input_x0"] == pytest.approx(-125 + omega * p * T1 / 2)
-    assert r.metrics["input_y0"] == pytest.approx(781.25 + omega * (-125) * T1 + omega**2 * p * T2sq / 2)
+    assert r.metrics["input_y0"] == pytest.approx(
+        781.25 + omega * (-125) * T1 + omega**2 * p * T2sq / 2
+    )
 
 
 def test_cubic_and_quartic_shifts() -> None:
     m = LESSON.run("cubic").metrics
     assert m["delta_article"] == pytest.approx(0.00875, rel=1e-6)
     m = LESSON.run("quartic").metrics
-    assert m["delta_article"] == pytest.approx(3 * 781.25 * (3e-8 + 8 * 2.5e-7 - 12 * 1e-4 * 5e-4), rel=1e-6)
+    assert m["delta_article"] == pytest.approx(
+        3 * 781.25 * (3e-8 + 8 * 2.5e-7 - 12 * 1e-4 * 5e-4), rel=1e-6
+    )
 
 
 def test_bad_input() -> None:
@@ -216,7 +247,9 @@ def test_stepper_is_exact_and_keeps_state() -> None:
     assert frame.points["reproduced"][0, 1] == pytest.approx(run.series["y1"][-1], abs=1e-9)
     assert set(frame.scalars) >= {"x1 - x", "y1 - y", "delta", "delta steady", "delta article"}
     before = frame.points["reproduced"].copy()
-    st.set_params(LESSON.resolve(preset="circle-nonidentical", values={"k": 300, "correction": "on"}))
+    st.set_params(
+        LESSON.resolve(preset="circle-nonidentical", values={"k": 300, "correction": "on"})
+    )
     assert st.t == pytest.approx(1.0)
     assert np.allclose(st.frame().points["reproduced"], before)
     assert "corrected program" in st.frame().points
@@ -269,7 +302,12 @@ def test_derivation_marks_misprints(curve: str) -> None:
     assert any(s.reconstructed for s in steps)
     if curve == "parabola":
         table = next(s for s in steps if s.source == "table")
-        assert "0.8" in table.text and "-0.19" in table.text and "-0.2375" in table.text and table.reconstructed
+        assert (
+            "0.8" in table.text
+            and "-0.19" in table.text
+            and "-0.2375" in table.text
+            and table.reconstructed
+        )
         assert any(s.source == "(18)" and s.reconstructed for s in steps)
     if curve == "circle":
         assert any(s.source == "(30)" and "cos^2" in (s.reconstructed or "") for s in steps)

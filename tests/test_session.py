@@ -49,10 +49,22 @@ def test_live_control_change_keeps_state(session: Session) -> None:
 
 @pytest.mark.parametrize(
     "name, raw",
-    [("R", -1.0), ("R", float("nan")), ("R", "abc"), ("R", "1e999"), ("u1", "__import__('os')"), ("u1", "open('x')"),
-     ("u1", float("inf")), ("family", 2.5), ("integrator", "euler"), ("x0", [1, 2])],
+    [
+        ("R", -1.0),
+        ("R", float("nan")),
+        ("R", "abc"),
+        ("R", "1e999"),
+        ("u1", "__import__('os')"),
+        ("u1", "open('x')"),
+        ("u1", float("inf")),
+        ("family", 2.5),
+        ("integrator", "euler"),
+        ("x0", [1, 2]),
+    ],
 )
-def test_bad_values_are_refused_and_change_nothing(session: Session, name: str, raw: object) -> None:
+def test_bad_values_are_refused_and_change_nothing(
+    session: Session, name: str, raw: object
+) -> None:
     play(session, 3)
     before = session.raw_values()
     t = session.frame.t
@@ -144,21 +156,33 @@ def test_state_round_trip_and_copy(session: Session) -> None:
     text = session.state().to_json()
     other = Session([SPHERE], "sphere")
     other.apply_state(SessionState.from_json(text))
-    assert other.raw_values() == session.raw_values() and other.speed == 2 and other.preset == "example-1.1"
+    assert (
+        other.raw_values() == session.raw_values()
+        and other.speed == 2
+        and other.preset == "example-1.1"
+    )
     third = Session([SPHERE])
     third.copy_from(session)
     assert third.state() == session.state()
 
 
-@pytest.mark.parametrize("text", ["", "not json", "[]", '{"values": {}}', "x" * 30000, '{"lesson": 5}'])
+@pytest.mark.parametrize(
+    "text", ["", "not json", "[]", '{"values": {}}', "x" * 30000, '{"lesson": 5}']
+)
 def test_malformed_saved_state_is_refused(text: str) -> None:
     with pytest.raises(LabError):
         SessionState.from_json(text)
 
 
 def test_saved_state_with_bad_values_keeps_the_good_ones() -> None:
-    text = json.dumps({"lesson": "sphere", "preset": "example-9", "values": {"u1": "__import__('os')", "u2": "2", "R": -5, "zzz": 1},
-                       "speed": 1000})
+    text = json.dumps(
+        {
+            "lesson": "sphere",
+            "preset": "example-9",
+            "values": {"u1": "__import__('os')", "u2": "2", "R": -5, "zzz": 1},
+            "speed": 1000,
+        }
+    )
     s = Session([SPHERE])
     problems = s.apply_state(SessionState.from_json(text))
     assert s.raw_values()["u2"] == "2" and s.raw_values()["u1"] == "5" and s.params["R"] == 1.0
@@ -189,7 +213,9 @@ def test_run_log_keeps_missing_values_as_nan_and_grows_by_doubling() -> None:
     log.add(Frame(t=0.0, points={"p": np.ones((2, 3))}, scalars={"a": 1.0}))
     log.add(Frame(t=1.0, points={"p": np.full((1, 3), 2.0)}, scalars={"b": 5.0}))
     assert log.points("p").shape == (2, 2, 3) and np.isnan(log.points("p")[1, 1]).all()
-    assert np.isnan(log.scalar("a")[1]) and np.isnan(log.scalar("b")[0]) and log.scalar("b")[1] == 5.0
+    assert (
+        np.isnan(log.scalar("a")[1]) and np.isnan(log.scalar("b")[0]) and log.scalar("b")[1] == 5.0
+    )
     assert log._cap == 64  # not the whole limit for a short run
     for k in range(200):
         log.add(Frame(t=2.0 + k, points={"p": np.zeros((2, 3))}, scalars={}))
@@ -244,7 +270,9 @@ def test_trail_colours_segments_by_scalar():
     assert colors[2, 0, 0] > colors[2, 0, 1]  # beyond twice the tolerance: red
 
 
-def test_played_time_follows_the_wall_clock_in_quanta_and_reuses_step_maps(session: Session) -> None:
+def test_played_time_follows_the_wall_clock_in_quanta_and_reuses_step_maps(
+    session: Session,
+) -> None:
     """Wall-clock ticks jitter; lesson time advances in whole TIME_QUANTUM pieces with the
     remainder carried over, so it stays within half a quantum of the wall time played and
     the cached step maps of the constant-control sphere are reused."""
@@ -261,5 +289,7 @@ def test_played_time_follows_the_wall_clock_in_quanta_and_reuses_step_maps(sessi
         wall += dt
         session.tick(dt)
     assert abs(session.stepper.t - wall) <= TIME_QUANTUM / 2 + 1e-12
-    assert len(analyzer_lesson._STEP_MAPS) - before <= 6  # a handful of step sizes, not one per tick
+    assert (
+        len(analyzer_lesson._STEP_MAPS) - before <= 6
+    )  # a handful of step sizes, not one per tick
     assert session.frame.scalars["v2"] == pytest.approx(50.0, rel=1e-9)

@@ -60,7 +60,15 @@ def test_stepper_live_change_and_reset():
 
 @pytest.mark.parametrize(
     "values",
-    [{"R": 0}, {"R": "nan"}, {"x0": "inf"}, {"u1": "__import__('os')"}, {"u2": "1/0"}, {"u3": "log(t)"}, {"family": 1000}],
+    [
+        {"R": 0},
+        {"R": "nan"},
+        {"x0": "inf"},
+        {"u1": "__import__('os')"},
+        {"u2": "1/0"},
+        {"u3": "log(t)"},
+        {"family": 1000},
+    ],
 )
 def test_bad_input_refused(values):
     with pytest.raises(ParamError):

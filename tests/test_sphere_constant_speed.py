@@ -25,7 +25,11 @@ def test_every_preset_short_run(preset):
 
 
 def test_speed_is_V_for_a_formula_profile():
-    res = LESSON.run(None, {"V": "2 + t", "u1": "t", "u2": "1", "u3": "3", "x0": 0, "y0": 1, "z0": 0, "h": 0.05}, t_end=2.0)
+    res = LESSON.run(
+        None,
+        {"V": "2 + t", "u1": "t", "u2": "1", "u3": "3", "x0": 0, "y0": 1, "z0": 0, "h": 0.05},
+        t_end=2.0,
+    )
     assert np.allclose(np.sqrt(res.series["v2"]), 2 + res.t, atol=1e-9)
 
 

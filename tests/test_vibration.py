@@ -90,7 +90,9 @@ def test_box_inertia_and_printed_swap() -> None:
     assert (Ix, Iy, Iz) == pytest.approx((0.1636, 0.2536, 0.41))
     Px, Py, Pz = box_inertia_printed(12.0, 0.4, 0.5, 0.06)
     assert (Px, Py) == pytest.approx((Iy, Ix)) and Pz == Iz
-    assert box_inertia(2.0, 0.4, 0.5, 0.06, 0.1, -0.2, 0.05)[2] == pytest.approx(2 * (0.41 / 12 + 0.05))
+    assert box_inertia(2.0, 0.4, 0.5, 0.06, 0.1, -0.2, 0.05)[2] == pytest.approx(
+        2 * (0.41 / 12 + 0.05)
+    )
 
 
 def test_centre_of_gravity() -> None:
@@ -105,7 +107,15 @@ def test_modal_propagation_against_solve_ivp() -> None:
     t = np.linspace(0, 0.05, 101)
     qs, vs = modal_propagate(p, q0, v0, t)
     A = np.block([[np.zeros((6, 6)), np.eye(6)], [-np.linalg.solve(M, K), np.zeros((6, 6))]])
-    sol = solve_ivp(lambda _t, y: A @ y, (0, 0.05), np.r_[q0, v0], method="DOP853", rtol=1e-12, atol=1e-15, t_eval=t)
+    sol = solve_ivp(
+        lambda _t, y: A @ y,
+        (0, 0.05),
+        np.r_[q0, v0],
+        method="DOP853",
+        rtol=1e-12,
+        atol=1e-15,
+        t_eval=t,
+    )
     assert np.max(np.abs(sol.y[:6].T - qs)) <= 1e-8 * np.max(np.abs(qs))
     q1, v1 = modal_propagate(p, q0, v0, 0.02)
     q2, _ = modal_propagate(p, q1, v1, 0.03)
@@ -115,9 +125,13 @@ def test_modal_propagation_against_solve_ivp() -> None:
 def test_quaternion_and_rotation_agree() -> None:
     r = np.array([0.1, -0.2, 0.05])
     w, x, y, z = rotvec_to_quaternion(r)
-    R = np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
-                  [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
-                  [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)]])
+    R = np.array(
+        [
+            [1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
+            [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
+            [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)],
+        ]
+    )
     assert R == pytest.approx(small_rotation_matrix(r), abs=1e-14)
     assert rotvec_to_quaternion(np.zeros(3)) == pytest.approx([1, 0, 0, 0])
 
@@ -129,8 +143,15 @@ def test_jeffcott_singular_at_critical_speed() -> None:
 
 @pytest.mark.parametrize(
     "m,b,c,F0,w0,q0,v0",
-    [(2, 0.8, 50, 3, 4, 0.05, 0), (2, 0.8, 50, 3, 7, 0, 0.4), (2, 20, 50, 3, 4, 0.05, 0),
-     (2, 40, 50, -3, 9, 0.05, 1), (2, 0, 50, 3, 5, 0, 0), (1, 0, 0, 1, 3, 0, 0), (3, 1, 2, 0, 0, 1, 0)],
+    [
+        (2, 0.8, 50, 3, 4, 0.05, 0),
+        (2, 0.8, 50, 3, 7, 0, 0.4),
+        (2, 20, 50, 3, 4, 0.05, 0),
+        (2, 40, 50, -3, 9, 0.05, 1),
+        (2, 0, 50, 3, 5, 0, 0),
+        (1, 0, 0, 1, 3, 0, 0),
+        (3, 1, 2, 0, 0, 1, 0),
+    ],
 )
 def test_forced_closed_form_against_solve_ivp(m, b, c, F0, w0, q0, v0) -> None:
     o = ForcedOscillator(m, b, c, F0, w0)
@@ -170,5 +191,10 @@ def test_frequency_response_plain_arrays() -> None:
 def test_forced_symbolic_constants() -> None:
     S = forced_lagrange()
     qs = S.M * sp.cos(S.w0 * S.t) + S.N * sp.sin(S.w0 * S.t)
-    res = sp.diff(qs, S.t, 2) + 2 * S.f * sp.diff(qs, S.t) + S.omega**2 * qs - S.tau * sp.sin(S.w0 * S.t)
+    res = (
+        sp.diff(qs, S.t, 2)
+        + 2 * S.f * sp.diff(qs, S.t)
+        + S.omega**2 * qs
+        - S.tau * sp.sin(S.w0 * S.t)
+    )
     assert sp.simplify(res) == 0

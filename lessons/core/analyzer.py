@@ -15,15 +15,16 @@ With ``d phi = omega dt``, ``omega = +-V / |field|`` (1.58) the speed is ``V`` (
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from functools import lru_cache
-from typing import Any, Mapping
+from typing import Any
 
 import numpy as np
 import sympy as sp
 
 from lessons.core.formula import Formula, t_symbol
-from lessons.core.integrators import GLStepper, gl_linear, solve_ivp_reference
+from lessons.core.integrators import gl_linear, solve_ivp_reference
 
 COEFF_NAMES = ("a11", "a22", "a33", "a12", "a23", "a31", "a14", "a24", "a34", "a44")
 x, y, z = sp.symbols("x y z", real=True)
@@ -40,9 +41,16 @@ HOLD_TOL = 1e-9
 def quadric_expr(a: Mapping[str, Any] = A_SYM) -> sp.Expr:
     """F of (1.42) with coefficients ``a`` (symbols by default)."""
     return (
-        a["a11"] * x**2 + a["a22"] * y**2 + a["a33"] * z**2
-        + 2 * a["a12"] * x * y + 2 * a["a23"] * y * z + 2 * a["a31"] * z * x
-        + 2 * a["a14"] * x + 2 * a["a24"] * y + 2 * a["a34"] * z + a["a44"]
+        a["a11"] * x**2
+        + a["a22"] * y**2
+        + a["a33"] * z**2
+        + 2 * a["a12"] * x * y
+        + 2 * a["a23"] * y * z
+        + 2 * a["a31"] * z * x
+        + 2 * a["a14"] * x
+        + 2 * a["a24"] * y
+        + 2 * a["a34"] * z
+        + a["a44"]
     )
 
 
@@ -51,7 +59,9 @@ def half_gradient_expr(F: sp.Expr) -> tuple[sp.Expr, sp.Expr, sp.Expr]:
     return tuple(sp.expand(sp.diff(F, v) / 2) for v in XYZ)  # type: ignore[return-value]
 
 
-def field_expr(F: sp.Expr, controls: tuple[sp.Expr, sp.Expr, sp.Expr] = U) -> tuple[sp.Expr, sp.Expr, sp.Expr]:
+def field_expr(
+    F: sp.Expr, controls: tuple[sp.Expr, sp.Expr, sp.Expr] = U
+) -> tuple[sp.Expr, sp.Expr, sp.Expr]:
     """The analyzer field (1.49) of surface ``F`` in convention B, gradient halved (1.50)."""
     gx, gy, gz = half_gradient_expr(F)
     c1, c2, c3 = controls
@@ -144,18 +154,23 @@ class AnalyzerModel:
     controls: Controls = field(default_factory=Controls)
 
     @classmethod
-    def of(cls, coeffs: Mapping[str, float], controls: Controls) -> "AnalyzerModel":
+    def of(cls, coeffs: Mapping[str, float], controls: Controls) -> AnalyzerModel:
         return cls({n: np.asarray(float(coeffs.get(n, 0.0))) for n in COEFF_NAMES}, controls)
 
     # ---- symbolic (for display) -------------------------------------------------
 
     def surface_expr(self) -> sp.Expr:
-        return quadric_expr({n: sp.nsimplify(float(np.ravel(v)[0]), rational=True) for n, v in self.coeffs.items()})
+        return quadric_expr(
+            {n: sp.nsimplify(float(np.ravel(v)[0]), rational=True) for n, v in self.coeffs.items()}
+        )
 
     def equations(self, controls: tuple[sp.Expr, sp.Expr, sp.Expr] = U) -> list[sp.Eq]:
         """The integrated system with this surface's numbers: dx/dt = ..., (phi = t)."""
         f = field_expr(self.surface_expr(), controls)
-        return [sp.Eq(sp.Derivative(sp.Function(str(v))(t_symbol), t_symbol), sp.expand(fi)) for v, fi in zip(XYZ, f)]
+        return [
+            sp.Eq(sp.Derivative(sp.Function(str(v))(t_symbol), t_symbol), sp.expand(fi))
+            for v, fi in zip(XYZ, f)
+        ]
 
     # ---- numeric ----------------------------------------------------------------
 
@@ -178,16 +193,24 @@ class AnalyzerModel:
         c = self.coeffs
         X, Y, Z = R[..., 0], R[..., 1], R[..., 2]
         return (
-            c["a11"] * X**2 + c["a22"] * Y**2 + c["a33"] * Z**2
+            c["a11"] * X**2
+            + c["a22"] * Y**2
+            + c["a33"] * Z**2
             + 2 * (c["a12"] * X * Y + c["a23"] * Y * Z + c["a31"] * Z * X)
-            + 2 * (c["a14"] * X + c["a24"] * Y + c["a34"] * Z) + c["a44"]
+            + 2 * (c["a14"] * X + c["a24"] * Y + c["a34"] * Z)
+            + c["a44"]
         )
 
     def F_scale(self, R: np.ndarray) -> np.ndarray:
         """Magnitude of F's terms at the points visited, per family member:
         max over samples of ‖Q‖|r|² + ‖b‖|r| + |a44| (round-off of F is ~1e-16 of it)."""
         c = self.coeffs
-        qn = np.sqrt(sum(np.asarray(c[n], dtype=float) ** 2 * (1 if n in ("a11", "a22", "a33") else 2) for n in COEFF_NAMES[:6]))
+        qn = np.sqrt(
+            sum(
+                np.asarray(c[n], dtype=float) ** 2 * (1 if n in ("a11", "a22", "a33") else 2)
+                for n in COEFF_NAMES[:6]
+            )
+        )
         bn = np.sqrt(sum(np.asarray(c[n], dtype=float) ** 2 for n in ("a14", "a24", "a34")))
         rn = np.linalg.norm(np.asarray(R, dtype=float), axis=-1)
         return (qn * rn**2 + bn * rn + np.abs(np.asarray(c["a44"], dtype=float))).max(axis=0)
@@ -196,11 +219,15 @@ class AnalyzerModel:
         """``A (m, N, 3, 3)`` and ``c (m, N, 3)`` of the affine field at times ``t (m,)``."""
         uu = self.controls.at(t)  # (3, m)
         m = len(t)
-        args = [u[:, None] for u in uu] + [np.broadcast_to(np.asarray(a, dtype=float), (n_points,))[None, :] for a in self._c()]
+        args = [u[:, None] for u in uu] + [
+            np.broadcast_to(np.asarray(a, dtype=float), (n_points,))[None, :] for a in self._c()
+        ]
         A_rows, c0 = _numeric().linear(*args)
         A = np.empty((m, n_points, 3, 3))
         for i in range(3):
-            A[:, :, i, :] = np.stack(np.broadcast_arrays(*A_rows[i], np.empty((m, n_points)))[:3], axis=-1)
+            A[:, :, i, :] = np.stack(
+                np.broadcast_arrays(*A_rows[i], np.empty((m, n_points)))[:3], axis=-1
+            )
         cvec = np.stack(np.broadcast_arrays(*c0, np.empty((m, n_points)))[:3], axis=-1)
         return A, cvec
 
@@ -208,14 +235,21 @@ class AnalyzerModel:
         """The field at ``(t, R)``: (1.50), or (1.59) where ``controls.V`` is set (holding where it vanishes)."""
         R = np.atleast_2d(R)
         uu = self.controls.at(np.asarray(t))
-        base = np.stack(_numeric().field(R[:, 0], R[:, 1], R[:, 2], *uu, *self._c()), axis=-1) * np.ones_like(R)
+        base = np.stack(
+            _numeric().field(R[:, 0], R[:, 1], R[:, 2], *uu, *self._c()), axis=-1
+        ) * np.ones_like(R)
         if self.controls.V is None:
             return base
         norm = np.linalg.norm(base, axis=-1)
         hold = norm <= self.hold_threshold(R, float(t))
         Vt = float(self.controls.speed(np.asarray(t)))
         with np.errstate(all="ignore"):
-            out = np.stack(_numeric().speed_field(R[:, 0], R[:, 1], R[:, 2], *uu, *self._c(), Vt, self.controls.sign), axis=-1) * np.ones_like(R)
+            out = np.stack(
+                _numeric().speed_field(
+                    R[:, 0], R[:, 1], R[:, 2], *uu, *self._c(), Vt, self.controls.sign
+                ),
+                axis=-1,
+            ) * np.ones_like(R)
         out[hold] = 0.0
         return out
 
@@ -227,8 +261,16 @@ class AnalyzerModel:
         if self.controls.V is None:
             return n
         norm = np.linalg.norm(n, axis=-1)
-        thr = np.stack([self.hold_threshold(R[k], float(t[k])) for k in range(len(t))]) if len(t) < 50 else self._thresholds(t, R)
-        scale = np.where(norm > thr, self.controls.sign * self.controls.speed(t)[:, None] / np.where(norm > 0, norm, 1.0), 0.0)
+        thr = (
+            np.stack([self.hold_threshold(R[k], float(t[k])) for k in range(len(t))])
+            if len(t) < 50
+            else self._thresholds(t, R)
+        )
+        scale = np.where(
+            norm > thr,
+            self.controls.sign * self.controls.speed(t)[:, None] / np.where(norm > 0, norm, 1.0),
+            0.0,
+        )
         return n * scale[..., None]
 
     def _thresholds(self, t: np.ndarray, R: np.ndarray) -> np.ndarray:
@@ -239,7 +281,9 @@ class AnalyzerModel:
 
     def hold_threshold(self, R: np.ndarray, t: float, umax: float | None = None) -> np.ndarray:
         """Below this |field| the constant-speed analyzer holds (the formula divides by ~0)."""
-        uu = (float(np.abs(self.controls.at(np.asarray(t))).max()) if umax is None else umax) + 1e-300
+        uu = (
+            float(np.abs(self.controls.at(np.asarray(t))).max()) if umax is None else umax
+        ) + 1e-300
         g = np.linalg.norm(self.half_gradient(R), axis=-1)
         qn = max(float(np.max(np.abs(self.coeffs[n]))) for n in COEFF_NAMES[:6])
         scale = uu * (g + qn * np.linalg.norm(R, axis=-1) + 1e-300)
@@ -275,7 +319,7 @@ class SpeedStepper:
     #: Largest turn of the velocity per substep (rad), see :meth:`step_substeps`.
     max_turn = 0.03
 
-    def __init__(self, model: "AnalyzerModel", stages: int = 3, max_iter: int = 30) -> None:
+    def __init__(self, model: AnalyzerModel, stages: int = 3, max_iter: int = 30) -> None:
         from lessons.core.integrators import gauss_legendre
 
         self.model = model
@@ -292,9 +336,16 @@ class SpeedStepper:
         s = self.s
         Vs = self.model.controls.sign * self.model.controls.speed(ts)
         umax = np.abs(self.model.controls.at(ts)).max(axis=0)
-        return (A.reshape(n_steps, s, N, 3, 3), cc.reshape(n_steps, s, N, 3), Vs.reshape(n_steps, s), umax.reshape(n_steps, s))
+        return (
+            A.reshape(n_steps, s, N, 3, 3),
+            cc.reshape(n_steps, s, N, 3),
+            Vs.reshape(n_steps, s),
+            umax.reshape(n_steps, s),
+        )
 
-    def step(self, t: float, R: np.ndarray, h: float, coeffs: tuple[np.ndarray, ...] | None = None) -> tuple[np.ndarray, np.ndarray]:
+    def step(
+        self, t: float, R: np.ndarray, h: float, coeffs: tuple[np.ndarray, ...] | None = None
+    ) -> tuple[np.ndarray, np.ndarray]:
         """One step from ``(t, R (N, 3))``; returns the new state and the held mask."""
         s, a = self.s, self.a
         N = len(R)
@@ -309,7 +360,9 @@ class SpeedStepper:
         nh = n0 / safe0[:, None]
         P = np.eye(3) - nh[:, :, None] * nh[:, None, :]
         J = (Vs[s // 2] / safe0)[:, None, None] * (P @ A[s // 2])
-        M = np.eye(3 * s) - h * (a[None, :, None, :, None] * J[:, None, :, None, :]).reshape(N, 3 * s, 3 * s)
+        M = np.eye(3 * s) - h * (a[None, :, None, :, None] * J[:, None, :, None, :]).reshape(
+            N, 3 * s, 3 * s
+        )
         Minv = np.linalg.inv(M)
         if self._K is not None and self._K.shape == (N, s, 3):
             K = self._K.copy()
@@ -332,7 +385,9 @@ class SpeedStepper:
         self._K = K
         return R + h * np.einsum("i,nid->nd", self.b, K), held
 
-    def step_substeps(self, t: float, R: np.ndarray, h: float, coeffs: tuple[np.ndarray, ...]) -> tuple[np.ndarray, np.ndarray]:
+    def step_substeps(
+        self, t: float, R: np.ndarray, h: float, coeffs: tuple[np.ndarray, ...]
+    ) -> tuple[np.ndarray, np.ndarray]:
         """One output step of size ``h``, split into equal substeps where the curve turns fast.
 
         The turning rate of (1.59) is ``omega |A| = V |A| / |A r + c|``: near points where the
@@ -342,7 +397,9 @@ class SpeedStepper:
         A, cc, Vs, _ = coeffs
         n0 = np.einsum("nij,nj->ni", A[0], R) + cc[0]
         norm0 = np.sqrt((n0 * n0).sum(-1))
-        rate = np.abs(Vs).max() * np.sqrt((A[0] ** 2).sum(axis=(-1, -2))) / np.maximum(norm0, 1e-300)
+        rate = (
+            np.abs(Vs).max() * np.sqrt((A[0] ** 2).sum(axis=(-1, -2))) / np.maximum(norm0, 1e-300)
+        )
         m = int(np.ceil(float(np.max(np.where(norm0 > 0, rate, 0.0))) * h / self.max_turn - 1e-12))
         if m <= 1:
             return self.step(t, R, h, coeffs)
@@ -360,7 +417,9 @@ class SpeedStepper:
             R = nxt
         return R, held
 
-    def integrate(self, R0: np.ndarray, t0: float, t_end: float, h: float, chunk: int = 2000) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    def integrate(
+        self, R0: np.ndarray, t0: float, t_end: float, h: float, chunk: int = 2000
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         R = np.atleast_2d(np.asarray(R0, dtype=float))
         N = len(R)
         n_full = int(np.floor((t_end - t0) / h + 1e-9))
@@ -409,7 +468,17 @@ class AnalyzerRun:
         return np.abs(self.F - self.F0[None, :])
 
 
-def integrate(model: AnalyzerModel, r0: np.ndarray, t_end: float, h: float = 1e-3, method: str = "gauss-legendre-3", t0: float = 0.0, samples: int | None = None, rtol: float = 1e-3, atol: float = 1e-6) -> AnalyzerRun:
+def integrate(
+    model: AnalyzerModel,
+    r0: np.ndarray,
+    t_end: float,
+    h: float = 1e-3,
+    method: str = "gauss-legendre-3",
+    t0: float = 0.0,
+    samples: int | None = None,
+    rtol: float = 1e-3,
+    atol: float = 1e-6,
+) -> AnalyzerRun:
     """Run the analyzer from ``r0 (N, 3)``.
 
     ``method``: ``gauss-legendre-2`` (order 4) / ``gauss-legendre-3`` (order 6, default):
@@ -434,7 +503,9 @@ def integrate(model: AnalyzerModel, r0: np.ndarray, t_end: float, h: float = 1e-
     else:
         m = samples if samples is not None else int(round((t_end - t0) / h)) + 1
         t_eval = np.linspace(t0, t_end, max(m, 2))
-        t, r, nfev = solve_ivp_reference(model.velocity, R0, t0, t_end, t_eval, method=method, rtol=rtol, atol=atol)
+        t, r, nfev = solve_ivp_reference(
+            model.velocity, R0, t0, t_end, t_eval, method=method, rtol=rtol, atol=atol
+        )
     v = model.velocities(t, r)
     F = model.F(r)
     held = np.zeros(F.shape, dtype=bool)

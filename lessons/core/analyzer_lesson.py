@@ -15,8 +15,18 @@ from dataclasses import dataclass, field
 import numpy as np
 import sympy as sp
 
-from lessons.core.analyzer import COEFF_NAMES, AnalyzerModel, AnalyzerRun, Controls, SpeedStepper, U, field_expr, integrate, quadric_expr
-from lessons.core.block_diagram import diagram_step, BlockDiagram, block_diagram
+from lessons.core.analyzer import (
+    COEFF_NAMES,
+    AnalyzerModel,
+    AnalyzerRun,
+    Controls,
+    SpeedStepper,
+    U,
+    field_expr,
+    integrate,
+    quadric_expr,
+)
+from lessons.core.block_diagram import BlockDiagram, block_diagram, diagram_step
 from lessons.core.contract import (
     DerivationStep,
     Frame,
@@ -31,34 +41,98 @@ from lessons.core.contract import (
     SceneSpec,
     Stepper,
 )
-from lessons.core.formula import Formula, t_symbol
+from lessons.core.formula import Formula
 from lessons.core.integrators import apply_propagators, gl_linear, gl_propagators
 from lessons.core.quadric import Quadric
 
 METHODS = ("gauss-legendre-3", "gauss-legendre-2", "RK45", "DOP853")
 
 CONTROL_PARAMS: tuple[Param, ...] = (
-    Param("u1", "formula", "5", "u1(t)", min=-20, max=20, step=0.1, group="controls", help="control u1: a number or a formula of t"),
+    Param(
+        "u1",
+        "formula",
+        "5",
+        "u1(t)",
+        min=-20,
+        max=20,
+        step=0.1,
+        group="controls",
+        help="control u1: a number or a formula of t",
+    ),
     Param("u2", "formula", "5", "u2(t)", min=-20, max=20, step=0.1, group="controls"),
     Param("u3", "formula", "5", "u3(t)", min=-20, max=20, step=0.1, group="controls"),
 )
 SPEED_PARAMS: tuple[Param, ...] = (
-    Param("V", "formula", "1", "V(t)", unit="units/s", min=0, max=20, step=0.1, group="controls", help="speed along the curve (1.58)"),
-    Param("direction", "choice", "+", "direction (sign of omega)", choices=("+", "-"), group="controls"),
+    Param(
+        "V",
+        "formula",
+        "1",
+        "V(t)",
+        unit="units/s",
+        min=0,
+        max=20,
+        step=0.1,
+        group="controls",
+        help="speed along the curve (1.58)",
+    ),
+    Param(
+        "direction",
+        "choice",
+        "+",
+        "direction (sign of omega)",
+        choices=("+", "-"),
+        group="controls",
+    ),
 )
 START_PARAMS: tuple[Param, ...] = (
     Param("x0", "float", 1.0, "x0", min=-1e4, max=1e4, step=0.05, group="initial"),
     Param("y0", "float", 0.0, "y0", min=-1e4, max=1e4, step=0.05, group="initial"),
     Param("z0", "float", 0.0, "z0", min=-1e4, max=1e4, step=0.05, group="initial"),
-    Param("family", "int", 1, "curves in the family", min=1, max=24, step=1, group="initial", help="several start points at once (Figs. 1.12, 1.26)"),
-    Param("family_axis", "choice", "z", "family spread along", choices=("x", "y", "z"), group="initial"),
-    Param("family_step", "float", 0.3, "family spacing", min=-1e3, max=1e3, step=0.05, group="initial"),
+    Param(
+        "family",
+        "int",
+        1,
+        "curves in the family",
+        min=1,
+        max=24,
+        step=1,
+        group="initial",
+        help="several start points at once (Figs. 1.12, 1.26)",
+    ),
+    Param(
+        "family_axis",
+        "choice",
+        "z",
+        "family spread along",
+        choices=("x", "y", "z"),
+        group="initial",
+    ),
+    Param(
+        "family_step", "float", 0.3, "family spacing", min=-1e3, max=1e3, step=0.05, group="initial"
+    ),
 )
 METHOD_PARAMS: tuple[Param, ...] = (
-    Param("integrator", "choice", "gauss-legendre-3", "integrator", choices=METHODS, group="method",
-          help="Gauss-Legendre keeps F to round-off; RK45/DOP853 are scipy's solve_ivp"),
-    Param("h", "float", 1e-2, "step h", unit="s", min=1e-5, max=0.1, step=1e-3, group="method",
-          help="Gauss-Legendre step; order 6 (3 stages): 0.01 s keeps the textbook examples to ~1e-9"),
+    Param(
+        "integrator",
+        "choice",
+        "gauss-legendre-3",
+        "integrator",
+        choices=METHODS,
+        group="method",
+        help="Gauss-Legendre keeps F to round-off; RK45/DOP853 are scipy's solve_ivp",
+    ),
+    Param(
+        "h",
+        "float",
+        1e-2,
+        "step h",
+        unit="s",
+        min=1e-5,
+        max=0.1,
+        step=1e-3,
+        group="method",
+        help="Gauss-Legendre step; order 6 (3 stages): 0.01 s keeps the textbook examples to ~1e-9",
+    ),
     Param("rtol", "float", 1e-3, "solve_ivp rtol", min=1e-14, max=1e-1, group="method"),
     Param("atol", "float", 1e-6, "solve_ivp atol", min=1e-16, max=1e-1, group="method"),
 )
@@ -134,7 +208,10 @@ class AnalyzerLesson(Lesson):
                     try:
                         newp = quadric.project(p)
                     except ValueError as exc:
-                        raise ParamError("x0", f"start point {tuple(np.round(p, 6))} cannot be put on the surface: {exc}") from None
+                        raise ParamError(
+                            "x0",
+                            f"start point {tuple(np.round(p, 6))} cannot be put on the surface: {exc}",
+                        ) from None
                     messages.append(
                         f"start point {_fmt(p)} is off the surface (F = {float(quadric.F(p)):.3g}); projected to {_fmt(newp)}"
                     )
@@ -143,7 +220,9 @@ class AnalyzerLesson(Lesson):
         model = AnalyzerModel(coeffs, self.controls(params))
         g = model.half_gradient(pts)
         if np.any(np.linalg.norm(g, axis=-1) <= 1e-12 * max(1.0, quadric.scale)):
-            messages.append("the gradient of F is zero at the start point (a singular point of the surface): the analyzer field vanishes and the point cannot move")
+            messages.append(
+                "the gradient of F is zero at the start point (a singular point of the surface): the analyzer field vanishes and the point cannot move"
+            )
         return Prepared(q0, model, pts, messages)
 
     def validate(self, params: Params) -> None:
@@ -160,9 +239,20 @@ class AnalyzerLesson(Lesson):
         F = quadric_expr()
         gx, gy, gz = sp.symbols("F_x F_y F_z")
         return [
-            DerivationStep("The second-order surface", "Any quadric in the textbook's indexing.", sp.Eq(sp.Symbol("F"), F), "(1.42)"),
-            DerivationStep("Tangency", "The velocity must stay orthogonal to the gradient for every parametrization.",
-                           sp.Eq(gx * sp.Symbol("dx/dφ") + gy * sp.Symbol("dy/dφ") + gz * sp.Symbol("dz/dφ"), 0), "(1.44)"),
+            DerivationStep(
+                "The second-order surface",
+                "Any quadric in the textbook's indexing.",
+                sp.Eq(sp.Symbol("F"), F),
+                "(1.42)",
+            ),
+            DerivationStep(
+                "Tangency",
+                "The velocity must stay orthogonal to the gradient for every parametrization.",
+                sp.Eq(
+                    gx * sp.Symbol("dx/dφ") + gy * sp.Symbol("dy/dφ") + gz * sp.Symbol("dz/dφ"), 0
+                ),
+                "(1.44)",
+            ),
             DerivationStep(
                 "The general analyzer",
                 "Three free controls u1, u2, u3; convention B, the common factor 2 of the gradient dropped.",
@@ -173,7 +263,10 @@ class AnalyzerLesson(Lesson):
             DerivationStep(
                 "On this surface",
                 f"{prepared.quadric.label or 'the surface'}: F = 0 with the numbers of this lesson, φ = t.",
-                [sp.Eq(prepared.model.surface_expr(), 0), *prepared.model.equations(_control_exprs(params))],
+                [
+                    sp.Eq(prepared.model.surface_expr(), 0),
+                    *prepared.model.equations(_control_exprs(params)),
+                ],
                 "(1.50)",
             ),
         ]
@@ -187,19 +280,29 @@ class AnalyzerLesson(Lesson):
                 "Argument control for constant speed",
                 "Put dφ = ω(t) dt and choose ω so that the speed is V; the sign of ω picks the direction. "
                 "Where the field vanishes the formula divides by zero: the point holds and the lab says why.",
-                sp.Eq(w, sp.Symbol("±V") / sp.sqrt(sum(fi**2 for fi in field_expr(quadric_expr())))),
+                sp.Eq(
+                    w, sp.Symbol("±V") / sp.sqrt(sum(fi**2 for fi in field_expr(quadric_expr())))
+                ),
                 "(1.58)",
                 reconstructed="only 'ω = ±' survived in the source; rebuilt from V² = vx² + vy² + vz²",
             ),
-            DerivationStep("The constant-speed analyzer", "The analyzer's right-hand sides multiplied by ω.",
-                           [sp.Eq(sp.Symbol(f"d{c}/dt"), w * sp.Symbol(f"(d{c}/dφ)")) for c in "xyz"], "(1.59)",
-                           reconstructed="lost in the source; follows from (1.58) and the text"),
+            DerivationStep(
+                "The constant-speed analyzer",
+                "The analyzer's right-hand sides multiplied by ω.",
+                [sp.Eq(sp.Symbol(f"d{c}/dt"), w * sp.Symbol(f"(d{c}/dφ)")) for c in "xyz"],
+                "(1.59)",
+                reconstructed="lost in the source; follows from (1.58) and the text",
+            ),
         ]
 
     def derivation(self, params: Params) -> list[DerivationStep]:
         prepared = self.prepare(params)
-        return [*self.general_derivation(params, prepared), *self.speed_derivation(params), *self.extra_derivation(params, prepared),
-                self.block_diagram_step(params, prepared)]
+        return [
+            *self.general_derivation(params, prepared),
+            *self.speed_derivation(params),
+            *self.extra_derivation(params, prepared),
+            self.block_diagram_step(params, prepared),
+        ]
 
     #: The textbook figure the block diagram corresponds to (a subclass may name it).
     block_figure: str = "Fig. 1.5 notation"
@@ -211,20 +314,34 @@ class AnalyzerLesson(Lesson):
         if self.constant_speed:
             w = sp.Symbol("ω", real=True)
             eqs = [sp.Eq(e.lhs, w * e.rhs) for e in eqs]
-        return block_diagram(eqs, signals=("u1", "u2", "u3", "ω"), title=f"{self.problem}: analyzer block diagram")
+        return block_diagram(
+            eqs, signals=("u1", "u2", "u3", "ω"), title=f"{self.problem}: analyzer block diagram"
+        )
 
     def block_diagram_step(self, params: Params, prepared) -> DerivationStep:
         """The diagram as a derivation step: ``svg`` is the self-contained SVG (escaped labels, no scripts)."""
-        return diagram_step(self.block_diagram(params, prepared), self.block_figure, "the wiring is generated from the equations (the figure images are absent in the source)")
+        return diagram_step(
+            self.block_diagram(params, prepared),
+            self.block_figure,
+            "the wiring is generated from the equations (the figure images are absent in the source)",
+        )
 
     def extra_derivation(self, params: Params, prepared: Prepared) -> list[DerivationStep]:
         return []
 
-    def run_analyzer(self, params: Params, t_end: float, samples: int | None = 2001) -> tuple[Prepared, AnalyzerRun]:
+    def run_analyzer(
+        self, params: Params, t_end: float, samples: int | None = 2001
+    ) -> tuple[Prepared, AnalyzerRun]:
         prepared = self.prepare(params)
         run = integrate(
-            prepared.model, prepared.r0, t_end, h=float(params["h"]), method=str(params["integrator"]),
-            samples=samples, rtol=float(params["rtol"]), atol=float(params["atol"]),
+            prepared.model,
+            prepared.r0,
+            t_end,
+            h=float(params["h"]),
+            method=str(params["integrator"]),
+            samples=samples,
+            rtol=float(params["rtol"]),
+            atol=float(params["atol"]),
         )
         return prepared, run
 
@@ -245,7 +362,9 @@ class AnalyzerLesson(Lesson):
         messages = list(prepared.messages)
         if run.held.any():
             first = float(run.t[np.argmax(run.held.any(axis=1))])
-            messages.append(f"the field vanished (|grad F x w| ~ 0) from t = {first:.4g}: omega = V/|field| is undefined there, the point held")
+            messages.append(
+                f"the field vanished (|grad F x w| ~ 0) from t = {first:.4g}: omega = V/|field| is undefined there, the point held"
+            )
         metrics = {
             "t_end": t_end,
             "method": run.method,
@@ -260,7 +379,9 @@ class AnalyzerLesson(Lesson):
         metrics.update(self.extra_metrics(params, prepared, run))
         return RunResult(self.id, None, params.raw(), run.t, series, metrics, messages)
 
-    def extra_metrics(self, params: Params, prepared: Prepared, run: AnalyzerRun) -> dict[str, float]:
+    def extra_metrics(
+        self, params: Params, prepared: Prepared, run: AnalyzerRun
+    ) -> dict[str, float]:
         return {}
 
     def stepper(self, params: Params) -> Stepper:
@@ -272,11 +393,23 @@ class AnalyzerLesson(Lesson):
         mesh = prepared.quadric.mesh(bounds=(tuple(lo), tuple(hi)))
         meshes = []
         if len(mesh.faces):
-            meshes.append(MeshItem("surface", np.asarray(mesh.vertices), np.asarray(mesh.faces), (110, 150, 210), 0.45))
+            meshes.append(
+                MeshItem(
+                    "surface",
+                    np.asarray(mesh.vertices),
+                    np.asarray(mesh.faces),
+                    (110, 150, 210),
+                    0.45,
+                )
+            )
         return SceneSpec(
             bounds=(tuple(map(float, lo)), tuple(map(float, hi))),
             meshes=meshes,
-            markers=[MarkerItem("start", prepared.r0, (230, 80, 60), 0.04 * float(np.max(hi - lo)) / 2, "start")],
+            markers=[
+                MarkerItem(
+                    "start", prepared.r0, (230, 80, 60), 0.04 * float(np.max(hi - lo)) / 2, "start"
+                )
+            ],
             moving_points={"point": (220, 30, 30)},
             moving_vectors={"velocity": (30, 120, 30), "gradient": (60, 60, 200)},
         )
@@ -321,9 +454,16 @@ def _model_key(model: AnalyzerModel) -> tuple:
     )
 
 
-def _constant_step_map(model: AnalyzerModel, n_points: int, h: float, stages: int, model_key: tuple | None = None) -> tuple[np.ndarray, np.ndarray]:
+def _constant_step_map(
+    model: AnalyzerModel, n_points: int, h: float, stages: int, model_key: tuple | None = None
+) -> tuple[np.ndarray, np.ndarray]:
     """The Gauss-Legendre step map of a time-independent analyzer (cached, bounded)."""
-    key = (model_key if model_key is not None else _model_key(model), n_points, round(h, 15), stages)
+    key = (
+        model_key if model_key is not None else _model_key(model),
+        n_points,
+        round(h, 15),
+        stages,
+    )
     hit = _STEP_MAPS.get(key)
     if hit is None:
         hit = gl_propagators(lambda ts: model.linear_coeffs(ts, n_points), 0.0, h, 1, stages)
@@ -361,7 +501,9 @@ class AnalyzerStepper(Stepper):
             else:
                 # keep the state; if the surface changed, put the point back on it
                 q = prepared.quadric
-                if not self.lesson.keep_level(params) and np.any(np.abs(q.F(self.R)) > 1e-9 * q.scale):
+                if not self.lesson.keep_level(params) and np.any(
+                    np.abs(q.F(self.R)) > 1e-9 * q.scale
+                ):
                     self.R = np.array([q.project(p) for p in self.R])
         self.F0 = prepared.model.F(self.R if hasattr(self, "R") else prepared.r0)
         model = prepared.model
@@ -384,9 +526,20 @@ class AnalyzerStepper(Stepper):
             # time-independent field: every step has the same map; build it once (shared by
             # every session running the same surface and controls)
             D, phi = _constant_step_map(model, len(self.R), h, self.stages, self._model_key)
-            self.R = apply_propagators(np.broadcast_to(D, (n, *D.shape[1:])), np.broadcast_to(phi, (n, *phi.shape[1:])), self.R)[-1]
+            self.R = apply_propagators(
+                np.broadcast_to(D, (n, *D.shape[1:])),
+                np.broadcast_to(phi, (n, *phi.shape[1:])),
+                self.R,
+            )[-1]
         elif model.controls.V is None:
-            _, states = gl_linear(lambda ts: model.linear_coeffs(ts, len(self.R)), self.R, self._t, self._t + n * h, h, self.stages)
+            _, states = gl_linear(
+                lambda ts: model.linear_coeffs(ts, len(self.R)),
+                self.R,
+                self._t,
+                self._t + n * h,
+                h,
+                self.stages,
+            )
             self.R = states[-1]
         else:
             stepper = SpeedStepper(model, self.stages)
@@ -412,9 +565,14 @@ class AnalyzerStepper(Stepper):
             points={"point": self.R.copy()},
             vectors={"velocity": (self.R.copy(), v), "gradient": (self.R.copy(), g)},
             scalars={
-                "vx": float(v[0, 0]), "vy": float(v[0, 1]), "vz": float(v[0, 2]),
-                "v2": float((v[0] ** 2).sum()), "drift": drift,
-                "u1": float(uu[0]), "u2": float(uu[1]), "u3": float(uu[2]),
+                "vx": float(v[0, 0]),
+                "vy": float(v[0, 1]),
+                "vz": float(v[0, 2]),
+                "v2": float((v[0] ** 2).sum()),
+                "drift": drift,
+                "u1": float(uu[0]),
+                "u2": float(uu[1]),
+                "u3": float(uu[2]),
             },
             message=message,
         )

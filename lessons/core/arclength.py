@@ -18,8 +18,8 @@ s -> theta uses a safeguarded Newton iteration on the panel's polynomial.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Callable
 
 import numpy as np
 from numpy.polynomial import chebyshev as C
@@ -72,7 +72,11 @@ class ArcLengthCurve:
         """phi = phi0 + (phi1 - phi0) sin^2(theta/2), computed from the nearer end."""
         theta = np.asarray(theta, dtype=float)
         d = self.phi1 - self.phi0
-        return np.where(theta <= np.pi / 2, self.phi0 + d * np.sin(theta / 2) ** 2, self.phi1 - d * np.cos(theta / 2) ** 2)
+        return np.where(
+            theta <= np.pi / 2,
+            self.phi0 + d * np.sin(theta / 2) ** 2,
+            self.phi1 - d * np.cos(theta / 2) ** 2,
+        )
 
     def dphi_dtheta(self, theta: np.ndarray) -> np.ndarray:
         return (self.phi1 - self.phi0) * np.sin(np.asarray(theta, dtype=float)) / 2
@@ -104,7 +108,9 @@ class ArcLengthCurve:
         g = self.g(theta.ravel()).reshape(M, n)
         if not np.all(np.isfinite(g)):
             bad = theta.ravel()[np.argmax(~np.isfinite(g.ravel()))]
-            raise ValueError(f"|r'(phi)| is not finite at phi = {float(self.phi_of_theta(np.array([bad]))[0]):.6g}")
+            raise ValueError(
+                f"|r'(phi)| is not finite at phi = {float(self.phi_of_theta(np.array([bad]))[0]):.6g}"
+            )
         V = np.cos(np.outer(np.arange(n), np.pi * (k + 0.5) / n))  # (n, n): T_j(x_k)
         coef = g @ V.T * (2.0 / n)
         coef[:, 0] /= 2

@@ -64,25 +64,46 @@ def run_benchmark(t_end: float = 100.0, quick: bool = False) -> list[BenchRow]:
     rows: list[BenchRow] = []
     for name, q, controls, r0 in problems():
         model = AnalyzerModel.of(q.coeffs(), controls)
-        ref, _ = _timed(model, r0, t_end, repeat=1, method="DOP853", rtol=2.5e-14, atol=1e-15, samples=samples)
+        ref, _ = _timed(
+            model, r0, t_end, repeat=1, method="DOP853", rtol=2.5e-14, atol=1e-15, samples=samples
+        )
         # F's terms where the point goes (unbounded surfaces): round-off of F is ~1e-16 of it
         scale = float(max(q.scale, np.max(model.F_scale(ref.r))))
 
         def row(method: str, run, sec: float, note: str = "") -> BenchRow:
             if run.t.shape != ref.t.shape or np.max(np.abs(run.t - ref.t)) > 1e-9:
-                raise ValueError(f"{method}: samples do not line up with the reference (the step must divide 0.1)")
+                raise ValueError(
+                    f"{method}: samples do not line up with the reference (the step must divide 0.1)"
+                )
             # relative to the size of r (trajectories on unbounded surfaces may run far)
-            err = float(np.max(np.abs(run.r - ref.r) / np.maximum(1.0, np.linalg.norm(ref.r, axis=-1, keepdims=True))))
-            work = int(run.nfev) if run.nfev else int(round(t_end / float(method.split("h=")[1].rstrip(")")))) if "h=" in method else 0
+            err = float(
+                np.max(
+                    np.abs(run.r - ref.r)
+                    / np.maximum(1.0, np.linalg.norm(ref.r, axis=-1, keepdims=True))
+                )
+            )
+            work = (
+                int(run.nfev)
+                if run.nfev
+                else int(round(t_end / float(method.split("h=")[1].rstrip(")"))))
+                if "h=" in method
+                else 0
+            )
             return BenchRow(name, method, float(run.drift.max() / scale), err, sec, work, note)
 
         rk45, s_rk45 = _timed(model, r0, t_end, method="RK45", samples=samples)
         rows.append(row("RK45 (default tol)", rk45, s_rk45))
-        dop, s_dop = _timed(model, r0, t_end, method="DOP853", rtol=1e-12, atol=1e-12, samples=samples)
+        dop, s_dop = _timed(
+            model, r0, t_end, method="DOP853", rtol=1e-12, atol=1e-12, samples=samples
+        )
         dop_row = row("DOP853 (rtol=atol=1e-12)", dop, s_dop)
         rows.append(dop_row)
         chosen: BenchRow | None = None
-        hs = (0.05, 0.025, 0.0125, 0.00625) if controls.V is None else (0.05, 0.025, 0.02, 0.0125, 0.01)
+        hs = (
+            (0.05, 0.025, 0.0125, 0.00625)
+            if controls.V is None
+            else (0.05, 0.025, 0.02, 0.0125, 0.01)
+        )
         for h in hs:
             gl, s_gl = _timed(model, r0, t_end, method="gauss-legendre-3", h=h, samples=samples)
             r = row(f"Gauss-Legendre 3 (h={h:g})", gl, s_gl)
@@ -97,7 +118,7 @@ def run_benchmark(t_end: float = 100.0, quick: bool = False) -> list[BenchRow]:
 
 
 def format_table(rows: list[BenchRow]) -> str:
-    head = f"| problem | method | max drift/scale | max error along curve | wall s | RHS evals (GL affine: steps) | note |\n|---|---|---|---|---|---|---|"
+    head = "| problem | method | max drift/scale | max error along curve | wall s | RHS evals (GL affine: steps) | note |\n|---|---|---|---|---|---|---|"
     body = [
         f"| {r.problem} | {r.method} | {r.drift:.2e} | {r.error:.2e} | {r.seconds:.3f} | {r.nfev or '-'} | {r.note} |"
         for r in rows

@@ -28,12 +28,16 @@ their feedback lines.
 from __future__ import annotations
 
 import html
+from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
-from typing import Iterable, Mapping, Sequence
+from typing import TYPE_CHECKING
 
 import sympy as sp
 
 from lessons.core.formula import t_symbol
+
+if TYPE_CHECKING:
+    from lessons.core.contract import DerivationStep
 
 BlockKind = str  # "integrator" | "multiplier" | "summer" | "scale" | "source" | "constant"
 
@@ -89,8 +93,13 @@ class BlockDiagram:
             "title": self.title,
             "states": list(self.states),
             "argument": self.argument,
-            "blocks": [{"id": b.id, "kind": b.kind, "label": b.label, "initial": b.initial} for b in self.blocks],
-            "wires": [{"src": w.src, "dst": w.dst, "sign": w.sign, "label": w.label} for w in self.wires],
+            "blocks": [
+                {"id": b.id, "kind": b.kind, "label": b.label, "initial": b.initial}
+                for b in self.blocks
+            ],
+            "wires": [
+                {"src": w.src, "dst": w.dst, "sign": w.sign, "label": w.label} for w in self.wires
+            ],
         }
 
     @property
@@ -100,7 +109,11 @@ class BlockDiagram:
 
 def label_of(expr: sp.Expr) -> str:
     """A compact plain-text label: ``**`` as ``^``, ``*`` as ``·``."""
-    num, den = sp.fraction(sp.together(expr)) if isinstance(expr, sp.Expr) and not expr.is_Atom else (expr, sp.Integer(1))
+    num, den = (
+        sp.fraction(sp.together(expr))
+        if isinstance(expr, sp.Expr) and not expr.is_Atom
+        else (expr, sp.Integer(1))
+    )
     if den != 1:
         d = _plain_text(den)
         return f"{_plain_text(num)}/{d if den.is_Atom or den.is_Pow else '(' + d + ')'}"
@@ -123,12 +136,20 @@ def _state_name(lhs: sp.Expr) -> str:
 
 def _plain(expr: sp.Expr) -> sp.Expr:
     """Applied functions x(t) -> symbols x (so that states look the same everywhere)."""
-    reps = {f: sp.Symbol(f.func.__name__, real=True) for f in expr.atoms(sp.core.function.AppliedUndef)}
+    reps = {
+        f: sp.Symbol(f.func.__name__, real=True) for f in expr.atoms(sp.core.function.AppliedUndef)
+    }
     return expr.xreplace(reps) if reps else expr
 
 
 class _Builder:
-    def __init__(self, states: Sequence[sp.Symbol], signals: set[sp.Symbol], argument: str, initial: Mapping[str, str]) -> None:
+    def __init__(
+        self,
+        states: Sequence[sp.Symbol],
+        signals: set[sp.Symbol],
+        argument: str,
+        initial: Mapping[str, str],
+    ) -> None:
         self.states = list(states)
         self.state_names = {s: str(s) for s in states}
         self.signals = signals
@@ -138,14 +159,27 @@ class _Builder:
         self.sources: dict[str, str] = {}
         self.n = 0
         for i, s in enumerate(states):
-            self.blocks.append(Block(f"int_{s}", "integrator", f"∫ d{argument}", initial.get(str(s), f"{s}0"), row=i, col=6))
+            self.blocks.append(
+                Block(
+                    f"int_{s}",
+                    "integrator",
+                    f"∫ d{argument}",
+                    initial.get(str(s), f"{s}0"),
+                    row=i,
+                    col=6,
+                )
+            )
 
     def _id(self, kind: str) -> str:
         self.n += 1
         return f"{kind}_{self.n}"
 
     def is_signal(self, e: sp.Expr) -> bool:
-        return bool(e.free_symbols & self.signals) or (t_symbol in e.free_symbols) or sp.Symbol("t") in e.free_symbols
+        return (
+            bool(e.free_symbols & self.signals)
+            or (t_symbol in e.free_symbols)
+            or sp.Symbol("t") in e.free_symbols
+        )
 
     def source(self, e: sp.Expr) -> str:
         """Block id giving signal ``e`` (a state's integrator, or a source block, shared)."""
@@ -232,7 +266,16 @@ class _Builder:
                 sign = 1
                 if coeff.could_extract_minus_sign():
                     sign, coeff = -1, -coeff
-                outs.append((self.add(Block(self._id("const"), "constant", label_of(coeff), row=i, col=0, slot=k)), sign))
+                outs.append(
+                    (
+                        self.add(
+                            Block(
+                                self._id("const"), "constant", label_of(coeff), row=i, col=0, slot=k
+                            )
+                        ),
+                        sign,
+                    )
+                )
             else:
                 outs.append(self.scaled(prod, coeff, i, 2, k))
         if len(outs) > 1:
@@ -249,7 +292,9 @@ class _Builder:
             self.wire(m, mul)  # type: ignore[arg-type]
             out = mul
         K = common_c * sign
-        if K != 1:  # one gain block after the summer, sign included (ω², -ω² of Fig. 1.6; -1 of Fig. 1.13)
+        if (
+            K != 1
+        ):  # one gain block after the summer, sign included (ω², -ω² of Fig. 1.6; -1 of Fig. 1.13)
             b = self.add(Block(self._id("scale"), "scale", label_of(K), row=i, col=5, slot=-1))
             self.wire(out, b)
             out = b
@@ -271,7 +316,10 @@ def block_diagram(
     rhs_list = [_plain(eq.rhs) for eq in equations]
     # unify same-named symbols (real=True or not) with the states
     by_name = {str(s): s for s in states}
-    rhs_list = [r.xreplace({s: by_name[str(s)] for s in r.free_symbols if str(s) in by_name}) for r in rhs_list]
+    rhs_list = [
+        r.xreplace({s: by_name[str(s)] for s in r.free_symbols if str(s) in by_name})
+        for r in rhs_list
+    ]
     sig_syms = {s for r in rhs_list for s in r.free_symbols if str(s) in sig_names}
     b = _Builder(states, sig_syms, argument, dict(initial or {}))
     for i, (s, r) in enumerate(zip(states, rhs_list)):
@@ -313,7 +361,14 @@ def _layout(d: BlockDiagram) -> None:
             bl.y = tops[bl.row] + bl.slot * SLOT_H
 
 
-SIZE = {"integrator": (70.0, 32.0), "multiplier": (32.0, 32.0), "summer": (40.0, 40.0), "scale": (52.0, 28.0), "source": (86.0, 26.0), "constant": (70.0, 26.0)}
+SIZE = {
+    "integrator": (70.0, 32.0),
+    "multiplier": (32.0, 32.0),
+    "summer": (40.0, 40.0),
+    "scale": (52.0, 28.0),
+    "source": (86.0, 26.0),
+    "constant": (70.0, 26.0),
+}
 
 
 def _e(text: str) -> str:
@@ -341,20 +396,32 @@ def render_svg(d: BlockDiagram) -> str:
         w, h = SIZE[bl.kind]
         cx, cy = bl.x + w / 2, bl.y + h / 2
         if bl.kind in ("multiplier", "summer"):
-            out.append(f'<circle cx="{cx:.1f}" cy="{cy:.1f}" r="{w / 2:.1f}" fill="#fff" stroke="#333"/>')
+            out.append(
+                f'<circle cx="{cx:.1f}" cy="{cy:.1f}" r="{w / 2:.1f}" fill="#fff" stroke="#333"/>'
+            )
         elif bl.kind == "integrator":
-            out.append(f'<rect x="{bl.x:.1f}" y="{bl.y:.1f}" width="{w:.0f}" height="{h:.0f}" fill="#eef3fb" stroke="#333"/>')
-            out.append(f'<text x="{cx:.1f}" y="{bl.y - 4:.1f}" text-anchor="middle" font-size="11">{_e(bl.initial)}</text>')
+            out.append(
+                f'<rect x="{bl.x:.1f}" y="{bl.y:.1f}" width="{w:.0f}" height="{h:.0f}" fill="#eef3fb" stroke="#333"/>'
+            )
+            out.append(
+                f'<text x="{cx:.1f}" y="{bl.y - 4:.1f}" text-anchor="middle" font-size="11">{_e(bl.initial)}</text>'
+            )
         elif bl.kind in ("source", "constant"):
-            out.append(f'<rect x="{bl.x:.1f}" y="{bl.y:.1f}" width="{w:.0f}" height="{h:.0f}" rx="8" fill="#f7f7f7" stroke="#777"/>')
+            out.append(
+                f'<rect x="{bl.x:.1f}" y="{bl.y:.1f}" width="{w:.0f}" height="{h:.0f}" rx="8" fill="#f7f7f7" stroke="#777"/>'
+            )
         else:
-            out.append(f'<rect x="{bl.x:.1f}" y="{bl.y:.1f}" width="{w:.0f}" height="{h:.0f}" fill="#fff" stroke="#333"/>')
+            out.append(
+                f'<rect x="{bl.x:.1f}" y="{bl.y:.1f}" width="{w:.0f}" height="{h:.0f}" fill="#fff" stroke="#333"/>'
+            )
         text = bl.label if len(bl.label) <= 14 else bl.label[:13] + "…"
         tx = cx + (5 if bl.kind == "summer" else 0)
         out.append(f'<text x="{tx:.1f}" y="{cy + 4:.1f}" text-anchor="middle">{_e(text)}</text>')
         if bl.kind == "integrator":
             sx, sy = _port(bl, "out")
-            out.append(f'<line x1="{sx:.1f}" y1="{sy:.1f}" x2="{sx + 40:.1f}" y2="{sy:.1f}" stroke="#333" marker-end="url(#arrow)"/>')
+            out.append(
+                f'<line x1="{sx:.1f}" y1="{sy:.1f}" x2="{sx + 40:.1f}" y2="{sy:.1f}" stroke="#333" marker-end="url(#arrow)"/>'
+            )
             out.append(f'<text x="{sx + 44:.1f}" y="{sy + 4:.1f}">{_e(bl.id[4:])}</text>')
     n_in: dict[str, int] = {}
     for w in d.wires:
@@ -368,13 +435,21 @@ def render_svg(d: BlockDiagram) -> str:
         x2, y2 = _port(dst, "in", k, n_in[w.dst])
         if src.kind == "integrator" or src.row < 0 or x2 <= x1:
             # a net stub: the signal's name at the input
-            out.append(f'<line x1="{x2 - 26:.1f}" y1="{y2:.1f}" x2="{x2:.1f}" y2="{y2:.1f}" stroke="#333" marker-end="url(#arrow)"/>')
-            out.append(f'<text x="{x2 - 28:.1f}" y="{y2 - 3:.1f}" text-anchor="end" font-size="11">{_e(w.label if len(w.label) <= 12 else w.label[:11] + "…")}</text>')
+            out.append(
+                f'<line x1="{x2 - 26:.1f}" y1="{y2:.1f}" x2="{x2:.1f}" y2="{y2:.1f}" stroke="#333" marker-end="url(#arrow)"/>'
+            )
+            out.append(
+                f'<text x="{x2 - 28:.1f}" y="{y2 - 3:.1f}" text-anchor="end" font-size="11">{_e(w.label if len(w.label) <= 12 else w.label[:11] + "…")}</text>'
+            )
         else:
             xm = (x1 + x2) / 2
-            out.append(f'<polyline points="{x1:.1f},{y1:.1f} {xm:.1f},{y1:.1f} {xm:.1f},{y2:.1f} {x2:.1f},{y2:.1f}" fill="none" stroke="#333" marker-end="url(#arrow)"/>')
+            out.append(
+                f'<polyline points="{x1:.1f},{y1:.1f} {xm:.1f},{y1:.1f} {xm:.1f},{y2:.1f} {x2:.1f},{y2:.1f}" fill="none" stroke="#333" marker-end="url(#arrow)"/>'
+            )
         if dst.kind == "summer":
-            out.append(f'<text x="{x2 + 4:.1f}" y="{y2 + 4:.1f}" font-size="10" font-weight="bold">{"+" if w.sign > 0 else "−"}</text>')
+            out.append(
+                f'<text x="{x2 + 4:.1f}" y="{y2 + 4:.1f}" font-size="10" font-weight="bold">{"+" if w.sign > 0 else "−"}</text>'
+            )
     out.append("</svg>")
     return "".join(out)
 
@@ -382,12 +457,14 @@ def render_svg(d: BlockDiagram) -> str:
 __all__ = ["Block", "BlockDiagram", "Wire", "block_diagram", "render_svg", "label_of"]
 
 
-def diagram_step(d: BlockDiagram, figure: str, reconstructed: str) -> "DerivationStep":
+def diagram_step(d: BlockDiagram, figure: str, reconstructed: str) -> DerivationStep:
     """A block diagram as a derivation step (its counts in the title, the SVG as the figure)."""
     from lessons.core.contract import DerivationStep
 
     c = d.counts()
-    title = (f"Block diagram: {c.get('integrator', 0)} integrators, {c.get('multiplier', 0)} multipliers, "
-             f"{c.get('summer', 0)} summers, {c.get('scale', 0)} scale blocks")
+    title = (
+        f"Block diagram: {c.get('integrator', 0)} integrators, {c.get('multiplier', 0)} multipliers, "
+        f"{c.get('summer', 0)} summers, {c.get('scale', 0)} scale blocks"
+    )
     text = "Integrators (with their initial values), multipliers, summers and scale blocks, wired as the equations say."
     return DerivationStep(title, text, None, figure, reconstructed=reconstructed, svg=d.svg)

@@ -15,9 +15,10 @@ The classification, nearest-point and principal-axis algebra is shared with
 from __future__ import annotations
 
 import math
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from functools import cached_property
-from typing import Any, Callable, Sequence
+from typing import Any
 
 import numpy as np
 import sympy as sp
@@ -69,10 +70,10 @@ class CurveType:
     title: str
     params: tuple[str, ...]
     defaults: dict[str, float]
-    build: Callable[..., "Conic"]
+    build: Callable[..., Conic]
     equation: str = ""
 
-    def __call__(self, *args: Any, **kwargs: Any) -> "Conic":
+    def __call__(self, *args: Any, **kwargs: Any) -> Conic:
         return self.build(*args, **kwargs)
 
 
@@ -94,7 +95,9 @@ class Conic:
             try:
                 v = float(getattr(self, n))
             except (TypeError, ValueError):
-                raise ValueError(f"coefficient {n} must be a number, got {getattr(self, n)!r}") from None
+                raise ValueError(
+                    f"coefficient {n} must be a number, got {getattr(self, n)!r}"
+                ) from None
             if not math.isfinite(v):
                 bad.append(f"{n}={v}")
             object.__setattr__(self, n, v)
@@ -103,7 +106,7 @@ class Conic:
 
     # ------------------------------------------------------------------ constructors
     @classmethod
-    def from_coeffs(cls, label: str = "", **coeffs: float) -> "Conic":
+    def from_coeffs(cls, label: str = "", **coeffs: float) -> Conic:
         """Build from named coefficients (missing ones are 0); unknown names or
         non-finite values raise ValueError."""
         unknown = sorted(set(coeffs) - set(CONIC_COEFF_NAMES))
@@ -115,47 +118,65 @@ class Conic:
         return cls(**{k: float(v) for k, v in coeffs.items()}, label=label)
 
     @classmethod
-    def from_matrices(cls, Q: np.ndarray, b: Vec2 = (0, 0), c: float = 0.0, label: str = "") -> "Conic":
+    def from_matrices(
+        cls, Q: np.ndarray, b: Vec2 = (0, 0), c: float = 0.0, label: str = ""
+    ) -> Conic:
         """Build from F = rᵀQr + 2bᵀr + c (Q is symmetrised)."""
         Q = np.asarray(Q, dtype=float)
         if Q.shape != (2, 2):
             raise ValueError(f"Q must be 2x2, got shape {Q.shape}")
         Q = 0.5 * (Q + Q.T)
         b = np.asarray(b, dtype=float).reshape(2)
-        return cls(a11=Q[0, 0], a22=Q[1, 1], a12=Q[0, 1], a13=b[0], a23=b[1], a33=float(c), label=label)
+        return cls(
+            a11=Q[0, 0], a22=Q[1, 1], a12=Q[0, 1], a13=b[0], a23=b[1], a33=float(c), label=label
+        )
 
     @classmethod
-    def _canonical(cls, diag: Vec2, lin: Vec2, const: float, center: Vec2, label: str) -> "Conic":
+    def _canonical(cls, diag: Vec2, lin: Vec2, const: float, center: Vec2, label: str) -> Conic:
         q = cls.from_matrices(np.diag(diag), lin, const, label=label)
         c = _center2(center)
         return q.translated(c) if np.any(c) else q
 
     @classmethod
-    def circle(cls, R: float = 1.0, center: Vec2 = (0, 0)) -> "Conic":
+    def circle(cls, R: float = 1.0, center: Vec2 = (0, 0)) -> Conic:
         """x² + y² - R² = 0 ((1.34) when centred)."""
         R = _positive("R", R)
         return cls._canonical((1, 1), (0, 0), -R * R, center, f"circle R={_fmt(R)}{_at(center)}")
 
     @classmethod
-    def ellipse(cls, a: float = 2.0, b: float = 1.0, center: Vec2 = (0, 0)) -> "Conic":
+    def ellipse(cls, a: float = 2.0, b: float = 1.0, center: Vec2 = (0, 0)) -> Conic:
         """x²/a² + y²/b² - 1 = 0."""
         a, b = _positive("a", a), _positive("b", b)
-        return cls._canonical((1 / a**2, 1 / b**2), (0, 0), -1.0, center, f"ellipse a={_fmt(a)}, b={_fmt(b)}{_at(center)}")
+        return cls._canonical(
+            (1 / a**2, 1 / b**2),
+            (0, 0),
+            -1.0,
+            center,
+            f"ellipse a={_fmt(a)}, b={_fmt(b)}{_at(center)}",
+        )
 
     @classmethod
-    def parabola(cls, a: float = 1.0, center: Vec2 = (0, 0)) -> "Conic":
+    def parabola(cls, a: float = 1.0, center: Vec2 = (0, 0)) -> Conic:
         """y = x²/a², i.e. x²/a² - y = 0 (a23 = -1/2); vertex at ``center``."""
         a = _positive("a", a)
-        return cls._canonical((1 / a**2, 0), (0, -0.5), 0.0, center, f"parabola a={_fmt(a)}{_at(center)}")
+        return cls._canonical(
+            (1 / a**2, 0), (0, -0.5), 0.0, center, f"parabola a={_fmt(a)}{_at(center)}"
+        )
 
     @classmethod
-    def hyperbola(cls, a: float = 1.0, b: float = 1.0, center: Vec2 = (0, 0)) -> "Conic":
+    def hyperbola(cls, a: float = 1.0, b: float = 1.0, center: Vec2 = (0, 0)) -> Conic:
         """x²/a² - y²/b² - 1 = 0."""
         a, b = _positive("a", a), _positive("b", b)
-        return cls._canonical((1 / a**2, -1 / b**2), (0, 0), -1.0, center, f"hyperbola a={_fmt(a)}, b={_fmt(b)}{_at(center)}")
+        return cls._canonical(
+            (1 / a**2, -1 / b**2),
+            (0, 0),
+            -1.0,
+            center,
+            f"hyperbola a={_fmt(a)}, b={_fmt(b)}{_at(center)}",
+        )
 
     @classmethod
-    def line(cls, normal: Vec2 = (0, 1), point: Vec2 = (0, 0)) -> "Conic":
+    def line(cls, normal: Vec2 = (0, 1), point: Vec2 = (0, 0)) -> Conic:
         """n·(r - r0) = 0."""
         n = _center2(normal, "normal")
         if not np.any(n):
@@ -187,14 +208,21 @@ class Conic:
         """F at points of shape (..., 2); a float for one point."""
         r = np.asarray(points, dtype=float)
         x, y = r[..., 0], r[..., 1]
-        v = x * (self.a11 * x + 2.0 * (self.a12 * y + self.a13)) + y * (self.a22 * y + 2.0 * self.a23) + self.a33
+        v = (
+            x * (self.a11 * x + 2.0 * (self.a12 * y + self.a13))
+            + y * (self.a22 * y + 2.0 * self.a23)
+            + self.a33
+        )
         return float(v) if np.ndim(v) == 0 else v
 
     def half_gradient(self, points: np.ndarray | Vec2) -> np.ndarray:
         """½∇F = (a11 x + a12 y + a13, a12 x + a22 y + a23), shape (..., 2)."""
         r = np.asarray(points, dtype=float)
         x, y = r[..., 0], r[..., 1]
-        return np.stack([self.a11 * x + self.a12 * y + self.a13, self.a12 * x + self.a22 * y + self.a23], axis=-1)
+        return np.stack(
+            [self.a11 * x + self.a12 * y + self.a13, self.a12 * x + self.a22 * y + self.a23],
+            axis=-1,
+        )
 
     def gradient(self, points: np.ndarray | Vec2) -> np.ndarray:
         return 2.0 * self.half_gradient(points)
@@ -206,12 +234,16 @@ class Conic:
         y = y if y is not None else sp.Symbol("y", real=True)
         k = {n: sym_number(getattr(self, n)) for n in CONIC_COEFF_NAMES}
         return (
-            k["a11"] * x**2 + 2 * k["a12"] * x * y + k["a22"] * y**2
-            + 2 * k["a13"] * x + 2 * k["a23"] * y + k["a33"]
+            k["a11"] * x**2
+            + 2 * k["a12"] * x * y
+            + k["a22"] * y**2
+            + 2 * k["a13"] * x
+            + 2 * k["a23"] * y
+            + k["a33"]
         )
 
     # ------------------------------------------------------------------ transforms
-    def level_through(self, point: Vec2) -> "Conic":
+    def level_through(self, point: Vec2) -> Conic:
         """Same quadratic and linear part, a33 chosen so that F(point) = 0 (the curve an
         analyzer (1.30) started at ``point`` draws)."""
         p = _center2(point, "point")
@@ -219,24 +251,26 @@ class Conic:
         lab = f"{self.label} through ({', '.join(_fmt(v) for v in p)})" if self.label else ""
         return Conic(**{**self.coeffs(), "a33": a33}, label=lab)
 
-    def with_coeffs(self, **changes: float) -> "Conic":
+    def with_coeffs(self, **changes: float) -> Conic:
         return Conic.from_coeffs(label=self.label, **{**self.coeffs(), **changes})
 
-    def translated(self, t: Vec2) -> "Conic":
+    def translated(self, t: Vec2) -> Conic:
         """G(r) = F(r - t)."""
         t = _center2(t, "t")
         Q, b = self.Q, self.b
-        return Conic.from_matrices(Q, b - Q @ t, float(t @ Q @ t - 2 * b @ t + self.c), label=self.label)
+        return Conic.from_matrices(
+            Q, b - Q @ t, float(t @ Q @ t - 2 * b @ t + self.c), label=self.label
+        )
 
-    def rotated(self, angle: float) -> "Conic":
+    def rotated(self, angle: float) -> Conic:
         """The curve rotated by ``angle`` (rad) about the origin."""
         R = _rot2(angle)
         return Conic.from_matrices(R @ self.Q @ R.T, R @ self.b, self.c, label=self.label)
 
-    def transformed(self, angle: float, t: Vec2 = (0, 0)) -> "Conic":
+    def transformed(self, angle: float, t: Vec2 = (0, 0)) -> Conic:
         return self.rotated(angle).translated(t)
 
-    def scaled(self, k: float) -> "Conic":
+    def scaled(self, k: float) -> Conic:
         if not math.isfinite(k) or k == 0:
             raise ValueError("the factor must be finite and non-zero")
         return Conic(**{n: k * v for n, v in self.coeffs().items()}, label=self.label)
@@ -267,7 +301,9 @@ class Conic:
     def scale(self) -> float:
         """max(|a33|, ‖Q‖₂ L², ‖b‖ L) with L = :attr:`length` (1 if all vanish)."""
         L = self.length
-        v = max(abs(self.c), float(np.linalg.norm(self.Q, 2)) * L * L, float(np.linalg.norm(self.b)) * L)
+        v = max(
+            abs(self.c), float(np.linalg.norm(self.Q, 2)) * L * L, float(np.linalg.norm(self.b)) * L
+        )
         return v if v > 0 else 1.0
 
     def default_bounds(self) -> Bounds2:
@@ -299,7 +335,9 @@ class Conic:
         if cl.kind in ("point", "coincident-lines"):
             return _project_affine(cl, p)
         g = self.half_gradient(p)
-        gscale = float(np.linalg.norm(self.Q, 2)) * (float(np.linalg.norm(p)) + self.length) + float(np.linalg.norm(self.b))
+        gscale = float(np.linalg.norm(self.Q, 2)) * (
+            float(np.linalg.norm(p)) + self.length
+        ) + float(np.linalg.norm(self.b))
         if np.linalg.norm(g) <= 1e-12 * gscale:
             raise ValueError(
                 f"the point {tuple(float(v) for v in p)} is a singular point of F (zero gradient: the centre "
@@ -348,10 +386,21 @@ def _classify2(Q: np.ndarray, b: np.ndarray, c: float) -> Classification:
     lam, V = red.lam, red.V
     m = lam.size
 
-    def result(kind: str, axes: np.ndarray | None, center: np.ndarray | None, semi: tuple = (), extra: str = "") -> Classification:
+    def result(
+        kind: str,
+        axes: np.ndarray | None,
+        center: np.ndarray | None,
+        semi: tuple = (),
+        extra: str = "",
+    ) -> Classification:
         return Classification(
-            kind, _NAMES2[kind] + extra, kind not in _NONDEGENERATE2, center,
-            axes if axes is not None else np.eye(2), semi, m,
+            kind,
+            _NAMES2[kind] + extra,
+            kind not in _NONDEGENERATE2,
+            center,
+            axes if axes is not None else np.eye(2),
+            semi,
+            m,
         )
 
     if red.g > 0:
@@ -360,7 +409,9 @@ def _classify2(Q: np.ndarray, b: np.ndarray, c: float) -> Classification:
             kappa = -lam[0] / (2 * red.g)
             if kappa < 0:
                 n, kappa = -n, -kappa
-            return result("parabola", _right2(V[:, 0], n), red.point, (float(1 / math.sqrt(kappa)),))
+            return result(
+                "parabola", _right2(V[:, 0], n), red.point, (float(1 / math.sqrt(kappa)),)
+            )
         return result("line", _right2(_orth_complement(n[:, None], 2)[:, 0], n), red.point)
     k = red.k
     if m == 2:
@@ -377,7 +428,9 @@ def _classify2(Q: np.ndarray, b: np.ndarray, c: float) -> Classification:
             semi = (float(1 / math.sqrt(mu[ip])), float(1 / math.sqrt(-mu[ineg])))
             return result("hyperbola", _right2(V[:, ip], V[:, ineg]), red.point, semi)
         if lam[0] * lam[1] > 0:
-            return result("point", V.copy() if np.linalg.det(V) > 0 else _right2(V[:, 0], V[:, 1]), red.point)
+            return result(
+                "point", V.copy() if np.linalg.det(V) > 0 else _right2(V[:, 0], V[:, 1]), red.point
+            )
         ip, ineg = (0, 1) if lam[0] > 0 else (1, 0)
         semi = (float(math.sqrt(abs(lam[ineg] / lam[ip]))), 1.0)
         return result("intersecting-lines", _right2(V[:, ip], V[:, ineg]), red.point, semi)
@@ -394,7 +447,9 @@ def _classify2(Q: np.ndarray, b: np.ndarray, c: float) -> Classification:
 
 
 # ====================================================================== polylines
-def _canonical_pieces(kind: str, semi: tuple[float, ...], ext: np.ndarray, yhi: float, n: int) -> list[tuple[np.ndarray, bool]]:
+def _canonical_pieces(
+    kind: str, semi: tuple[float, ...], ext: np.ndarray, yhi: float, n: int
+) -> list[tuple[np.ndarray, bool]]:
     """(points (N, 2), closed) in canonical coordinates covering |x| <= X, |y| <= Y."""
     X, Y = float(ext[0]), float(ext[1])
     if kind in ("ellipse", "circle"):
@@ -423,7 +478,9 @@ def _canonical_pieces(kind: str, semi: tuple[float, ...], ext: np.ndarray, yhi: 
     return []
 
 
-def _clip_segments(P: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def _clip_segments(
+    P: np.ndarray, lo: np.ndarray, hi: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Liang-Barsky for the segments P[i] -> P[i+1]: (valid, t0, t1)."""
     a, d = P[:-1], P[1:] - P[:-1]
     t0 = np.zeros(len(d))
@@ -442,7 +499,9 @@ def _clip_segments(P: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> tuple[np.nd
     return valid, t0, t1
 
 
-def _snap_edge(conic: Conic, r: np.ndarray, lo: np.ndarray, hi: np.ndarray, maxstep: float) -> np.ndarray:
+def _snap_edge(
+    conic: Conic, r: np.ndarray, lo: np.ndarray, hi: np.ndarray, maxstep: float
+) -> np.ndarray:
     """Pull a point lying on a box edge back onto F = 0 along that edge."""
     free = np.ones(2, bool)
     free &= ~((np.abs(r - lo) <= 1e-9 * (hi - lo)) | (np.abs(r - hi) <= 1e-9 * (hi - lo)))
@@ -461,7 +520,11 @@ def _snap_edge(conic: Conic, r: np.ndarray, lo: np.ndarray, hi: np.ndarray, maxs
 def _polyline(conic: Conic, bounds: Bounds2, resolution: int) -> list[np.ndarray]:
     lo = np.asarray(bounds[0], dtype=float)
     hi = np.asarray(bounds[1], dtype=float)
-    if lo.shape != (2,) or hi.shape != (2,) or not (np.all(np.isfinite(lo)) and np.all(np.isfinite(hi))):
+    if (
+        lo.shape != (2,)
+        or hi.shape != (2,)
+        or not (np.all(np.isfinite(lo)) and np.all(np.isfinite(hi)))
+    ):
         raise ValueError(f"bounds must be two finite 2-vectors, got {bounds!r}")
     if np.any(hi <= lo):
         raise ValueError(f"bounds must satisfy lo < hi in every coordinate, got {bounds!r}")
@@ -472,7 +535,9 @@ def _polyline(conic: Conic, bounds: Bounds2, resolution: int) -> list[np.ndarray
     pc = (corners - cl.center) @ cl.axes
     ext = np.abs(pc).max(axis=0) * 1.0001
     out: list[np.ndarray] = []
-    for P, closed in _canonical_pieces(cl.kind, cl.semi_axes, ext, float(pc[:, 1].max()), max(int(resolution), 8)):
+    for P, closed in _canonical_pieces(
+        cl.kind, cl.semi_axes, ext, float(pc[:, 1].max()), max(int(resolution), 8)
+    ):
         W = cl.center + P @ cl.axes.T
         valid, t0, t1 = _clip_segments(W, lo, hi)
         pieces: list[list[np.ndarray]] = []
@@ -505,7 +570,9 @@ def _polyline(conic: Conic, bounds: Bounds2, resolution: int) -> list[np.ndarray
     return out
 
 
-def _spec(id: str, title: str, build: Callable[..., Conic], equation: str, **defaults: float) -> CurveType:
+def _spec(
+    id: str, title: str, build: Callable[..., Conic], equation: str, **defaults: float
+) -> CurveType:
     return CurveType(id, title, tuple(defaults), dict(defaults), build, equation)
 
 

@@ -15,8 +15,9 @@ import csv
 import io
 import math
 from abc import ABC, abstractmethod
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
-from typing import Any, Callable, Literal, Mapping, Sequence
+from typing import Any, Literal
 
 import numpy as np
 import sympy as sp
@@ -46,7 +47,8 @@ class Param:
       * ``formula``: a formula of ``t`` (a constant is a formula too);
       * ``choice``: one of ``choices``;
       * ``bool``: on/off (text ``on/off/true/false/1/0`` accepted).
-    ``group`` places it in the view: ``controls``, ``initial``, ``surface``, ``method``.
+    ``group`` names one of the lesson's declared :class:`Group` entries (its title and
+    place in the panel come from there, never from the name).
     """
 
     name: str
@@ -77,14 +79,20 @@ class Param:
             if isinstance(raw, (int, float, np.floating, np.integer)):
                 if not math.isfinite(float(raw)):
                     raise ParamError(self.name, f"must be finite, got {float(raw)}")
-                raw = str(int(raw)) if float(raw).is_integer() and abs(raw) < 1e15 else repr(float(raw))
+                raw = (
+                    str(int(raw))
+                    if float(raw).is_integer() and abs(raw) < 1e15
+                    else repr(float(raw))
+                )
             if not isinstance(raw, str):
                 raise ParamError(self.name, f"expected a formula of t, got {type(raw).__name__}")
             return parse_formula(raw, variables=("t",))
         if self.kind == "choice":
             text = str(raw).strip()
             if text not in self.choices:
-                raise ParamError(self.name, f"must be one of {', '.join(self.choices)}; got {text[:40]!r}")
+                raise ParamError(
+                    self.name, f"must be one of {', '.join(self.choices)}; got {text[:40]!r}"
+                )
             return text
         if self.kind == "bool":
             if isinstance(raw, bool):
@@ -111,9 +119,15 @@ class Param:
                 raise ParamError(self.name, f"must be a whole number, got {value:g}")
             value = int(value)
         if self.min is not None and value < self.min:
-            raise ParamError(self.name, f"{value:g} is below the minimum {self.min:g}{self.unit and ' ' + self.unit}")
+            raise ParamError(
+                self.name,
+                f"{value:g} is below the minimum {self.min:g}{self.unit and ' ' + self.unit}",
+            )
         if self.max is not None and value > self.max:
-            raise ParamError(self.name, f"{value:g} is above the maximum {self.max:g}{self.unit and ' ' + self.unit}")
+            raise ParamError(
+                self.name,
+                f"{value:g} is above the maximum {self.max:g}{self.unit and ' ' + self.unit}",
+            )
         return value
 
 
@@ -123,6 +137,65 @@ class Params(dict):
     def raw(self) -> dict[str, Any]:
         """JSON-friendly view: formulas as their text."""
         return {k: (v.text if isinstance(v, Formula) else v) for k, v in self.items()}
+
+
+@dataclass(frozen=True)
+class Group:
+    """A titled group of parameters; a lesson shows its groups in the declared order.
+
+    ``expanded``: open when the panel is built (an integrator's settings start closed).
+    """
+
+    name: str
+    title: str
+    expanded: bool = True
+
+
+#: The groups most lessons use, in panel order (a lesson may declare its own).
+MODE = Group("mode", "Mode")
+CONTROLS = Group("controls", "Controls")
+INITIAL = Group("initial", "Start point")
+SURFACE = Group("surface", "Surface")
+METHOD = Group("method", "Integrator", expanded=False)
+DEFAULT_GROUPS: tuple[Group, ...] = (MODE, CONTROLS, INITIAL, SURFACE, METHOD)
+
+
+@dataclass(frozen=True)
+class Series:
+    """One observed quantity: a column of a run and a live value of a frame.
+
+    ``member``: for a lesson with a family of start points, members 2..N add the
+    columns ``name_2 .. name_N`` (member 1 keeps ``name``).
+    """
+
+    name: str
+    unit: str = ""
+    description: str = ""
+    member: bool = False
+
+
+NoteKind = Literal["info", "warning", "reconstructed", "corrected"]
+
+
+@dataclass(frozen=True)
+class Note:
+    """A message for the user: what the lesson did with the values, or a source caveat.
+
+    ``reconstructed``/``corrected`` notes name the equation (``source``) and give one
+    line of ``evidence``.
+    """
+
+    kind: NoteKind
+    text: str
+    source: str = ""
+    evidence: str = ""
+
+    def __str__(self) -> str:
+        return self.text
+
+
+class ObservationError(ValueError):
+    """A lesson's observation does not match its declared series."""
 
 
 @dataclass(frozen=True)
@@ -183,6 +256,8 @@ class RunResult:
     series: dict[str, np.ndarray]
     metrics: dict[str, Any] = field(default_factory=dict)
     messages: list[str] = field(default_factory=list)
+    #: series name -> unit (from the lesson's declarations; "" for a pure number)
+    units: dict[str, str] = field(default_factory=dict)
 
     def to_json_dict(self) -> dict[str, Any]:
         def clean(v: Any) -> Any:
@@ -209,6 +284,7 @@ class RunResult:
             "params": clean(self.params),
             "t": clean(np.asarray(self.t, dtype=float)),
             "series": {k: clean(np.asarray(v, dtype=float)) for k, v in self.series.items()},
+            "units": {k: self.units.get(k, "") for k in self.series},
             "metrics": clean(self.metrics),
             "messages": list(self.messages),
         }
@@ -219,7 +295,9 @@ class RunResult:
         buf = io.StringIO()
         w = csv.writer(buf, lineterminator="\n")
         w.writerow(["t", *names])
-        cols = [np.asarray(self.t, dtype=float)] + [np.asarray(self.series[n], dtype=float) for n in names]
+        cols = [np.asarray(self.t, dtype=float)] + [
+            np.asarray(self.series[n], dtype=float) for n in names
+        ]
         for row in zip(*cols):
             w.writerow([repr(float(x)) for x in row])
         return buf.getvalue()
@@ -349,6 +427,20 @@ class Lesson(ABC):
     presets: tuple[Preset, ...] = ()
     t_end: float = 10.0
     plots: tuple[PlotSpec, ...] = ()
+    #: parameter groups in panel order; every ``Param.group`` names one of them
+    groups: tuple[Group, ...] = DEFAULT_GROUPS
+    #: the parameters that select the lesson's mode (choices or on/off), shown first
+    modes: tuple[str, ...] = ()
+    #: the parameters of the start point (x, y, z), if the lesson has one
+    start_point: tuple[str, str, str] | None = None
+    #: the whole-number parameter giving the size of a family of start points, if any
+    family: str | None = None
+    #: every quantity the lesson observes: the columns of a run, the values of a frame
+    series: tuple[Series, ...] = ()
+    #: the series shown live beside the time (in this order)
+    readout: tuple[str, ...] = ()
+    #: the source's sampling step for tables and exports (``None``: t_end / 100)
+    sampling: float | None = None
 
     # -- parameters -------------------------------------------------------------
 
@@ -356,13 +448,19 @@ class Lesson(ABC):
         for p in self.params:
             if p.name == name:
                 return p
-        raise ParamError(name, f"unknown parameter for lesson {self.id!r}; known: {', '.join(p.name for p in self.params)}")
+        raise ParamError(
+            name,
+            f"unknown parameter for lesson {self.id!r}; known: {', '.join(p.name for p in self.params)}",
+        )
 
     def preset(self, name: str) -> Preset:
         for p in self.presets:
             if p.name == name:
                 return p
-        raise ParamError("preset", f"unknown preset {name[:60]!r} for {self.id}; known: {', '.join(p.name for p in self.presets)}")
+        raise ParamError(
+            "preset",
+            f"unknown preset {name[:60]!r} for {self.id}; known: {', '.join(p.name for p in self.presets)}",
+        )
 
     def resolve(self, values: Mapping[str, Any] | None = None, preset: str | None = None) -> Params:
         """Defaults, then the preset, then ``values``; every value validated.
@@ -383,6 +481,131 @@ class Lesson(ABC):
 
     def validate(self, params: Params) -> None:
         """Cross-parameter checks (override); raise :class:`ParamError`."""
+
+    def group(self, name: str) -> Group:
+        """The declared group ``name`` (``KeyError`` naming the known ones otherwise)."""
+        for g in self.groups:
+            if g.name == name:
+                return g
+        known = [g.name for g in self.groups]
+        raise KeyError(f"{self.id}: no parameter group {name!r}; declared: {known}")
+
+    def notes(self, params: Params) -> list[Note]:
+        """What the lesson did with these values (e.g. a start point projected onto the
+        surface) and the source caveats that apply to them.  Override; default none."""
+        return []
+
+    def declaration_errors(self) -> list[str]:
+        """Inconsistencies between the declarations (empty when the lesson is well formed)."""
+        errors: list[str] = []
+        names = {p.name for p in self.params}
+        groups = {g.name for g in self.groups}
+        for p in self.params:
+            if p.group not in groups:
+                errors.append(f"parameter {p.name}: group {p.group!r} is not declared")
+        for m in self.modes:
+            if m not in names:
+                errors.append(f"mode {m!r} is not a parameter")
+            elif self.param(m).kind not in ("choice", "bool"):
+                errors.append(f"mode {m!r} is neither a choice nor on/off")
+        for n in self.start_point or ():
+            if n not in names:
+                errors.append(f"start point {n!r} is not a parameter")
+        if self.family is not None and (
+            self.family not in names or self.param(self.family).kind != "int"
+        ):
+            errors.append(f"family {self.family!r} is not a whole-number parameter")
+        series = [s.name for s in self.series]
+        if len(series) != len(set(series)):
+            errors.append("series names repeat")
+        for r in self.readout:
+            if r not in series:
+                errors.append(f"readout {r!r} is not a declared series")
+        for plot in self.plots:
+            for n in plot.series:
+                if n not in series:
+                    errors.append(f"plot {plot.title!r}: series {n!r} is not declared")
+        return errors
+
+    # -- observation --------------------------------------------------------------
+
+    def series_for(self, params: Params) -> tuple[Series, ...]:
+        """The series a run with these values has: the declared ones, plus the family's
+        members 2..N of every ``member`` series."""
+        out = list(self.series)
+        n = int(params[self.family]) if self.family is not None else 1
+        for k in range(2, n + 1):
+            out += [
+                Series(f"{s.name}_{k}", s.unit, f"{s.description} (curve {k})")
+                for s in self.series
+                if s.member
+            ]
+        return tuple(out)
+
+    def observe(self, params: Params, t: np.ndarray, state: Any) -> Mapping[str, Any]:
+        """The declared series at the times ``t`` (1-D) from the lesson's own ``state`` at
+        those times (leading axis = time).  One function serves both :meth:`simulate`
+        (a grid) and the live stepper (one time): every lesson implements it."""
+        raise NotImplementedError(f"{self.id}: observe() is not implemented")
+
+    def observation(self, params: Params, t: Any, state: Any) -> dict[str, np.ndarray]:
+        """:meth:`observe`, checked against :meth:`series_for` (names exactly, one value
+        per time); raises :class:`ObservationError` naming what differs."""
+        tt = np.atleast_1d(np.asarray(t, dtype=float))
+        raw = self.observe(params, tt, state)
+        names = [s.name for s in self.series_for(params)]
+        missing = [n for n in names if n not in raw]
+        extra = [n for n in raw if n not in names]
+        if missing or extra:
+            raise ObservationError(
+                f"{self.id}: observation differs from the declared series"
+                f" (missing {missing}, undeclared {extra})"
+            )
+        out: dict[str, np.ndarray] = {}
+        for n in names:
+            v = np.asarray(raw[n], dtype=float)
+            if v.shape != tt.shape:
+                v = np.broadcast_to(v, tt.shape)
+            out[n] = np.array(v, dtype=float)
+        return out
+
+    def frame_scalars(self, params: Params, t: float, state: Any) -> dict[str, float]:
+        """The observation at one time (``state`` with a leading time axis of length 1)."""
+        return {k: float(v[0]) for k, v in self.observation(params, [t], state).items()}
+
+    def result(
+        self,
+        params: Params,
+        t: np.ndarray,
+        state: Any,
+        metrics: dict[str, Any] | None = None,
+        messages: Sequence[str] = (),
+    ) -> RunResult:
+        """A finished run from the state on the grid ``t``: the observation as its series,
+        the declared units, and a message for every series that is not finite somewhere
+        (saying from when), so that a missing value is explained, never a silent NaN."""
+        tt = np.asarray(t, dtype=float)
+        series = self.observation(params, tt, state)
+        msgs = list(messages)
+        for name, v in series.items():
+            bad = ~np.isfinite(v)
+            if bad.any():
+                first = float(tt[int(np.argmax(bad))])
+                msgs.append(
+                    f"{name} is not defined from t = {first:g} on"
+                    f" ({int(bad.sum())} of {len(v)} samples)"
+                )
+        units = {s.name: s.unit for s in self.series_for(params)}
+        return RunResult(self.id, None, params.raw(), tt, series, dict(metrics or {}), msgs, units)
+
+    def sample_grid(self, t_end: float, step: float | None = None) -> np.ndarray:
+        """t = 0, step, 2 step, ... up to ``t_end`` (the source's sampling by default)."""
+        h = float(step or self.sampling or t_end / 100.0)
+        n = int(math.floor(t_end / h + 1e-9))
+        grid = np.arange(n + 1) * h
+        if t_end - grid[-1] > 1e-9 * max(1.0, t_end):
+            grid = np.append(grid, t_end)
+        return grid
 
     def preset_t_end(self, preset: str | None) -> float:
         if preset is not None:
@@ -410,7 +633,12 @@ class Lesson(ABC):
 
     # -- convenience --------------------------------------------------------------
 
-    def run(self, preset: str | None = None, values: Mapping[str, Any] | None = None, t_end: float | None = None) -> RunResult:
+    def run(
+        self,
+        preset: str | None = None,
+        values: Mapping[str, Any] | None = None,
+        t_end: float | None = None,
+    ) -> RunResult:
         """Resolve and simulate in one call (what ``analyzer-lab run`` does)."""
         params = self.resolve(values, preset)
         result = self.simulate(params, self.preset_t_end(preset) if t_end is None else t_end)
@@ -439,7 +667,19 @@ class Lesson(ABC):
                 }
                 for p in self.params
             ],
-            "presets": [{"name": p.name, "title": p.title, "values": dict(p.values), "t_end": p.t_end} for p in self.presets],
+            "groups": [{"name": g.name, "title": g.title} for g in self.groups],
+            "modes": list(self.modes),
+            "start_point": list(self.start_point) if self.start_point else None,
+            "family": self.family,
+            "series": [
+                {"name": s.name, "unit": s.unit, "description": s.description} for s in self.series
+            ],
+            "readout": list(self.readout),
+            "sampling": self.sampling,
+            "presets": [
+                {"name": p.name, "title": p.title, "values": dict(p.values), "t_end": p.t_end}
+                for p in self.presets
+            ],
         }
 
 
@@ -464,6 +704,16 @@ __all__ = [
     "Formula",
     "FormulaError",
     "Frame",
+    "Group",
+    "Note",
+    "ObservationError",
+    "Series",
+    "DEFAULT_GROUPS",
+    "MODE",
+    "CONTROLS",
+    "INITIAL",
+    "SURFACE",
+    "METHOD",
     "Lesson",
     "MarkerItem",
     "MeshItem",

@@ -13,8 +13,8 @@ from __future__ import annotations
 
 import ast
 import math
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
-from typing import Callable, Sequence
 
 import numpy as np
 import sympy as sp
@@ -62,7 +62,9 @@ class Formula:
     def is_constant(self) -> bool:
         cached = self.__dict__.get("_is_constant")
         if cached is None:
-            cached = not (self.expr.free_symbols & {sp.Symbol(v, real=True) for v in self.variables})
+            cached = not (
+                self.expr.free_symbols & {sp.Symbol(v, real=True) for v in self.variables}
+            )
             object.__setattr__(self, "_is_constant", cached)
         return cached
 
@@ -70,7 +72,9 @@ class Formula:
     def constant_value(self) -> float | None:
         """The number this formula stands for when it does not depend on its variables (cached)."""
         if "_constant_value" not in self.__dict__:
-            object.__setattr__(self, "_constant_value", float(self.expr) if self.is_constant else None)
+            object.__setattr__(
+                self, "_constant_value", float(self.expr) if self.is_constant else None
+            )
         return self.__dict__["_constant_value"]
 
     def __call__(self, *args: float | np.ndarray) -> np.ndarray | float:
@@ -78,7 +82,9 @@ class Formula:
         callers that integrate check finiteness with :meth:`check_finite`."""
         fn = self._fn
         if fn is None:
-            fn = sp.lambdify([sp.Symbol(v, real=True) for v in self.variables], self.expr, modules="numpy")
+            fn = sp.lambdify(
+                [sp.Symbol(v, real=True) for v in self.variables], self.expr, modules="numpy"
+            )
             object.__setattr__(self, "_fn", fn)
         with np.errstate(all="ignore"):
             out = fn(*args)
@@ -228,7 +234,11 @@ def _build_node(node: ast.AST, src: str, symbols: dict[str, sp.Symbol], depth: i
     if isinstance(node, ast.Call):
         if not isinstance(node.func, ast.Name) or node.func.id not in FUNCTIONS:
             name = node.func.id if isinstance(node.func, ast.Name) else "this call"
-            raise _fail(src, col, f"function {str(name)[:20]!r} is not allowed (allowed: {', '.join(FUNCTIONS)})")
+            raise _fail(
+                src,
+                col,
+                f"function {str(name)[:20]!r} is not allowed (allowed: {', '.join(FUNCTIONS)})",
+            )
         if node.keywords or len(node.args) != 1:
             raise _fail(src, col, f"{node.func.id} takes exactly one argument")
         arg = _build(node.args[0], src, symbols, depth + 1)

@@ -20,9 +20,9 @@ show what a generic solver does.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 from functools import lru_cache
-from typing import Callable
 
 import numpy as np
 from scipy.integrate import solve_ivp
@@ -56,7 +56,9 @@ def gauss_legendre(s: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     return a, b, c
 
 
-def gl_propagators(coeffs: LinearCoeffs, t0: float, h: float, n_steps: int, stages: int = 3) -> tuple[np.ndarray, np.ndarray]:
+def gl_propagators(
+    coeffs: LinearCoeffs, t0: float, h: float, n_steps: int, stages: int = 3
+) -> tuple[np.ndarray, np.ndarray]:
     """Step maps of Gauss–Legendre for ``r' = A(t) r + c(t)`` in increment form.
 
     ``r_{n+1} = r_n + (D_n r_n + phi_n)`` with ``D (n, N, d, d)`` and ``phi (n, N, d)`` both
@@ -102,7 +104,15 @@ def apply_propagators(D: np.ndarray, phi: np.ndarray, r0: np.ndarray) -> np.ndar
     return out
 
 
-def gl_linear(coeffs: LinearCoeffs, r0: np.ndarray, t0: float, t_end: float, h: float, stages: int = 3, chunk: int = 20000) -> tuple[np.ndarray, np.ndarray]:
+def gl_linear(
+    coeffs: LinearCoeffs,
+    r0: np.ndarray,
+    t0: float,
+    t_end: float,
+    h: float,
+    stages: int = 3,
+    chunk: int = 20000,
+) -> tuple[np.ndarray, np.ndarray]:
     """Integrate ``r' = A(t) r + c(t)`` from ``t0`` to ``t_end`` with step ``h`` (last step shortened).
 
     Returns ``t (n+1,)`` and states ``(n+1, N, d)``.  Work is done in chunks of steps
@@ -150,7 +160,13 @@ class GLStepper:
     precondition the iteration; the converged stages solve the exact equations).
     """
 
-    def __init__(self, field: Field, jac: Callable[[float, np.ndarray], np.ndarray], stages: int = 3, max_iter: int = 40) -> None:
+    def __init__(
+        self,
+        field: Field,
+        jac: Callable[[float, np.ndarray], np.ndarray],
+        stages: int = 3,
+        max_iter: int = 40,
+    ) -> None:
         self.field = field
         self.jac = jac
         self.stages = stages
@@ -190,7 +206,9 @@ class GLStepper:
         self.stats.steps += 1
         return R + h * np.einsum("i,nid->nd", b, K)
 
-    def integrate(self, R0: np.ndarray, t0: float, t_end: float, h: float, record_every: int = 1) -> tuple[np.ndarray, np.ndarray]:
+    def integrate(
+        self, R0: np.ndarray, t0: float, t_end: float, h: float, record_every: int = 1
+    ) -> tuple[np.ndarray, np.ndarray]:
         """Fixed steps from ``t0`` to ``t_end`` (last step shortened); states every ``record_every`` steps."""
         R = np.atleast_2d(np.asarray(R0, dtype=float))
         n_full = int(np.floor((t_end - t0) / h + 1e-9))
@@ -213,7 +231,16 @@ class GLStepper:
         return np.asarray(ts), np.stack(out)
 
 
-def solve_ivp_reference(field: Field, R0: np.ndarray, t0: float, t_end: float, t_eval: np.ndarray, method: str = "RK45", rtol: float = 1e-3, atol: float = 1e-6) -> tuple[np.ndarray, np.ndarray, int]:
+def solve_ivp_reference(
+    field: Field,
+    R0: np.ndarray,
+    t0: float,
+    t_end: float,
+    t_eval: np.ndarray,
+    method: str = "RK45",
+    rtol: float = 1e-3,
+    atol: float = 1e-6,
+) -> tuple[np.ndarray, np.ndarray, int]:
     """The same field through scipy's ``solve_ivp``: ``(t, states (m, N, d), nfev)``."""
     R0 = np.atleast_2d(np.asarray(R0, dtype=float))
     shape = R0.shape
@@ -221,7 +248,9 @@ def solve_ivp_reference(field: Field, R0: np.ndarray, t0: float, t_end: float, t
     def rhs(t: float, y: np.ndarray) -> np.ndarray:
         return field(t, y.reshape(shape)).ravel()
 
-    sol = solve_ivp(rhs, (t0, t_end), R0.ravel(), method=method, rtol=rtol, atol=atol, t_eval=t_eval)
+    sol = solve_ivp(
+        rhs, (t0, t_end), R0.ravel(), method=method, rtol=rtol, atol=atol, t_eval=t_eval
+    )
     if not sol.success:
         raise RuntimeError(f"solve_ivp ({method}) failed: {sol.message}")
     return sol.t, sol.y.T.reshape(len(sol.t), *shape), int(sol.nfev)

@@ -23,8 +23,9 @@ linear in Cartesian space, C and B linear in the same parameter ``t``.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
-from typing import Callable, Literal, Protocol, Sequence
+from typing import Literal, Protocol
 
 import numpy as np
 import trimesh
@@ -89,7 +90,9 @@ class Machine5:
         q = np.asarray(q, dtype=float)
         th = self.theta(q[..., 3])
         n = self.beam(q[..., 3], q[..., 4])
-        c_pivot = np.stack([q[..., 0] + self.k_X, q[..., 1] + self.k_Y, q[..., 2] + self.k_Z], axis=-1)
+        c_pivot = np.stack(
+            [q[..., 0] + self.k_X, q[..., 1] + self.k_Y, q[..., 2] + self.k_Z], axis=-1
+        )
         lever = np.stack([np.sin(th), np.cos(th), np.zeros_like(th)], axis=-1)
         b_pivot = c_pivot + self.R_C * lever
         return c_pivot, b_pivot, b_pivot + self.R_B * n, n
@@ -126,7 +129,9 @@ class Machine5:
             C = ((math.atan2(nx, ny) - self.k_C2) / self.k_C1) % period
             return (0.0 if C >= period else C), tilt
         if tilt >= math.pi / 4:
-            raise LimitError(f"beam tilt {math.degrees(tilt):.2f} deg is outside the B limit (-pi/4, pi/4)")
+            raise LimitError(
+                f"beam tilt {math.degrees(tilt):.2f} deg is outside the B limit (-pi/4, pi/4)"
+            )
         if math.hypot(nx, ny) < VERTICAL_EPS:
             return float(C_ref or 0.0), 0.0
         if C_ref is None:
@@ -160,7 +165,16 @@ class Machine5:
         X = p[..., 0] - self.R_B * nb[..., 0] - self.R_C * np.sin(th) - self.k_X
         Y = p[..., 1] - self.R_B * nb[..., 1] - self.R_C * np.cos(th) - self.k_Y
         Z = p[..., 2] - self.R_B * nb[..., 2] - self.k_Z
-        return np.stack([X, Y, Z, np.asarray(C, float) * np.ones_like(X), np.asarray(B, float) * np.ones_like(X)], axis=-1)
+        return np.stack(
+            [
+                X,
+                Y,
+                Z,
+                np.asarray(C, float) * np.ones_like(X),
+                np.asarray(B, float) * np.ones_like(X),
+            ],
+            axis=-1,
+        )
 
     def random_poses(self, rng: np.random.Generator, count: int) -> np.ndarray:
         """Random axis positions strictly inside the limits (for round-trip checks)."""
@@ -196,8 +210,12 @@ class Workpiece(Protocol):
     def mesh(self) -> trimesh.Trimesh: ...
 
 
-def disc_mesh(point_normal: Callable[[np.ndarray, np.ndarray], tuple[np.ndarray, np.ndarray]], radius: float,
-              rings: int = 24, sectors: int = 64) -> trimesh.Trimesh:
+def disc_mesh(
+    point_normal: Callable[[np.ndarray, np.ndarray], tuple[np.ndarray, np.ndarray]],
+    radius: float,
+    rings: int = 24,
+    sectors: int = 64,
+) -> trimesh.Trimesh:
     """A height-field mesh over the disc ``u^2 + v^2 <= radius^2`` (polar grid)."""
     r = np.linspace(0.0, radius, rings + 1)[1:]
     a = np.linspace(0.0, TWO_PI, sectors, endpoint=False)
@@ -234,7 +252,10 @@ class Paraboloid:
     def point_normal(self, u: np.ndarray, v: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         u = np.asarray(u, dtype=float)
         v = np.asarray(v, dtype=float)
-        p = np.stack([self.centre[0] + u, self.centre[1] + v, self.z0 - (u * u + v * v) / (4 * self.F)], axis=-1)
+        p = np.stack(
+            [self.centre[0] + u, self.centre[1] + v, self.z0 - (u * u + v * v) / (4 * self.F)],
+            axis=-1,
+        )
         n = unit(np.stack([u / (2 * self.F), v / (2 * self.F), np.ones_like(u)], axis=-1))
         return p, n
 
@@ -328,8 +349,14 @@ class Task:
         return self.workpiece.point_normal(uv[..., 0], uv[..., 1])[1]
 
 
-def make_task(workpiece: Workpiece, path: str, segments: int, start: tuple[float, float] = (0.0, 0.0),
-              end: tuple[float, float] = (0.0, 0.0), radius: float = 300.0) -> Task:
+def make_task(
+    workpiece: Workpiece,
+    path: str,
+    segments: int,
+    start: tuple[float, float] = (0.0, 0.0),
+    end: tuple[float, float] = (0.0, 0.0),
+    radius: float = 300.0,
+) -> Task:
     """A straight line in (u, v) from ``start`` to ``end`` or a closed circle of ``radius``."""
     if path == "circle":
         phi = np.linspace(0.0, TWO_PI, segments + 1)
@@ -358,7 +385,7 @@ def translate_poses(machine: Machine5, points: np.ndarray, normals: np.ndarray) 
     for i, (p, n) in enumerate(zip(points, normals)):
         ref = None if not qs else float(qs[-1][3])
         if vertical(n):
-            for n_next in normals[i + 1:]:
+            for n_next in normals[i + 1 :]:
                 if not vertical(n_next):
                     ref = machine.rotary(n_next, ref)[0]
                     break
@@ -403,19 +430,42 @@ class Move:
         return machine.axes_for(point, C, B)
 
 
-def linear_move(q0: np.ndarray, q1: np.ndarray, p0: np.ndarray, p1: np.ndarray, seg: int = 0, depth: int = 0) -> Move:
-    return Move("linear", np.asarray(q0, float), np.asarray(q1, float), np.asarray(p0, float), np.asarray(p1, float), seg, depth)
+def linear_move(
+    q0: np.ndarray, q1: np.ndarray, p0: np.ndarray, p1: np.ndarray, seg: int = 0, depth: int = 0
+) -> Move:
+    return Move(
+        "linear",
+        np.asarray(q0, float),
+        np.asarray(q1, float),
+        np.asarray(p0, float),
+        np.asarray(p1, float),
+        seg,
+        depth,
+    )
 
 
-def nonlinear_move(q0: np.ndarray, q1: np.ndarray, p0: np.ndarray, p1: np.ndarray, seg: int = 0) -> Move:
+def nonlinear_move(
+    q0: np.ndarray, q1: np.ndarray, p0: np.ndarray, p1: np.ndarray, seg: int = 0
+) -> Move:
     """Nonlinear interpolation (4); the leading coordinate is the rotary axis that moves more."""
     dC, dB = abs(q1[3] - q0[3]), abs(q1[4] - q0[4])
     lead = "" if max(dC, dB) == 0.0 else ("C" if dC >= dB else "B")
     kind = "nonlinear" if lead else "linear"
-    return Move(kind, np.asarray(q0, float), np.asarray(q1, float), np.asarray(p0, float), np.asarray(p1, float), seg, 0, lead)
+    return Move(
+        kind,
+        np.asarray(q0, float),
+        np.asarray(q1, float),
+        np.asarray(p0, float),
+        np.asarray(p1, float),
+        seg,
+        0,
+        lead,
+    )
 
 
-def segment_distance(points: np.ndarray, a: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def segment_distance(
+    points: np.ndarray, a: np.ndarray, b: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
     """Distance of points from the segment ``a -> b`` and the chord parameter (unclamped)."""
     d = b - a
     L2 = float(d @ d)
@@ -424,8 +474,13 @@ def segment_distance(points: np.ndarray, a: np.ndarray, b: np.ndarray) -> tuple[
     return np.linalg.norm(points - foot, axis=-1), lam
 
 
-def move_deviation(machine: Machine5, move: Move, a: np.ndarray | None = None, b: np.ndarray | None = None,
-                   samples: int = 33) -> float:
+def move_deviation(
+    machine: Machine5,
+    move: Move,
+    a: np.ndarray | None = None,
+    b: np.ndarray | None = None,
+    samples: int = 33,
+) -> float:
     """Largest distance of the working point from the segment ``a -> b`` (default: the move's chord)."""
     a = move.p0 if a is None else a
     b = move.p1 if b is None else b
@@ -437,7 +492,9 @@ def move_deviation(machine: Machine5, move: Move, a: np.ndarray | None = None, b
     tau = np.linspace(0.0, 1.0, samples)
     d = dev(tau)
     best = float(d.max())
-    for _ in range(2):  # zoom twice around the largest sample, then a parabola through the top three
+    for _ in range(
+        2
+    ):  # zoom twice around the largest sample, then a parabola through the top three
         k = int(np.argmax(d))
         lo, hi = tau[max(k - 1, 0)], tau[min(k + 1, len(tau) - 1)]
         tau = np.linspace(lo, hi, samples)
@@ -472,9 +529,18 @@ class Bisection:
     deviations: list[float] = field(default_factory=list)
 
 
-def bisect_segment(machine: Machine5, pa: np.ndarray, na: np.ndarray, qa: np.ndarray, pb: np.ndarray,
-                   nb: np.ndarray, tol: float, max_depth: int = 30, seg: int = 0,
-                   max_pieces: int = 4096) -> Bisection:
+def bisect_segment(
+    machine: Machine5,
+    pa: np.ndarray,
+    na: np.ndarray,
+    qa: np.ndarray,
+    pb: np.ndarray,
+    nb: np.ndarray,
+    tol: float,
+    max_depth: int = 30,
+    seg: int = 0,
+    max_pieces: int = 4096,
+) -> Bisection:
     """Method 2: split the segment until every linear piece deviates by at most ``tol`` [mm].
 
     The split point is the chord midpoint, its normal the normalized mean of the piece's
@@ -486,7 +552,9 @@ def bisect_segment(machine: Machine5, pa: np.ndarray, na: np.ndarray, qa: np.nda
     devs: list[float] = []
     state = {"converged": True}
 
-    def rec(pa: np.ndarray, na: np.ndarray, qa: np.ndarray, pb: np.ndarray, nb: np.ndarray, depth: int) -> np.ndarray:
+    def rec(
+        pa: np.ndarray, na: np.ndarray, qa: np.ndarray, pb: np.ndarray, nb: np.ndarray, depth: int
+    ) -> np.ndarray:
         qb = machine.inverse(pb, nb, C_ref=float(qa[3]))
         mv = linear_move(qa, qb, pa, pb, seg, depth)
         dev = move_deviation(machine, mv)
@@ -504,8 +572,15 @@ def bisect_segment(machine: Machine5, pa: np.ndarray, na: np.ndarray, qa: np.nda
     return Bisection(moves, state["converged"], max(m.depth for m in moves), max(devs), devs)
 
 
-def bisect_uniform(machine: Machine5, pa: np.ndarray, na: np.ndarray, qa: np.ndarray, pb: np.ndarray,
-                   nb: np.ndarray, depth: int) -> list[Move]:
+def bisect_uniform(
+    machine: Machine5,
+    pa: np.ndarray,
+    na: np.ndarray,
+    qa: np.ndarray,
+    pb: np.ndarray,
+    nb: np.ndarray,
+    depth: int,
+) -> list[Move]:
     """Method 2 split ``depth`` times everywhere (2^depth pieces), translated in order."""
     nodes = [(np.asarray(pa, float), unit(na)), (np.asarray(pb, float), unit(nb))]
     for _ in range(depth):
@@ -516,8 +591,10 @@ def bisect_uniform(machine: Machine5, pa: np.ndarray, na: np.ndarray, qa: np.nda
     qs = [np.asarray(qa, float)]
     for p, n in nodes[1:]:
         qs.append(machine.inverse(p, n, C_ref=float(qs[-1][3])))
-    return [linear_move(q0, q1, p0, p1, 0, depth)
-            for (p0, _), (p1, _), q0, q1 in zip(nodes[:-1], nodes[1:], qs[:-1], qs[1:])]
+    return [
+        linear_move(q0, q1, p0, p1, 0, depth)
+        for (p0, _), (p1, _), q0, q1 in zip(nodes[:-1], nodes[1:], qs[:-1], qs[1:])
+    ]
 
 
 def nonlinear_submoves(machine: Machine5, move: Move, count: int) -> list[Move]:
@@ -525,11 +602,21 @@ def nonlinear_submoves(machine: Machine5, move: Move, count: int) -> list[Move]:
     tau = np.linspace(0.0, 1.0, count + 1)
     qs = move.axes(machine, tau)
     ps = move.p0 + tau[:, None] * (move.p1 - move.p0)
-    return [Move("linear", qs[k], qs[k + 1], ps[k], ps[k + 1], move.seg, 0, move.lead) for k in range(count)]
+    return [
+        Move("linear", qs[k], qs[k + 1], ps[k], ps[k + 1], move.seg, 0, move.lead)
+        for k in range(count)
+    ]
 
 
-def fixed_normal_moves(machine: Machine5, pa: np.ndarray, na: np.ndarray, pb: np.ndarray, nb: np.ndarray,
-                       C_ref: float, seg: int = 0) -> Move:
+def fixed_normal_moves(
+    machine: Machine5,
+    pa: np.ndarray,
+    na: np.ndarray,
+    pb: np.ndarray,
+    nb: np.ndarray,
+    C_ref: float,
+    seg: int = 0,
+) -> Move:
     """Method 1: the whole segment with the beam along the mean normal, no rotation."""
     nm = mean_normal(na, nb)
     q0 = machine.inverse(pa, nm, C_ref)
@@ -548,7 +635,9 @@ def point_speed_ratio(machine: Machine5, move: Move, samples: int = 2001) -> flo
     return float(sp.max() / sp.min()) if sp.min() > 0 else math.inf
 
 
-def axis_path_length(machine: Machine5, moves: Sequence[Move], components: slice = slice(0, 3), samples: int = 513) -> float:
+def axis_path_length(
+    machine: Machine5, moves: Sequence[Move], components: slice = slice(0, 3), samples: int = 513
+) -> float:
     """Path length travelled by the linear axes (default X, Y, Z) over the moves [mm]."""
     total = 0.0
     for mv in moves:
@@ -557,7 +646,9 @@ def axis_path_length(machine: Machine5, moves: Sequence[Move], components: slice
     return total
 
 
-def moves_backwards(machine: Machine5, moves: Sequence[Move], a: np.ndarray, b: np.ndarray, samples: int = 257) -> bool:
+def moves_backwards(
+    machine: Machine5, moves: Sequence[Move], a: np.ndarray, b: np.ndarray, samples: int = 257
+) -> bool:
     """Whether the working point's progress along ``a -> b`` ever decreases."""
     lams = []
     for mv in moves:
@@ -567,7 +658,9 @@ def moves_backwards(machine: Machine5, moves: Sequence[Move], a: np.ndarray, b: 
     return bool(np.any(np.diff(lam) < -1e-9))
 
 
-def off_normal_max(machine: Machine5, task: Task, moves: Sequence[Move], samples: int = 257) -> float:
+def off_normal_max(
+    machine: Machine5, task: Task, moves: Sequence[Move], samples: int = 257
+) -> float:
     """Largest angle [rad] between the beam and the surface normal below the point."""
     worst = 0.0
     for mv in moves:
@@ -583,4 +676,6 @@ def sagitta_estimate(machine: Machine5, qa: np.ndarray, qb: np.ndarray) -> float
     B = 0.5 * (qa[4] + qb[4])
     dC = abs(machine.k_C1) * (qb[3] - qa[3])
     dB = qb[4] - qa[4]
-    return float((machine.R_C + machine.R_B * abs(math.sin(B))) * dC**2 / 8 + machine.R_B * dB**2 / 8)
+    return float(
+        (machine.R_C + machine.R_B * abs(math.sin(B))) * dC**2 / 8 + machine.R_B * dB**2 / 8
+    )

@@ -15,9 +15,10 @@
 
 from __future__ import annotations
 
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from functools import lru_cache
-from typing import Any, Callable, Mapping, Sequence
+from typing import Any
 
 import numpy as np
 import sympy as sp
@@ -45,7 +46,9 @@ def to_plain(expr: Any, q: Sequence[sp.Function], t: sp.Symbol) -> Any:
     """Replace ``q''``, ``q'`` and ``q`` by plain symbols (second derivatives by ``*_dd``)."""
     qs, qds = plain_symbols(q)
     qdds = {qi.diff(t, 2): sp.Symbol(f"{qi.func}_dd", real=True) for qi in q}
-    return msubs(expr, qdds, {qi.diff(t): s for qi, s in zip(q, qds)}, {qi: s for qi, s in zip(q, qs)})
+    return msubs(
+        expr, qdds, {qi.diff(t): s for qi, s in zip(q, qds)}, {qi: s for qi, s in zip(q, qs)}
+    )
 
 
 @dataclass
@@ -78,11 +81,22 @@ class LagrangeModel:
         inputs: Sequence[sp.Symbol] = (),
         forcelist: Sequence[tuple[Any, Any]] | None = None,
         frame: Any = None,
-    ) -> "LagrangeModel":
+    ) -> LagrangeModel:
         L = T - U
-        lm = LagrangesMethod(L, list(q), forcelist=list(forcelist) if forcelist else None, frame=frame)
+        lm = LagrangesMethod(
+            L, list(q), forcelist=list(forcelist) if forcelist else None, frame=frame
+        )
         lm.form_lagranges_equations()
-        model = cls(list(q), t, list(params), list(inputs), L, lm, sp.Matrix(lm.mass_matrix), sp.Matrix(lm.forcing))
+        model = cls(
+            list(q),
+            t,
+            list(params),
+            list(inputs),
+            L,
+            lm,
+            sp.Matrix(lm.mass_matrix),
+            sp.Matrix(lm.forcing),
+        )
         model._lambdify()
         return model
 
@@ -127,12 +141,16 @@ class LagrangeModel:
 
     def G(self, q: Array, qd: Array, t: float, p: Array, u: Array) -> Array:
         """``dF/du``: how each input enters the generalized forces (virtual work)."""
-        return np.asarray(self._num["G"](q, qd, t, p, u), dtype=float).reshape(self.n, len(self.inputs))
+        return np.asarray(self._num["G"](q, qd, t, p, u), dtype=float).reshape(
+            self.n, len(self.inputs)
+        )
 
     def accelerations(self, q: Array, qd: Array, t: float, p: Array, u: Array) -> Array:
         return np.linalg.solve(self.M(q, qd, t, p, u), self.F(q, qd, t, p, u))
 
-    def rhs(self, p: Array, u_of_t: Callable[[float, Array, Array], Array]) -> Callable[[float, Array], Array]:
+    def rhs(
+        self, p: Array, u_of_t: Callable[[float, Array, Array], Array]
+    ) -> Callable[[float, Array], Array]:
         """``y = [q, q']`` -> ``y'`` for solve_ivp (forward problem)."""
         n = self.n
 
@@ -143,7 +161,16 @@ class LagrangeModel:
 
         return f
 
-    def solve_inputs(self, q: Array, qd: Array, qdd: Array, t: float, p: Array, u_known: Array, unknown: Sequence[int]) -> Array:
+    def solve_inputs(
+        self,
+        q: Array,
+        qd: Array,
+        qdd: Array,
+        t: float,
+        p: Array,
+        u_known: Array,
+        unknown: Sequence[int],
+    ) -> Array:
         """Inverse problem at one instant: the inputs ``unknown`` (indices into ``inputs``)
         that make ``M q'' = F`` hold; the other inputs keep ``u_known``.  Least squares
         (minimum norm) when the unknown inputs outnumber the equations."""
@@ -197,7 +224,7 @@ class ConstrainedSystem:
         f_hol: Sequence[sp.Expr] = (),
         a_nh: Sequence[Sequence[sp.Expr]] = (),
         a0_nh: Sequence[sp.Expr] = (),
-    ) -> "ConstrainedSystem":
+    ) -> ConstrainedSystem:
         qv, qdv = sp.Matrix(q), sp.Matrix(qd)
         f = sp.Matrix(list(f_hol))
         rows: list[sp.Matrix] = []
@@ -211,12 +238,29 @@ class ConstrainedSystem:
         # f'' = H q'' + d^2/ds^2 f(q + s q', t + s)|0 and g' = a q'' + d/ds g(q + s q', t + s)|0
         s = sp.Dummy("s")
         shift = {**{qi: qi + s * qdi for qi, qdi in zip(q, qd)}, t: t + s}
-        phi_rows = [sp.diff(sp.sympify(fi, strict=True).xreplace(shift), s, 2).subs(s, 0) for fi in f_hol]
+        phi_rows = [
+            sp.diff(sp.sympify(fi, strict=True).xreplace(shift), s, 2).subs(s, 0) for fi in f_hol
+        ]
         for row, a0 in zip(a_nh, a0_nh):
-            g = sum((sp.sympify(aij, strict=True) * qdj for aij, qdj in zip(row, qd)), sp.S.Zero) + sp.sympify(a0, strict=True)
+            g = sum(
+                (sp.sympify(aij, strict=True) * qdj for aij, qdj in zip(row, qd)), sp.S.Zero
+            ) + sp.sympify(a0, strict=True)
             phi_rows.append(sp.diff(g.xreplace(shift), s).subs(s, 0))
         Phi = sp.Matrix(phi_rows) if phi_rows else sp.zeros(0, 1)
-        sys_ = cls(list(q), list(qd), t, list(params), list(inputs), sp.Matrix(A), sp.Matrix(B), f, H, psi, sp.Matrix(Phi), len(f_hol))
+        sys_ = cls(
+            list(q),
+            list(qd),
+            t,
+            list(params),
+            list(inputs),
+            sp.Matrix(A),
+            sp.Matrix(B),
+            f,
+            H,
+            psi,
+            sp.Matrix(Phi),
+            len(f_hol),
+        )
         sys_._lambdify()
         return sys_
 
@@ -227,15 +271,23 @@ class ConstrainedSystem:
         f_hol: Sequence[sp.Expr] = (),
         a_nh: Sequence[Sequence[sp.Expr]] = (),
         a0_nh: Sequence[sp.Expr] = (),
-    ) -> "ConstrainedSystem":
+    ) -> ConstrainedSystem:
         """The opened system of a :class:`LagrangeModel`: ``A`` its mass matrix, ``B`` its
         forcing (generalized forces plus the velocity terms of ``T``); constraints are
         written in the model's ``q(t)`` functions or in plain symbols."""
         qs, qds = plain_symbols(model.q)
         conv = lambda e: model.plain(sp.sympify(e, strict=True))  # noqa: E731
         return cls.build(
-            qs, qds, model.t, model.plain(model.mass_matrix), model.plain(model.forcing), model.params, model.inputs,
-            [conv(e) for e in f_hol], [[conv(e) for e in r] for r in a_nh], [conv(e) for e in a0_nh],
+            qs,
+            qds,
+            model.t,
+            model.plain(model.mass_matrix),
+            model.plain(model.forcing),
+            model.params,
+            model.inputs,
+            [conv(e) for e in f_hol],
+            [[conv(e) for e in r] for r in a_nh],
+            [conv(e) for e in a0_nh],
         )
 
     @property
@@ -254,14 +306,38 @@ class ConstrainedSystem:
     def _eval(self, name: str, shape: tuple[int, int], *args: Any) -> Array:
         return np.asarray(self._num[name](*args), dtype=float).reshape(shape)
 
-    def parts(self, t: float, q: Array, qd: Array, p: Array, u: Array, names: Sequence[str] = ("A", "B", "f", "H", "psi", "Phi")) -> dict[str, Array]:
+    def parts(
+        self,
+        t: float,
+        q: Array,
+        qd: Array,
+        p: Array,
+        u: Array,
+        names: Sequence[str] = ("A", "B", "f", "H", "psi", "Phi"),
+    ) -> dict[str, Array]:
         """Numeric ``A, B, f, H, psi, Phi`` at one state (or the subset ``names``)."""
         n, v2 = self.n, self.v2
         a = (q, qd, t, p, u)
-        shapes = {"A": (n, n), "B": (n,), "f": (self.n_hol,), "H": (v2, n), "psi": (v2,), "Phi": (v2,)}
+        shapes = {
+            "A": (n, n),
+            "B": (n,),
+            "f": (self.n_hol,),
+            "H": (v2, n),
+            "psi": (v2,),
+            "Phi": (v2,),
+        }
         return {k: self._eval("f_hol" if k == "f" else k, shapes[k], *a) for k in names}
 
-    def solve(self, t: float, q: Array, qd: Array, p: Array, u: Array, alpha: float = 0.0, beta: float = 0.0) -> tuple[Array, Array]:
+    def solve(
+        self,
+        t: float,
+        q: Array,
+        qd: Array,
+        p: Array,
+        u: Array,
+        alpha: float = 0.0,
+        beta: float = 0.0,
+    ) -> tuple[Array, Array]:
         """Accelerations (2.34) and multipliers (2.33) at one state."""
         P = self.parts(t, q, qd, p, u)
         A, B, H = P["A"], P["B"], P["H"]
@@ -278,7 +354,13 @@ class ConstrainedSystem:
         lam = -np.linalg.solve(S, H @ AinvB + Phi)  # (2.33)
         return AinvB + AinvHT @ lam, lam  # (2.31)/(2.34)
 
-    def rhs(self, p: Array, u_of_t: Callable[[float, Array, Array], Array], alpha: float = 0.0, beta: float = 0.0) -> Callable[[float, Array], Array]:
+    def rhs(
+        self,
+        p: Array,
+        u_of_t: Callable[[float, Array, Array], Array],
+        alpha: float = 0.0,
+        beta: float = 0.0,
+    ) -> Callable[[float, Array], Array]:
         n = self.n
 
         def f(t: float, y: Array) -> Array:
@@ -293,7 +375,9 @@ class ConstrainedSystem:
         P = self.parts(t, q, qd, p, u, ("f", "H", "psi"))
         return P["f"], P["H"] @ qd + P["psi"]
 
-    def consistent_initial(self, t: float, q0: Array, qd0: Array, p: Array, u: Array, iters: int = 30) -> tuple[Array, Array]:
+    def consistent_initial(
+        self, t: float, q0: Array, qd0: Array, p: Array, u: Array, iters: int = 30
+    ) -> tuple[Array, Array]:
         """Positions projected onto (2.17) (Gauss-Newton), velocities onto (2.29)."""
         q = np.array(q0, dtype=float)
         qd = np.array(qd0, dtype=float)
@@ -313,12 +397,18 @@ class ConstrainedSystem:
 
 
 @lru_cache(maxsize=256)
-def _derivative_functions(exprs: tuple[sp.Expr, ...], t: sp.Symbol) -> tuple[tuple[Callable[..., Any], ...], ...]:
+def _derivative_functions(
+    exprs: tuple[sp.Expr, ...], t: sp.Symbol
+) -> tuple[tuple[Callable[..., Any], ...], ...]:
     """Numeric functions of the 0th, 1st and 2nd derivatives (built once per set of laws)."""
-    return tuple(tuple(sp.lambdify(t, sp.diff(e, t, k), modules="numpy") for e in exprs) for k in range(3))
+    return tuple(
+        tuple(sp.lambdify(t, sp.diff(e, t, k), modules="numpy") for e in exprs) for k in range(3)
+    )
 
 
-def formula_derivatives(exprs: Sequence[sp.Expr], t: sp.Symbol) -> Callable[[Array | float], tuple[Array, Array, Array]]:
+def formula_derivatives(
+    exprs: Sequence[sp.Expr], t: sp.Symbol
+) -> Callable[[Array | float], tuple[Array, Array, Array]]:
     """``t -> (q, q', q'')`` for motion laws typed as formulas (exact derivatives);
     each is an ``(n, *shape(t))`` array."""
     fns = _derivative_functions(tuple(exprs), t)
@@ -326,17 +416,32 @@ def formula_derivatives(exprs: Sequence[sp.Expr], t: sp.Symbol) -> Callable[[Arr
     def ev(tt: Array | float) -> tuple[Array, Array, Array]:
         shape = np.shape(tt)
         with np.errstate(all="ignore"):
-            return tuple(np.array([np.broadcast_to(np.asarray(f(tt), dtype=float), shape) for f in row], dtype=float) for row in fns)  # type: ignore[return-value]
+            return tuple(
+                np.array(
+                    [np.broadcast_to(np.asarray(f(tt), dtype=float), shape) for f in row],
+                    dtype=float,
+                )
+                for row in fns
+            )  # type: ignore[return-value]
 
     return ev
 
 
 def sample_formulas(formulas: Sequence[Any], t: Array) -> Array:
     """Evaluate formulas of t on samples: an ``(k, len(t))`` array."""
-    return np.array([np.broadcast_to(np.asarray(f(t), dtype=float), np.shape(t)) for f in formulas], dtype=float).reshape(len(formulas), -1)
+    return np.array(
+        [np.broadcast_to(np.asarray(f(t), dtype=float), np.shape(t)) for f in formulas], dtype=float
+    ).reshape(len(formulas), -1)
 
 
-def integrate(rhs: Callable[[float, Array], Array], y0: Array, t: Array, rtol: float = 1e-9, atol: float = 1e-11, method: str = "DOP853") -> tuple[Array, str]:
+def integrate(
+    rhs: Callable[[float, Array], Array],
+    y0: Array,
+    t: Array,
+    rtol: float = 1e-9,
+    atol: float = 1e-11,
+    method: str = "DOP853",
+) -> tuple[Array, str]:
     """solve_ivp on the sample times; returns ``(y (n, len(t)), message)``.  A failed run is
     padded with NaN after the last good sample and the message says where it stopped."""
     bad: list[float] = []
@@ -359,7 +464,16 @@ def integrate(rhs: Callable[[float, Array], Array], y0: Array, t: Array, rtol: f
         return -1.0 if bad else 1.0
 
     stop.terminal = True  # type: ignore[attr-defined]
-    sol = solve_ivp(guarded, (float(t[0]), float(t[-1])), np.asarray(y0, dtype=float), method=method, t_eval=t, rtol=rtol, atol=atol, events=stop)
+    sol = solve_ivp(
+        guarded,
+        (float(t[0]), float(t[-1])),
+        np.asarray(y0, dtype=float),
+        method=method,
+        t_eval=t,
+        rtol=rtol,
+        atol=atol,
+        events=stop,
+    )
     y = np.full((len(y0), len(t)), np.nan)
     k = sol.y.shape[1]
     if bad:
@@ -381,7 +495,15 @@ class OdeStepper(Stepper):
     ``set_params`` rebuilds ``rhs`` and keeps ``(t, y)``; ``reset`` restarts from ``y0``.
     """
 
-    def __init__(self, make: Callable[[Params], tuple[Array, Callable[[float, Array], Array], Callable[[float, Array], Frame]]], params: Params, rtol: float = 1e-8, method: str = "DOP853") -> None:
+    def __init__(
+        self,
+        make: Callable[
+            [Params], tuple[Array, Callable[[float, Array], Array], Callable[[float, Array], Frame]]
+        ],
+        params: Params,
+        rtol: float = 1e-8,
+        method: str = "DOP853",
+    ) -> None:
         self._make = make
         self._rtol = rtol
         self._method = method
@@ -403,20 +525,35 @@ class OdeStepper(Stepper):
 
     def advance(self, dt: float) -> Frame:
         if dt > 0 and not self._message:
+
             def guarded(tt: float, yy: Array) -> Array:
                 out = np.asarray(self._rhs(tt, yy), dtype=float)
                 if not np.all(np.isfinite(out)):
-                    raise FloatingPointError(f"the equations gave a non-finite value at t = {tt:.4g}")
+                    raise FloatingPointError(
+                        f"the equations gave a non-finite value at t = {tt:.4g}"
+                    )
                 return out
 
             try:
-                sol = solve_ivp(guarded, (self._t, self._t + dt), self._y, method=self._method, rtol=self._rtol, atol=self._rtol * 1e-2)
+                sol = solve_ivp(
+                    guarded,
+                    (self._t, self._t + dt),
+                    self._y,
+                    method=self._method,
+                    rtol=self._rtol,
+                    atol=self._rtol * 1e-2,
+                )
                 if sol.success and np.all(np.isfinite(sol.y[:, -1])):
                     self._y = sol.y[:, -1]
                     self._t = float(sol.t[-1])
                 else:
                     self._message = f"stopped at t = {self._t:.4g}: {sol.message}"
-            except (np.linalg.LinAlgError, ValueError, ZeroDivisionError, FloatingPointError) as exc:
+            except (
+                np.linalg.LinAlgError,
+                ValueError,
+                ZeroDivisionError,
+                FloatingPointError,
+            ) as exc:
                 self._message = f"stopped at t = {self._t:.4g}: {exc}"
         return self.frame()
 
@@ -463,11 +600,24 @@ def numerical_second_derivative(t: Array, qd: Array) -> Array:
     return np.gradient(qd, t, axis=-1, edge_order=2)
 
 
-def recover_inputs(model: LagrangeModel, t: Array, q: Array, qd: Array, p: Array, u_known: Array, unknown: Sequence[int]) -> Array:
+def recover_inputs(
+    model: LagrangeModel,
+    t: Array,
+    q: Array,
+    qd: Array,
+    p: Array,
+    u_known: Array,
+    unknown: Sequence[int],
+) -> Array:
     """Inverse problem on a sampled motion (e.g. a forward run): ``q''`` by differences of
     the sampled ``q'``, then the unknown inputs at every sample; ``(n_inputs, len(t))``."""
     qdd = numerical_second_derivative(t, qd)
-    return np.array([model.solve_inputs(q[:, k], qd[:, k], qdd[:, k], float(t[k]), p, u_known[:, k], unknown) for k in range(len(t))]).T
+    return np.array(
+        [
+            model.solve_inputs(q[:, k], qd[:, k], qdd[:, k], float(t[k]), p, u_known[:, k], unknown)
+            for k in range(len(t))
+        ]
+    ).T
 
 
 # ---------------------------------------------------------------- poses and meshes
@@ -499,27 +649,59 @@ def segment_pose(p0: Array, p1: Array) -> tuple[Array, Array]:
     return (p0 + p1) / 2, np.array([w, x, y, z])
 
 
-def mesh_item(name: str, mesh: trimesh.Trimesh, color: tuple[int, int, int] = (120, 160, 220), opacity: float = 1.0) -> MeshItem:
-    return MeshItem(name=name, vertices=np.asarray(mesh.vertices, dtype=float), faces=np.asarray(mesh.faces, dtype=np.int64), color=color, opacity=opacity)
+def mesh_item(
+    name: str,
+    mesh: trimesh.Trimesh,
+    color: tuple[int, int, int] = (120, 160, 220),
+    opacity: float = 1.0,
+) -> MeshItem:
+    return MeshItem(
+        name=name,
+        vertices=np.asarray(mesh.vertices, dtype=float),
+        faces=np.asarray(mesh.faces, dtype=np.int64),
+        color=color,
+        opacity=opacity,
+    )
 
 
-def box(name: str, extents: Sequence[float], color: tuple[int, int, int] = (120, 160, 220), center: Sequence[float] = (0, 0, 0), opacity: float = 1.0) -> MeshItem:
+def box(
+    name: str,
+    extents: Sequence[float],
+    color: tuple[int, int, int] = (120, 160, 220),
+    center: Sequence[float] = (0, 0, 0),
+    opacity: float = 1.0,
+) -> MeshItem:
     m = trimesh.creation.box(extents=list(extents))
     m.apply_translation(list(center))
     return mesh_item(name, m, color, opacity)
 
 
-def cylinder(name: str, radius: float, height: float, color: tuple[int, int, int] = (120, 160, 220), center: Sequence[float] = (0, 0, 0), sections: int = 32, opacity: float = 1.0) -> MeshItem:
+def cylinder(
+    name: str,
+    radius: float,
+    height: float,
+    color: tuple[int, int, int] = (120, 160, 220),
+    center: Sequence[float] = (0, 0, 0),
+    sections: int = 32,
+    opacity: float = 1.0,
+) -> MeshItem:
     m = trimesh.creation.cylinder(radius=radius, height=height, sections=sections)
     m.apply_translation(list(center))
     return mesh_item(name, m, color, opacity)
 
 
-def combine(name: str, meshes: Sequence[trimesh.Trimesh], color: tuple[int, int, int] = (120, 160, 220), opacity: float = 1.0) -> MeshItem:
+def combine(
+    name: str,
+    meshes: Sequence[trimesh.Trimesh],
+    color: tuple[int, int, int] = (120, 160, 220),
+    opacity: float = 1.0,
+) -> MeshItem:
     return mesh_item(name, trimesh.util.concatenate(list(meshes)), color, opacity)
 
 
-def bounds_of(points: Array, pad: float = 0.1) -> tuple[tuple[float, float, float], tuple[float, float, float]]:
+def bounds_of(
+    points: Array, pad: float = 0.1
+) -> tuple[tuple[float, float, float], tuple[float, float, float]]:
     """Axis-aligned bounds of finite points with a margin ``pad`` (relative, at least 0.05)."""
     pts = np.asarray(points, dtype=float).reshape(-1, 3)
     pts = pts[np.all(np.isfinite(pts), axis=1)]

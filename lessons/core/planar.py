@@ -29,8 +29,8 @@ x² + y² + Δxy exactly, a closed curve within ΔR/4 of the circle.
 
 from __future__ import annotations
 
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
-from typing import Callable, Mapping, Sequence
 
 import numpy as np
 import sympy as sp
@@ -47,7 +47,14 @@ MAX_DIGITAL_ITERATIONS = 400_000
 
 def conic_expr(a: Mapping[str, object], x: sp.Symbol = X, y: sp.Symbol = Y) -> sp.Expr:
     """F of (1.21) with coefficients ``a`` (numbers or symbols)."""
-    return a["a11"] * x**2 + 2 * a["a12"] * x * y + a["a22"] * y**2 + 2 * a["a13"] * x + 2 * a["a23"] * y + a["a33"]
+    return (
+        a["a11"] * x**2
+        + 2 * a["a12"] * x * y
+        + a["a22"] * y**2
+        + 2 * a["a13"] * x
+        + 2 * a["a23"] * y
+        + a["a33"]
+    )
 
 
 def _gain_values(gain: Formula | float, t: np.ndarray) -> np.ndarray:
@@ -69,7 +76,11 @@ class PlanarModel:
     gain: Formula | float = 1.0
 
     @classmethod
-    def of(cls, coeffs: Sequence[Mapping[str, float]] | Mapping[str, float], gain: Formula | float = 1.0) -> "PlanarModel":
+    def of(
+        cls,
+        coeffs: Sequence[Mapping[str, float]] | Mapping[str, float],
+        gain: Formula | float = 1.0,
+    ) -> PlanarModel:
         items = [coeffs] if isinstance(coeffs, Mapping) else list(coeffs)
         return cls({n: np.array([float(c.get(n, 0.0)) for c in items]) for n in CONIC_NAMES}, gain)
 
@@ -77,7 +88,7 @@ class PlanarModel:
     def size(self) -> int:
         return len(self.coeffs["a11"])
 
-    def through(self, r0: np.ndarray) -> "PlanarModel":
+    def through(self, r0: np.ndarray) -> PlanarModel:
         """The same analyzer with a33 chosen so that F(r0) = 0 (the level curve it traces)."""
         r0 = np.atleast_2d(r0)
         c = dict(self.coeffs)
@@ -88,13 +99,23 @@ class PlanarModel:
     def F(self, R: np.ndarray) -> np.ndarray:
         c = self.coeffs
         x, y = R[..., 0], R[..., 1]
-        return c["a11"] * x**2 + 2 * c["a12"] * x * y + c["a22"] * y**2 + 2 * c["a13"] * x + 2 * c["a23"] * y + c["a33"]
+        return (
+            c["a11"] * x**2
+            + 2 * c["a12"] * x * y
+            + c["a22"] * y**2
+            + 2 * c["a13"] * x
+            + 2 * c["a23"] * y
+            + c["a33"]
+        )
 
     def half_gradient(self, R: np.ndarray) -> np.ndarray:
         """(F_x/2, F_y/2) at ``R (..., N, 2)``."""
         c = self.coeffs
         x, y = R[..., 0], R[..., 1]
-        return np.stack([c["a11"] * x + c["a12"] * y + c["a13"], c["a12"] * x + c["a22"] * y + c["a23"]], axis=-1)
+        return np.stack(
+            [c["a11"] * x + c["a12"] * y + c["a13"], c["a12"] * x + c["a22"] * y + c["a23"]],
+            axis=-1,
+        )
 
     def scale(self, R: np.ndarray) -> float:
         """A natural size of F near ``R`` (for relative drift)."""
@@ -124,15 +145,25 @@ class PlanarModel:
         k = np.reshape(k, np.shape(k) + (1,) * (g.ndim - np.ndim(k)))
         return np.stack([k[..., 0] * g[..., 1], -k[..., 0] * g[..., 0]], axis=-1)
 
-    def equations(self, gain: sp.Expr | None = None, names: tuple[str, str] = ("x", "y")) -> list[sp.Eq]:
+    def equations(
+        self, gain: sp.Expr | None = None, names: tuple[str, str] = ("x", "y")
+    ) -> list[sp.Eq]:
         """dx/dt, dy/dt of the first member with its numbers (for display)."""
         k = gain_expr(self.gain) if gain is None else gain
         a = {n: sp.nsimplify(float(self.coeffs[n][0]), rational=True) for n in CONIC_NAMES}
         s1, s2 = (sp.Symbol(n, real=True) for n in names)
-        rows = (k * (a["a12"] * s1 + a["a22"] * s2 + a["a23"]), -k * (a["a11"] * s1 + a["a12"] * s2 + a["a13"]))
-        return [sp.Eq(sp.Derivative(sp.Function(n)(t_symbol), t_symbol), sp.expand(r)) for n, r in zip(names, rows)]
+        rows = (
+            k * (a["a12"] * s1 + a["a22"] * s2 + a["a23"]),
+            -k * (a["a11"] * s1 + a["a12"] * s2 + a["a13"]),
+        )
+        return [
+            sp.Eq(sp.Derivative(sp.Function(n)(t_symbol), t_symbol), sp.expand(r))
+            for n, r in zip(names, rows)
+        ]
 
-    def integrate(self, r0: np.ndarray, t_end: float, h: float = 1e-3, t0: float = 0.0, stages: int = 3) -> tuple[np.ndarray, np.ndarray]:
+    def integrate(
+        self, r0: np.ndarray, t_end: float, h: float = 1e-3, t0: float = 0.0, stages: int = 3
+    ) -> tuple[np.ndarray, np.ndarray]:
         """``t (m,)`` and states ``(m, N, 2)`` from ``r0 (N, 2)``; ``t_end < t0`` runs backwards."""
         r0 = np.atleast_2d(np.asarray(r0, dtype=float))
         if t_end >= t0:
@@ -192,7 +223,9 @@ class DigitalAnalyzer:
         """Advance ``iterations`` additions; returns positions ``(iterations, N, 2)`` and
         pulses emitted per iteration ``(iterations, N, 2)`` (signed integers)."""
         c = self.model.coeffs
-        a11, a12, a22, a13, a23 = (np.asarray(c[n], dtype=float) for n in ("a11", "a12", "a22", "a13", "a23"))
+        a11, a12, a22, a13, a23 = (
+            np.asarray(c[n], dtype=float) for n in ("a11", "a12", "a22", "a13", "a23")
+        )
         ts = (self.k + np.arange(iterations)) * self.delta
         kk = _gain_values(self.model.gain, ts) * self.delta
         q = float(self.pulse)
@@ -238,7 +271,9 @@ def radius_growth_per_turn(delta: float, mode: str) -> float:
     """Relative radius error of the digital circle (u = 1) after one turn [derived, not in source]:
     ``exp(πΔ) - 1 ≈ πΔ`` for the simple update; the improved one stays within ``Δ/4`` of R."""
     if mode == "simple":
-        return float(np.expm1(np.log1p(delta**2) * np.pi / delta))  # sqrt(1 + Δ²) per addition, 2π/Δ additions
+        return float(
+            np.expm1(np.log1p(delta**2) * np.pi / delta)
+        )  # sqrt(1 + Δ²) per addition, 2π/Δ additions
     return delta / 4.0
 
 

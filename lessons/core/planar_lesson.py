@@ -15,7 +15,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import sympy as sp
 
-from lessons.core.block_diagram import diagram_step, BlockDiagram, block_diagram
+from lessons.core.block_diagram import BlockDiagram, block_diagram, diagram_step
 from lessons.core.contract import (
     CurveItem,
     DerivationStep,
@@ -31,14 +31,56 @@ from lessons.core.contract import (
     Stepper,
 )
 from lessons.core.formula import Formula
-from lessons.core.planar import DIGITAL_MODES, MAX_DIGITAL_ITERATIONS, DigitalAnalyzer, PlanarModel, embed
+from lessons.core.planar import (
+    DIGITAL_MODES,
+    MAX_DIGITAL_ITERATIONS,
+    DigitalAnalyzer,
+    PlanarModel,
+    embed,
+)
 
 DIGITAL_PARAMS: tuple[Param, ...] = (
-    Param("digital", "choice", "off", "digital analyzer (1.25)", choices=DIGITAL_MODES, group="method",
-          help="replace integration by successive additions: simple (Euler) or improved (the y addition uses the new x)"),
-    Param("delta", "float", 0.01, "quantum Δ of the argument", unit="s", min=1e-5, max=0.5, step=0.001, group="method"),
-    Param("pulse", "float", 0.01, "step pulse length (0: no position quantization)", min=0.0, max=100.0, step=0.001, group="method"),
-    Param("h", "float", 1e-3, "step h (continuous run)", unit="s", min=1e-5, max=0.1, step=1e-4, group="method"),
+    Param(
+        "digital",
+        "choice",
+        "off",
+        "digital analyzer (1.25)",
+        choices=DIGITAL_MODES,
+        group="method",
+        help="replace integration by successive additions: simple (Euler) or improved (the y addition uses the new x)",
+    ),
+    Param(
+        "delta",
+        "float",
+        0.01,
+        "quantum Δ of the argument",
+        unit="s",
+        min=1e-5,
+        max=0.5,
+        step=0.001,
+        group="method",
+    ),
+    Param(
+        "pulse",
+        "float",
+        0.01,
+        "step pulse length (0: no position quantization)",
+        min=0.0,
+        max=100.0,
+        step=0.001,
+        group="method",
+    ),
+    Param(
+        "h",
+        "float",
+        1e-3,
+        "step h (continuous run)",
+        unit="s",
+        min=1e-5,
+        max=0.1,
+        step=1e-4,
+        group="method",
+    ),
 )
 MAX_SAMPLES = 4001
 
@@ -92,13 +134,45 @@ class PlanarLesson(Lesson):
         x, y = sp.symbols("x y")
         w, phi = sp.Symbol("ω"), sp.Symbol("φ")
         return [
-            DerivationStep("The plane conic", "", sp.Eq(a["a11"] * x**2 + 2 * a["a12"] * x * y + a["a22"] * y**2 + 2 * a["a13"] * x + 2 * a["a23"] * y + a["a33"], 0), "(1.21)"),
-            DerivationStep("Its slope", "Differentiating (1.21) along the curve.",
-                           sp.Eq(sp.Symbol("dy/dx"), -(a["a11"] * x + a["a12"] * y + a["a13"]) / (a["a12"] * x + a["a22"] * y + a["a23"])), "(1.29)"),
-            DerivationStep("The conic analyzer", "Numerator and denominator of (1.29) become the two integrator inputs; ω sets speed and direction.",
-                           [sp.Eq(sp.Symbol("dx/dφ"), w * (a["a12"] * x + a["a22"] * y + a["a23"])),
-                            sp.Eq(sp.Symbol("dy/dφ"), -w * (a["a11"] * x + a["a12"] * y + a["a13"]))], "(1.30)"),
-            DerivationStep("The argument", "The control action: the argument runs at rate ω.", sp.Eq(sp.Symbol("dφ"), w * sp.Symbol("dt")), "(1.31)"),
+            DerivationStep(
+                "The plane conic",
+                "",
+                sp.Eq(
+                    a["a11"] * x**2
+                    + 2 * a["a12"] * x * y
+                    + a["a22"] * y**2
+                    + 2 * a["a13"] * x
+                    + 2 * a["a23"] * y
+                    + a["a33"],
+                    0,
+                ),
+                "(1.21)",
+            ),
+            DerivationStep(
+                "Its slope",
+                "Differentiating (1.21) along the curve.",
+                sp.Eq(
+                    sp.Symbol("dy/dx"),
+                    -(a["a11"] * x + a["a12"] * y + a["a13"])
+                    / (a["a12"] * x + a["a22"] * y + a["a23"]),
+                ),
+                "(1.29)",
+            ),
+            DerivationStep(
+                "The conic analyzer",
+                "Numerator and denominator of (1.29) become the two integrator inputs; ω sets speed and direction.",
+                [
+                    sp.Eq(sp.Symbol("dx/dφ"), w * (a["a12"] * x + a["a22"] * y + a["a23"])),
+                    sp.Eq(sp.Symbol("dy/dφ"), -w * (a["a11"] * x + a["a12"] * y + a["a13"])),
+                ],
+                "(1.30)",
+            ),
+            DerivationStep(
+                "The argument",
+                "The control action: the argument runs at rate ω.",
+                sp.Eq(sp.Symbol("dφ"), w * sp.Symbol("dt")),
+                "(1.31)",
+            ),
         ]
 
     def digital_derivation(self, params: Params) -> list[DerivationStep]:
@@ -106,10 +180,21 @@ class PlanarLesson(Lesson):
         dx, dy, dz = sp.symbols("dx dy dz")
         Dx, Dy, Dz = sp.symbols("Δx Δy Δz")
         steps = [
-            DerivationStep("Integration by successive additions", "A digital device replaces the integrator by sums (the digital differential analyzer).",
-                           [sp.Eq(y, y0 + sp.Integral(1, y), evaluate=False), sp.Eq(dz, c * y * dx)], "(1.24)"),
-            DerivationStep("The digital integrator", "Separate inputs for the integrand increment Δy and the argument increment Δx; the output is Δz.",
-                           [sp.Eq(y, y0 + sp.Sum(Dy, (sp.Symbol("k"), 1, sp.Symbol("n")))), sp.Eq(Dz, c * y * Dx)], "(1.25)"),
+            DerivationStep(
+                "Integration by successive additions",
+                "A digital device replaces the integrator by sums (the digital differential analyzer).",
+                [sp.Eq(y, y0 + sp.Integral(1, y), evaluate=False), sp.Eq(dz, c * y * dx)],
+                "(1.24)",
+            ),
+            DerivationStep(
+                "The digital integrator",
+                "Separate inputs for the integrand increment Δy and the argument increment Δx; the output is Δz.",
+                [
+                    sp.Eq(y, y0 + sp.Sum(Dy, (sp.Symbol("k"), 1, sp.Symbol("n")))),
+                    sp.Eq(Dz, c * y * Dx),
+                ],
+                "(1.25)",
+            ),
         ]
         mode = params["digital"] if "digital" in params else "off"
         n = sp.Symbol("n")
@@ -119,15 +204,23 @@ class PlanarLesson(Lesson):
         a = {nm: sp.Symbol(nm) for nm in ("a11", "a12", "a22", "a13", "a23")}
         if mode != "off":
             second_x = xs1 if mode == "improved" else xs
-            steps.append(DerivationStep(
-                f"The {mode} update",
-                ("Both additions use the old coordinates (Euler): a circle spirals out by about πΔR per turn."
-                 if mode == "simple" else
-                 "The second addition uses the x just updated (symplectic Euler): on the circle x² + y² + Δxy is kept exactly, the error stays within ΔR/4.")
-                + " Each coordinate emits a step pulse whenever its remainder register passes half a pulse length.",
-                [sp.Eq(xs1, xs + k * D * (a["a12"] * xs + a["a22"] * ys + a["a23"])),
-                 sp.Eq(ys1, ys - k * D * (a["a11"] * second_x + a["a12"] * ys + a["a13"]))],
-                "(1.25) applied to (1.30)", reconstructed="derived, not in source: the source gives the digital integrator (1.25) only"))
+            steps.append(
+                DerivationStep(
+                    f"The {mode} update",
+                    (
+                        "Both additions use the old coordinates (Euler): a circle spirals out by about πΔR per turn."
+                        if mode == "simple"
+                        else "The second addition uses the x just updated (symplectic Euler): on the circle x² + y² + Δxy is kept exactly, the error stays within ΔR/4."
+                    )
+                    + " Each coordinate emits a step pulse whenever its remainder register passes half a pulse length.",
+                    [
+                        sp.Eq(xs1, xs + k * D * (a["a12"] * xs + a["a22"] * ys + a["a23"])),
+                        sp.Eq(ys1, ys - k * D * (a["a11"] * second_x + a["a12"] * ys + a["a13"])),
+                    ],
+                    "(1.25) applied to (1.30)",
+                    reconstructed="derived, not in source: the source gives the digital integrator (1.25) only",
+                )
+            )
         return steps
 
     def extra_derivation(self, params: Params, prepared: PlanarPrepared) -> list[DerivationStep]:
@@ -135,8 +228,12 @@ class PlanarLesson(Lesson):
 
     def derivation(self, params: Params) -> list[DerivationStep]:
         prepared = self.prepare(params)
-        return [*self.general_derivation(params), *self.extra_derivation(params, prepared), self.block_diagram_step(params, prepared),
-                *self.digital_derivation(params)]
+        return [
+            *self.general_derivation(params),
+            *self.extra_derivation(params, prepared),
+            self.block_diagram_step(params, prepared),
+            *self.digital_derivation(params),
+        ]
 
     #: The textbook figure the block diagram corresponds to.
     block_figure: str = "Fig. 1.5 notation"
@@ -145,17 +242,33 @@ class PlanarLesson(Lesson):
         """The equations the diagram is drawn from: the integrated ones, a time-varying gain as the control u."""
         g = prepared.model.gain
         const = not isinstance(g, Formula) or g.is_constant
-        gain = (sp.nsimplify(float(g.value(0.0)) if isinstance(g, Formula) else float(g), rational=True)) if const else sp.Symbol("u", real=True)
+        gain = (
+            (
+                sp.nsimplify(
+                    float(g.value(0.0)) if isinstance(g, Formula) else float(g), rational=True
+                )
+            )
+            if const
+            else sp.Symbol("u", real=True)
+        )
         return prepared.model.equations(gain, self.axis_names())
 
     def block_diagram(self, params: Params, prepared: PlanarPrepared | None = None) -> BlockDiagram:
         """The analyzer's block diagram (Fig. 1.5 notation) built from :meth:`diagram_equations`."""
         prepared = self.prepare(params) if prepared is None else prepared
-        return block_diagram(self.diagram_equations(params, prepared), signals=("u",), title=f"{self.problem}: analyzer block diagram")
+        return block_diagram(
+            self.diagram_equations(params, prepared),
+            signals=("u",),
+            title=f"{self.problem}: analyzer block diagram",
+        )
 
     def block_diagram_step(self, params: Params, prepared) -> DerivationStep:
         """The diagram as a derivation step: ``svg`` is the self-contained SVG (escaped labels, no scripts)."""
-        return diagram_step(self.block_diagram(params, prepared), self.block_figure, "the wiring is generated from the equations; the figure's layout is not reproduced")
+        return diagram_step(
+            self.block_diagram(params, prepared),
+            self.block_figure,
+            "the wiring is generated from the equations; the figure's layout is not reproduced",
+        )
 
     def validate(self, params: Params) -> None:
         for name in ("u",):
@@ -185,7 +298,9 @@ class PlanarLesson(Lesson):
             n_it = int(np.ceil(t_end / delta - 1e-9))
             if n_it > MAX_DIGITAL_ITERATIONS:
                 n_it = MAX_DIGITAL_ITERATIONS
-                messages.append(f"the digital run is limited to {MAX_DIGITAL_ITERATIONS} additions: it stops at t = {n_it * delta:.4g}")
+                messages.append(
+                    f"the digital run is limited to {MAX_DIGITAL_ITERATIONS} additions: it stops at t = {n_it * delta:.4g}"
+                )
             dda = DigitalAnalyzer(model, r0, delta, float(params["pulse"]), mode)
             pos, pul = dda.run(n_it)
             pos = np.concatenate([r0[None], pos])
@@ -207,14 +322,16 @@ class PlanarLesson(Lesson):
                 series["ny" + sfx] = counts[:, k, 1].astype(float)
                 series["dda_error" + sfx] = err[:, k]
             scaleF = model.scale(pos)
-            metrics.update({
-                "dda_error_max": float(err.max()),
-                "dda_error_end": float(err[-1, 0]),
-                "dda_level_error_max": float(np.abs(model.F(pos)).max() / scaleF),
-                "pulses_x": int(np.abs(pul[..., 0]).sum()),
-                "pulses_y": int(np.abs(pul[..., 1]).sum()),
-                "additions": n_it,
-            })
+            metrics.update(
+                {
+                    "dda_error_max": float(err.max()),
+                    "dda_error_end": float(err[-1, 0]),
+                    "dda_level_error_max": float(np.abs(model.F(pos)).max() / scaleF),
+                    "pulses_x": int(np.abs(pul[..., 0]).sum()),
+                    "pulses_y": int(np.abs(pul[..., 1]).sum()),
+                    "additions": n_it,
+                }
+            )
         v = model.velocity(t, r)
         r3, v3 = embed(r, self.plane), embed(v, self.plane)
         for k in range(r.shape[1]):
@@ -226,12 +343,19 @@ class PlanarLesson(Lesson):
         F = model.F(r)
         scale = model.scale(r)
         series["drift"] = np.abs(F).max(axis=1) / scale
-        metrics.update({"invariant_drift_max": float(np.abs(F).max()), "invariant_drift_rel": float(np.abs(F).max() / scale),
-                        "speed_max": float(np.linalg.norm(v, axis=-1).max())})
+        metrics.update(
+            {
+                "invariant_drift_max": float(np.abs(F).max()),
+                "invariant_drift_rel": float(np.abs(F).max() / scale),
+                "speed_max": float(np.linalg.norm(v, axis=-1).max()),
+            }
+        )
         metrics.update(self.extra_metrics(params, prep, t, r, v))
         return RunResult(self.id, None, params.raw(), t, series, metrics, messages)
 
-    def extra_metrics(self, params: Params, prep: PlanarPrepared, t: np.ndarray, r: np.ndarray, v: np.ndarray) -> dict[str, object]:
+    def extra_metrics(
+        self, params: Params, prep: PlanarPrepared, t: np.ndarray, r: np.ndarray, v: np.ndarray
+    ) -> dict[str, object]:
         return {}
 
     def stepper(self, params: Params) -> Stepper:
@@ -246,7 +370,14 @@ class PlanarLesson(Lesson):
             t, r = prep.model.integrate(prep.r0, sgn * T, max(float(params["h"]), T / 4000))
             pts.append(r.reshape(-1, 2))
             for k in range(r.shape[1]):
-                curves.append(CurveItem(f"level-curve-{'fwd' if sgn > 0 else 'back'}-{k + 1}", embed(r[:, k], self.plane), (60, 60, 60), 1.5))
+                curves.append(
+                    CurveItem(
+                        f"level-curve-{'fwd' if sgn > 0 else 'back'}-{k + 1}",
+                        embed(r[:, k], self.plane),
+                        (60, 60, 60),
+                        1.5,
+                    )
+                )
         allp = np.concatenate(pts)
         allp = allp[np.all(np.isfinite(allp), axis=1)]
         lo2, hi2 = allp.min(axis=0), allp.max(axis=0)
@@ -261,7 +392,15 @@ class PlanarLesson(Lesson):
         return SceneSpec(
             bounds=(tuple(map(float, lo3)), tuple(map(float, hi3))),
             curves=curves,
-            markers=[MarkerItem("start", embed(prep.r0, self.plane), (230, 80, 60), 0.02 * float(np.max(hi2 - lo2)), "start")],
+            markers=[
+                MarkerItem(
+                    "start",
+                    embed(prep.r0, self.plane),
+                    (230, 80, 60),
+                    0.02 * float(np.max(hi2 - lo2)),
+                    "start",
+                )
+            ],
             moving_points=moving,
             moving_vectors={"velocity": (30, 120, 30), "gradient": (60, 60, 200)},
             planar=True,
@@ -296,9 +435,16 @@ class PlanarStepper(Stepper):
         mode = params["digital"]
         if mode == "off":
             self.dda = None
-        elif self.dda is None or self.dda.mode != mode or self.dda.delta != float(params["delta"]) or self.dda.pulse != float(params["pulse"]):
+        elif (
+            self.dda is None
+            or self.dda.mode != mode
+            or self.dda.delta != float(params["delta"])
+            or self.dda.pulse != float(params["pulse"])
+        ):
             start = self.R if hasattr(self, "R") else prep.r0
-            self.dda = DigitalAnalyzer(prep.model, start, float(params["delta"]), float(params["pulse"]), mode)
+            self.dda = DigitalAnalyzer(
+                prep.model, start, float(params["delta"]), float(params["pulse"]), mode
+            )
             self.dda.k = int(round(self._t / float(params["delta"])))
         else:
             self.dda.model = prep.model
@@ -308,7 +454,9 @@ class PlanarStepper(Stepper):
         self.prep = self.lesson.prepare(self.params)
         self.R = self.prep.r0.copy()
         if self.dda is not None:
-            self.dda = DigitalAnalyzer(self.prep.model, self.prep.r0, self.dda.delta, self.dda.pulse, self.dda.mode)
+            self.dda = DigitalAnalyzer(
+                self.prep.model, self.prep.r0, self.dda.delta, self.dda.pulse, self.dda.mode
+            )
         return self.frame()
 
     def advance(self, dt: float) -> Frame:
@@ -332,13 +480,30 @@ class PlanarStepper(Stepper):
         p3 = embed(self.R, plane)
         drift = float(np.max(np.abs(model.F(self.R)))) / model.scale(self.R)
         v3 = embed(v, plane)
-        scalars = {"x": float(p3[0, 0]), "y": float(p3[0, 1]), "z": float(p3[0, 2]),
-                   "vx": float(v3[0, 0]), "vy": float(v3[0, 1]), "vz": float(v3[0, 2]), "drift": drift}
+        scalars = {
+            "x": float(p3[0, 0]),
+            "y": float(p3[0, 1]),
+            "z": float(p3[0, 2]),
+            "vx": float(v3[0, 0]),
+            "vy": float(v3[0, 1]),
+            "vz": float(v3[0, 2]),
+            "drift": drift,
+        }
         points = {"point": p3}
-        message = "" if np.any(np.linalg.norm(v, axis=-1) > 0) else "the analyzer field is zero here: the point does not move"
+        message = (
+            ""
+            if np.any(np.linalg.norm(v, axis=-1) > 0)
+            else "the analyzer field is zero here: the point does not move"
+        )
         if self.dda is not None:
             pos = self.dda.position
             points["digital"] = embed(pos, plane)
             scalars["dda_error"] = float(np.linalg.norm(pos[0] - self.R[0]))
             scalars["nx"], scalars["ny"] = float(self.dda.n[0, 0]), float(self.dda.n[0, 1])
-        return Frame(t=self._t, points=points, vectors={"velocity": (p3, v3), "gradient": (p3, embed(g, plane))}, scalars=scalars, message=message)
+        return Frame(
+            t=self._t,
+            points=points,
+            vectors={"velocity": (p3, v3), "gradient": (p3, embed(g, plane))},
+            scalars=scalars,
+            message=message,
+        )

@@ -174,7 +174,9 @@ def speed_profile(S_l: float, v0: float, Delta0: float, Delta1: float) -> SpeedP
     if L > 0:
         Delta = L / v0
         T = Delta0 + Delta + Delta1
-        return SpeedProfile("trapezoid", S_l, v0, Delta0, Delta1, L, Delta, T, Delta0, T, v0, k1, k2)
+        return SpeedProfile(
+            "trapezoid", S_l, v0, Delta0, Delta1, L, Delta, T, Delta0, T, v0, k1, k2
+        )
     v1 = math.sqrt(2 * S_l * v0 / (Delta0 + Delta1))
     t1 = v1 * Delta0 / v0
     tau = v1 * (Delta0 + Delta1) / v0
@@ -190,10 +192,21 @@ def triangle_symbolic() -> dict[str, sp.Expr]:
 def _triangle_symbolic() -> tuple[tuple[str, sp.Expr], ...]:
     S, k1, k2 = sp.symbols("S_l k_1 k_2", positive=True)
     t1, tau, v1 = sp.symbols("t_1 tau v_1", positive=True)
-    sol = sp.solve([sp.Eq(v1, k1 * t1), sp.Eq(v1, k2 * (tau - t1)), sp.Eq(v1 * tau / 2, S)], [t1, tau, v1], dict=True)
+    sol = sp.solve(
+        [sp.Eq(v1, k1 * t1), sp.Eq(v1, k2 * (tau - t1)), sp.Eq(v1 * tau / 2, S)],
+        [t1, tau, v1],
+        dict=True,
+    )
     if len(sol) != 1:
         raise RuntimeError(f"expected one positive solution, got {sol}")
     return tuple((str(k), v) for k, v in sol[0].items())
 
 
-__all__ = ["ProfileKind", "SpeedProfile", "speed_profile", "trapezoid_L", "triangle_1_9", "triangle_symbolic"]
+__all__ = [
+    "ProfileKind",
+    "SpeedProfile",
+    "speed_profile",
+    "trapezoid_L",
+    "triangle_1_9",
+    "triangle_symbolic",
+]

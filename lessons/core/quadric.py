@@ -22,15 +22,27 @@ private helpers at the end and is shared with :mod:`lessons.core.conic`.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from fractions import Fraction
 from functools import cached_property, lru_cache
-from typing import Any, Callable, Sequence
+from typing import Any
 
 import numpy as np
 import sympy as sp
 
-COEFF_NAMES: tuple[str, ...] = ("a11", "a22", "a33", "a12", "a23", "a31", "a14", "a24", "a34", "a44")
+COEFF_NAMES: tuple[str, ...] = (
+    "a11",
+    "a22",
+    "a33",
+    "a12",
+    "a23",
+    "a31",
+    "a14",
+    "a24",
+    "a34",
+    "a44",
+)
 
 Vec3 = Sequence[float]
 Bounds = tuple[tuple[float, float, float], tuple[float, float, float]]
@@ -140,10 +152,10 @@ class SurfaceType:
     title: str
     params: tuple[str, ...]
     defaults: dict[str, float]
-    build: Callable[..., "Quadric"]
+    build: Callable[..., Quadric]
     equation: str = ""
 
-    def __call__(self, *args: Any, **kwargs: Any) -> "Quadric":
+    def __call__(self, *args: Any, **kwargs: Any) -> Quadric:
         return self.build(*args, **kwargs)
 
 
@@ -169,7 +181,9 @@ class Quadric:
             try:
                 v = float(getattr(self, n))
             except (TypeError, ValueError):
-                raise ValueError(f"coefficient {n} must be a number, got {getattr(self, n)!r}") from None
+                raise ValueError(
+                    f"coefficient {n} must be a number, got {getattr(self, n)!r}"
+                ) from None
             if not math.isfinite(v):
                 bad.append(f"{n}={v}")
             object.__setattr__(self, n, v)
@@ -178,7 +192,7 @@ class Quadric:
 
     # ------------------------------------------------------------------ constructors
     @classmethod
-    def from_coeffs(cls, label: str = "", **coeffs: float) -> "Quadric":
+    def from_coeffs(cls, label: str = "", **coeffs: float) -> Quadric:
         """Build from named coefficients (missing ones are 0).
 
         Unknown names raise ValueError naming them (e.g. ``a13``: the textbook's xz
@@ -193,7 +207,9 @@ class Quadric:
         return cls(**{k: float(v) for k, v in coeffs.items()}, label=label)
 
     @classmethod
-    def from_matrices(cls, Q: np.ndarray, b: Vec3 = (0, 0, 0), c: float = 0.0, label: str = "") -> "Quadric":
+    def from_matrices(
+        cls, Q: np.ndarray, b: Vec3 = (0, 0, 0), c: float = 0.0, label: str = ""
+    ) -> Quadric:
         """Build from F = rᵀQr + 2bᵀr + c (Q is symmetrised)."""
         Q = np.asarray(Q, dtype=float)
         if Q.shape != (3, 3):
@@ -201,106 +217,157 @@ class Quadric:
         Q = 0.5 * (Q + Q.T)
         b = np.asarray(b, dtype=float).reshape(3)
         return cls(
-            a11=Q[0, 0], a22=Q[1, 1], a33=Q[2, 2], a12=Q[0, 1], a23=Q[1, 2], a31=Q[0, 2],
-            a14=b[0], a24=b[1], a34=b[2], a44=float(c), label=label,
+            a11=Q[0, 0],
+            a22=Q[1, 1],
+            a33=Q[2, 2],
+            a12=Q[0, 1],
+            a23=Q[1, 2],
+            a31=Q[0, 2],
+            a14=b[0],
+            a24=b[1],
+            a34=b[2],
+            a44=float(c),
+            label=label,
         )
 
     @classmethod
-    def _canonical(cls, diag: Vec3, lin: Vec3, const: float, center: Vec3, label: str) -> "Quadric":
+    def _canonical(cls, diag: Vec3, lin: Vec3, const: float, center: Vec3, label: str) -> Quadric:
         q = cls.from_matrices(np.diag(diag), lin, const, label=label)
         return q.translated(_center3(center)) if np.any(_center3(center)) else q
 
     @classmethod
-    def sphere(cls, R: float = 1.0, center: Vec3 = (0, 0, 0)) -> "Quadric":
+    def sphere(cls, R: float = 1.0, center: Vec3 = (0, 0, 0)) -> Quadric:
         """x² + y² + z² - R² = 0 (shifted to ``center``)."""
         R = _positive("R", R)
-        return cls._canonical((1, 1, 1), (0, 0, 0), -R * R, center, f"sphere R={_fmt(R)}{_at(center)}")
+        return cls._canonical(
+            (1, 1, 1), (0, 0, 0), -R * R, center, f"sphere R={_fmt(R)}{_at(center)}"
+        )
 
     @classmethod
-    def ellipsoid(cls, a: float = 3.0, b: float = 2.0, c: float = 1.0, center: Vec3 = (0, 0, 0)) -> "Quadric":
+    def ellipsoid(
+        cls, a: float = 3.0, b: float = 2.0, c: float = 1.0, center: Vec3 = (0, 0, 0)
+    ) -> Quadric:
         """x²/a² + y²/b² + z²/c² - 1 = 0 (the form of (1.63))."""
         a, b, c = _positive("a", a), _positive("b", b), _positive("c", c)
         return cls._canonical(
-            (1 / a**2, 1 / b**2, 1 / c**2), (0, 0, 0), -1.0, center,
+            (1 / a**2, 1 / b**2, 1 / c**2),
+            (0, 0, 0),
+            -1.0,
+            center,
             f"ellipsoid a={_fmt(a)}, b={_fmt(b)}, c={_fmt(c)}{_at(center)}",
         )
 
     @classmethod
-    def elliptic_cylinder(cls, a: float = 1.0, b: float = 1.0, center: Vec3 = (0, 0, 0)) -> "Quadric":
+    def elliptic_cylinder(cls, a: float = 1.0, b: float = 1.0, center: Vec3 = (0, 0, 0)) -> Quadric:
         """x²/a² + y²/b² - 1 = 0, axis z."""
         a, b = _positive("a", a), _positive("b", b)
         return cls._canonical(
-            (1 / a**2, 1 / b**2, 0), (0, 0, 0), -1.0, center,
+            (1 / a**2, 1 / b**2, 0),
+            (0, 0, 0),
+            -1.0,
+            center,
             f"elliptic cylinder a={_fmt(a)}, b={_fmt(b)}{_at(center)}",
         )
 
     @classmethod
-    def elliptic_cone(cls, a: float = 1.0, b: float = 1.0, c: float = 1.0, center: Vec3 = (0, 0, 0)) -> "Quadric":
+    def elliptic_cone(
+        cls, a: float = 1.0, b: float = 1.0, c: float = 1.0, center: Vec3 = (0, 0, 0)
+    ) -> Quadric:
         """x²/a² + y²/b² - z²/c² = 0, apex at ``center``, axis z."""
         a, b, c = _positive("a", a), _positive("b", b), _positive("c", c)
         return cls._canonical(
-            (1 / a**2, 1 / b**2, -1 / c**2), (0, 0, 0), 0.0, center,
+            (1 / a**2, 1 / b**2, -1 / c**2),
+            (0, 0, 0),
+            0.0,
+            center,
             f"elliptic cone a={_fmt(a)}, b={_fmt(b)}, c={_fmt(c)}{_at(center)}",
         )
 
     @classmethod
-    def elliptic_paraboloid(cls, a: float = 1.0, b: float = 1.0, center: Vec3 = (0, 0, 0)) -> "Quadric":
+    def elliptic_paraboloid(
+        cls, a: float = 1.0, b: float = 1.0, center: Vec3 = (0, 0, 0)
+    ) -> Quadric:
         """z = x²/a² + y²/b², i.e. x²/a² + y²/b² - z = 0 (a34 = -1/2); vertex at ``center``."""
         a, b = _positive("a", a), _positive("b", b)
         return cls._canonical(
-            (1 / a**2, 1 / b**2, 0), (0, 0, -0.5), 0.0, center,
+            (1 / a**2, 1 / b**2, 0),
+            (0, 0, -0.5),
+            0.0,
+            center,
             f"elliptic paraboloid a={_fmt(a)}, b={_fmt(b)}{_at(center)}",
         )
 
     @classmethod
-    def hyperbolic_paraboloid(cls, a: float = 1.0, b: float = 1.0, center: Vec3 = (0, 0, 0)) -> "Quadric":
+    def hyperbolic_paraboloid(
+        cls, a: float = 1.0, b: float = 1.0, center: Vec3 = (0, 0, 0)
+    ) -> Quadric:
         """z = x²/a² - y²/b² (saddle), i.e. x²/a² - y²/b² - z = 0; saddle point at ``center``."""
         a, b = _positive("a", a), _positive("b", b)
         return cls._canonical(
-            (1 / a**2, -1 / b**2, 0), (0, 0, -0.5), 0.0, center,
+            (1 / a**2, -1 / b**2, 0),
+            (0, 0, -0.5),
+            0.0,
+            center,
             f"hyperbolic paraboloid a={_fmt(a)}, b={_fmt(b)}{_at(center)}",
         )
 
     @classmethod
     def hyperboloid_one_sheet(
         cls, a: float = 1.0, b: float = 1.0, c: float = 1.0, center: Vec3 = (0, 0, 0)
-    ) -> "Quadric":
+    ) -> Quadric:
         """x²/a² + y²/b² - z²/c² - 1 = 0, axis z."""
         a, b, c = _positive("a", a), _positive("b", b), _positive("c", c)
         return cls._canonical(
-            (1 / a**2, 1 / b**2, -1 / c**2), (0, 0, 0), -1.0, center,
+            (1 / a**2, 1 / b**2, -1 / c**2),
+            (0, 0, 0),
+            -1.0,
+            center,
             f"hyperboloid of one sheet a={_fmt(a)}, b={_fmt(b)}, c={_fmt(c)}{_at(center)}",
         )
 
     @classmethod
     def hyperboloid_two_sheets(
         cls, a: float = 1.0, b: float = 1.0, c: float = 1.0, center: Vec3 = (0, 0, 0)
-    ) -> "Quadric":
+    ) -> Quadric:
         """x²/a² + y²/b² - z²/c² + 1 = 0, axis z (sheets z >= c and z <= -c)."""
         a, b, c = _positive("a", a), _positive("b", b), _positive("c", c)
         return cls._canonical(
-            (1 / a**2, 1 / b**2, -1 / c**2), (0, 0, 0), 1.0, center,
+            (1 / a**2, 1 / b**2, -1 / c**2),
+            (0, 0, 0),
+            1.0,
+            center,
             f"hyperboloid of two sheets a={_fmt(a)}, b={_fmt(b)}, c={_fmt(c)}{_at(center)}",
         )
 
     # degenerate types (not in CONSTRUCTORS; handy for tests and demonstrations)
     @classmethod
-    def hyperbolic_cylinder(cls, a: float = 1.0, b: float = 1.0, center: Vec3 = (0, 0, 0)) -> "Quadric":
+    def hyperbolic_cylinder(
+        cls, a: float = 1.0, b: float = 1.0, center: Vec3 = (0, 0, 0)
+    ) -> Quadric:
         """x²/a² - y²/b² - 1 = 0, axis z."""
         a, b = _positive("a", a), _positive("b", b)
         return cls._canonical(
-            (1 / a**2, -1 / b**2, 0), (0, 0, 0), -1.0, center,
+            (1 / a**2, -1 / b**2, 0),
+            (0, 0, 0),
+            -1.0,
+            center,
             f"hyperbolic cylinder a={_fmt(a)}, b={_fmt(b)}{_at(center)}",
         )
 
     @classmethod
-    def parabolic_cylinder(cls, a: float = 1.0, center: Vec3 = (0, 0, 0)) -> "Quadric":
+    def parabolic_cylinder(cls, a: float = 1.0, center: Vec3 = (0, 0, 0)) -> Quadric:
         """z = x²/a², rulings along y."""
         a = _positive("a", a)
-        return cls._canonical((1 / a**2, 0, 0), (0, 0, -0.5), 0.0, center, f"parabolic cylinder a={_fmt(a)}{_at(center)}")
+        return cls._canonical(
+            (1 / a**2, 0, 0),
+            (0, 0, -0.5),
+            0.0,
+            center,
+            f"parabolic cylinder a={_fmt(a)}{_at(center)}",
+        )
 
     @classmethod
-    def plane(cls, normal: Vec3 = (0, 0, 1), point: Vec3 = (0, 0, 0)) -> "Quadric":
+    def plane(cls, normal: Vec3 = (0, 0, 1), point: Vec3 = (0, 0, 0)) -> Quadric:
         """n·(r - r0) = 0 written as 2·(n/2)·r - n·r0 = 0."""
         n = np.asarray(normal, dtype=float).reshape(3)
         if not np.all(np.isfinite(n)) or np.linalg.norm(n) == 0:
@@ -317,7 +384,11 @@ class Quadric:
     def Q(self) -> np.ndarray:
         """Symmetric 3x3 matrix of the quadratic part."""
         return np.array(
-            [[self.a11, self.a12, self.a31], [self.a12, self.a22, self.a23], [self.a31, self.a23, self.a33]],
+            [
+                [self.a11, self.a12, self.a31],
+                [self.a12, self.a22, self.a23],
+                [self.a31, self.a23, self.a33],
+            ],
             dtype=float,
         )
 
@@ -370,7 +441,9 @@ class Quadric:
         """∇F = 2(Q r + b), (1.45)."""
         return 2.0 * self.half_gradient(points)
 
-    def sym(self, x: sp.Symbol | None = None, y: sp.Symbol | None = None, z: sp.Symbol | None = None) -> sp.Expr:
+    def sym(
+        self, x: sp.Symbol | None = None, y: sp.Symbol | None = None, z: sp.Symbol | None = None
+    ) -> sp.Expr:
         """F as a sympy expression in x, y, z (default real symbols x, y, z).
 
         Coefficients become exact Rationals when they are (to 1e-12 relative) fractions
@@ -380,13 +453,20 @@ class Quadric:
         z = z if z is not None else sp.Symbol("z", real=True)
         k = {n: sym_number(getattr(self, n)) for n in COEFF_NAMES}
         return (
-            k["a11"] * x**2 + k["a22"] * y**2 + k["a33"] * z**2
-            + 2 * k["a12"] * x * y + 2 * k["a23"] * y * z + 2 * k["a31"] * z * x
-            + 2 * k["a14"] * x + 2 * k["a24"] * y + 2 * k["a34"] * z + k["a44"]
+            k["a11"] * x**2
+            + k["a22"] * y**2
+            + k["a33"] * z**2
+            + 2 * k["a12"] * x * y
+            + 2 * k["a23"] * y * z
+            + 2 * k["a31"] * z * x
+            + 2 * k["a14"] * x
+            + 2 * k["a24"] * y
+            + 2 * k["a34"] * z
+            + k["a44"]
         )
 
     # ------------------------------------------------------------------ transforms
-    def level_through(self, point: Vec3) -> "Quadric":
+    def level_through(self, point: Vec3) -> Quadric:
         """Same quadratic and linear part, a44 chosen so that F(point) = 0.
 
         The analyzer (1.50) keeps F constant, so this is the surface it actually
@@ -397,26 +477,28 @@ class Quadric:
         lab = f"{self.label} through ({', '.join(_fmt(v) for v in p)})" if self.label else ""
         return Quadric(**{**self.coeffs(), "a44": a44}, label=lab)
 
-    def with_coeffs(self, **changes: float) -> "Quadric":
+    def with_coeffs(self, **changes: float) -> Quadric:
         """A copy with some coefficients replaced (same name checks as from_coeffs)."""
         return Quadric.from_coeffs(label=self.label, **{**self.coeffs(), **changes})
 
-    def translated(self, t: Vec3) -> "Quadric":
+    def translated(self, t: Vec3) -> Quadric:
         """The surface moved by ``t``: G(r) = F(r - t)."""
         t = _center3(t)
         Q, b = self.Q, self.b
-        return Quadric.from_matrices(Q, b - Q @ t, float(t @ Q @ t - 2 * b @ t + self.c), label=self.label)
+        return Quadric.from_matrices(
+            Q, b - Q @ t, float(t @ Q @ t - 2 * b @ t + self.c), label=self.label
+        )
 
-    def rotated(self, R: np.ndarray) -> "Quadric":
+    def rotated(self, R: np.ndarray) -> Quadric:
         """The surface rotated by R about the origin: G(r) = F(Rᵀ r)."""
         R = np.asarray(R, dtype=float)
         return Quadric.from_matrices(R @ self.Q @ R.T, R @ self.b, self.c, label=self.label)
 
-    def transformed(self, R: np.ndarray, t: Vec3 = (0, 0, 0)) -> "Quadric":
+    def transformed(self, R: np.ndarray, t: Vec3 = (0, 0, 0)) -> Quadric:
         """The surface mapped by r -> R r + t (rotation then translation)."""
         return self.rotated(R).translated(t)
 
-    def scaled(self, k: float) -> "Quadric":
+    def scaled(self, k: float) -> Quadric:
         """Same surface, F multiplied by k != 0."""
         if not math.isfinite(k) or k == 0:
             raise ValueError("the factor must be finite and non-zero")
@@ -449,14 +531,22 @@ class Quadric:
         if abs(Fp) <= 1e-14 * self.scale:
             return p.copy()
         g = self.half_gradient(p)
-        gscale = float(np.linalg.norm(self.Q, 2)) * (float(np.linalg.norm(p)) + self.length) + float(np.linalg.norm(self.b))
-        if np.linalg.norm(g) <= 1e-12 * gscale and cl.kind not in ("point", "line", "coincident-planes"):
+        gscale = float(np.linalg.norm(self.Q, 2)) * (
+            float(np.linalg.norm(p)) + self.length
+        ) + float(np.linalg.norm(self.b))
+        if np.linalg.norm(g) <= 1e-12 * gscale and cl.kind not in (
+            "point",
+            "line",
+            "coincident-planes",
+        ):
             raise ValueError(
                 f"the point {tuple(float(v) for v in p)} is a singular point of F (zero gradient: "
                 f"a centre or axis of the {cl.name}) and not on the surface; its nearest point is not unique"
             )
-        return _project_affine(cl, p) if cl.kind in ("point", "line", "coincident-planes") else _nearest_point(
-            self.Q, self.b, self.c, p, self.scale, max_iter
+        return (
+            _project_affine(cl, p)
+            if cl.kind in ("point", "line", "coincident-planes")
+            else _nearest_point(self.Q, self.b, self.c, p, self.scale, max_iter)
         )
 
     def mesh(self, bounds: Bounds | None = None, resolution: int = 48):
@@ -468,7 +558,9 @@ class Quadric:
         coordinates, clipped by the six box planes; vertices cut by the box are pulled
         back onto F = 0 inside their box face; faces are oriented along ∇F.  Empty
         (zero faces) for types with no area: empty, point, line, all-space."""
-        return _mesh_quadric(self, bounds if bounds is not None else self.default_bounds(), resolution)
+        return _mesh_quadric(
+            self, bounds if bounds is not None else self.default_bounds(), resolution
+        )
 
     @cached_property
     def length(self) -> float:
@@ -485,7 +577,9 @@ class Quadric:
         max(|a44|, ‖Q‖₂ L², ‖b‖ L) with L = :attr:`length` (1 if all vanish).
         Round-off of F at a surface point is ~1e-16 * scale."""
         L = self.length
-        v = max(abs(self.c), float(np.linalg.norm(self.Q, 2)) * L * L, float(np.linalg.norm(self.b)) * L)
+        v = max(
+            abs(self.c), float(np.linalg.norm(self.Q, 2)) * L * L, float(np.linalg.norm(self.b)) * L
+        )
         return v if v > 0 else 1.0
 
     def default_bounds(self) -> Bounds:
@@ -506,7 +600,9 @@ class Quadric:
         return (tuple(float(v) for v in lo), tuple(float(v) for v in hi))  # type: ignore[return-value]
 
 
-def _spec(id: str, title: str, build: Callable[..., Quadric], equation: str, **defaults: float) -> SurfaceType:
+def _spec(
+    id: str, title: str, build: Callable[..., Quadric], equation: str, **defaults: float
+) -> SurfaceType:
     return SurfaceType(id, title, tuple(defaults), dict(defaults), build, equation)
 
 
@@ -515,13 +611,66 @@ CONSTRUCTORS: dict[str, SurfaceType] = {
     s.id: s
     for s in (
         _spec("sphere", "sphere", Quadric.sphere, "x² + y² + z² = R²", R=1.0),
-        _spec("ellipsoid", "ellipsoid", Quadric.ellipsoid, "x²/a² + y²/b² + z²/c² = 1", a=3.0, b=2.0, c=1.0),
-        _spec("elliptic-cylinder", "elliptic cylinder", Quadric.elliptic_cylinder, "x²/a² + y²/b² = 1", a=1.0, b=1.0),
-        _spec("elliptic-cone", "elliptic cone", Quadric.elliptic_cone, "x²/a² + y²/b² - z²/c² = 0", a=1.0, b=1.0, c=1.0),
-        _spec("elliptic-paraboloid", "elliptic paraboloid", Quadric.elliptic_paraboloid, "z = x²/a² + y²/b²", a=1.0, b=1.0),
-        _spec("hyperbolic-paraboloid", "hyperbolic paraboloid", Quadric.hyperbolic_paraboloid, "z = x²/a² - y²/b²", a=1.0, b=1.0),
-        _spec("hyperboloid-1", "hyperboloid of one sheet", Quadric.hyperboloid_one_sheet, "x²/a² + y²/b² - z²/c² = 1", a=1.0, b=1.0, c=1.0),
-        _spec("hyperboloid-2", "hyperboloid of two sheets", Quadric.hyperboloid_two_sheets, "x²/a² + y²/b² - z²/c² = -1", a=1.0, b=1.0, c=1.0),
+        _spec(
+            "ellipsoid",
+            "ellipsoid",
+            Quadric.ellipsoid,
+            "x²/a² + y²/b² + z²/c² = 1",
+            a=3.0,
+            b=2.0,
+            c=1.0,
+        ),
+        _spec(
+            "elliptic-cylinder",
+            "elliptic cylinder",
+            Quadric.elliptic_cylinder,
+            "x²/a² + y²/b² = 1",
+            a=1.0,
+            b=1.0,
+        ),
+        _spec(
+            "elliptic-cone",
+            "elliptic cone",
+            Quadric.elliptic_cone,
+            "x²/a² + y²/b² - z²/c² = 0",
+            a=1.0,
+            b=1.0,
+            c=1.0,
+        ),
+        _spec(
+            "elliptic-paraboloid",
+            "elliptic paraboloid",
+            Quadric.elliptic_paraboloid,
+            "z = x²/a² + y²/b²",
+            a=1.0,
+            b=1.0,
+        ),
+        _spec(
+            "hyperbolic-paraboloid",
+            "hyperbolic paraboloid",
+            Quadric.hyperbolic_paraboloid,
+            "z = x²/a² - y²/b²",
+            a=1.0,
+            b=1.0,
+        ),
+        _spec(
+            "hyperboloid-1",
+            "hyperboloid of one sheet",
+            Quadric.hyperboloid_one_sheet,
+            "x²/a² + y²/b² - z²/c² = 1",
+            a=1.0,
+            b=1.0,
+            c=1.0,
+        ),
+        _spec(
+            "hyperboloid-2",
+            "hyperboloid of two sheets",
+            Quadric.hyperboloid_two_sheets,
+            "x²/a² + y²/b² - z²/c² = -1",
+            a=1.0,
+            b=1.0,
+            c=1.0,
+        ),
     )
 }
 
@@ -604,8 +753,14 @@ _NAMES3 = {
     "all-space": "F is identically zero",
 }
 _NONDEGENERATE3 = {
-    "sphere", "ellipsoid", "hyperboloid-1", "hyperboloid-2", "elliptic-cone",
-    "elliptic-cylinder", "elliptic-paraboloid", "hyperbolic-paraboloid",
+    "sphere",
+    "ellipsoid",
+    "hyperboloid-1",
+    "hyperboloid-2",
+    "elliptic-cone",
+    "elliptic-cylinder",
+    "elliptic-paraboloid",
+    "hyperbolic-paraboloid",
 }
 
 
@@ -620,7 +775,9 @@ def _classify3(Q: np.ndarray, b: np.ndarray, c: float) -> Classification:
     semi: tuple[float, ...] = ()
     name_extra = ""
 
-    def result(kind: str, cols: list[np.ndarray] | None, center: np.ndarray | None) -> Classification:
+    def result(
+        kind: str, cols: list[np.ndarray] | None, center: np.ndarray | None
+    ) -> Classification:
         axes = _right_handed(cols) if cols is not None else np.eye(3)
         nm = _NAMES3[kind] + name_extra
         return Classification(kind, nm, kind not in _NONDEGENERATE3, center, axes, semi, m)
@@ -629,7 +786,9 @@ def _classify3(Q: np.ndarray, b: np.ndarray, c: float) -> Classification:
         n = red.n_dir
         kappa = -lam / (2 * red.g)
         if m == 2:
-            if np.all(kappa < 0) or (kappa[0] * kappa[1] < 0 and abs(kappa.max()) > abs(kappa.min())):
+            if np.all(kappa < 0) or (
+                kappa[0] * kappa[1] < 0 and abs(kappa.max()) > abs(kappa.min())
+            ):
                 n, kappa = -n, -kappa  # open towards +n; saddle: a >= b
             if kappa[0] * kappa[1] > 0:
                 order = np.argsort(kappa)  # a >= b
@@ -661,7 +820,11 @@ def _classify3(Q: np.ndarray, b: np.ndarray, c: float) -> Classification:
                 odd = int(np.argmin(mu)) if npos == 2 else int(np.argmax(mu))
                 rest = [i for i in np.argsort(np.abs(mu)) if i != odd]  # a >= b
                 semi = tuple(float(1 / math.sqrt(abs(mu[i]))) for i in rest + [odd])
-                return result("hyperboloid-1" if npos == 2 else "hyperboloid-2", [V[:, i] for i in rest + [odd]], red.point)
+                return result(
+                    "hyperboloid-1" if npos == 2 else "hyperboloid-2",
+                    [V[:, i] for i in rest + [odd]],
+                    red.point,
+                )
             name_extra = " (imaginary ellipsoid)"
             return result("empty", None, None)
         npos = int(np.sum(lam > 0))
@@ -680,7 +843,9 @@ def _classify3(Q: np.ndarray, b: np.ndarray, c: float) -> Classification:
             if np.all(mu > 0):
                 order = np.argsort(mu)
                 semi = tuple(float(1 / math.sqrt(mu[i])) for i in order)
-                return result("elliptic-cylinder", [V[:, order[0]], V[:, order[1]], axis], red.point)
+                return result(
+                    "elliptic-cylinder", [V[:, order[0]], V[:, order[1]], axis], red.point
+                )
             if np.all(mu < 0):
                 name_extra = " (imaginary elliptic cylinder)"
                 return result("empty", None, None)
@@ -863,10 +1028,11 @@ def _patch(P: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return P.reshape(-1, 3), _grid_faces(nu, nv)
 
 
-def _canonical_patches(kind: str, semi: tuple[float, ...], ext: np.ndarray, zhi: float, n: int) -> list:
+def _canonical_patches(
+    kind: str, semi: tuple[float, ...], ext: np.ndarray, zhi: float, n: int
+) -> list:
     """Parametric patches of the canonical surface of ``kind`` covering the box
     |x| <= X, |y| <= Y, |z| <= Z (ext = (X, Y, Z); zhi = largest z of the box)."""
-    import trimesh
 
     X, Y, Z = (float(v) for v in ext)
     v = np.linspace(0.0, 2 * np.pi, n + 1)
@@ -876,7 +1042,13 @@ def _canonical_patches(kind: str, semi: tuple[float, ...], ext: np.ndarray, zhi:
         iv, ifc = _icosphere(sub)
         out.append((iv * np.asarray(semi), ifc))
         return out
-    if kind in ("hyperboloid-1", "hyperboloid-2", "elliptic-cone", "elliptic-cylinder", "elliptic-paraboloid"):
+    if kind in (
+        "hyperboloid-1",
+        "hyperboloid-2",
+        "elliptic-cone",
+        "elliptic-cylinder",
+        "elliptic-paraboloid",
+    ):
         a, b = semi[0], semi[1]
         M = math.hypot(X / a, Y / b)  # x²/a² + y²/b² <= M² inside the box
         if kind == "hyperboloid-1":
@@ -923,7 +1095,9 @@ def _canonical_patches(kind: str, semi: tuple[float, ...], ext: np.ndarray, zhi:
         return out
     if kind == "hyperbolic-paraboloid":
         a, b = semi
-        Uu, Ww = np.meshgrid(np.linspace(-X / a, X / a, n), np.linspace(-Y / b, Y / b, n), indexing="ij")
+        Uu, Ww = np.meshgrid(
+            np.linspace(-X / a, X / a, n), np.linspace(-Y / b, Y / b, n), indexing="ij"
+        )
         out.append(_patch(np.stack([a * Uu, b * Ww, Uu**2 - Ww**2], -1)))
         return out
     if kind == "parabolic-cylinder":
@@ -986,13 +1160,19 @@ def _mesh_quadric(q: Quadric, bounds: Bounds, resolution: int):
 
     lo = np.asarray(bounds[0], dtype=float)
     hi = np.asarray(bounds[1], dtype=float)
-    if lo.shape != (3,) or hi.shape != (3,) or not (np.all(np.isfinite(lo)) and np.all(np.isfinite(hi))):
+    if (
+        lo.shape != (3,)
+        or hi.shape != (3,)
+        or not (np.all(np.isfinite(lo)) and np.all(np.isfinite(hi)))
+    ):
         raise ValueError(f"bounds must be two finite 3-vectors, got {bounds!r}")
     if np.any(hi <= lo):
         raise ValueError(f"bounds must satisfy lo < hi in every coordinate, got {bounds!r}")
     n = max(int(resolution), 4)
     cl = q.classify()
-    empty = trimesh.Trimesh(vertices=np.zeros((0, 3)), faces=np.zeros((0, 3), dtype=np.int64), process=False)
+    empty = trimesh.Trimesh(
+        vertices=np.zeros((0, 3)), faces=np.zeros((0, 3), dtype=np.int64), process=False
+    )
     if cl.center is None:
         return empty
     corners = np.array(np.meshgrid(*zip(lo, hi), indexing="ij")).reshape(3, -1).T
@@ -1019,7 +1199,11 @@ def _mesh_quadric(q: Quadric, bounds: Bounds, resolution: int):
             tris = _clip_triangles(tris, nrm_, org)
         if len(tris) == 0:
             return empty
-        m = trimesh.Trimesh(vertices=tris.reshape(-1, 3), faces=np.arange(3 * len(tris)).reshape(-1, 3), process=True)
+        m = trimesh.Trimesh(
+            vertices=tris.reshape(-1, 3),
+            faces=np.arange(3 * len(tris)).reshape(-1, 3),
+            process=True,
+        )
     if len(m.faces) == 0:
         return empty
     V = np.array(m.vertices, dtype=float)
@@ -1037,13 +1221,16 @@ def _mesh_quadric(q: Quadric, bounds: Bounds, resolution: int):
             g[fx] = 0.0
             gg = np.einsum("ij,ij->i", g, g)
             Fv = q.F(R)
-            ok = (gg > 1e-16 * q.scale**2 / max(q.length, 1e-300) ** 2) & (np.abs(Fv) > 1e-15 * q.scale)
+            ok = (gg > 1e-16 * q.scale**2 / max(q.length, 1e-300) ** 2) & (
+                np.abs(Fv) > 1e-15 * q.scale
+            )
             step = np.zeros_like(R)
             step[ok] = -(Fv[ok] / (2 * gg[ok]))[:, None] * g[ok]
             small = np.linalg.norm(step, axis=1) <= 0.05 * np.max(hi - lo)
             R = R + step * small[:, None]
         V0 = V.copy()
         V[sel] = R
+
         # undo the pull where it folded a thin triangle over (normal reversed)
         def fnormals(A: np.ndarray) -> np.ndarray:
             t = A[Fc]

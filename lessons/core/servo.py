@@ -43,11 +43,11 @@ class Channel:
     T2sq: float
 
     @classmethod
-    def from_open_loop(cls, k: float, T: float) -> "Channel":
+    def from_open_loop(cls, k: float, T: float) -> Channel:
         """Closed loop of W(s) = k/((Ts+1)s): T2^2 = T/k, T1 = 1/k."""
         return cls(T1=1.0 / k, T2sq=T / k)
 
-    def scaled(self, gamma: float) -> "Channel":
+    def scaled(self, gamma: float) -> Channel:
         """The non-identical channel of the article: T1y = gamma T1, T2y^2 = gamma T2^2."""
         return Channel(T1=gamma * self.T1, T2sq=gamma * self.T2sq)
 
@@ -105,8 +105,14 @@ def line_program(x0: float, y0: float, v: float, angle_deg: float) -> Program:
     A = np.zeros((3, 3))
     A[0, 2] = v * math.cos(th)
     A[1, 2] = v * math.sin(th)
-    return Program("line", A, np.array([x0, y0, 1.0]), np.array([1.0, 0, 0]), np.array([0, 1.0, 0]),
-                   {"vx": v * math.cos(th), "vy": v * math.sin(th)})
+    return Program(
+        "line",
+        A,
+        np.array([x0, y0, 1.0]),
+        np.array([1.0, 0, 0]),
+        np.array([0, 1.0, 0]),
+        {"vx": v * math.cos(th), "vy": v * math.sin(th)},
+    )
 
 
 def power_program(n: int, x0: float, xc: float, yc: float, p: float, omega: float) -> Program:
@@ -122,8 +128,14 @@ def power_program(n: int, x0: float, xc: float, yc: float, p: float, omega: floa
         A[1, 0] = omega
         A[1, 2] = -omega * xc
         y0 = yc + (x0 - xc) ** 2 / p
-        return Program("parabola", A, np.array([x0, y0, 1.0]), np.array([1.0, 0, 0]), np.array([0, 1.0, 0]),
-                       {"vertex_x": xc, "vertex_y": yc})
+        return Program(
+            "parabola",
+            A,
+            np.array([x0, y0, 1.0]),
+            np.array([1.0, 0, 0]),
+            np.array([0, 1.0, 0]),
+            {"vertex_x": xc, "vertex_y": yc},
+        )
     if n not in (3, 4):
         raise ValueError("degree must be 2, 3 or 4")
     # z = (x, y, y', ..., y^(n-1), 1)
@@ -138,24 +150,36 @@ def power_program(n: int, x0: float, xc: float, yc: float, p: float, omega: floa
     z0 = np.zeros(dim)
     z0[0] = x0
     for j in range(n):  # y^(j)(tau0)
-        z0[1 + j] = (yc if j == 0 else 0.0) + c * math.factorial(n) / math.factorial(n - j) * tau0 ** (n - j)
+        z0[1 + j] = (yc if j == 0 else 0.0) + c * math.factorial(n) / math.factorial(
+            n - j
+        ) * tau0 ** (n - j)
     z0[dim - 1] = 1.0
     Cx = np.zeros(dim)
     Cx[0] = 1.0
     Cy = np.zeros(dim)
     Cy[1] = 1.0
-    return Program("cubic" if n == 3 else "quartic", A, z0, Cx, Cy, {"vertex_x": xc, "vertex_y": yc})
+    return Program(
+        "cubic" if n == 3 else "quartic", A, z0, Cx, Cy, {"vertex_x": xc, "vertex_y": yc}
+    )
 
 
-def ellipse_program(x0: float, y0: float, xc: float, yc: float, a: float, b: float, omega: float) -> Program:
+def ellipse_program(
+    x0: float, y0: float, xc: float, yc: float, a: float, b: float, omega: float
+) -> Program:
     """PU of the ellipse (I.6) / circle (26) (a = b): dx/dt = omega (a/b)(y - yc), dy/dt = -omega (b/a)(x - xc)."""
     A = np.zeros((3, 3))
     A[0, 1] = omega * a / b
     A[0, 2] = -omega * a / b * yc
     A[1, 0] = -omega * b / a
     A[1, 2] = omega * b / a * xc
-    return Program("ellipse" if a != b else "circle", A, np.array([x0, y0, 1.0]),
-                   np.array([1.0, 0, 0]), np.array([0, 1.0, 0]), {"xc": xc, "yc": yc})
+    return Program(
+        "ellipse" if a != b else "circle",
+        A,
+        np.array([x0, y0, 1.0]),
+        np.array([1.0, 0, 0]),
+        np.array([0, 1.0, 0]),
+        {"xc": xc, "yc": yc},
+    )
 
 
 # ---------------------------------------------------------------- the two-axis system
@@ -169,7 +193,9 @@ class TwoAxisServo:
     ``derivative`` feeds x + T1 dx/dt (the paper's concluding counter-example).
     """
 
-    def __init__(self, program: Program, cx: Channel, cy: Channel, correction: Correction = "off") -> None:
+    def __init__(
+        self, program: Program, cx: Channel, cy: Channel, correction: Correction = "off"
+    ) -> None:
         self.program = program
         self.cx = cx
         self.cy = cy
@@ -182,10 +208,10 @@ class TwoAxisServo:
         ssx, ssy = cx.state_space(), cy.state_space()
         M = np.zeros((n + 4, n + 4))
         M[:n, :n] = A
-        M[n:n + 2, n:n + 2] = ssx.A
-        M[n:n + 2, :n] = ssx.B @ self.Kx[None, :]
-        M[n + 2:, n + 2:] = ssy.A
-        M[n + 2:, :n] = ssy.B @ self.Ky[None, :]
+        M[n : n + 2, n : n + 2] = ssx.A
+        M[n : n + 2, :n] = ssx.B @ self.Kx[None, :]
+        M[n + 2 :, n + 2 :] = ssy.A
+        M[n + 2 :, :n] = ssy.B @ self.Ky[None, :]
         self.M = M
         # steady state: x1_ss = Kx (I + T1 A + T2^2 A^2)^-1 z_pu
         self.Sx = np.linalg.solve(cx.inverse_poly(A).T, self.Kx)
@@ -211,7 +237,9 @@ class TwoAxisServo:
         m = self._cache.get(key)
         if m is None:
             dim = self.M.shape[0]
-            ad, *_ = signal.cont2discrete((self.M, np.zeros((dim, 1)), np.eye(dim), np.zeros((dim, 1))), key, method="zoh")
+            ad, *_ = signal.cont2discrete(
+                (self.M, np.zeros((dim, 1)), np.eye(dim), np.zeros((dim, 1))), key, method="zoh"
+            )
             m = np.asarray(ad)
             if len(self._cache) > 64:
                 self._cache.clear()
@@ -260,7 +288,9 @@ class TwoAxisServo:
 # ---------------------------------------------------------------- contour distance
 
 
-def line_distance(xq: np.ndarray, yq: np.ndarray, px: np.ndarray, py: np.ndarray, angle_deg: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def line_distance(
+    xq: np.ndarray, yq: np.ndarray, px: np.ndarray, py: np.ndarray, angle_deg: float
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Signed distance of (xq, yq) from the line through (px, py) at ``angle``; sign as in (5)."""
     th = math.radians(angle_deg)
     c, s = math.cos(th), math.sin(th)
@@ -270,8 +300,15 @@ def line_distance(xq: np.ndarray, yq: np.ndarray, px: np.ndarray, py: np.ndarray
     return d, px + along * c, py + along * s
 
 
-def power_distance(xq: np.ndarray, yq: np.ndarray, n: int, xc: float, yc: float, p: float,
-                   guess: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def power_distance(
+    xq: np.ndarray,
+    yq: np.ndarray,
+    n: int,
+    xc: float,
+    yc: float,
+    p: float,
+    guess: np.ndarray | None = None,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Signed normal distance from y = yc + (x - xc)^n / p (+ above); foot points."""
     xq = np.atleast_1d(np.asarray(xq, dtype=float))
     yq = np.atleast_1d(np.asarray(yq, dtype=float))
@@ -314,7 +351,9 @@ def power_distance(xq: np.ndarray, yq: np.ndarray, n: int, xc: float, yc: float,
     return sign * d, u, f(u)
 
 
-def ellipse_distance(xq: np.ndarray, yq: np.ndarray, xc: float, yc: float, a: float, b: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def ellipse_distance(
+    xq: np.ndarray, yq: np.ndarray, xc: float, yc: float, a: float, b: float
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Signed normal distance from the ellipse (x-xc)^2/a^2 + (y-yc)^2/b^2 = 1 (+ inside); foot points."""
     X = np.atleast_1d(np.asarray(xq, dtype=float)) - xc
     Y = np.atleast_1d(np.asarray(yq, dtype=float)) - yc
@@ -378,13 +417,19 @@ def delta_parabola_13(omega: float, p: float, T1: float, T2sq: float) -> float:
     return omega**2 * p / 4.0 * (T1**2 - 2.0 * T2sq)
 
 
-def parabola_vertex_17(omega: float, p: float, T1: float, T2sq: float, gamma: float) -> tuple[float, float]:
+def parabola_vertex_17(
+    omega: float, p: float, T1: float, T2sq: float, gamma: float
+) -> tuple[float, float]:
     """Vertex of the output parabola (17) relative to the programmed vertex."""
-    return (-omega * p * T1 * (1.0 - gamma) / 2.0,
-            omega**2 * p / 4.0 * (gamma**2 * T1**2 - 2.0 * gamma * T2sq))
+    return (
+        -omega * p * T1 * (1.0 - gamma) / 2.0,
+        omega**2 * p / 4.0 * (gamma**2 * T1**2 - 2.0 * gamma * T2sq),
+    )
 
 
-def circle_axes_29_30(m: float, n: float, dphi: float, printed: bool = False) -> tuple[float, float, float]:
+def circle_axes_29_30(
+    m: float, n: float, dphi: float, printed: bool = False
+) -> tuple[float, float, float]:
     """(29) tilt alpha [deg] of the major axis and (30) semi-axes (major, minor).
 
     Corrected (30): numerator cos^2(phi2 - phi1); ``printed=True`` uses the printed cos.
@@ -392,7 +437,9 @@ def circle_axes_29_30(m: float, n: float, dphi: float, printed: bool = False) ->
     """
     num = math.cos(dphi) if printed else math.cos(dphi) ** 2
     s = (m * m + n * n) / (2 * m * m * n * n)
-    r = math.sqrt(max((m * m + n * n) ** 2 / (4 * m**4 * n**4) - math.cos(dphi) ** 2 / (m * m * n * n), 0.0))
+    r = math.sqrt(
+        max((m * m + n * n) ** 2 / (4 * m**4 * n**4) - math.cos(dphi) ** 2 / (m * m * n * n), 0.0)
+    )
     major = math.sqrt(num / (s - r)) if s - r > 0 and num >= 0 else math.nan
     minor = math.sqrt(num / (s + r)) if num >= 0 else math.nan  # the printed cos can be negative
     # (29): ctg 2 alpha = (n^2 - m^2)/(2 m n sin(dphi))
@@ -414,10 +461,22 @@ PARABOLA_TABLE_K = (100.0, 200.0, 500.0, 1000.0)
 PARABOLA_TABLE_T = (0.01, 0.1, 0.5, 1.0)
 #: the printed table [mm] as printed (rows k [1/s], columns T [s]; the header is transposed in print)
 PARABOLA_TABLE_PRINTED: dict[tuple[float, float], str] = {
-    (100.0, 0.01): "-0.01", (100.0, 0.1): "-0.19", (100.0, 0.5): "-1.0", (100.0, 1.0): "-2",
-    (200.0, 0.01): "-0.0075", (200.0, 0.1): "-0.1", (200.0, 0.5): "-0.5", (200.0, 1.0): "-1",
-    (500.0, 0.01): "-0.0036", (500.0, 0.1): "-0.04", (500.0, 0.5): "-0.2", (500.0, 1.0): "-0.4",
-    (1000.0, 0.01): "-0.002", (1000.0, 0.1): "-0.02", (1000.0, 0.5): "-0.1", (1000.0, 1.0): "-0.2",
+    (100.0, 0.01): "-0.01",
+    (100.0, 0.1): "-0.19",
+    (100.0, 0.5): "-1.0",
+    (100.0, 1.0): "-2",
+    (200.0, 0.01): "-0.0075",
+    (200.0, 0.1): "-0.1",
+    (200.0, 0.5): "-0.5",
+    (200.0, 1.0): "-1",
+    (500.0, 0.01): "-0.0036",
+    (500.0, 0.1): "-0.04",
+    (500.0, 0.5): "-0.2",
+    (500.0, 1.0): "-0.4",
+    (1000.0, 0.01): "-0.002",
+    (1000.0, 0.1): "-0.02",
+    (1000.0, 0.5): "-0.1",
+    (1000.0, 1.0): "-0.2",
 }
 
 
@@ -445,8 +504,14 @@ class TableRow:
     within_print_rounding: bool
 
 
-def simulate_parabola_vertex_error(ch: Channel, omega: float, p: float, settle: float = 20.0, gamma: float = 1.0,
-                                   correction: Correction = "off") -> float:
+def simulate_parabola_vertex_error(
+    ch: Channel,
+    omega: float,
+    p: float,
+    settle: float = 20.0,
+    gamma: float = 1.0,
+    correction: Correction = "off",
+) -> float:
     """Signed contour error of largest magnitude near the vertex after the transient.
 
     The PU starts far before the vertex (the vertex is reached after ``settle`` slowest
@@ -457,7 +522,9 @@ def simulate_parabola_vertex_error(ch: Channel, omega: float, p: float, settle: 
     speed = omega * p / 2.0
     t_v = max(settle / rate, 1.0)
     x0 = -speed * t_v
-    system = TwoAxisServo(power_program(2, x0, 0.0, 0.0, p, omega), ch, ch.scaled(gamma), correction)
+    system = TwoAxisServo(
+        power_program(2, x0, 0.0, 0.0, p, omega), ch, ch.scaled(gamma), correction
+    )
     z = system.transition(t_v - 0.5) @ system.initial_state()
     t = np.linspace(0.0, 1.0, 4001)
     out = system.outputs(system.run(t, z))
@@ -481,11 +548,23 @@ def parabola_table(v: float = 50.0, p: float = 20.0, omega: float = 5.0) -> list
             sim = simulate_parabola_vertex_error(ch, omega, p)
             text = PARABOLA_TABLE_PRINTED[(k, T)]
             printed = float(text)
-            rows.append(TableRow(
-                k=k, T=T, T1=ch.T1, T2sq=ch.T2sq, formula_13=f13, simulated=sim, printed=printed, printed_text=text,
-                printed_over_formula=printed / f13, simulated_over_formula=sim / f13, point_eight_formula=0.8 * f13,
-                within_print_rounding=abs(printed - 0.8 * f13) <= printed_half_unit(text) + 1e-12,
-            ))
+            rows.append(
+                TableRow(
+                    k=k,
+                    T=T,
+                    T1=ch.T1,
+                    T2sq=ch.T2sq,
+                    formula_13=f13,
+                    simulated=sim,
+                    printed=printed,
+                    printed_text=text,
+                    printed_over_formula=printed / f13,
+                    simulated_over_formula=sim / f13,
+                    point_eight_formula=0.8 * f13,
+                    within_print_rounding=abs(printed - 0.8 * f13)
+                    <= printed_half_unit(text) + 1e-12,
+                )
+            )
     return rows
 
 
@@ -502,9 +581,13 @@ def table_ratio_interval() -> tuple[float, float]:
 
 def format_table(rows: list[TableRow]) -> str:
     """Markdown table: (13) | simulation | printed | printed/(13)."""
-    lines = ["| k [1/s] | T [s] | (13) [mm] | simulation [mm] | printed [mm] | 0.8 x (13) | printed / (13) |",
-             "|---|---|---|---|---|---|---|"]
+    lines = [
+        "| k [1/s] | T [s] | (13) [mm] | simulation [mm] | printed [mm] | 0.8 x (13) | printed / (13) |",
+        "|---|---|---|---|---|---|---|",
+    ]
     for r in rows:
-        lines.append(f"| {r.k:g} | {r.T:g} | {r.formula_13:.6g} | {r.simulated:.6g} | {r.printed_text} | "
-                     f"{r.point_eight_formula:.4g} | {r.printed_over_formula:.3f} |")
+        lines.append(
+            f"| {r.k:g} | {r.T:g} | {r.formula_13:.6g} | {r.simulated:.6g} | {r.printed_text} | "
+            f"{r.point_eight_formula:.4g} | {r.printed_over_formula:.3f} |"
+        )
     return "\n".join(lines)

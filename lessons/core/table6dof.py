@@ -30,7 +30,15 @@ from typing import Any
 
 import numpy as np
 import sympy as sp
-from sympy.physics.mechanics import KanesMethod, Particle, Point, ReferenceFrame, RigidBody, dynamicsymbols, inertia
+from sympy.physics.mechanics import (
+    KanesMethod,
+    Particle,
+    Point,
+    ReferenceFrame,
+    RigidBody,
+    dynamicsymbols,
+    inertia,
+)
 
 from lessons.core.mechanics import ConstrainedSystem, plain_symbols
 
@@ -47,7 +55,14 @@ VERTEX_ANGLES = (np.pi / 2, np.pi / 2 + 2 * np.pi / 3, np.pi / 2 + 4 * np.pi / 3
 
 def rotation(alpha: Any, beta: Any, phi: Any) -> Array:
     """``R = Rz(phi) Ry(beta) Rx(alpha)`` (numeric; broadcasting over samples not needed)."""
-    ca, sa, cb, sb, cp, sp_ = np.cos(alpha), np.sin(alpha), np.cos(beta), np.sin(beta), np.cos(phi), np.sin(phi)
+    ca, sa, cb, sb, cp, sp_ = (
+        np.cos(alpha),
+        np.sin(alpha),
+        np.cos(beta),
+        np.sin(beta),
+        np.cos(phi),
+        np.sin(phi),
+    )
     Rz = np.array([[cp, -sp_, 0], [sp_, cp, 0], [0, 0, 1]])
     Ry = np.array([[cb, 0, sb], [0, 1, 0], [-sb, 0, cb]])
     Rx = np.array([[1, 0, 0], [0, ca, -sa], [0, sa, ca]])
@@ -147,7 +162,11 @@ def build_table_model() -> TableModel:
         Ak.set_vel(N, u[6 + 2 * k] * N.x + u[7 + 2 * k] * N.y)
         Mid = Ak.locatenew(f"M{k}", Ap.pos_from(Ak) / 2)
         Mid.set_vel(N, (Ak.vel(N) + Ap.vel(N)) / 2)
-        for name, P, m in ((f"inductor{k}", Ak, (mA, mB, mC)[k] + ml / 6), (f"leg_top{k}", Ap, ml / 6), (f"leg_mid{k}", Mid, 2 * ml / 3)):
+        for name, P, m in (
+            (f"inductor{k}", Ak, (mA, mB, mC)[k] + ml / 6),
+            (f"leg_top{k}", Ap, ml / 6),
+            (f"leg_mid{k}", Mid, 2 * ml / 3),
+        ):
             bodies.append(Particle(name, P, m))
             loads.append((P, -m * g * N.z))
         U += ml * g * Ap.pos_from(O).dot(N.z) / 2
@@ -162,7 +181,16 @@ def build_table_model() -> TableModel:
     plain = {**to_plain_u, **to_plain_q}  # Kane's A and B hold q(t), u(t) and no derivatives
     A = km.mass_matrix.xreplace(plain)
     B = km.forcing.xreplace(plain)
-    cs = ConstrainedSystem.build(qs, qds, T_, A, B, [*pos.values(), g], F, f_hol=[sp.sympify(f, strict=True).xreplace(to_plain_q) for f in f_hol])
+    cs = ConstrainedSystem.build(
+        qs,
+        qds,
+        T_,
+        A,
+        B,
+        [*pos.values(), g],
+        F,
+        f_hol=[sp.sympify(f, strict=True).xreplace(to_plain_q) for f in f_hol],
+    )
     T_table = table.kinetic_energy(N).subs({ui: qi.diff(T_) for qi, ui in zip(q, u)})
     vA, vJ, vAJ = sp.symbols("v_A v_J vAvJ", real=True)  # end speeds and their dot product
     T_leg = ml / 6 * (vA**2 + vAJ + vJ**2)
@@ -182,7 +210,9 @@ def table_model() -> TableModel:
     return _MODEL[0]
 
 
-def program_state(pose: Array, pose_d: Array, pose_dd: Array, p: Array) -> tuple[Array, Array, Array, bool]:
+def program_state(
+    pose: Array, pose_d: Array, pose_dd: Array, p: Array
+) -> tuple[Array, Array, Array, bool]:
     """Full 12-coordinate ``(q, q', q'')`` for a table pose program: inductors from the
     inverse kinematics, their velocities from (2.29) and accelerations from (2.30)."""
     cs = table_model().system

@@ -13,8 +13,8 @@ analyzer (1.50) with u1, u2, u3) and 7 for the cylinder (five: (1.50) gives thre
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass
-from typing import Mapping
 
 import sympy as sp
 
@@ -31,19 +31,35 @@ A_SYM = {n: sp.Symbol(n, real=True) for n in COEFF_NAMES}
 
 
 def structure_143() -> tuple[sp.Expr, sp.Expr, sp.Expr]:
-    return (B[0] + B[1] * x + B[2] * y + B[3] * z, C[0] + C[1] * x + C[2] * y + C[3] * z, D[0] + D[1] * x + D[2] * y + D[3] * z)
+    return (
+        B[0] + B[1] * x + B[2] * y + B[3] * z,
+        C[0] + C[1] * x + C[2] * y + C[3] * z,
+        D[0] + D[1] * x + D[2] * y + D[3] * z,
+    )
 
 
 def quadric_sym(a: Mapping[str, sp.Expr]) -> sp.Expr:
-    return (a["a11"] * x**2 + a["a22"] * y**2 + a["a33"] * z**2 + 2 * a["a12"] * x * y + 2 * a["a23"] * y * z
-            + 2 * a["a31"] * z * x + 2 * a["a14"] * x + 2 * a["a24"] * y + 2 * a["a34"] * z + a["a44"])
+    return (
+        a["a11"] * x**2
+        + a["a22"] * y**2
+        + a["a33"] * z**2
+        + 2 * a["a12"] * x * y
+        + 2 * a["a23"] * y * z
+        + 2 * a["a31"] * z * x
+        + 2 * a["a14"] * x
+        + 2 * a["a24"] * y
+        + 2 * a["a34"] * z
+        + a["a44"]
+    )
 
 
 def system_147(a: Mapping[str, sp.Expr] = A_SYM) -> sp.Matrix:
     """The 10 x 12 coefficient matrix of (1.47) (rows in the source's monomial order)."""
     F = quadric_sym(a)
     f = structure_143()
-    ident = sp.expand(sum(sp.diff(F, v) * fi for v, fi in zip((x, y, z), f)) / 2)  # (1.44)/2 -> (1.46)
+    ident = sp.expand(
+        sum(sp.diff(F, v) * fi for v, fi in zip((x, y, z), f)) / 2
+    )  # (1.44)/2 -> (1.46)
     poly = sp.Poly(ident, x, y, z)
     rows = []
     for m in MONOMIALS:

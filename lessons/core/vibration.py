@@ -65,7 +65,9 @@ class Carriage:
         return 0.5 * float(v @ M @ v)
 
 
-def box_inertia(m: float, a: float, b: float, H: float, Xc: float = 0.0, Yc: float = 0.0, Zc: float = 0.0) -> tuple[float, float, float]:
+def box_inertia(
+    m: float, a: float, b: float, H: float, Xc: float = 0.0, Yc: float = 0.0, Zc: float = 0.0
+) -> tuple[float, float, float]:
     """(I_x, I_y, I_z) of a solid box, b along X, a along Y, H along Z, by (2.74)-(2.77).
 
     (2.75) as printed; (2.76)/(2.77) in their corrected form (each moment uses the two
@@ -78,7 +80,9 @@ def box_inertia(m: float, a: float, b: float, H: float, Xc: float = 0.0, Yc: flo
     return Ix, Iy, Iz
 
 
-def box_inertia_printed(m: float, a: float, b: float, H: float, Xc: float = 0.0, Yc: float = 0.0, Zc: float = 0.0) -> tuple[float, float, float]:
+def box_inertia_printed(
+    m: float, a: float, b: float, H: float, Xc: float = 0.0, Yc: float = 0.0, Zc: float = 0.0
+) -> tuple[float, float, float]:
     """(2.75)-(2.77) exactly as printed (with "h" read as H): a and b swapped in I_x, I_y."""
     Iz = m * ((a**2 + b**2) / 12.0 + Xc**2 + Yc**2)
     Ix = m * ((H**2 + b**2) / 12.0 + Yc**2 + Zc**2)
@@ -170,14 +174,16 @@ def mode_shape(p: Carriage, key: str) -> np.ndarray:
 
 
 def mode_character(p: Carriage, key: str) -> str:
-    """"translation" or "rotation": which part carries more kinetic energy in the mode."""
+    """ "translation" or "rotation": which part carries more kinetic energy in the mode."""
     s = mode_shape(p, key)
     M, _ = p.matrices()
     e = M.diagonal() * s**2
     return "translation" if e[:3].sum() >= e[3:].sum() else "rotation"
 
 
-def modal_propagate(p: Carriage, q: np.ndarray, v: np.ndarray, dt: float | np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def modal_propagate(
+    p: Carriage, q: np.ndarray, v: np.ndarray, dt: float | np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
     """Exact free response of (2.42)-(2.44) after ``dt`` from state (q, v), by modal
     superposition.  ``dt`` may be an array (then the results have shape (len(dt), 6))."""
     M, _ = p.matrices()
@@ -206,7 +212,9 @@ def rotvec_to_quaternion(r: np.ndarray) -> np.ndarray:
     r = np.asarray(r, dtype=float)
     angle = float(np.linalg.norm(r))
     if angle < 1e-12:
-        return np.array([1.0, 0.5 * r[0], 0.5 * r[1], 0.5 * r[2]]) / math.sqrt(1.0 + 0.25 * angle**2)
+        return np.array([1.0, 0.5 * r[0], 0.5 * r[1], 0.5 * r[2]]) / math.sqrt(
+            1.0 + 0.25 * angle**2
+        )
     axis = r / angle
     return np.concatenate([[math.cos(angle / 2)], math.sin(angle / 2) * axis])
 
@@ -250,8 +258,24 @@ def carriage_lagrange() -> CarriageSymbols:
     Kx, Ky, Kz = sp.symbols("K_x K_y K_z", positive=True)
     x, y, z, px, py, pz = q
     qd = [sp.diff(c, t) for c in q]
-    E = sp.Rational(1, 2) * (m * qd[0] ** 2 + m * qd[1] ** 2 + m * qd[2] ** 2 + Ix * qd[3] ** 2 + Iy * qd[4] ** 2 + Iz * qd[5] ** 2)
-    W = sp.Rational(1, 2) * (Cx * x**2 + Cy * y**2 + Cz * z**2 + Kx * px**2 + Ky * py**2 + Kz * pz**2 + 2 * Cx * h * x * py + 2 * Cy * h * y * px)
+    E = sp.Rational(1, 2) * (
+        m * qd[0] ** 2
+        + m * qd[1] ** 2
+        + m * qd[2] ** 2
+        + Ix * qd[3] ** 2
+        + Iy * qd[4] ** 2
+        + Iz * qd[5] ** 2
+    )
+    W = sp.Rational(1, 2) * (
+        Cx * x**2
+        + Cy * y**2
+        + Cz * z**2
+        + Kx * px**2
+        + Ky * py**2
+        + Kz * pz**2
+        + 2 * Cx * h * x * py
+        + 2 * Cy * h * y * px
+    )
     lm = me.LagrangesMethod(E - W, list(q))
     eqs = tuple(sp.expand(e) for e in lm.form_lagranges_equations())
     return CarriageSymbols(t, tuple(q), m, (Ix, Iy, Iz), (Cx, Cy, Cz), (Kx, Ky, Kz), h, E, W, eqs)
@@ -321,7 +345,12 @@ class ForcedOscillator:
     @property
     def secular(self) -> bool:
         """Undamped resonance (f = 0, w0 = omega): no bounded particular solution (2.81)."""
-        return self.f == 0.0 and self.w0 > 0 and self.F0 != 0 and math.isclose(self.w0, self.omega, rel_tol=1e-12)
+        return (
+            self.f == 0.0
+            and self.w0 > 0
+            and self.F0 != 0
+            and math.isclose(self.w0, self.omega, rel_tol=1e-12)
+        )
 
     def _den(self) -> float:
         return (self.omega**2 - self.w0**2) ** 2 + 4 * self.f**2 * self.w0**2
@@ -357,9 +386,13 @@ class ForcedOscillator:
             v = -self.tau * np.cos(w0 * t) / (2 * w0) + self.tau * t * np.sin(w0 * t) / 2
             return q, v
         M, N = self.MN
-        return M * np.cos(w0 * t) + N * np.sin(w0 * t), -M * w0 * np.sin(w0 * t) + N * w0 * np.cos(w0 * t)
+        return M * np.cos(w0 * t) + N * np.sin(w0 * t), -M * w0 * np.sin(w0 * t) + N * w0 * np.cos(
+            w0 * t
+        )
 
-    def homogeneous(self, s: np.ndarray | float, dq: float, dv: float) -> tuple[np.ndarray, np.ndarray]:
+    def homogeneous(
+        self, s: np.ndarray | float, dq: float, dv: float
+    ) -> tuple[np.ndarray, np.ndarray]:
         """Free solution q0 of (2.79) after time s with q0(0) = dq, q0'(0) = dv.
 
         f < omega: (2.80) A e^{-f s} sin(omega1 s + phi0); f = omega and f > omega: the
@@ -394,7 +427,9 @@ class ForcedOscillator:
         s_, c_ = q0 - M, (v0 - N * self.w0 + self.f * (q0 - M)) / self.omega1
         return math.hypot(s_, c_), math.atan2(s_, c_)
 
-    def response(self, t: np.ndarray | float, q0: float, v0: float, t0: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
+    def response(
+        self, t: np.ndarray | float, q0: float, v0: float, t0: float = 0.0
+    ) -> tuple[np.ndarray, np.ndarray]:
         """q(t), q'(t) = homogeneous + particular (2.92), with q(t0) = q0, q'(t0) = v0."""
         qp0, vp0 = self.particular(t0)
         qh, vh = self.homogeneous(np.asarray(t, dtype=float) - t0, q0 - float(qp0), v0 - float(vp0))
@@ -404,10 +439,14 @@ class ForcedOscillator:
     def response_292(self, t: np.ndarray, q0: float, v0: float) -> np.ndarray:
         """(2.92) literally: A e^{-ft} sin(omega1 t + phi0) + A0 sin(w0 t + phi1) (f < omega)."""
         A, ph0 = self.amplitude_phase_constants(q0, v0)
-        return A * np.exp(-self.f * t) * np.sin(self.omega1 * t + ph0) + self.A0 * np.sin(self.w0 * t + self.phi1)
+        return A * np.exp(-self.f * t) * np.sin(self.omega1 * t + ph0) + self.A0 * np.sin(
+            self.w0 * t + self.phi1
+        )
 
     def rhs(self, t: float, y: np.ndarray) -> np.ndarray:
-        return np.array([y[1], (self.F0 * math.sin(self.w0 * t) - self.b * y[1] - self.c * y[0]) / self.m])
+        return np.array(
+            [y[1], (self.F0 * math.sin(self.w0 * t) - self.b * y[1] - self.c * y[0]) / self.m]
+        )
 
     @property
     def peak_frequency(self) -> float:
@@ -425,7 +464,9 @@ class ForcedOscillator:
         return self.tau / (2 * self.f * math.sqrt(self.omega**2 - self.f**2))
 
 
-def frequency_response(m: float, b: float, c: float, F0: float, w0: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def frequency_response(
+    m: float, b: float, c: float, F0: float, w0: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
     """Amplitude-frequency and phase-frequency characteristics: A0(w0) (2.88) and
     phi1(w0) = atan2(M, N) (2.90), as plain arrays over the array ``w0``."""
     w0 = np.asarray(w0, dtype=float)
@@ -471,12 +512,22 @@ def forced_lagrange() -> ForcedSymbols:
     body = me.Particle("carriage", P, m)
     body.potential_energy = sp.Rational(1, 2) * c * q**2
     L = me.Lagrangian(N_frame, body)
-    lm = me.LagrangesMethod(L, [q], forcelist=[(P, (-b * sp.diff(q, t) + F0 * sp.sin(w0 * t)) * N_frame.x)], frame=N_frame)
+    lm = me.LagrangesMethod(
+        L,
+        [q],
+        forcelist=[(P, (-b * sp.diff(q, t) + F0 * sp.sin(w0 * t)) * N_frame.x)],
+        frame=N_frame,
+    )
     eq = lm.form_lagranges_equations()[0]
     Ms, Ns = sp.symbols("M N")
     sol = sp.solve(
-        [-Ms * w0**2 + 2 * f * Ns * w0 + omega**2 * Ms, -Ns * w0**2 - 2 * f * Ms * w0 + omega**2 * Ns - tau],
+        [
+            -Ms * w0**2 + 2 * f * Ns * w0 + omega**2 * Ms,
+            -Ns * w0**2 - 2 * f * Ms * w0 + omega**2 * Ns - tau,
+        ],
         [Ms, Ns],
         dict=True,
     )[0]
-    return ForcedSymbols(t, q, m, b, c, F0, w0, f, omega, tau, sp.Eq(eq, 0), sp.factor(sol[Ms]), sp.factor(sol[Ns]))
+    return ForcedSymbols(
+        t, q, m, b, c, F0, w0, f, omega, tau, sp.Eq(eq, 0), sp.factor(sol[Ms]), sp.factor(sol[Ns])
+    )
