@@ -538,7 +538,13 @@ class Classroom:
         self.pending: dict[tuple[int, str], tuple[Callable[[Any], None], Any]] = {}
         self._refused_note: dict[int, float] = {}
         self.all_sessions: weakref.WeakSet[Session] = weakref.WeakSet()
-        self.stats = {"refused_follower": 0, "coalesced": 0, "replayed": 0, "wrong_codes": 0}
+        self.stats = {
+            "refused_follower": 0,
+            "admitted": 0,
+            "coalesced": 0,
+            "replayed": 0,
+            "wrong_codes": 0,
+        }
         self._stop = threading.Event()
         self._thread = threading.Thread(
             target=self._run, name="analyzer-lab-classroom", daemon=True
@@ -682,6 +688,7 @@ class Classroom:
         target = getattr(event, "target", None)
         cost = TEXT_COST if type(target).__name__ == "GuiTextHandle" else 1.0
         if bucket.take(cost):
+            self.stats["admitted"] += 1
             return True
         if again is not None and target is not None:
             self.stats["coalesced"] += 1

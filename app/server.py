@@ -200,17 +200,13 @@ class LabServer:
         self.server.on_client_connect(self._on_connect)
         self.server.on_client_disconnect(self._on_disconnect)
         self._loop_done = threading.Event()
-        self._loop_thread: threading.Thread | None = None
         loop = getattr(self.server._websock_server, "_background_event_loop", None)
-        if loop is not None and os.environ.get("ANALYZER_LAB_LOOP", "") != "thread":
-            import asyncio
+        if loop is None:
+            self.server.stop()
+            raise LabError("the web server's event loop is not available: cannot run frames")
+        import asyncio
 
-            asyncio.run_coroutine_threadsafe(self._async_loop(), loop)
-        else:
-            self._loop_thread = threading.Thread(
-                target=self._loop, name="analyzer-lab-frames", daemon=True
-            )
-            self._loop_thread.start()
+        asyncio.run_coroutine_threadsafe(self._async_loop(), loop)
         self._slow_thread = threading.Thread(
             target=self._slow_loop, name="analyzer-lab-slow", daemon=True
         )
@@ -265,19 +261,6 @@ class LabServer:
             return self.views.get(client_id)
 
     # -- loops ------------------------------------------------------------------------
-
-    def _loop(self) -> None:
-        """The frame loop on its own thread (used when viser's event loop is not reachable)."""
-        period = 1.0 / self.fps
-        next_t = time.monotonic()
-        while not self._stop.is_set():
-            self._tick_all(period)
-            next_t += period
-            delay = next_t - time.monotonic()
-            if delay < -period:
-                next_t = time.monotonic()  # behind: do not try to catch up with a burst
-                delay = 0.0
-            self._stop.wait(max(0.0, delay))
 
     async def _async_loop(self) -> None:
         """The frame loop inside viser's event loop: stepping, drawing and sending run on
@@ -448,10 +431,7 @@ class LabServer:
             self.views.clear()
         for v in views:
             v.close()
-        if self._loop_thread is not None:
-            self._loop_thread.join(timeout=2.0)
-        else:
-            self._loop_done.wait(timeout=2.0)
+        self._loop_done.wait(timeout=2.0)
         try:
             self.server.stop()
         except Exception:

@@ -1,12 +1,13 @@
 """Classroom: instructor code, follow me / release, and hardening against hand-made clients.
 
 Every page here is a real websocket client speaking viser's protocol
-(:class:`app.classroom_load.ProtoClient`) against an in-process :class:`LabServer`.
+(:class:`benchmarks.classroom_load.ProtoClient`) against an in-process :class:`LabServer`.
 """
 
 from __future__ import annotations
 
 import asyncio
+import statistics
 import math
 import time
 from collections.abc import Iterator
@@ -15,8 +16,8 @@ from typing import Any
 import pytest
 
 from app.classroom import Classroom, TokenBucket, normalize_code
-from app.classroom_load import ProtoClient
-from app.loadtest import gui_update
+from benchmarks.classroom_load import ProtoClient
+from benchmarks.loadtest import gui_update
 from lessons.sphere import LESSON as SPHERE
 from tests.helpers import until
 
@@ -326,6 +327,18 @@ def test_out_of_range_nan_and_oversized_values_are_refused(lab: Any) -> None:
     run(go())
 
 
+async def _rates(client: Any, seconds: float, window: float = 0.5) -> list[float]:
+    """The page's point updates per second in consecutive windows."""
+    rates = []
+    client.measuring = True
+    for _ in range(int(seconds / window)):
+        start = client.point_updates
+        await asyncio.sleep(window)
+        rates.append((client.point_updates - start) / window)
+    client.measuring = False
+    return rates
+
+
 def test_formula_flood_is_rate_limited_and_does_not_slow_others(lab: Any) -> None:
     async def go() -> None:
         # a demo left over from an earlier test (its instructor's disconnect still in
@@ -338,42 +351,29 @@ def test_formula_flood_is_rate_limited_and_does_not_slow_others(lab: Any) -> Non
         obs, ov = await page(lab)
         await obs.set("pause at t_end", False)
         await obs.set("Run", "Play", 0.5)
-        obs.measuring = True
-        await asyncio.sleep(2.0)
-        obs.measuring = False
-        base = obs.point_updates / 2.0
+        base = await _rates(obs, 2.0)
         flood, fv = await page(lab)
         uuid = flood.gui["u1(t) ="]
-        applied: list[str] = []
-        orig = fv.session.set_values
-
-        def counting(changes: Any) -> None:
-            applied.append(str(changes))
-            orig(changes)
-
-        fv.session.set_values = counting  # type: ignore[method-assign]
+        applied_before = lab.classroom.stats["admitted"]
         sent = 0
-        obs.point_updates = 0
-        obs.measuring = True
         t0 = time.monotonic()
         for k in range(600):  # as fast as the socket takes them
             sent += 1
             await flood.send(gui_update(uuid, f"sin({k % 97 + 1}*t)"))
         await flood.send(gui_update(uuid, "cos(3*t)"))
+        during_task = asyncio.ensure_future(_rates(obs, 2.0))
         # the server paces this one connection (150 messages/s): the flooder waits on itself
         await until(
             lambda: fv.session.raw_values()["u1"] == "cos(3*t)", 30, "the newest value applied"
         )
         dt = time.monotonic() - t0
-        obs.measuring = False
-        during = obs.point_updates / dt
+        during = await during_task
+        applied = lab.classroom.stats["admitted"] - applied_before
         assert dt > 2.0  # paced
-        assert len(applied) <= 5 * dt + 10, (
-            len(applied),
-            sent,
-        )  # formula edits cost 4 tokens of 20/s
+        assert applied <= 5 * dt + 10, (applied, sent)  # formula edits cost 4 tokens of 20/s
         assert lab.classroom.stats["coalesced"] > 0
-        assert during >= 0.75 * base, (base, during)
+        # medians of half-second rates: one slow half-second of a busy machine is not a trend
+        assert statistics.median(during) >= 0.75 * statistics.median(base), (base, during)
         await close(obs, flood)
 
     run(go())
@@ -393,7 +393,7 @@ def test_short_soak_keeps_memory_and_leaves_no_sessions() -> None:
         [
             sys.executable,
             "-m",
-            "app.soak",
+            "benchmarks.soak",
             "--minutes",
             "1",
             "--students",

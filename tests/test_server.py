@@ -16,8 +16,8 @@ from typing import Any
 import pytest
 
 from app.classroom import CONNECTION, OrderedExecutor
-from app.classroom_load import ProtoClient
-from app.loadtest import gui_update
+from benchmarks.classroom_load import ProtoClient
+from benchmarks.loadtest import gui_update
 from lessons.sphere import LESSON as SPHERE
 from tests.helpers import until
 
@@ -48,34 +48,8 @@ def test_frame_loop_runs_on_the_event_loop_and_advances_sessions(lab: Any) -> No
         await c.close()
 
     asyncio.run(go())
-    assert lab._loop_thread is None  # no second thread competing with the sending
+    assert not [t for t in threading.enumerate() if t.name == "analyzer-lab-frames"]
     assert lab.stats.ticks > 0
-
-
-def test_thread_frame_loop_for_comparison_still_plays(monkeypatch: pytest.MonkeyPatch) -> None:
-    """``ANALYZER_LAB_LOOP=thread``: the earlier design (own frame thread), kept for load
-    comparisons and for a viser whose event loop is not reachable."""
-    from app.server import LabServer
-
-    monkeypatch.setenv("ANALYZER_LAB_LOOP", "thread")
-    server = LabServer(
-        host="127.0.0.1", port=0, lessons=[SPHERE], lesson="sphere", warm_up=False, restore=False
-    )
-    try:
-        assert server._loop_thread is not None and server._loop_thread.is_alive()
-
-        async def go() -> None:
-            c = await ProtoClient(server.url).start()
-            await c.wait_for("Run")
-            c.measuring = True
-            await c.send(gui_update(c.gui["Run"], "Play"))
-            await until(lambda: c.point_updates >= 10, 10, "point updates from the thread loop")
-            await c.close()
-
-        asyncio.run(go())
-    finally:
-        server.stop()
-    assert not server._loop_thread.is_alive()
 
 
 def test_messages_of_one_page_apply_in_the_order_sent(lab: Any) -> None:

@@ -1,6 +1,6 @@
 """Classroom load benchmark with real websocket clients speaking viser's protocol.
 
-    python -m app.classroom_load [--students 50] [--seconds 10]
+    python -m benchmarks.classroom_load [--students 50] [--seconds 10]
 
 Two scenarios against one server subprocess (``python -m app serve``):
 
@@ -26,8 +26,15 @@ import time
 from dataclasses import dataclass, field
 from typing import Any
 
-from app.loadtest import POINT_NODE, camera_message, decode_frame, encode, free_port, gui_update
-from app.loadtest import start_server as _start_server
+from benchmarks.loadtest import (
+    POINT_NODE,
+    camera_message,
+    decode_frame,
+    encode,
+    free_port,
+    gui_update,
+)
+from benchmarks.loadtest import start_server as _start_server
 
 BENCH_CODE = "bench-code-2718"
 
@@ -254,7 +261,7 @@ def start_server(
 
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(
-        prog="python -m app.classroom_load", description=__doc__.split("\n\n")[0]
+        prog="python -m benchmarks.classroom_load", description=__doc__.split("\n\n")[0]
     )
     ap.add_argument("--students", type=int, default=50)
     ap.add_argument("--seconds", type=float, default=10.0)

@@ -1,6 +1,6 @@
 """Load test: N simultaneous sessions, each a real websocket client speaking viser's protocol.
 
-    python -m app.loadtest --sessions 1 10 30 50 [--seconds 10] [--lesson sphere --preset example-1.1]
+    python -m benchmarks.loadtest --sessions 1 10 30 50 [--seconds 10] [--lesson sphere --preset example-1.1]
 
 The server runs as a subprocess (``python -m app serve``).  Each client connects with
 viser's subprotocol, sends a camera message (which makes it a connected client),
@@ -293,7 +293,7 @@ def start_server(
 
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(
-        prog="python -m app.loadtest", description=__doc__.split("\n\n")[0]
+        prog="python -m benchmarks.loadtest", description=__doc__.split("\n\n")[0]
     )
     ap.add_argument("--sessions", type=int, nargs="+", default=[1, 10, 30, 50])
     ap.add_argument("--seconds", type=float, default=10.0, help="measuring window per run")

@@ -1,6 +1,6 @@
 """Soak test: a class that comes and goes for a long time; memory and sessions stay put.
 
-    python -m app.soak --minutes 30 [--students 20] [--churn 3]
+    python -m benchmarks.soak --minutes 30 [--students 20] [--churn 3]
 
 Runs ``python -m app serve`` as a subprocess.  An instructor page (a real websocket
 client speaking viser's protocol) enters the code, plays a preset and alternates
@@ -28,8 +28,8 @@ import tempfile
 import time
 from typing import Any
 
-from app.classroom_load import BENCH_CODE, ProtoClient, start_server
-from app.loadtest import free_port
+from benchmarks.classroom_load import BENCH_CODE, ProtoClient, start_server
+from benchmarks.loadtest import free_port
 
 
 def last_report(path: str) -> dict[str, int]:
@@ -174,7 +174,9 @@ async def soak(
 
 
 def main(argv: list[str] | None = None) -> int:
-    ap = argparse.ArgumentParser(prog="python -m app.soak", description=__doc__.split("\n\n")[0])
+    ap = argparse.ArgumentParser(
+        prog="python -m benchmarks.soak", description=__doc__.split("\n\n")[0]
+    )
     ap.add_argument("--minutes", type=float, default=30.0)
     ap.add_argument("--students", type=int, default=20, help="students connected at any time")
     ap.add_argument(
