@@ -187,7 +187,10 @@ def _as_list(math: sp.Basic | Sequence[sp.Basic] | str | None) -> list[sp.Basic 
     return [math]
 
 
-RECON_STYLE = "background:#fff3cd;color:#7a5600;border:1px solid #e0c060;border-radius:4px;padding:0 4px;font-size:0.8em"
+RECON_STYLE = (
+    "background:#fff3cd;color:#7a5600;border:1px solid #e0c060;border-radius:4px;"
+    "padding:0 4px;font-size:0.8em"
+)
 SOURCE_STYLE = "color:#555;font-size:0.85em;margin-left:6px"
 
 
@@ -202,7 +205,8 @@ def step_to_html(step: DerivationStep, index: int | None = None) -> str:
         parts.append(f'<span class="al-source" style="{SOURCE_STYLE}">{esc(step.source)}</span>')
     if step.reconstructed:
         parts.append(
-            f' <span class="al-reconstructed" style="{RECON_STYLE}" title="{esc(step.reconstructed)}">reconstructed</span>'
+            f' <span class="al-reconstructed" style="{RECON_STYLE}"'
+            f' title="{esc(step.reconstructed)}">reconstructed</span>'
         )
     parts.append("</div>")
     if step.text:

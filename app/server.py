@@ -343,7 +343,8 @@ class LabServer:
         busy = self.stats.busy - self._report_busy
         print(
             f"[loop] sessions {len(views)} ticks/s {(self.stats.ticks - self._report_ticks) / span:.1f} "
-            f"busy {busy / span:.0%} stepping {(steps - self._report_steps) / span:.0%} drawing {(draws - self._report_draws) / span:.0%} load {self.stats.load:.2f} "
+            f"busy {busy / span:.0%} stepping {(steps - self._report_steps) / span:.0%} "
+            f"drawing {(draws - self._report_draws) / span:.0%} load {self.stats.load:.2f} "
             f"skipped {self.stats.skipped}",
             file=sys.stderr,
             flush=True,
@@ -468,7 +469,8 @@ def serve(
         print(f"analyzer-lab: port {port} is in use; using {lab.port}", flush=True)
     where = "every interface" if host in ("0.0.0.0", "::", "") else host
     print(
-        f"Analyzer Lab: {lab.url}  (listening on {where}, port {lab.port}; ready in {time.perf_counter() - t0:.1f} s; Ctrl-C stops)",
+        f"Analyzer Lab: {lab.url}  (listening on {where}, port {lab.port}; "
+        f"ready in {time.perf_counter() - t0:.1f} s; Ctrl-C stops)",
         flush=True,
     )
     print(

@@ -405,16 +405,10 @@ class Session:
         self._messages_of(lesson, params)
 
     def _messages_of(self, lesson: Lesson, params: Params) -> None:
-        """Surface the lesson's own notes (e.g. a projected start point)."""
-        prepare = getattr(lesson, "prepare", None)
-        if prepare is None:
-            return
-        try:
-            notes = getattr(prepare(params), "messages", [])
-        except Exception:
-            return
-        for note in notes:
-            self.notify(str(note), "warning")
+        """Surface the lesson's own notes on these values (e.g. a projected start point)."""
+        for note in lesson.notes(params):
+            if note.kind in ("info", "warning"):
+                self.notify(note.text, note.kind)
 
     def select_lesson(self, lesson_id: str, preset: str | None = None) -> None:
         """Switch lesson (defaults, or the given preset); refuses unknown ids."""
@@ -501,35 +495,36 @@ class Session:
     def set_value(self, name: str, raw: Any) -> None:
         self.set_values({name: raw})
 
+    def _start_names(self) -> tuple[str, str, str]:
+        names = self.lesson.start_point
+        if names is None:
+            raise LabError("this lesson has no start point")
+        return names
+
     def snap_start(self) -> tuple[float, float, float] | None:
-        """Put the start point (x0, y0, z0) exactly where the lesson places it (on the
-        surface): the first moving point of a fresh run."""
-        if not all(n in self.params for n in ("x0", "y0", "z0")):
-            raise LabError("this lesson has no start point to snap")
+        """Put the start point exactly where the lesson places it (on the surface): the
+        first moving point of a fresh run."""
+        names = self._start_names()
         fresh = self.lesson.stepper(self.params).reset()
         if not fresh.points:
             raise LabError("this lesson has no moving point")
-        p = np.asarray(next(iter(fresh.points.values())), dtype=float).reshape(-1, 3)[0]
-        if int(self.params.get("family", 1) or 1) > 1:
+        pts = np.asarray(next(iter(fresh.points.values())), dtype=float).reshape(-1, 3)
+        p = pts[0]
+        family = self.lesson.family
+        if family is not None and int(self.params[family]) > 1:
             # the family is spread around the base point: snap the base point itself
-            pts = np.asarray(next(iter(fresh.points.values())), dtype=float).reshape(-1, 3)
             p = pts[len(pts) // 2] if len(pts) % 2 else pts.mean(axis=0)
-        values = {
-            "x0": round(float(p[0]), 12),
-            "y0": round(float(p[1]), 12),
-            "z0": round(float(p[2]), 12),
-        }
+        values = {n: round(float(v), 12) for n, v in zip(names, p)}
         self.set_values(values)
-        return values["x0"], values["y0"], values["z0"]
+        return values[names[0]], values[names[1]], values[names[2]]
 
     def set_start(self, point: Sequence[float]) -> None:
         """Start point from the scene (a click on the surface)."""
-        if not all(n in self.params for n in ("x0", "y0", "z0")):
-            raise LabError("this lesson has no start point")
+        names = self._start_names()
         p = [float(v) for v in point]
         if len(p) != 3 or not all(math.isfinite(v) for v in p):
             raise LabError("the clicked point is not finite")
-        self.set_values({"x0": p[0], "y0": p[1], "z0": p[2]})
+        self.set_values(dict(zip(names, p)))
 
     # -- playback -------------------------------------------------------------------
 
@@ -592,7 +587,8 @@ class Session:
         if self.pause_at_end and self.stepper.t >= self.t_end - 1e-9 and self.playing:
             self.playing = False
             self.notify(
-                f"t = {self.t_end:g} s reached (the textbook's run); press play to run again, or untick 'pause at t_end'",
+                f"t = {self.t_end:g} s reached (the textbook's run); press play to run again,"
+                " or untick 'pause at t_end'",
                 "info",
             )
         return frames
@@ -696,35 +692,25 @@ class Session:
     # -- export ---------------------------------------------------------------------
 
     def run_result(self) -> RunResult:
-        """The run shown so far as a :class:`RunResult` (series from the frames)."""
+        """The run shown so far as a :class:`RunResult`: the lesson's declared series (the
+        same columns and units as ``analyzer-lab run``), sampled at the played frames."""
         log = self.log
         if not len(log):
             log = RunLog(2)
             log.add(self.frame)
         t = log.t
-        series: dict[str, np.ndarray] = {}
-        names = log.point_names
-        for name in names:
-            pts = log.points(name)
-            for k in range(pts.shape[1]):
-                prefix = "" if len(names) == 1 else f"{name}_"
-                suffix = "" if k == 0 else f"_{k + 1}"
-                for j, c in enumerate("xyz"):
-                    series[f"{prefix}{c}{suffix}"] = pts[:, k, j]
-        for k in log.scalar_names:
-            if k not in series:
-                series[k] = log.scalar(k)
+        declared = self.lesson.series_for(self.params)
+        series = {s.name: log.scalar(s.name) for s in declared if s.name in log.scalar_names}
         metrics: dict[str, Any] = {
             "t_end": float(t[-1]),
             "samples": len(t),
             "source": "live run",
             "speed": self.speed,
         }
-        if "drift" in series and len(series["drift"]) and not np.all(np.isnan(series["drift"])):
-            metrics["invariant_drift_max"] = float(np.nanmax(series["drift"]))
         messages = [text for _, text in self.notices]
+        units = {s.name: s.unit for s in declared}
         return RunResult(
-            self.lesson.id, self.preset, self.raw_values(), t, series, metrics, messages
+            self.lesson.id, self.preset, self.raw_values(), t, series, metrics, messages, units
         )
 
 

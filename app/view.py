@@ -15,12 +15,13 @@ event loop).
 
 from __future__ import annotations
 
+import contextlib
 import html
 import math
 import time
 import traceback
 from collections import deque
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
@@ -28,7 +29,7 @@ import numpy as np
 
 from app.math_render import derivation_to_html
 from app.session import SPEEDS, LabError, Session, SessionState, lesson_label
-from lessons.core.contract import Frame, Param, ParamError, PlotSpec, SceneSpec
+from lessons.core.contract import Frame, Lesson, Param, ParamError, PlotSpec, SceneSpec
 from lessons.core.formula import Formula
 
 if TYPE_CHECKING:
@@ -40,6 +41,13 @@ _UNSHOWN = object()
 RETIRE_DELAY = 1.5  # seconds a replaced GUI folder stays (hidden) before it is removed
 PLOT_COLORS = ("#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#17becf", "#8c564b")
 LEVEL_COLORS = {"info": "#1c4f8a", "warning": "#8a5a00", "error": "#a61b1b"}
+
+
+def _units_of(lesson: Lesson, names: Sequence[str]) -> str:
+    """The plot's unit when all its series share one (from the lesson's declarations)."""
+    units = {x.name: x.unit for x in lesson.series}
+    found = {units.get(n, "") for n in names}
+    return found.pop() if len(found) == 1 else ""
 
 
 def _speed_label(s: float) -> str:
@@ -354,9 +362,22 @@ class SessionView:
     def _readout_html(self) -> str:
         s = self.session
         state = "playing" if s.playing else "paused"
+        units = {x.name: x.unit for x in s.lesson.series}
+        values = []
+        for name in s.lesson.readout:
+            v = s.frame.scalars.get(name)
+            if v is None:
+                continue
+            unit = f" {units.get(name, '')}" if units.get(name) else ""
+            values.append(f"{html.escape(name)} = {v:.6g}{html.escape(unit)}")
+        quantities = (
+            f'<div class="al-readout-values" style="font-size:0.9em">{" &nbsp; ".join(values)}</div>'
+            if values
+            else ""
+        )
         return (
-            f'<div class="al-readout" style="font-family:monospace;font-size:1.05em">t = {s.frame.t:8.3f} s'
-            f" &nbsp; {_speed_label(s.speed)} &nbsp; {state}</div>"
+            '<div class="al-readout" style="font-family:monospace;font-size:1.05em">'
+            f"t = {s.frame.t:8.3f} s &nbsp; {_speed_label(s.speed)} &nbsp; {state}{quantities}</div>"
         )
 
     def _status_html(self) -> str:
@@ -369,7 +390,8 @@ class SessionView:
             )
         if self.session.frame.message:
             parts.append(
-                f'<div class="al-frame-message" style="color:#8a5a00;font-size:0.9em">{html.escape(self.session.frame.message)}</div>'
+                '<div class="al-frame-message" style="color:#8a5a00;font-size:0.9em">'
+                f"{html.escape(self.session.frame.message)}</div>"
             )
         return "".join(parts) or '<div class="al-message"></div>'
 
@@ -394,26 +416,34 @@ class SessionView:
         groups: dict[str, list[Param]] = {}
         for p in lesson.params:
             groups.setdefault(p.group, []).append(p)
-        titles = {
-            "controls": "Controls",
-            "initial": "Initial point",
-            "surface": "Surface",
-            "method": "Integrator",
-        }
+        # the lesson's declared groups in their order; its mode selectors come first
+        order = [g.name for g in lesson.groups]
+        modes = [lesson.param(m) for m in lesson.modes]
         with self.tab_controls:
-            for group, params in groups.items():
-                folder = gui.add_folder(
-                    titles.get(group, group.capitalize()), expand_by_default=group != "method"
-                )
+            if modes:
+                folder = gui.add_folder("Mode")
+                self._lesson_folders.append(folder)
+                with folder:
+                    for p in modes:
+                        self._add_param_widget(p)
+            for name in sorted(groups, key=order.index):
+                params = [p for p in groups[name] if p.name not in lesson.modes]
+                if not params:
+                    continue
+                group = lesson.group(name)
+                folder = gui.add_folder(group.title, expand_by_default=group.expanded)
                 self._lesson_folders.append(folder)
                 with folder:
                     for p in params:
                         self._add_param_widget(p)
-                    if group == "initial" and {"x0", "y0", "z0"} <= {q.name for q in lesson.params}:
+                    if lesson.start_point is not None and lesson.start_point[0] in {
+                        p.name for p in params
+                    }:
                         snap = gui.add_button("Snap to surface")
                         snap.on_click(self._guard(self._on_snap))
                         gui.add_html(
-                            '<div style="font-size:0.8em;color:#555">Click the surface to set the start point.</div>'
+                            '<div style="font-size:0.8em;color:#555">'
+                            "Click the surface to set the start point.</div>"
                         )
             vec_names = tuple(self.session.scene.moving_vectors)
             if vec_names:
@@ -444,7 +474,8 @@ class SessionView:
                         {"label": name, "stroke": PLOT_COLORS[i % len(PLOT_COLORS)], "width": 1.5}
                         for i, name in enumerate(spec.series)
                     ]
-                    title = spec.title + (f" [{spec.units}]" if spec.units else "")
+                    units = spec.units or _units_of(lesson, spec.series)
+                    title = spec.title + (f" [{units}]" if units else "")
                     handle = gui.add_uplot(
                         buf.data(),
                         tuple(series),
@@ -1151,7 +1182,7 @@ class SessionView:
                 self._update_texts()
             return
         t1 = time.perf_counter()
-        with self.client.atomic() if atomic else _nullcontext():
+        with self.client.atomic() if atomic else contextlib.nullcontext():
             if (
                 s.scene_revision != self._drawn_scene_rev
                 or s.reset_revision != self._drawn_reset_rev
@@ -1206,14 +1237,6 @@ class SessionView:
             raise LabError(f"unknown export {kind[:20]!r}")
         self.client.send_file_download(name, data, save_immediately=True)
         s.notify(f"exported {name} ({len(data) / 1024:.1f} kB, {len(s.log)} samples)")
-
-
-class _nullcontext:
-    def __enter__(self) -> None:
-        return None
-
-    def __exit__(self, *exc: Any) -> None:
-        return None
 
 
 def fast_set(handle: Any, name: str, value: Any) -> None:

@@ -246,7 +246,8 @@ def main(argv: list[str] | None = None) -> int:
     print(f"[soak] sessions while running: {r['during']}")
     print(f"[soak] after the students left: {r['after_students_left']}")
     print(
-        f"[soak] after everybody left: {left} -> {'OK: no orphaned sessions' if ok_sessions else 'FAIL: orphaned sessions'}"
+        f"[soak] after everybody left: {left} -> "
+        f"{'OK: no orphaned sessions' if ok_sessions else 'FAIL: orphaned sessions'}"
     )
     return 0 if ok_mem and ok_sessions else 1
 

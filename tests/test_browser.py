@@ -38,7 +38,10 @@ def _require_browser() -> None:
         try:
             import playwright.sync_api  # noqa: F401
         except ImportError:
-            missing = "the python package `playwright` is missing (pip install playwright; the browser comes from `apt-get install chromium`)"
+            missing = (
+                "the python package `playwright` is missing (pip install playwright;"
+                " the browser comes from `apt-get install chromium`)"
+            )
     if missing:
         if os.environ.get("CI", "").lower() == "true":
             pytest.fail(missing + " (CI=true: browser tests must run)")

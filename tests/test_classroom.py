@@ -7,8 +7,8 @@ Every page here is a real websocket client speaking viser's protocol
 from __future__ import annotations
 
 import asyncio
-import statistics
 import math
+import statistics
 import time
 from collections.abc import Iterator
 from typing import Any

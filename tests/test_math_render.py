@@ -32,7 +32,10 @@ def test_latex_text_cannot_inject_script() -> None:
 
 
 def test_sanitizer_drops_foreign_elements_and_attributes() -> None:
-    dirty = '<math><mi onclick="evil()" mathvariant="bold">a</mi><iframe src="x"></iframe><b>bold</b><mo>&lt;</mo></math>'
+    dirty = (
+        '<math><mi onclick="evil()" mathvariant="bold">a</mi><iframe src="x"></iframe>'
+        "<b>bold</b><mo>&lt;</mo></math>"
+    )
     clean = sanitize_mathml(dirty)
     assert "onclick" not in clean and "iframe" not in clean and "<b>" not in clean
     assert 'mathvariant="bold"' in clean and "bold" in clean and "<mo>&lt;</mo>" in clean
