@@ -21,216 +21,44 @@ server; every GUI input of every page passes a token bucket (formula edits cost
 more; an input over the limit is not dropped but coalesced: the newest value is
 applied when the bucket refills); incoming websocket messages are paced per
 connection and oversized ones dropped before viser decodes them
-(:func:`harden_websocket`).
+(:func:`app.viser_boundary.harden_websocket`).
 """
 
 from __future__ import annotations
 
-import contextvars
 import copy
 import gc
 import hmac
-import html
-import secrets
 import sys
 import threading
 import time
 import traceback
 import weakref
-from collections import deque
 from collections.abc import Callable
-from concurrent.futures import Future
 from typing import TYPE_CHECKING, Any
 
+from app.instructor import InstructorPanel, Presenter
+from app.limits import (
+    CODE_FREE_TRIES,
+    CODE_GLOBAL_BURST,
+    CODE_GLOBAL_RATE,
+    CODE_MAX_WAIT,
+    INPUT_BURST,
+    INPUT_RATE,
+    MAX_NOTICE_LENGTH,
+    TEXT_COST,
+    TokenBucket,
+    generate_code,
+    normalize_code,
+)
 from app.session import LabError, Session
+
+#: Follower sync / camera pushes (Hz).
+SYNC_HZ = 20.0
 
 if TYPE_CHECKING:
     from app.server import LabServer
     from app.view import SessionView
-
-#: Characters of generated codes (no 0/o, 1/l/i look-alikes).
-CODE_ALPHABET = "abcdefghjkmnpqrstuvwxyz23456789"
-MAX_CODE_LENGTH = 64
-#: Wrong codes: free tries per page, then a doubling wait (s) capped at CODE_MAX_WAIT.
-CODE_FREE_TRIES = 3
-CODE_MAX_WAIT = 300.0
-#: Wrong codes across the whole server: a burst of 10, then one per 6 s.
-CODE_GLOBAL_BURST = 10
-CODE_GLOBAL_RATE = 1.0 / 6.0
-#: GUI inputs per page: tokens per second and burst; a text (formula) edit costs more.
-INPUT_RATE = 20.0
-INPUT_BURST = 20.0
-TEXT_COST = 4.0
-MAX_NOTICE_LENGTH = 300
-#: Websocket: incoming messages per second and burst per connection; size limit.
-WS_RATE = 150.0
-WS_BURST = 300.0
-WS_MAX_BYTES = 256 * 1024
-#: Follower sync / camera pushes (Hz).
-SYNC_HZ = 20.0
-
-
-def generate_code() -> str:
-    """An 8-character code, shown as ``xxxx-xxxx``."""
-    raw = "".join(secrets.choice(CODE_ALPHABET) for _ in range(8))
-    return f"{raw[:4]}-{raw[4:]}"
-
-
-def normalize_code(text: Any) -> str:
-    """Case, spaces and dashes do not matter when typing the code."""
-    if not isinstance(text, str):
-        return ""
-    return "".join(ch for ch in text[:MAX_CODE_LENGTH].lower() if ch.isalnum())
-
-
-class TokenBucket:
-    """``rate`` tokens per second up to ``burst``; :meth:`take` spends them."""
-
-    def __init__(self, rate: float, burst: float) -> None:
-        self.rate = float(rate)
-        self.burst = float(burst)
-        self.tokens = float(burst)
-        self.t = time.monotonic()
-        self.lock = threading.Lock()
-
-    def _refill(self, now: float) -> None:
-        self.tokens = min(self.burst, self.tokens + (now - self.t) * self.rate)
-        self.t = now
-
-    def take(self, cost: float = 1.0) -> bool:
-        with self.lock:
-            self._refill(time.monotonic())
-            if self.tokens >= cost:
-                self.tokens -= cost
-                return True
-            return False
-
-    def wait_time(self, cost: float = 1.0) -> float:
-        """Seconds until ``cost`` tokens are there (0 if they are)."""
-        with self.lock:
-            self._refill(time.monotonic())
-            return max(0.0, (cost - self.tokens) / self.rate) if self.rate > 0 else float("inf")
-
-
-# ------------------------------------------------------------------ websocket pacing
-
-_HARDENED = False
-_HARDEN_LOCK = threading.Lock()
-WS_STATS = {"dropped_oversized": 0, "paced": 0}
-
-
-#: The connection whose message is being handled (set around viser's dispatch; the
-#: asyncio tasks it creates copy the value).
-CONNECTION: contextvars.ContextVar[int | None] = contextvars.ContextVar(
-    "analyzer_lab_connection", default=None
-)
-
-
-class OrderedExecutor:
-    """viser's callback pool, but the callbacks of one connection run one after the other
-    in the order its messages arrived.
-
-    viser starts every GUI callback on a shared pool, so a preset choice and a checkbox
-    ticked right after it could run in either order (and the slower preset callback
-    could show the old checkbox value over the new one).  Callbacks of different
-    connections still run in parallel; work submitted outside a connection's message
-    (connect handlers, server code) goes to the pool directly."""
-
-    def __init__(self, pool: Any) -> None:
-        self.pool = pool
-        self._lock = threading.Lock()
-        self._queues: dict[int, deque[tuple[Future, Callable[..., Any], tuple, dict]]] = {}
-
-    def submit(self, fn: Callable[..., Any], /, *args: Any, **kwargs: Any) -> Future:
-        key = CONNECTION.get()
-        if key is None:
-            return self.pool.submit(fn, *args, **kwargs)
-        fut: Future = Future()
-        with self._lock:
-            queue = self._queues.get(key)
-            first = queue is None
-            if first:
-                queue = self._queues[key] = deque()
-            queue.append((fut, fn, args, kwargs))  # type: ignore[union-attr]
-        if first:
-            self.pool.submit(self._drain, key)
-        return fut
-
-    def _drain(self, key: int) -> None:
-        while True:
-            with self._lock:
-                queue = self._queues[key]
-                if not queue:
-                    del self._queues[key]
-                    return
-                fut, fn, args, kwargs = queue.popleft()
-            if not fut.set_running_or_notify_cancel():
-                continue
-            try:
-                fut.set_result(fn(*args, **kwargs))
-            except BaseException as exc:  # delivered to the future's callbacks (viser logs it)
-                fut.set_exception(exc)
-
-    def pending(self) -> int:
-        with self._lock:
-            return sum(len(q) for q in self._queues.values())
-
-    def shutdown(self, wait: bool = True, **kwargs: Any) -> None:
-        self.pool.shutdown(wait=wait, **kwargs)
-
-
-def order_callbacks(server: Any) -> OrderedExecutor:
-    """Route a :class:`viser.ViserServer`'s callbacks through an :class:`OrderedExecutor`
-    (before any client connects: per-client APIs copy the executor when created)."""
-    ordered = OrderedExecutor(server._thread_executor)
-    server._thread_executor = ordered
-    for api in (server.gui, server.scene):
-        api._thread_executor = ordered
-    return ordered
-
-
-def harden_websocket() -> None:
-    """Replace viser's per-connection message consumer with one that drops messages
-    larger than :data:`WS_MAX_BYTES` before decoding them and paces each connection
-    to :data:`WS_RATE` messages/s (a flooding client waits on its own TCP window;
-    the other clients are not slowed).  Idempotent; process-wide."""
-    global _HARDENED
-    with _HARDEN_LOCK:
-        if _HARDENED:
-            return
-        import asyncio
-
-        from viser.infra import _infra
-
-        async def paced_consumer(
-            websocket: Any, handle_message: Callable[[Any], None], message_class: Any
-        ) -> None:
-            bucket = TokenBucket(WS_RATE, WS_BURST)
-            while True:
-                raw = await websocket.recv()
-                if not isinstance(raw, (bytes, bytearray)):
-                    continue
-                if len(raw) > WS_MAX_BYTES:
-                    WS_STATS["dropped_oversized"] += 1
-                    continue
-                if not bucket.take():
-                    WS_STATS["paced"] += 1
-                    await asyncio.sleep(bucket.wait_time())
-                    bucket.take()
-                try:
-                    message = message_class.deserialize(raw)
-                except Exception:
-                    continue  # malformed: ignore
-                # the tasks viser creates for this message inherit the connection key
-                token = CONNECTION.set(id(websocket))
-                try:
-                    handle_message(message)
-                finally:
-                    CONNECTION.reset(token)
-
-        _infra._message_consumer = paced_consumer  # type: ignore[assignment]
-        _HARDENED = True
-
 
 # ------------------------------------------------------------------ shared stepping
 
@@ -284,233 +112,6 @@ def _show(view: SessionView) -> None:
     view.refresh(heavy=True)
     view._sync_widgets(force=True)
     view.derivation_due = time.monotonic()
-
-
-class Presenter:
-    """Presenter mode of one page: large fonts, docked (collapsible) panel, the
-    lesson's presets as bookmarks stepped with "◀ Previous" / "Next ▶" and with the
-    PageUp/PageDown keys (a presentation clicker) or P/N (viser commands with
-    hotkeys; viser ignores them while a text field has focus)."""
-
-    CSS = (
-        "<style>html{font-size:150%!important}:root{--mantine-scale:1.45}"
-        ".al-readout{font-size:1.4em!important}</style>"
-    )
-
-    def __init__(self, room: Classroom, view: SessionView) -> None:
-        self.room = room
-        self.view = view
-        gui = view.client.gui
-        self.folder = gui.add_folder("Presenter", expand_by_default=False)
-        with self.folder:
-            self.toggle = gui.add_checkbox(
-                "Presenter mode",
-                initial_value=False,
-                hint="large fonts for a projector; presets become bookmarks",
-            )
-            self.bookmarks = gui.add_html("")
-            self.prev_btn = gui.add_button("◀ Previous")
-            self.next_btn = gui.add_button("Next ▶")
-            gui.add_html(
-                '<div style="font-size:0.8em;color:#555">Keys: PageDown / N = next, PageUp / P = previous '
-                "(also in the command palette).</div>"
-            )
-        self.style = gui.add_html("")
-        self.commands: list[Any] = []
-        self.toggle.on_update(lambda e: self._on_toggle(e))
-        self.prev_btn.on_click(view._guard(lambda e: self.step(-1)))
-        self.next_btn.on_click(view._guard(lambda e: self.step(+1)))
-        self.on = False
-        self.update_bookmarks()
-
-    def _on_toggle(self, event: Any) -> None:
-        if getattr(event, "client", None) is None:
-            return
-        self.set_mode(bool(self.toggle.value))
-
-    def set_mode(self, on: bool) -> None:
-        gui = self.view.client.gui
-        self.on = on
-        self.style.content = self.CSS if on else ""
-        for c in self.commands:
-            try:
-                c.remove()
-            except Exception:
-                pass
-        self.commands = []
-        if on:
-            for label, key, step in (
-                ("Next bookmark", "pagedown", 1),
-                ("Previous bookmark", "pageup", -1),
-                ("Next bookmark (N)", "N", 1),
-                ("Previous bookmark (P)", "P", -1),
-            ):
-                cmd = gui.add_command(
-                    label,
-                    hotkey=key,
-                    description="presenter mode: step through the lesson's presets",
-                )
-                cmd.on_trigger(self.view._guard(lambda e, s=step: self.step(s)))
-                self.commands.append(cmd)
-            try:
-                gui.main_panel.dock_right()
-                gui.main_panel.set_width(560)
-            except Exception:
-                pass
-            self.folder.expand_by_default = True
-        else:
-            try:
-                gui.main_panel.float()
-            except Exception:
-                pass
-        self.update_bookmarks()
-
-    def step(self, direction: int) -> None:
-        """Next/previous preset of the page's lesson (caller holds the session lock)."""
-        s = self.view.session
-        names = [p.name for p in s.lesson.presets]
-        if not names:
-            raise LabError("this lesson has no presets to step through")
-        k = names.index(s.preset) if s.preset in names else (-1 if direction > 0 else len(names))
-        k = min(max(k + direction, 0), len(names) - 1)
-        if names[k] != s.preset:
-            s.apply_preset(names[k])
-            s.notify(f"bookmark {k + 1}/{len(names)}: {names[k]}")
-            self.view._after_state_change()
-        self.update_bookmarks()
-
-    def update_bookmarks(self) -> None:
-        s = self.view.session
-        items = []
-        for k, p in enumerate(s.lesson.presets):
-            cur = p.name == s.preset
-            style = "font-weight:bold;color:#1c4f8a" if cur else "color:#444"
-            items.append(
-                f'<li class="al-bookmark{" al-current" if cur else ""}" style="{style}">'
-                f"{html.escape(p.name)}: {html.escape(p.title)}</li>"
-            )
-        content = (
-            f'<ol class="al-bookmarks" style="font-size:0.85em;padding-left:1.4em">{"".join(items)}</ol>'
-            if items
-            else '<div class="al-bookmarks" style="font-size:0.85em">(this lesson has no presets)</div>'
-        )
-        if self.bookmarks.content != content:
-            self.bookmarks.content = content
-
-
-class InstructorPanel:
-    """The instructor's controls, in that page's ``client.gui`` only."""
-
-    def __init__(self, room: Classroom, view: SessionView) -> None:
-        self.room = room
-        self.view = view
-        gui = view.client.gui
-        self.folder = gui.add_folder("Instructor panel", order=-1000.0)
-        with self.folder:
-            self.counts = gui.add_html("")
-            self.follow_btn = gui.add_button(
-                "Follow me",
-                hint="every student sees this page's lesson, values, play state and camera",
-            )
-            self.release_btn = gui.add_button(
-                "Release", hint="students get their own session back, from where the demo is"
-            )
-            self.push_dd = gui.add_dropdown("Preset for all", ("(choose)",))
-            self.push_btn = gui.add_button("Push preset to all")
-            self.message = gui.add_text("Message", initial_value="")
-            self.notify_btn = gui.add_button("Notify all")
-        self.follow_btn.on_click(self._cb(lambda: room.start_follow(view)))
-        self.release_btn.on_click(self._cb(room.release))
-        self.push_btn.on_click(self._cb(self._push))
-        self.notify_btn.on_click(self._cb(self._notify))
-        self.camera: tuple[Any, ...] | None = None
-        self.camera_t = 0.0  # when the instructor's browser last reported its camera
-        self.lesson_t = (
-            time.monotonic()
-        )  # when the instructor's lesson last changed (the view framed it)
-        self._lesson = view.session.lesson.id
-        view.client.camera.on_update(self._on_camera)
-        self.update()
-
-    def _cb(self, fn: Callable[[], None]) -> Callable[[Any], None]:
-        def wrapped(event: Any) -> None:
-            if (
-                getattr(event, "client", None) is None
-                or event.client.client_id != self.view.client.client_id
-            ):
-                return
-            try:
-                fn()
-            except LabError as exc:
-                self.view.client.add_notification(
-                    "Instructor", f"refused: {exc}", auto_close_seconds=5.0, color="red"
-                )
-            except Exception as exc:
-                traceback.print_exc()
-                self.view.client.add_notification(
-                    "Instructor", f"internal error: {exc}", auto_close_seconds=5.0, color="red"
-                )
-            self.update()
-
-        return wrapped
-
-    def _on_camera(self, cam: Any) -> None:
-        try:
-            self.camera = (
-                tuple(map(float, cam.position)),
-                tuple(map(float, cam.look_at)),
-                tuple(map(float, cam.up_direction)),
-            )
-        except Exception:
-            return
-        self.camera_t = time.monotonic()
-        self.room.camera_dirty = True
-
-    def fresh_camera(self) -> tuple[Any, ...] | None:
-        """The instructor's camera if it was reported after the last lesson change
-        (before that, each follower frames the same lesson the same way itself)."""
-        if self.view.session.lesson.id != self._lesson:
-            self._lesson = self.view.session.lesson.id
-            self.lesson_t = time.monotonic()
-        return self.camera if self.camera is not None and self.camera_t > self.lesson_t else None
-
-    def _push(self) -> None:
-        name = self.push_dd.value
-        s = self.view.session
-        if name not in {p.name for p in s.lesson.presets}:
-            raise LabError("choose one of this lesson's presets")
-        self.room.push_preset(s.lesson.id, name)
-
-    def _notify(self) -> None:
-        text = self.message.value
-        if not isinstance(text, str) or not text.strip():
-            raise LabError("type a message first")
-        self.room.notify_all(text.strip()[:MAX_NOTICE_LENGTH])
-        self.message.value = ""
-
-    def update(self) -> None:
-        """Counts and the preset list (cheap; called a few times a second)."""
-        students, following = self.room.counts()
-        mode = (
-            "following you"
-            if self.room.broadcaster == self.view.client.client_id
-            else "exploring on their own"
-        )
-        content = (
-            f'<div class="al-class-counts" style="font-size:0.9em"><b>{students}</b> student(s) connected, '
-            f'<b class="al-following">{following}</b> following; mode: {mode}</div>'
-        )
-        if self.counts.content != content:
-            self.counts.content = content
-        opts = ("(choose)", *(p.name for p in self.view.session.lesson.presets))
-        if tuple(self.push_dd.options) != opts:
-            self.push_dd.options = opts
-
-    def remove(self) -> None:
-        try:
-            self.folder.remove()
-        except Exception:
-            pass
 
 
 class Classroom:
@@ -1008,14 +609,4 @@ class Classroom:
         self._stop.set()
 
 
-__all__ = [
-    "CONNECTION",
-    "OrderedExecutor",
-    "order_callbacks",
-    "Classroom",
-    "SharedTick",
-    "TokenBucket",
-    "generate_code",
-    "harden_websocket",
-    "normalize_code",
-]
+__all__ = ["Classroom", "SharedTick"]

@@ -15,117 +15,23 @@ from __future__ import annotations
 import math
 import os
 import sys
-import tempfile
 import threading
 import time
 import traceback
 from collections.abc import Sequence
 from dataclasses import dataclass, field
-from pathlib import Path
 from typing import Any
 
 from app.session import LabError, LRUCache, Session, SessionState, lesson_scene, params_key
 from app.view import STORAGE_KEY, SessionView, ViewConfig
+from app.viser_boundary import PAGE_TITLE, WakeBatch, make_viser_server
 from lessons.core.contract import Lesson
 
-PAGE_TITLE = "Analyzer Lab"
 #: Frames per second of the live view: a little above 30 so that every page still gets
 #: 30 updates a second when a tick comes late (measured: 50 pages get 34/s at 36 fps,
 #: 28.7/s at 30 fps).
 DEFAULT_FPS = 36.0
 DERIVATION_CACHE = LRUCache(64)
-_PATCH_LOCK = threading.Lock()
-
-
-def _client_root() -> Path:
-    """viser's client page with our title, in a private temporary directory."""
-    import viser
-
-    src = Path(viser.__file__).resolve().parent / "client" / "build" / "index.html"
-    text = src.read_text(encoding="utf-8")
-    text = text.replace("<title>Viser</title>", f"<title>{PAGE_TITLE}</title>", 1)
-    text = text.replace('content="Viser client"', f'content="{PAGE_TITLE}"', 1)
-    root = Path(tempfile.mkdtemp(prefix="analyzer-lab-page-"))
-    (root / "index.html").write_text(text, encoding="utf-8")
-    return root
-
-
-def _make_viser_server(host: str, port: int, verbose: bool) -> Any:
-    """A ViserServer serving our page (title) whose share tunnel cannot be started."""
-    import viser
-    from viser import _messages, infra
-
-    root = _client_root()
-    original = infra.WebsockServer
-
-    def factory(*args: Any, **kwargs: Any) -> Any:
-        kwargs["http_server_root"] = root
-        return original(*args, **kwargs)
-
-    with _PATCH_LOCK:
-        infra.WebsockServer = factory  # type: ignore[misc]
-        try:
-            server = viser.ViserServer(host=host, port=port, verbose=verbose)
-        finally:
-            infra.WebsockServer = original  # type: ignore[misc]
-    # the share tunnel: drop the handlers any client could trigger, and the method
-    ws = server._websock_server
-    for msg in (_messages.ShareUrlRequest, _messages.ShareUrlDisconnect):
-        try:
-            ws.unregister_handler(msg)
-        except (AssertionError, KeyError):
-            pass
-    server.request_share_url = lambda *a, **k: None  # type: ignore[method-assign]
-    from app.classroom import (
-        harden_websocket,
-        order_callbacks,
-    )  # classroom hook: paced, size-limited client messages
-
-    harden_websocket()
-    order_callbacks(server)  # one connection's callbacks run in the order its messages came
-    server.gui.configure_theme(show_share_button=False, show_logo=False, control_width="large")
-    server.gui.set_panel_label(PAGE_TITLE)
-    return server
-
-
-class _WakeBatch:
-    """Groups the messages of one loop tick for every client and wakes viser's event
-    loop once for all of them (instead of once per client: each wake-up is a write to
-    the loop's self-pipe).  Uses viser's message buffers directly; when they are not
-    reachable, :meth:`hold` returns False and the view uses ``client.atomic()``."""
-
-    def __init__(self, server: Any) -> None:
-        self.loop = getattr(server._websock_server, "_background_event_loop", None)
-        self.held: list[tuple[Any, int]] = []
-
-    def hold(self, client: Any) -> bool:
-        try:
-            buf = client._websock_connection._state.message_buffer
-            buf.atomic_start()
-        except Exception:
-            return False
-        self.held.append((buf, buf.message_counter))
-        return True
-
-    def release(self) -> None:
-        woken = []
-        for buf, before in self.held:
-            with buf.buffer_lock:
-                buf.atomic_counter -= 1
-                ready = buf.atomic_counter == 0
-            if ready and buf.message_counter != before:
-                woken.append(buf)
-        self.held = []
-        if woken and self.loop is not None:
-
-            def wake() -> None:
-                for b in woken:
-                    b.message_event.set()
-
-            try:
-                self.loop.call_soon_threadsafe(wake)
-            except RuntimeError:
-                pass
 
 
 @dataclass
@@ -161,7 +67,7 @@ class LabServer:
         self.host = host
         self.requested_port = port
         # HTTP first (a browser gets the page while the lessons are imported)
-        self.server = _make_viser_server(host, port, verbose)
+        self.server = make_viser_server(host, port, verbose)
         self.port: int = int(self.server.get_port())
         if lessons is None:
             from lessons.catalog import all_lessons
@@ -290,7 +196,7 @@ class LabServer:
         with self._views_lock:
             views = list(self.views.values())
         substeps = 8 if self.stats.load < 0.5 else 4 if self.stats.load < 0.8 else 1
-        batch = _WakeBatch(self.server)
+        batch = WakeBatch(self.server)
         # round-robin with a time budget: under overload every session still gets
         # its turn and viser's sending keeps its share of the interpreter
         budget = start + self.duty * period

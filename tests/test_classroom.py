@@ -15,7 +15,8 @@ from typing import Any
 
 import pytest
 
-from app.classroom import Classroom, TokenBucket, normalize_code
+from app.classroom import Classroom
+from app.limits import TokenBucket, normalize_code
 from benchmarks.classroom_load import ProtoClient
 from benchmarks.loadtest import gui_update
 from lessons.sphere import LESSON as SPHERE
@@ -300,7 +301,7 @@ def test_share_tunnel_cannot_be_opened(lab: Any) -> None:
 
 
 def test_out_of_range_nan_and_oversized_values_are_refused(lab: Any) -> None:
-    from app.classroom import WS_STATS
+    from app.viser_boundary import WS_STATS
 
     async def go() -> None:
         a, av = await page(lab)

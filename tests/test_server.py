@@ -15,7 +15,7 @@ from typing import Any
 
 import pytest
 
-from app.classroom import CONNECTION, OrderedExecutor
+from app.viser_boundary import CONNECTION, OrderedExecutor
 from benchmarks.classroom_load import ProtoClient
 from benchmarks.loadtest import gui_update
 from lessons.sphere import LESSON as SPHERE
