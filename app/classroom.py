@@ -64,7 +64,7 @@ if TYPE_CHECKING:
 
 
 class SharedTick:
-    """Installed as ``session.tick`` of the demo: the first view that ticks the demo
+    """The demo's :attr:`Session.shared_clock`: the first view that ticks the demo
     in a loop tick advances it (by the wall time since the last advance); the other
     views of that tick get the same frames."""
 
@@ -88,30 +88,8 @@ class SharedTick:
             if dt > 3.0 / self.lab.fps:  # was paused (no ticks): one frame period
                 dt = 1.0 / self.lab.fps
             self.advances += 1
-            self.frames = Session.tick(self.session, dt)
+            self.frames = self.session.advance_wall(dt)
         return self.frames
-
-
-def _reset_drawn(view: SessionView) -> None:
-    """Make the view redraw everything from its (new) session.  The lesson's GUI
-    (controls, plots) is rebuilt only when the lesson differs: the widgets are
-    re-synced instead (rebuilding plots while frames stream to them leaves updates
-    for removed components in flight)."""
-    if view._drawn_lesson != view.session.lesson.id:
-        view._drawn_lesson = None
-    view._drawn_scene_rev = -1
-    view._drawn_reset_rev = -1
-    view._visible_cache = None
-    view._vector_names = ()
-    view._frame_dirty = True
-    view._shown_notice = view.session.notices[-1] if view.session.notices else None
-
-
-def _show(view: SessionView) -> None:
-    """Rebuild the view from its session (caller holds the session lock)."""
-    view.refresh(heavy=True)
-    view._sync_widgets(force=True)
-    view.derivation_due = time.monotonic()
 
 
 class Classroom:
@@ -281,7 +259,7 @@ class Classroom:
                 except Exception:
                     pass
             with view.session.lock:
-                view._sync_widgets(force=True)
+                view.sync_widgets(force=True)
             return False
         bucket = self.buckets.get(cid)
         if bucket is None:
@@ -326,7 +304,7 @@ class Classroom:
             if self.broadcaster != cid:
                 self.broadcaster = cid
                 self.demo = demo
-                demo.tick = SharedTick(demo, self.lab)  # type: ignore[method-assign]
+                demo.shared_clock = SharedTick(demo, self.lab)
             with self.lab._views_lock:
                 views = list(self.lab.views.values())
             for v in views:
@@ -348,10 +326,9 @@ class Classroom:
             return
         with own.lock:
             with demo.lock:
-                view.session = demo  # the page's own session is dropped: release makes a fresh one
+                # the page's own session is dropped: release makes a fresh one
+                view.show_session(demo)
                 self.followers[view.client.client_id] = view
-                _reset_drawn(view)
-                _show(view)
                 self._synced[view.client.client_id] = self._signature(demo)
         self.camera_dirty = True
         try:
@@ -377,18 +354,15 @@ class Classroom:
             self.broadcaster = None
             self.demo = None
             if demo is not None:
-                demo.__dict__.pop("tick", None)
+                demo.shared_clock = None
         if demo is None:
             return
         for view in followers:
             if view.closed:
                 continue
             own = self._copy_of(demo)
-            with demo.lock:
-                view.session = own
-                with own.lock:
-                    _reset_drawn(view)
-                    _show(view)
+            with demo.lock, own.lock:
+                view.show_session(own)
             try:
                 view.client.add_notification(
                     "Released",
@@ -439,7 +413,7 @@ class Classroom:
                     else:
                         v.session.apply_preset(preset)
                     v.session.notify(f"the instructor pushed preset {preset}")
-                    v._after_state_change()
+                    v.after_state_change()
                     v.refresh(heavy=True)
                 except Exception as exc:
                     v.session.notify(f"the pushed preset could not be loaded: {exc}", "warning")
@@ -506,13 +480,11 @@ class Classroom:
                     if panel is not None:
                         panel.fresh_camera()  # a new lesson: the followers' views frame it themselves
                 if old is None or old[:6] != sig[:6]:
-                    view._visible_cache = None
-                    view._vector_names = ()
-                    _show(view)
+                    view.redraw()
                     if derivation is not None:
                         view.set_derivation(derivation)
                         view.derivation_due = None
-                view._frame_dirty = True
+                view.mark_dirty()
                 self._synced[cid] = sig
                 if old is None or old[1:3] != sig[1:3]:
                     changed_bookmarks.append(cid)
@@ -526,8 +498,8 @@ class Classroom:
         """The demo's derivation as HTML (shared cache with the server), outside the lock."""
         try:
             from app.math_render import derivation_to_html
+            from app.runlog import params_key
             from app.server import DERIVATION_CACHE
-            from app.session import params_key
 
             with demo.lock:
                 lesson, params = demo.lesson, demo.params

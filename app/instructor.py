@@ -51,8 +51,8 @@ class Presenter:
         self.style = gui.add_html("")
         self.commands: list[Any] = []
         self.toggle.on_update(lambda e: self._on_toggle(e))
-        self.prev_btn.on_click(view._guard(lambda e: self.step(-1)))
-        self.next_btn.on_click(view._guard(lambda e: self.step(+1)))
+        self.prev_btn.on_click(view.guard(lambda e: self.step(-1)))
+        self.next_btn.on_click(view.guard(lambda e: self.step(+1)))
         self.on = False
         self.update_bookmarks()
 
@@ -83,7 +83,7 @@ class Presenter:
                     hotkey=key,
                     description="presenter mode: step through the lesson's presets",
                 )
-                cmd.on_trigger(self.view._guard(lambda e, s=step: self.step(s)))
+                cmd.on_trigger(self.view.guard(lambda e, s=step: self.step(s)))
                 self.commands.append(cmd)
             try:
                 gui.main_panel.dock_right()
@@ -109,7 +109,7 @@ class Presenter:
         if names[k] != s.preset:
             s.apply_preset(names[k])
             s.notify(f"bookmark {k + 1}/{len(names)}: {names[k]}")
-            self.view._after_state_change()
+            self.view.after_state_change()
         self.update_bookmarks()
 
     def update_bookmarks(self) -> None:

@@ -22,7 +22,8 @@ from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
-from app.session import LabError, LRUCache, Session, SessionState, lesson_scene, params_key
+from app.runlog import LRUCache, lesson_scene, params_key
+from app.session import LabError, Session, SessionState
 from app.view import STORAGE_KEY, SessionView, ViewConfig
 from app.viser_boundary import PAGE_TITLE, WakeBatch, make_viser_server
 from lessons.core.contract import Lesson

@@ -8,7 +8,8 @@ viser whose internals were not checked:
 * :func:`harden_websocket`: oversized messages dropped before decoding, each connection
   paced (a flooding page waits on its own socket);
 * :func:`order_callbacks`: one connection's callbacks run in the order its messages came;
-* :class:`WakeBatch`: the messages of one frame-loop tick wake viser's loop once.
+* :class:`WakeBatch`: the messages of one frame-loop tick wake viser's loop once;
+* :func:`fast_set`: one property of a handle set on the hot path.
 """
 
 from __future__ import annotations
@@ -251,3 +252,14 @@ class WakeBatch:
                 self.loop.call_soon_threadsafe(wake)
             except RuntimeError:
                 pass
+
+
+def fast_set(handle: Any, name: str, value: Any) -> None:
+    """Assign one property of a viser handle on the hot path: the value is already of
+    the right type and dtype (fresh array), so viser's generic casting and comparison
+    (``props_setattr``) are skipped; state and wire message are the same."""
+    impl = handle._impl
+    if impl.removed:
+        return
+    setattr(impl.props, name, value)
+    handle._queue_update(name, value)

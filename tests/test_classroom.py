@@ -157,7 +157,7 @@ def test_follow_release_late_joiner_and_live_changes(lab: Any) -> None:
             "u3 shown to the followers",
         )
         # one stepping for all: the demo advances once per frame however many follow
-        tick = iv.session.tick
+        tick = iv.session.shared_clock
         await asyncio.sleep(0.5)
         assert tick.advances <= lab.stats.ticks and tick.calls > 2 * tick.advances
         # followers receive the moving point

@@ -8,7 +8,8 @@ import math
 import numpy as np
 import pytest
 
-from app.session import LabError, RunLog, Session, SessionState, scenes_equal
+from app.runlog import RunLog, scenes_equal
+from app.session import LabError, Session, SessionState
 from lessons.core.contract import Frame, ParamError
 from lessons.sphere import LESSON as SPHERE
 
@@ -225,7 +226,7 @@ def test_run_log_keeps_missing_values_as_nan_and_grows_by_doubling() -> None:
 def test_run_log_memory_at_its_cap_for_a_playing_sphere(session: Session) -> None:
     """A session that plays for ever keeps at most MAX_LOG rows: for the sphere's point
     and its 8 readouts that is about 2 MB (it was 18.6 MB as a list of dicts)."""
-    from app.session import MAX_LOG
+    from app.runlog import MAX_LOG
 
     log = RunLog()
     frame = session.frame
@@ -247,7 +248,7 @@ def test_control_changes_defer_the_scene(session: Session) -> None:
 
 
 def test_trail_colours_segments_by_scalar():
-    from app.view import Trail
+    from app.scene_render import Trail
 
     class Recorder:
         def __init__(self):

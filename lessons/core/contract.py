@@ -139,24 +139,32 @@ class Params(dict):
         return {k: (v.text if isinstance(v, Formula) else v) for k, v in self.items()}
 
 
+GroupChange = Literal["live", "scene", "restart"]
+
+
 @dataclass(frozen=True)
 class Group:
     """A titled group of parameters; a lesson shows its groups in the declared order.
 
     ``expanded``: open when the panel is built (an integrator's settings start closed).
+    ``change``: what a changed value of the group does to a running session:
+    ``"live"`` takes effect at once and the run goes on (the scene is redrawn a little
+    later, off the hot path); ``"scene"`` the same, with the scene redrawn at once;
+    ``"restart"`` starts the run again from the new initial state.
     """
 
     name: str
     title: str
     expanded: bool = True
+    change: GroupChange = "scene"
 
 
 #: The groups most lessons use, in panel order (a lesson may declare its own).
-MODE = Group("mode", "Mode")
-CONTROLS = Group("controls", "Controls")
-INITIAL = Group("initial", "Start point")
+MODE = Group("mode", "Mode", change="restart")
+CONTROLS = Group("controls", "Controls", change="live")
+INITIAL = Group("initial", "Start point", change="restart")
 SURFACE = Group("surface", "Surface")
-METHOD = Group("method", "Integrator", expanded=False)
+METHOD = Group("method", "Integrator", expanded=False, change="live")
 DEFAULT_GROUPS: tuple[Group, ...] = (MODE, CONTROLS, INITIAL, SURFACE, METHOD)
 
 
@@ -667,7 +675,7 @@ class Lesson(ABC):
                 }
                 for p in self.params
             ],
-            "groups": [{"name": g.name, "title": g.title} for g in self.groups],
+            "groups": [{"name": g.name, "title": g.title, "change": g.change} for g in self.groups],
             "modes": list(self.modes),
             "start_point": list(self.start_point) if self.start_point else None,
             "family": self.family,

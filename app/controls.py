@@ -1,0 +1,195 @@
+"""The controls: a lesson's parameters as widgets, built from its declarations.
+
+The lesson's mode selectors come first, then its parameter groups in the declared
+order with their titles; a lesson with a start point gets "Snap to surface" in the
+group that holds it.  :meth:`ParamControls.sync` shows the session's values without
+overwriting a value the user has just typed elsewhere.
+"""
+
+from __future__ import annotations
+
+import math
+import traceback
+from collections.abc import Callable
+from typing import Any
+
+from lessons.core.contract import Lesson, Param, Params
+from lessons.core.formula import Formula
+
+_UNSHOWN = object()
+Handler = Callable[[Any], None]
+
+
+def slider_value(value: Any, p: Param) -> float:
+    """Slider position for a formula value: its constant, else the range's midpoint."""
+    lo, hi = float(p.min), float(p.max)
+    v = math.nan
+    if isinstance(value, Formula):
+        if value.is_constant:
+            try:
+                v = float(value.value(0.0))
+            except Exception:
+                v = math.nan
+    else:
+        v = float(value)
+    if not math.isfinite(v):
+        v = min(max(0.0, lo), hi)
+    return min(max(v, lo), hi)
+
+
+def shown_value(p: Param, value: Any) -> Any:
+    """The value as a widget of ``p`` shows it (text for formulas)."""
+    if p.kind == "formula":
+        return value.text if isinstance(value, Formula) else str(value)
+    if p.kind == "bool":
+        return bool(value)
+    if p.kind == "choice":
+        return str(value)
+    return int(value) if p.kind == "int" else float(value)
+
+
+class ParamControls:
+    """The widgets of one lesson's parameters in one page.
+
+    ``guard`` wraps every callback (the view's lock and refusal handling);
+    ``on_slider``, ``on_text`` and ``on_value`` get ``(param, value)``; ``on_snap`` the
+    click event of "Snap to surface".
+    """
+
+    def __init__(
+        self,
+        gui: Any,
+        guard: Callable[[Handler], Handler],
+        on_slider: Callable[[Param, Any], None],
+        on_text: Callable[[Param, Any], None],
+        on_value: Callable[[Param, Any], None],
+        on_snap: Handler,
+    ) -> None:
+        self.gui = gui
+        self.guard = guard
+        self.on_slider = on_slider
+        self.on_text = on_text
+        self.on_value = on_value
+        self.on_snap = on_snap
+        self.widgets: dict[str, list[Any]] = {}
+        self._shown: dict[int, Any] = {}  # widget id -> the session value it last showed
+
+    def build(self, lesson: Lesson, params: Params) -> list[Any]:
+        """Create the folders and widgets (inside the caller's tab); returns the folders."""
+        self.widgets = {}
+        self._shown = {}
+        folders: list[Any] = []
+        gui = self.gui
+        if lesson.modes:
+            folder = gui.add_folder("Mode")
+            folders.append(folder)
+            with folder:
+                for name in lesson.modes:
+                    self._add(lesson.param(name), params)
+        grouped: dict[str, list[Param]] = {}
+        for p in lesson.params:
+            if p.name not in lesson.modes:
+                grouped.setdefault(p.group, []).append(p)
+        for group in lesson.groups:
+            members = grouped.get(group.name, [])
+            if not members:
+                continue
+            folder = gui.add_folder(group.title, expand_by_default=group.expanded)
+            folders.append(folder)
+            with folder:
+                for p in members:
+                    self._add(p, params)
+                if lesson.start_point is not None and lesson.start_point[0] in {
+                    p.name for p in members
+                }:
+                    gui.add_button("Snap to surface").on_click(self.guard(self.on_snap))
+                    gui.add_html(
+                        '<div style="font-size:0.8em;color:#555">'
+                        "Click the surface to set the start point.</div>"
+                    )
+        return folders
+
+    def _add(self, p: Param, params: Params) -> None:
+        gui = self.gui
+        label = p.label or p.name
+        if p.unit:
+            label = f"{label} [{p.unit}]"
+        value = params[p.name]
+        hint = p.help or None
+        widgets: list[Any] = []
+        if p.kind == "formula":
+            if p.min is not None and p.max is not None:
+                step = p.step or (p.max - p.min) / 200.0
+                slider = gui.add_slider(
+                    p.name,
+                    min=float(p.min),
+                    max=float(p.max),
+                    step=float(step),
+                    initial_value=slider_value(value, p),
+                    hint=hint,
+                )
+                slider.on_update(self.guard(lambda e, p=p: self.on_slider(p, e.target.value)))
+                widgets.append(slider)
+            text = gui.add_text(f"{label} =", initial_value=shown_value(p, value), hint=hint)
+            text.on_update(self.guard(lambda e, p=p: self.on_text(p, e.target.value)))
+            widgets.append(text)
+        elif p.kind == "choice":
+            w = gui.add_dropdown(label, tuple(p.choices), initial_value=str(value), hint=hint)
+            widgets.append(w)
+        elif p.kind == "bool":
+            widgets.append(gui.add_checkbox(label, initial_value=bool(value), hint=hint))
+        elif p.kind == "int" and p.min is not None and p.max is not None and p.max - p.min <= 100:
+            widgets.append(
+                gui.add_slider(
+                    label,
+                    min=int(p.min),
+                    max=int(p.max),
+                    step=1,
+                    initial_value=int(value),
+                    hint=hint,
+                )
+            )
+        else:
+            widgets.append(
+                gui.add_number(
+                    label,
+                    initial_value=shown_value(p, value),
+                    step=float(p.step) if p.step else None,
+                    hint=hint,
+                )
+            )
+        if p.kind != "formula":
+            widgets[0].on_update(self.guard(lambda e, p=p: self.on_value(p, e.target.value)))
+        self.widgets[p.name] = widgets
+
+    def put(self, widget: Any, value: Any, force: bool, current: Any = None) -> None:
+        """Show ``value`` in ``widget`` when the session's value changed since this page
+        last showed it (or when forced, or when it is the widget being handled): a value
+        the user has just set in another widget, whose callback has not run yet, is not
+        overwritten with the session's old value."""
+        key = id(widget)
+        if force or widget is current or self._shown.get(key, _UNSHOWN) != value:
+            if widget.value != value:
+                widget.value = value
+        self._shown[key] = value
+
+    def sync(self, lesson: Lesson, params: Params, force: bool, current: Any = None) -> None:
+        """Show the session's values in the widgets (programmatic: callbacks ignore it)."""
+        for name, widgets in self.widgets.items():
+            if name not in params:
+                continue
+            p = lesson.param(name)
+            value = params[name]
+            for w in widgets:
+                try:
+                    is_slider = hasattr(w, "min") and not hasattr(w, "multiline")
+                    if p.kind == "formula" and is_slider:
+                        if isinstance(value, Formula) and value.is_constant:
+                            self.put(w, slider_value(value, p), force, current)
+                    else:
+                        self.put(w, shown_value(p, value), force, current)
+                except Exception:
+                    traceback.print_exc()
+
+
+__all__ = ["ParamControls", "shown_value", "slider_value"]

@@ -1,0 +1,229 @@
+"""The recorded run and the caches a session uses: the run log (exported as CSV/JSON),
+parameter keys and the scene cache."""
+
+from __future__ import annotations
+
+import threading
+from collections import OrderedDict
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from lessons.core.contract import Frame, Lesson, Params, SceneSpec
+from lessons.core.formula import Formula
+
+#: Samples of the recorded run kept for export (older ones are thinned out).
+MAX_LOG = 20000
+
+
+def raw_value(value: Any) -> Any:
+    """A validated value as JSON-friendly raw data (formulas as their text)."""
+    if isinstance(value, Formula):
+        return value.text
+    if isinstance(value, (np.floating, np.integer)):
+        return value.item()
+    return value
+
+
+@dataclass
+class LogSample:
+    t: float
+    points: dict[str, np.ndarray]
+    scalars: dict[str, float]
+
+
+class RunLog:
+    """The samples a session has shown, for export: columns of preallocated arrays that
+    grow by doubling up to ``limit`` rows; when full, every second row is dropped and
+    from then on only every ``stride``-th frame is kept."""
+
+    def __init__(self, limit: int = MAX_LOG) -> None:
+        self.limit = max(2, int(limit))
+        self.clear()
+
+    def clear(self) -> None:
+        self.count = 0
+        self.stride = 1
+        self._skip = 0
+        self._cap = 0
+        self._t = np.empty(0)
+        self._points: dict[str, np.ndarray] = {}  # name -> (cap, members, 3)
+        self._scalars: dict[str, np.ndarray] = {}  # name -> (cap,)
+
+    def _grow(self) -> None:
+        cap = min(self.limit, max(64, 2 * self._cap))
+
+        def grown(a: np.ndarray) -> np.ndarray:
+            out = np.full((cap, *a.shape[1:]), np.nan)
+            out[: self.count] = a[: self.count]
+            return out
+
+        self._t = grown(self._t)
+        self._points = {k: grown(v) for k, v in self._points.items()}
+        self._scalars = {k: grown(v) for k, v in self._scalars.items()}
+        self._cap = cap
+
+    def add(self, frame: Frame) -> None:
+        if self._skip:
+            self._skip -= 1
+            return
+        self._skip = self.stride - 1
+        if self.count == self._cap:
+            self._grow()
+        i = self.count
+        self._t[i] = float(frame.t)
+        for name, value in frame.points.items():
+            pts = np.asarray(value, dtype=float).reshape(-1, 3)
+            col = self._points.get(name)
+            if col is None:
+                col = self._points[name] = np.full((self._cap, len(pts), 3), np.nan)
+            n = min(len(pts), col.shape[1])
+            col[i, :n] = pts[:n]
+            col[i, n:] = np.nan
+        for name, col in self._points.items():
+            if name not in frame.points:
+                col[i] = np.nan
+        for name, value in frame.scalars.items():
+            col = self._scalars.get(name)
+            if col is None:
+                col = self._scalars[name] = np.full(self._cap, np.nan)
+            col[i] = float(value)
+        for name, col in self._scalars.items():
+            if name not in frame.scalars:
+                col[i] = np.nan
+        self.count += 1
+        if self.count >= self.limit:
+            keep = np.arange(0, self.count, 2)
+            m = len(keep)
+            self._t[:m] = self._t[keep]
+            for col in (*self._points.values(), *self._scalars.values()):
+                col[:m] = col[keep]
+                col[m:] = np.nan
+            self.count = m
+            self.stride *= 2
+
+    @property
+    def t(self) -> np.ndarray:
+        return self._t[: self.count].copy()
+
+    def points(self, name: str) -> np.ndarray:
+        """``(samples, members, 3)``."""
+        return self._points[name][: self.count].copy()
+
+    def scalar(self, name: str) -> np.ndarray:
+        return self._scalars[name][: self.count].copy()
+
+    @property
+    def point_names(self) -> list[str]:
+        return list(self._points)
+
+    @property
+    def scalar_names(self) -> list[str]:
+        return list(self._scalars)
+
+    @property
+    def samples(self) -> list[LogSample]:
+        """The rows as :class:`LogSample` objects (a point missing from a frame is left out)."""
+        out = []
+        for i in range(self.count):
+            pts = {k: v[i].copy() for k, v in self._points.items() if not np.all(np.isnan(v[i]))}
+            sc = {k: float(v[i]) for k, v in self._scalars.items() if not np.isnan(v[i])}
+            out.append(LogSample(float(self._t[i]), pts, sc))
+        return out
+
+    @property
+    def nbytes(self) -> int:
+        return int(
+            self._t.nbytes
+            + sum(v.nbytes for v in self._points.values())
+            + sum(v.nbytes for v in self._scalars.values())
+        )
+
+    def __len__(self) -> int:
+        return self.count
+
+
+class LRUCache:
+    """A small thread-safe LRU cache (scenes and derivations are pure functions of
+    the lesson and its parameters; many students share the same values)."""
+
+    def __init__(self, maxsize: int = 64) -> None:
+
+        self.maxsize = maxsize
+        self._data: OrderedDict[Any, Any] = OrderedDict()
+        self._lock = threading.Lock()
+
+    def get_or_make(self, key: Any, make: Callable[[], Any]) -> Any:
+        with self._lock:
+            if key in self._data:
+                self._data.move_to_end(key)
+                return self._data[key]
+        value = make()
+        with self._lock:
+            self._data[key] = value
+            while len(self._data) > self.maxsize:
+                self._data.popitem(last=False)
+        return value
+
+
+def params_key(lesson: Lesson, params: Mapping[str, Any]) -> tuple:
+    """A hashable key of a lesson's validated parameters."""
+    return (lesson.id, tuple(sorted((k, repr(raw_value(v))) for k, v in params.items())))
+
+
+SCENE_CACHE = LRUCache(64)
+
+
+def lesson_scene(lesson: Lesson, params: Params) -> SceneSpec:
+    """``lesson.scene(params)``, shared between sessions with the same values."""
+    return SCENE_CACHE.get_or_make(params_key(lesson, params), lambda: lesson.scene(params))
+
+
+def _arrays_equal(a: Any, b: Any) -> bool:
+    try:
+        return bool(np.array_equal(np.asarray(a), np.asarray(b)))
+    except Exception:
+        return False
+
+
+def scenes_equal(a: SceneSpec, b: SceneSpec) -> bool:
+    """Same drawing (static items, moving item names/colours, bounds)."""
+    if a is b:
+        return True
+    if not _arrays_equal(a.bounds, b.bounds) or a.planar != b.planar:
+        return False
+    if a.moving_points != b.moving_points or a.moving_vectors != b.moving_vectors:
+        return False
+    for xs, ys in ((a.meshes, b.meshes), (a.bodies, b.bodies)):
+        if len(xs) != len(ys):
+            return False
+        for x, y in zip(xs, ys):
+            if (x.name, tuple(x.color), x.opacity, x.wireframe) != (
+                y.name,
+                tuple(y.color),
+                y.opacity,
+                y.wireframe,
+            ):
+                return False
+            if not (_arrays_equal(x.vertices, y.vertices) and _arrays_equal(x.faces, y.faces)):
+                return False
+    if len(a.curves) != len(b.curves) or len(a.markers) != len(b.markers):
+        return False
+    for x, y in zip(a.curves, b.curves):
+        if (x.name, tuple(x.color), x.width) != (
+            y.name,
+            tuple(y.color),
+            y.width,
+        ) or not _arrays_equal(x.points, y.points):
+            return False
+    for x, y in zip(a.markers, b.markers):
+        if (x.name, tuple(x.color), x.size, x.label) != (
+            y.name,
+            tuple(y.color),
+            y.size,
+            y.label,
+        ) or not _arrays_equal(x.points, y.points):
+            return False
+    return True

@@ -1,0 +1,459 @@
+"""The scene renderer: a lesson's :class:`SceneSpec` and its live frames in one page.
+
+Static items (meshes, curves, markers, grid, axes) are drawn once per scene; moving
+points with their trails, vectors and posed bodies are updated per frame with as few
+property assignments as possible (DESIGN §5).
+"""
+
+from __future__ import annotations
+
+import math
+import traceback
+from collections import deque
+from collections.abc import Callable
+from typing import Any
+
+import numpy as np
+
+from app.viser_boundary import fast_set
+from lessons.core.contract import Frame, SceneSpec
+
+
+class Trail:
+    """A bounded polyline drawn as chunks of line segments; only the newest chunk
+    is re-sent, full chunks stay, the oldest are removed past ``max_points``."""
+
+    def __init__(
+        self, scene: Any, name: str, color: tuple[int, int, int], chunk: int, max_points: int
+    ) -> None:
+        self.scene = scene
+        self.name = name
+        self.color = color
+        self.chunk = max(2, chunk)
+        self.max_chunks = max(2, max_points // self.chunk)
+        self.handles: deque[Any] = deque()
+        self.current: list[np.ndarray] = []
+        self.values: list[float | None] = []
+        self.color_by: tuple[float, float] | None = None
+        self.counter = 0
+        self.dirty = False
+
+    def clear(self) -> None:
+        while self.handles:
+            self._remove(self.handles.popleft())
+        self.current = []
+        self.values = []
+        self.dirty = False
+
+    @staticmethod
+    def _remove(handle: Any) -> None:
+        try:
+            handle.remove()
+        except Exception:
+            pass
+
+    def add(self, points: np.ndarray, value: float | None = None) -> None:
+        self.current.append(np.asarray(points, dtype=np.float32).reshape(-1, 3))
+        self.values.append(value)
+        self.dirty = True
+
+    def _segments(self) -> np.ndarray:
+        n = min(len(p) for p in self.current)
+        arr = np.stack([p[:n] for p in self.current], axis=1)  # (members, K, 3)
+        return np.stack([arr[:, :-1], arr[:, 1:]], axis=2).reshape(-1, 2, 3)
+
+    def _colors(self, segs: np.ndarray) -> Any:
+        """One colour for the trail, or per segment from the scalar (green -> red)."""
+        if self.color_by is None or any(v is None for v in self.values):
+            return self.color
+        lo, hi = self.color_by
+        vals = np.asarray(self.values, dtype=float)
+        frac = np.clip((np.nan_to_num(vals, nan=hi) - lo) / (hi - lo if hi > lo else 1.0), 0.0, 1.0)
+        seg = np.maximum(frac[:-1], frac[1:])  # a segment takes its worse end
+        rgb = np.stack([40 + 200 * seg, 170 - 140 * seg, 60 - 30 * seg], axis=-1).astype(np.uint8)
+        members = len(segs) // max(1, len(seg))
+        per = np.repeat(np.tile(rgb, (members, 1))[:, None, :], 2, axis=1)
+        return per
+
+    def flush(self) -> None:
+        """Send the newest chunk (creating a node when a chunk starts)."""
+        if not self.dirty or len(self.current) < 2:
+            return
+        self.dirty = False
+        if len({len(p) for p in self.current}) > 1:  # family size changed: restart
+            self.clear()
+            return
+        segs = self._segments()
+        colors = self._colors(segs)
+        if not self.handles or getattr(self.handles[-1], "_al_full", False):
+            self.counter += 1
+            h = self.scene.add_line_segments(
+                f"{self.name}/c{self.counter}",
+                segs,
+                colors,
+                thickness=2.5,
+                thickness_units="screen",
+            )
+            self.handles.append(h)
+            while len(self.handles) > self.max_chunks:
+                self._remove(self.handles.popleft())
+        else:
+            fast_set(self.handles[-1], "points", segs)
+            if np.ndim(colors) == 3:
+                fast_set(self.handles[-1], "colors", np.asarray(colors, dtype=np.uint8))
+        if len(self.current) >= self.chunk + 1:
+            self.handles[-1]._al_full = True
+            self.current = [self.current[-1]]
+            self.values = [self.values[-1]]
+
+
+def _bounds_info(scene: SceneSpec) -> tuple[np.ndarray, np.ndarray, float]:
+    lo = np.asarray(scene.bounds[0], dtype=float)
+    hi = np.asarray(scene.bounds[1], dtype=float)
+    if not (np.all(np.isfinite(lo)) and np.all(np.isfinite(hi))):
+        lo, hi = -np.ones(3), np.ones(3)
+    size = float(np.max(hi - lo)) if np.max(hi - lo) > 0 else 1.0
+    return lo, hi, size
+
+
+def ray_mesh_hit(
+    origin: np.ndarray, direction: np.ndarray, vertices: np.ndarray, faces: np.ndarray
+) -> np.ndarray | None:
+    """Nearest intersection of a ray with a triangle mesh (Moller-Trumbore, vectorized)."""
+    o = np.asarray(origin, dtype=float)
+    d = np.asarray(direction, dtype=float)
+    if not (np.all(np.isfinite(o)) and np.all(np.isfinite(d))) or np.linalg.norm(d) == 0:
+        return None
+    d = d / np.linalg.norm(d)
+    v = np.asarray(vertices, dtype=float)
+    f = np.asarray(faces, dtype=np.int64)
+    if len(f) == 0:
+        return None
+    a, b, c = v[f[:, 0]], v[f[:, 1]], v[f[:, 2]]
+    e1, e2 = b - a, c - a
+    p = np.cross(d, e2)
+    det = np.einsum("ij,ij->i", e1, p)
+    ok = np.abs(det) > 1e-14
+    inv = np.where(ok, 1.0 / np.where(ok, det, 1.0), 0.0)
+    s = o - a
+    u = np.einsum("ij,ij->i", s, p) * inv
+    q = np.cross(s, e1)
+    w = (q @ d) * inv
+    t = np.einsum("ij,ij->i", e2, q) * inv
+    hit = ok & (u >= 0) & (w >= 0) & (u + w <= 1) & (t > 1e-9)
+    if not np.any(hit):
+        return None
+    k = np.argmin(np.where(hit, t, np.inf))
+    return o + t[k] * d
+
+
+class SceneRenderer:
+    """Draws one session's scene into one page (``client.scene``, private to it)."""
+
+    def __init__(self, client: Any, config: Any) -> None:
+        self.client = client
+        self.config = config
+        self.spec: SceneSpec | None = None
+        #: called with viser's click event on a surface mesh (set by the view)
+        self.on_surface_click: Callable[[Any], None] | None = None
+        #: names of the vectors the user chose to see (``None``: the first one)
+        self.chosen_vectors: set[str] | None = None
+        self._static_handles: list[Any] = []
+        self._point_handles: dict[str, Any] = {}
+        self._trails: dict[str, Trail] = {}
+        self._vector_handle: Any = None
+        self._vector_names: tuple[str, ...] = ()
+        self._vector_scale: dict[str, float] = {}
+        self._body_handles: dict[str, Any] = {}
+        self.meshes_for_click: list[tuple[np.ndarray, np.ndarray]] = []
+        self._size = 1.0
+        self._visible_cache: set[str] | None = None
+
+    def visible_vectors(self) -> set[str]:
+        names = list(self.spec.moving_vectors) if self.spec is not None else []
+        if self.chosen_vectors is not None:
+            return {n for n in names if n in self.chosen_vectors}
+        return set(names[:1])
+
+    def vectors_changed(self) -> None:
+        """Re-create the arrows node at the next frame (the visible set changed)."""
+        self._vector_names = ()
+        self._visible_cache = None
+
+    def reset_live(self) -> None:
+        for t in self._trails.values():
+            t.clear()
+        self._vector_scale = {}
+
+    def hit(self, origin: Any, direction: Any) -> np.ndarray | None:
+        """The nearest point where a click ray meets a surface mesh."""
+        o = np.asarray(origin, dtype=float)
+        best = None
+        for vertices, faces in self.meshes_for_click:
+            h = ray_mesh_hit(o, np.asarray(direction, dtype=float), vertices, faces)
+            if h is not None and (best is None or np.linalg.norm(h - o) < np.linalg.norm(best - o)):
+                best = h
+        return best
+
+    def _clear_static(self) -> None:
+        for h in self._static_handles:
+            try:
+                h.remove()
+            except Exception:
+                pass
+        self._static_handles = []
+        self.meshes_for_click = []
+
+    def draw_static(self, spec: SceneSpec, frame_camera: bool) -> None:
+        """Draw the scene's fixed items and fresh nodes for its moving ones."""
+        scene_api = self.client.scene
+        self.spec = spec
+        self._clear_static()
+        lo, hi, size = _bounds_info(spec)
+        self._size = size
+        center = (lo + hi) / 2
+        add = self._static_handles.append
+        grid_z = lo[2] if not spec.planar else 0.0
+        add(
+            scene_api.add_grid(
+                "/lab/grid",
+                width=float(hi[0] - lo[0]) * 1.4 + 1e-9,
+                height=float(hi[1] - lo[1]) * 1.4 + 1e-9,
+                cell_size=_nice(size / 10),
+                section_size=_nice(size / 2),
+                position=(float(center[0]), float(center[1]), float(grid_z)),
+                shadow_opacity=0.0,
+            )
+        )
+        add(
+            scene_api.add_frame(
+                "/lab/axes",
+                axes_length=0.35 * size,
+                axes_radius=0.006 * size,
+                origin_radius=0.012 * size,
+            )
+        )
+        for m in spec.meshes:
+            v = np.asarray(m.vertices, dtype=np.float32)
+            f = np.asarray(m.faces, dtype=np.uint32)
+            if len(v) == 0 or len(f) == 0:
+                continue
+            h = scene_api.add_mesh_simple(
+                f"/lab/static/mesh/{_safe(m.name)}",
+                v,
+                f,
+                color=tuple(m.color),
+                opacity=float(m.opacity),
+                wireframe=bool(m.wireframe),
+                side="double",
+                cast_shadow=False,
+                receive_shadow=False,
+                flat_shading=False,
+            )
+            if self.on_surface_click is not None:
+                h.on_click(self.on_surface_click)
+            self.meshes_for_click.append((v, f))
+            add(h)
+        for c in spec.curves:
+            pts = np.asarray(c.points, dtype=np.float32).reshape(-1, 3)
+            if len(pts) < 2:
+                continue
+            segs = np.stack([pts[:-1], pts[1:]], axis=1)
+            add(
+                scene_api.add_line_segments(
+                    f"/lab/static/curve/{_safe(c.name)}",
+                    segs,
+                    tuple(c.color),
+                    thickness=float(c.width),
+                    thickness_units="screen",
+                )
+            )
+        for mk in spec.markers:
+            pts = np.asarray(mk.points, dtype=np.float32).reshape(-1, 3)
+            add(
+                scene_api.add_point_cloud(
+                    f"/lab/static/marker/{_safe(mk.name)}",
+                    pts,
+                    tuple(mk.color),
+                    point_size=float(mk.size) * 1.2,
+                    point_shape="diamond",
+                    precision="float32",
+                )
+            )
+            if mk.label and len(pts):
+                add(
+                    scene_api.add_label(
+                        f"/lab/static/marker_label/{_safe(mk.name)}",
+                        mk.label,
+                        position=tuple(map(float, pts[0])),
+                    )
+                )
+        # moving items: fresh nodes for this scene
+        for h in self._point_handles.values():
+            _remove(h)
+        self._point_handles = {}
+        for b in self._body_handles.values():
+            _remove(b)
+        self._body_handles = {}
+        for body in spec.bodies:
+            self._body_handles[body.name] = scene_api.add_mesh_simple(
+                f"/lab/live/body/{_safe(body.name)}",
+                np.asarray(body.vertices, dtype=np.float32),
+                np.asarray(body.faces, dtype=np.uint32),
+                color=tuple(body.color),
+                opacity=float(body.opacity),
+                cast_shadow=False,
+                receive_shadow=False,
+            )
+        if self._vector_handle is not None:
+            _remove(self._vector_handle)
+            self._vector_handle = None
+            self._vector_names = ()
+        self._visible_cache = None
+        for name in list(self._trails):
+            if name not in spec.moving_points:
+                self._trails.pop(name).clear()
+        if frame_camera:
+            self.frame_camera(lo, hi, size)
+
+    def frame_camera(self, lo: np.ndarray, hi: np.ndarray, size: float) -> None:
+        center = (lo + hi) / 2
+        direction = np.array([1.0, 0.75, 0.6])
+        direction /= np.linalg.norm(direction)
+        dist = 1.05 * float(np.linalg.norm(hi - lo)) + 1e-6
+        try:
+            cam = self.client.camera
+            # clipping planes to the scene's size (a machine in millimetres, a unit sphere)
+            cam.far = max(100.0, 20.0 * dist)
+            cam.near = max(1e-4, 1e-4 * dist)
+            cam.up_direction = (0.0, 0.0, 1.0)
+            # viser moves look_at along with position: set the position first
+            cam.position = tuple(map(float, center + direction * dist))
+            cam.look_at = tuple(map(float, center))
+        except Exception:
+            traceback.print_exc()
+
+    def push_frames(self, frames: list[Frame], playing: bool, frame_count: int) -> None:
+        """Draw a batch of frames (the last one fully; all of them into the trails)."""
+        if not frames:
+            return
+        spec = self.spec
+        scene_api = self.client.scene
+        cfg = self.config
+        for fr in frames:
+            for name, color in spec.moving_points.items():
+                if name in fr.points:
+                    tr = self._trails.get(name)
+                    if tr is None:
+                        tr = self._trails[name] = Trail(
+                            scene_api,
+                            f"/lab/live/trail/{_safe(name)}",
+                            tuple(color),
+                            cfg.trail_chunk,
+                            cfg.trail_max_points,
+                        )
+                    by = spec.trail_color_by.get(name)
+                    tr.color_by = (float(by[1]), float(by[2])) if by else None
+                    tr.add(fr.points[name], fr.scalars.get(by[0]) if by else None)
+        last = frames[-1]
+        for name, color in spec.moving_points.items():
+            pts = last.points.get(name)
+            if pts is None:
+                continue
+            pts = np.asarray(pts, dtype=np.float32).reshape(-1, 3)
+            h = self._point_handles.get(name)
+            if h is None or h.points.shape != pts.shape:
+                if h is not None:
+                    _remove(h)
+                self._point_handles[name] = scene_api.add_point_cloud(
+                    f"/lab/live/point/{_safe(name)}",
+                    pts,
+                    tuple(color),
+                    point_size=0.045 * self._size,
+                    point_shape="circle",
+                    precision="float32",
+                )
+            else:
+                fast_set(h, "points", pts)
+        self._draw_vectors(last)
+        for name, (pos, wxyz) in last.poses.items():
+            h = self._body_handles.get(name)
+            if h is not None:
+                h.position = tuple(map(float, pos))
+                h.wxyz = tuple(map(float, wxyz))
+        if frame_count % cfg.trail_every == 0 or len(frames) > 1 or not playing:
+            for tr in self._trails.values():
+                tr.flush()
+
+    def _draw_vectors(self, frame: Frame) -> None:
+        spec = self.spec
+        shown = self._visible_cache
+        if shown is None:
+            shown = self._visible_cache = self.visible_vectors()
+        visible = [n for n in spec.moving_vectors if n in shown and n in frame.vectors]
+        segs = []
+        colors = []
+        length = 0.3 * self._size
+        for name in visible:
+            origins, dirs = frame.vectors[name]
+            o = np.asarray(origins, dtype=float).reshape(-1, 3)
+            d = np.asarray(dirs, dtype=float).reshape(-1, 3)
+            mag = math.sqrt(float(np.max((d * d).sum(axis=1)))) if len(d) else 0.0
+            prev = self._vector_scale.get(name, 0.0)
+            ref = max(mag, prev * 0.995)
+            self._vector_scale[name] = ref
+            k = length / ref if ref > 1e-12 else 0.0
+            end = o + d * k
+            segs.append(np.stack([o, end], axis=1))
+            colors.extend([spec.moving_vectors[name]] * len(o))
+        names = tuple(visible)
+        if not segs:
+            if self._vector_handle is not None:
+                _remove(self._vector_handle)
+                self._vector_handle = None
+            self._vector_names = names
+            return
+        pts = np.concatenate(segs, axis=0).astype(np.float32)
+        if (
+            self._vector_handle is None
+            or names != self._vector_names
+            or self._vector_handle.points.shape != pts.shape
+        ):
+            if self._vector_handle is not None:
+                _remove(self._vector_handle)
+            r = 0.006 * self._size
+            self._vector_handle = self.client.scene.add_arrows(
+                "/lab/live/vectors",
+                pts,
+                np.asarray(colors, dtype=np.uint8),
+                shaft_radius=r,
+                head_radius=2.5 * r,
+                head_length=6 * r,
+            )
+            self._vector_names = names
+        else:
+            fast_set(self._vector_handle, "points", pts)
+
+
+def _remove(handle: Any) -> None:
+    try:
+        handle.remove()
+    except Exception:
+        pass
+
+
+def _safe(name: str) -> str:
+    return "".join(ch if ch.isalnum() or ch in "-_" else "_" for ch in str(name))[:60] or "item"
+
+
+def _nice(x: float) -> float:
+    """A round number near ``x`` (1, 2, 5 times a power of ten)."""
+    if not math.isfinite(x) or x <= 0:
+        return 1.0
+    e = math.floor(math.log10(x))
+    m = x / 10**e
+    m = 1 if m < 1.5 else 2 if m < 3.5 else 5 if m < 7.5 else 10
+    return m * 10**e
+
+
+__all__ = ["SceneRenderer", "Trail", "ray_mesh_hit"]
