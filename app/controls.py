@@ -8,6 +8,7 @@ overwriting a value the user has just typed elsewhere.
 
 from __future__ import annotations
 
+import html
 import math
 import traceback
 from collections.abc import Callable
@@ -18,6 +19,11 @@ from lessons.core.formula import Formula
 
 _UNSHOWN = object()
 Handler = Callable[[Any], None]
+
+
+def is_constant(value: Any) -> bool:
+    """A number, or a formula without t."""
+    return not isinstance(value, Formula) or value.is_constant
 
 
 def slider_value(value: Any, p: Param) -> float:
@@ -37,10 +43,18 @@ def slider_value(value: Any, p: Param) -> float:
     return min(max(v, lo), hi)
 
 
+def number_text(value: Any) -> str:
+    """A number as a text field shows it (shortest exact form)."""
+    v = float(value)
+    return str(int(v)) if v.is_integer() and abs(v) < 1e15 else repr(v)
+
+
 def shown_value(p: Param, value: Any) -> Any:
-    """The value as a widget of ``p`` shows it (text for formulas)."""
+    """The value as a widget of ``p`` shows it (text for formulas and decimals)."""
     if p.kind == "formula":
         return value.text if isinstance(value, Formula) else str(value)
+    if p.kind == "float":
+        return number_text(value)
     if p.kind == "bool":
         return bool(value)
     if p.kind == "choice":
@@ -72,11 +86,13 @@ class ParamControls:
         self.on_value = on_value
         self.on_snap = on_snap
         self.widgets: dict[str, list[Any]] = {}
+        self.errors: dict[str, Any] = {}  # param name -> its (hidden) error line
         self._shown: dict[int, Any] = {}  # widget id -> the session value it last showed
 
     def build(self, lesson: Lesson, params: Params) -> list[Any]:
         """Create the folders and widgets (inside the caller's tab); returns the folders."""
         self.widgets = {}
+        self.errors = {}
         self._shown = {}
         folders: list[Any] = []
         gui = self.gui
@@ -127,6 +143,7 @@ class ParamControls:
                     step=float(step),
                     initial_value=slider_value(value, p),
                     hint=hint,
+                    disabled=not is_constant(value),
                 )
                 slider.on_update(self.guard(lambda e, p=p: self.on_slider(p, e.target.value)))
                 widgets.append(slider)
@@ -150,17 +167,38 @@ class ParamControls:
                 )
             )
         else:
-            widgets.append(
-                gui.add_number(
-                    label,
-                    initial_value=shown_value(p, value),
-                    step=float(p.step) if p.step else None,
-                    hint=hint,
-                )
-            )
-        if p.kind != "formula":
+            # typed text (a number or a constant expression such as pi/2): a bad entry
+            # stays visible next to its message instead of being blanked by the browser
+            text = gui.add_text(label, initial_value=number_text(value), hint=hint)
+            text.on_update(self.guard(lambda e, p=p: self.on_text(p, e.target.value)))
+            widgets.append(text)
+        if p.kind in ("choice", "bool", "int"):
             widgets[0].on_update(self.guard(lambda e, p=p: self.on_value(p, e.target.value)))
+        if any(isinstance(w.value, str) for w in widgets):
+            self.errors[p.name] = gui.add_html("", visible=False)
         self.widgets[p.name] = widgets
+
+    def show_error(self, name: str, message: str) -> bool:
+        """Show ``message`` under the field ``name``; False if it has no error line."""
+        line = self.errors.get(name)
+        if line is None:
+            return False
+        line.content = (
+            '<div class="al-field-error" style="color:#a61b1b;font-size:0.85em">'
+            f"{html.escape(message)}</div>"
+        )
+        line.visible = True
+        return True
+
+    def clear_error(self, name: str) -> None:
+        line = self.errors.get(name)
+        if line is not None and line.visible:
+            line.visible = False
+            line.content = ""
+
+    def failing(self) -> set[str]:
+        """The fields that show an error now (their typed text is kept)."""
+        return {n for n, line in self.errors.items() if line.visible}
 
     def put(self, widget: Any, value: Any, force: bool, current: Any = None) -> None:
         """Show ``value`` in ``widget`` when the session's value changed since this page
@@ -174,9 +212,11 @@ class ParamControls:
         self._shown[key] = value
 
     def sync(self, lesson: Lesson, params: Params, force: bool, current: Any = None) -> None:
-        """Show the session's values in the widgets (programmatic: callbacks ignore it)."""
+        """Show the session's values in the widgets (programmatic: callbacks ignore it).
+        A field that shows an error keeps the text the student typed."""
+        failing = self.failing()
         for name, widgets in self.widgets.items():
-            if name not in params:
+            if name not in params or name in failing:
                 continue
             p = lesson.param(name)
             value = params[name]
@@ -184,7 +224,11 @@ class ParamControls:
                 try:
                     is_slider = hasattr(w, "min") and not hasattr(w, "multiline")
                     if p.kind == "formula" and is_slider:
-                        if isinstance(value, Formula) and value.is_constant:
+                        # a slider never stands for a formula of t: off until a number
+                        constant = is_constant(value)
+                        if w.disabled == constant:
+                            w.disabled = not constant
+                        if constant:
                             self.put(w, slider_value(value, p), force, current)
                     else:
                         self.put(w, shown_value(p, value), force, current)

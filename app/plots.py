@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import math
 import time
-from collections import deque
 from collections.abc import Sequence
 from typing import Any
 
@@ -27,32 +26,57 @@ def units_of(lesson: Lesson, names: Sequence[str]) -> str:
 
 
 class PlotBuffer:
-    """Sliding window of frame scalars for one :class:`PlotSpec`."""
+    """The whole run of one :class:`PlotSpec`'s series, decimated for the wire: at most
+    ``capacity`` samples; when full, every other sample is dropped and samples are
+    taken half as often, so the plot always spans t = 0 to now."""
 
-    def __init__(self, spec: PlotSpec, window: int) -> None:
+    def __init__(self, spec: PlotSpec, capacity: int) -> None:
         self.spec = spec
-        self.t: deque[float] = deque(maxlen=window)
-        self.values = {name: deque(maxlen=window) for name in spec.series}
+        self.capacity = max(8, capacity - capacity % 2)
+        self.t: list[float] = []
+        self.values: dict[str, list[float]] = {name: [] for name in spec.series}
+        self.stride = 1  # frames offered per sample kept
+        self._offered = 0
         self.dirty = False
 
     def clear(self) -> None:
         self.t.clear()
         for v in self.values.values():
             v.clear()
+        self.stride = 1
+        self._offered = 0
         self.dirty = True
 
     def add(self, frame: Frame) -> None:
+        self._offered += 1
+        if self._offered % self.stride and self.t:
+            return
         self.t.append(float(frame.t))
         for name, buf in self.values.items():
             v = frame.scalars.get(name, math.nan)
             buf.append(float(v) if v is not None and math.isfinite(float(v)) else math.nan)
+        if len(self.t) > self.capacity:
+            self.t[:] = self.t[::2]
+            for buf in self.values.values():
+                buf[:] = buf[::2]
+            self.stride *= 2
         self.dirty = True
 
-    def data(self) -> tuple[np.ndarray, ...]:
-        if len(self.t) == 0:
+    def scale(self) -> int:
+        """The power of ten the values are shown in (0 for ordinary sizes): a drift of
+        1e-16 is plotted in units of 1e-16 so that its ticks read."""
+        finite = [abs(x) for v in self.values.values() for x in v if math.isfinite(x)]
+        top = max(finite, default=0.0)
+        if top == 0.0 or 1e-3 <= top < 1e5:
+            return 0
+        return int(math.floor(math.log10(top)))
+
+    def data(self, exponent: int = 0) -> tuple[np.ndarray, ...]:
+        if not self.t:
             return (np.zeros(1),) + tuple(np.zeros(1) for _ in self.values)
-        return (np.fromiter(self.t, float, len(self.t)),) + tuple(
-            np.fromiter(v, float, len(v)) for v in self.values.values()
+        k = 10.0**-exponent
+        return (np.asarray(self.t, dtype=float),) + tuple(
+            np.asarray(v, dtype=float) * k for v in self.values.values()
         )
 
 
@@ -63,12 +87,17 @@ class PlotPanel:
         self.gui = gui
         self.window = window
         self.plots: list[tuple[PlotBuffer, Any]] = []
+        self.units: list[str] = []
+        self.exponents: list[int] = []
         self._rr = 0
         self._fresh_until = 0.0
 
     def build(self, lesson: Lesson) -> None:
-        """Create the charts of ``lesson`` (inside the caller's folder)."""
+        """Create the charts of ``lesson`` (inside the caller's folder): the series'
+        names in the legend, t and the unit on the axes."""
         self.plots = []
+        self.units = []
+        self.exponents: list[int] = []
         for spec in lesson.plots:
             buf = PlotBuffer(spec, self.window)
             series = [{"label": "t"}] + [
@@ -76,17 +105,31 @@ class PlotPanel:
                 for i, name in enumerate(spec.series)
             ]
             units = spec.units or units_of(lesson, spec.series)
-            title = spec.title + (f" [{units}]" if units else "")
             handle = self.gui.add_uplot(
                 buf.data(),
                 tuple(series),
-                title=title,
+                title=spec.title,
                 scales={"x": {"time": False}, "y": {"auto": True}},
-                aspect=2.0,
+                axes=({"label": "t [s]"}, {"label": units or "value"}),
+                aspect=1.6,
             )
             buf.dirty = False
             self.plots.append((buf, handle))
+            self.units.append(units)
+            self.exponents.append(0)
         self._fresh_until = time.monotonic() + FRESH_DELAY
+
+    def _upload(self, k: int) -> None:
+        buf, handle = self.plots[k]
+        exponent = buf.scale()
+        if exponent != self.exponents[k]:
+            self.exponents[k] = exponent
+            label = self.units[k] or "value"
+            if exponent:
+                label = f"× 1e{exponent} {self.units[k]}".strip()
+            handle.axes = ({"label": "t [s]"}, {"label": label})
+        fast_set(handle, "data", buf.data(exponent))
+        buf.dirty = False
 
     def clear(self) -> None:
         for buf, _ in self.plots:
@@ -103,17 +146,14 @@ class PlotPanel:
         if not self.plots or time.monotonic() < self._fresh_until:
             return
         if all_plots:
-            for buf, handle in self.plots:
+            for k, (buf, _) in enumerate(self.plots):
                 if buf.dirty:
-                    fast_set(handle, "data", buf.data())
-                    buf.dirty = False
+                    self._upload(k)
             return
         for _ in range(len(self.plots)):
             self._rr = (self._rr + 1) % len(self.plots)
-            buf, handle = self.plots[self._rr]
-            if buf.dirty:
-                fast_set(handle, "data", buf.data())
-                buf.dirty = False
+            if self.plots[self._rr][0].dirty:
+                self._upload(self._rr)
                 return
 
 

@@ -50,3 +50,28 @@ def status_html(s: Session) -> str:
             f"{html.escape(s.frame.message)}</div>"
         )
     return "".join(parts) or '<div class="al-message"></div>'
+
+
+def preset_note_html(s: Session) -> str:
+    """The preset's title and note, or "custom (from ...)" with what differs once the
+    student changed a value."""
+    esc = html.escape
+    edits = s.edits()
+    origin = s.preset or "the defaults"
+    if edits:
+        rows = "".join(
+            f"<li><code>{esc(k)}</code> = {esc(str(now))} "
+            f'<span style="color:#777">(was {esc(str(was))})</span></li>'
+            for k, (was, now) in list(edits.items())[:8]
+        )
+        more = f"<li>... and {len(edits) - 8} more</li>" if len(edits) > 8 else ""
+        body = (
+            f'<b class="al-custom">custom (from {esc(origin)})</b>'
+            f'<ul style="margin:2px 0 0 1em;padding:0">{rows}{more}</ul>'
+        )
+    elif s.preset:
+        pr = s.lesson.preset(s.preset)
+        body = f"<b>{esc(pr.title)}</b>" + (f"<br>{esc(pr.note)}" if pr.note else "")
+    else:
+        body = ""
+    return f'<div class="al-preset-note" style="font-size:0.85em">{body}</div>'

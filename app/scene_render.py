@@ -147,6 +147,39 @@ def ray_mesh_hit(
     return o + t[k] * d
 
 
+#: Share of the canvas's shorter side the scene's bounding sphere fills when framed.
+FILL = 0.62
+DEFAULT_FOV = math.radians(50.0)
+
+
+def _fov_aspect(cam: Any) -> tuple[float, float]:
+    """The page's vertical field of view and aspect (defaults before it reported them)."""
+    try:
+        fov = float(cam.fov) or DEFAULT_FOV
+        aspect = float(cam.image_width) / float(cam.image_height)
+    except Exception:
+        return DEFAULT_FOV, 1.6
+    if not (math.isfinite(aspect) and aspect > 0):
+        aspect = 1.6
+    return fov, aspect
+
+
+def axis_ticks(lo: float, hi: float, count: int = 4) -> list[float]:
+    """A few round tick values inside ``[lo, hi]`` (at most ``count + 1``)."""
+    span = hi - lo
+    if not (math.isfinite(span) and span > 0):
+        return []
+    step = _nice(span / count)
+    first = math.ceil(lo / step - 1e-9) * step
+    ticks = []
+    k = 0
+    while first + k * step <= hi + 1e-9 * span and k <= count + 1:
+        v = first + k * step
+        ticks.append(0.0 if abs(v) < 1e-12 * span else v)
+        k += 1
+    return ticks
+
+
 class SceneRenderer:
     """Draws one session's scene into one page (``client.scene``, private to it)."""
 
@@ -233,6 +266,7 @@ class SceneRenderer:
                 origin_radius=0.012 * size,
             )
         )
+        self._draw_axis_labels(lo, hi, size)
         for m in spec.meshes:
             v = np.asarray(m.vertices, dtype=np.float32)
             f = np.asarray(m.faces, dtype=np.uint32)
@@ -316,16 +350,53 @@ class SceneRenderer:
         if frame_camera:
             self.frame_camera(lo, hi, size)
 
+    def _draw_axis_labels(self, lo: np.ndarray, hi: np.ndarray, size: float) -> None:
+        """Axis names at the ends of the axes and a few tick values along each axis, in
+        the lesson's units (planar lessons: x and y only)."""
+        scene_api = self.client.scene
+        add = self._static_handles.append
+        axes = 2 if self.spec is not None and self.spec.planar else 3
+        for k in range(axes):
+            name = "xyz"[k]
+            end = np.zeros(3)
+            end[k] = max(float(hi[k]), 0.0) + 0.12 * size
+            add(scene_api.add_label(f"/lab/axis/{name}", name, position=tuple(map(float, end))))
+            for v in axis_ticks(float(lo[k]), float(hi[k])):
+                if v == 0.0:
+                    continue
+                pos = np.zeros(3)
+                pos[k] = v
+                add(
+                    scene_api.add_label(
+                        f"/lab/axis/{name}_tick_{len(self._static_handles)}",
+                        f"{v:g}",
+                        position=tuple(map(float, pos)),
+                    )
+                )
+
+    def frame_scene(self) -> None:
+        """Frame the camera on the current scene (lesson, preset or reset changed)."""
+        if self.spec is not None:
+            self.frame_camera(*_bounds_info(self.spec))
+
     def frame_camera(self, lo: np.ndarray, hi: np.ndarray, size: float) -> None:
+        """Look at the scene's box from an oblique direction, from the distance at which
+        its bounding sphere fills :data:`FILL` of the canvas's shorter side (from the
+        field of view and aspect the page reports); clipping planes and orbit limits
+        sized to the scene (a machine in millimetres, a unit sphere)."""
         center = (lo + hi) / 2
+        radius = max(0.5 * float(np.linalg.norm(hi - lo)), 1e-6)
         direction = np.array([1.0, 0.75, 0.6])
         direction /= np.linalg.norm(direction)
-        dist = 1.05 * float(np.linalg.norm(hi - lo)) + 1e-6
         try:
             cam = self.client.camera
-            # clipping planes to the scene's size (a machine in millimetres, a unit sphere)
+            fov, aspect = _fov_aspect(cam)
+            half = math.tan(fov / 2.0) * min(1.0, aspect)
+            dist = radius / (FILL * half)
             cam.far = max(100.0, 20.0 * dist)
-            cam.near = max(1e-4, 1e-4 * dist)
+            cam.near = max(1e-5, 1e-4 * dist)
+            cam.max_orbit_distance = max(1e4, 50.0 * dist)
+            cam.min_orbit_distance = min(0.01, 1e-3 * dist)
             cam.up_direction = (0.0, 0.0, 1.0)
             # viser moves look_at along with position: set the position first
             cam.position = tuple(map(float, center + direction * dist))

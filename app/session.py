@@ -144,6 +144,8 @@ class Session:
         )
         self.scene_revision = 0  # bumped when the static scene must be redrawn
         self.reset_revision = 0  # bumped when the run restarts (trail cleared)
+        #: bumped when the camera should frame the scene again (lesson, preset, reset)
+        self.camera_revision = 0
         self.on_change: Callable[[str], None] | None = None
         first = lesson_id if lesson_id in self.lessons else next(iter(self.lessons))
         if lesson_id is not None and lesson_id not in self.lessons:
@@ -189,6 +191,7 @@ class Session:
         self.revision += 1
         self.scene_revision += 1
         self.reset_revision += 1
+        self.camera_revision += 1
         self._messages_of(lesson, params)
 
     def _messages_of(self, lesson: Lesson, params: Params) -> None:
@@ -214,6 +217,18 @@ class Session:
         if name is not None:
             self.lesson.preset(name)
         self._load(self.lesson, name, {})
+
+    def edits(self) -> dict[str, tuple[Any, Any]]:
+        """The values that differ from the preset (or the defaults): name -> (the
+        preset's value, the current value), as raw data."""
+        base = self.lesson.resolve(preset=self.preset)
+        now = self.raw_values()
+        return {k: (raw_value(v), now[k]) for k, v in base.items() if raw_value(v) != now.get(k)}
+
+    def run_name(self) -> str:
+        """What was run, for file names: the lesson, the preset, "custom" once edited."""
+        name = self.lesson.id + (f"-{self.preset}" if self.preset else "")
+        return name + ("-custom" if self.edits() else "")
 
     def raw_values(self) -> dict[str, Any]:
         return {k: raw_value(v) for k, v in self.params.items()}
@@ -267,6 +282,22 @@ class Session:
         else:
             self.frame = stepper.frame()
         self._messages_of(self.lesson, params)
+        start = self.lesson.start_point
+        if restart and start is not None and set(changed) & set(start):
+            self._show_projected_start()
+
+    def _show_projected_start(self) -> None:
+        """A typed start point off the surface is projected by the lesson: show the
+        point it really starts from in the fields (not the typed one)."""
+        names = self._start_names()
+        typed = np.array([float(self.params[n]) for n in names])
+        try:
+            snapped = np.array(self.snap_start() or typed)
+        except LabError:
+            return
+        if not np.allclose(snapped, typed, rtol=1e-9, atol=1e-12):
+            shown = ", ".join(f"{v:.6g}" for v in snapped)
+            self.notify(f"start point moved onto the surface: ({shown})", "warning")
 
     def accept_scene(self, spec: SceneSpec) -> bool:
         """Take a (deferred) scene; redraw only if it differs from the one shown."""

@@ -30,14 +30,15 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 from app.controls import ParamControls
-from app.export import export_run
+from app.export import export_run, grid_end, parse_step
 from app.math_render import derivation_to_html
 from app.plots import PlotPanel
-from app.readout import readout_html, speed_label, status_html
+from app.readout import preset_note_html, readout_html, speed_label, status_html
 from app.scene_render import SceneRenderer
 from app.session import SPEEDS, LabError, Session, SessionState, lesson_label
 from app.viser_boundary import fast_set
 from lessons.core.contract import Param, ParamError
+from lessons.core.formula import Formula
 
 if TYPE_CHECKING:
     import viser
@@ -56,7 +57,7 @@ class ViewConfig:
     trail_chunk: int = 24  # points per trail chunk
     trail_max_points: int = 3000  # per moving point family member
     plot_every: int = 3  # frames between plot samples (12 Hz at 36 fps)
-    plot_window: int = 100  # samples in the sliding window
+    plot_window: int = 400  # samples of the whole run kept per plot (decimated)
     plot_send_every: int = 6  # frames between plot uploads (round-robin over plots)
     readout_every: int = 6  # frames between time readouts
 
@@ -81,6 +82,7 @@ class SessionView:
         self._drawn_lesson: str | None = None
         self._drawn_scene_rev = -1
         self._drawn_reset_rev = -1
+        self._drawn_camera_rev = -1
         self._shown_notice: tuple[str, str] | None = None
         self._shown_frame_message = ""
         self._last_readout = ""
@@ -116,7 +118,12 @@ class SessionView:
                 self._current_target = getattr(event, "target", None)
                 try:
                     fn(event)
-                except (ParamError, LabError) as exc:
+                except ParamError as exc:
+                    field = self._field_of(exc)
+                    if field is None or not self.controls.show_error(field, str(exc)):
+                        self.session.notify(f"refused: {exc}", "error")
+                    self.sync_widgets()
+                except LabError as exc:
                     self.session.notify(f"refused: {exc}", "error")
                     self.sync_widgets()
                 except Exception as exc:  # a bug must not take the session down
@@ -129,6 +136,14 @@ class SessionView:
 
         return wrapped
 
+    def _field_of(self, exc: ParamError) -> str | None:
+        """The field a refusal belongs to: the one being edited (a cross-field check
+        names the other field in its message), else the one the error names."""
+        for name, widgets in self.controls.widgets.items():
+            if any(w is self._current_target for w in widgets):
+                return name
+        return exc.name if exc.name in self.controls.widgets else None
+
     def show_session(self, session: Session) -> None:
         """Show another session (e.g. the instructor's demo); caller holds both locks.
         The lesson's GUI is rebuilt only when the lesson differs: the widgets are
@@ -139,6 +154,7 @@ class SessionView:
             self._drawn_lesson = None
         self._drawn_scene_rev = -1
         self._drawn_reset_rev = -1
+        self._drawn_camera_rev = -1
         self._shown_notice = session.notices[-1] if session.notices else None
         self.redraw()
 
@@ -195,14 +211,20 @@ class SessionView:
             self.derivation_html = gui.add_html("")
         with self.tab_export:
             gui.add_html(
-                '<div style="font-size:0.9em">'
-                "The run shown so far (every frame since the last reset):</div>"
+                '<div style="font-size:0.9em">On the textbook\'s grid: t = 0, step, 2 step, ...'
+                " up to the time played, with the current values.</div>"
             )
-            self.btn_csv = gui.add_button("Download CSV")
-            self.btn_json = gui.add_button("Download JSON")
+            self.grid_step = gui.add_text("grid step [s]", initial_value="")
+            self.btn_csv = gui.add_button("Download CSV (grid)")
+            self.btn_json = gui.add_button("Download JSON (grid)")
+            gui.add_html(
+                '<div style="font-size:0.9em">Every frame played since the last reset:</div>'
+            )
+            self.btn_frames = gui.add_button("Download CSV (frames)")
             self.btn_html = gui.add_button("Download HTML replay")
             self.btn_csv.on_click(self.guard(lambda e: self.export("csv")))
             self.btn_json.on_click(self.guard(lambda e: self.export("json")))
+            self.btn_frames.on_click(self.guard(lambda e: self.export("frames-csv")))
             self.btn_html.on_click(self.guard(lambda e: self.export("html")))
         with self.session.lock:
             self.refresh(heavy=True)
@@ -248,10 +270,12 @@ class SessionView:
                 )
                 self.pause_cb.on_update(self.guard(self._on_pause_at_end))
         with self.tab_plots:
-            folder = gui.add_folder("Live plots (sliding window)")
+            folder = gui.add_folder("Live plots (the whole run)")
             self._lesson_folders.append(folder)
             with folder:
                 self.plots.build(lesson)
+        default_step = lesson.sampling or self.session.t_end / 100.0
+        self.grid_step.value = f"{default_step:g}"
         esc = html.escape
         self.lesson_head.content = (
             f'<div style="font-size:0.95em"><b>{esc(lesson.problem)} · {esc(lesson.title)}</b><br>'
@@ -314,6 +338,7 @@ class SessionView:
         elif what == "Reset":
             s.pause()
             s.reset()
+            s.camera_revision += 1  # the student asked for the start: frame the scene too
         else:
             raise LabError(f"unknown transport command {str(what)[:40]!r}")
         self._frame_dirty = True
@@ -342,6 +367,11 @@ class SessionView:
         self._save_state()
 
     def _on_slider(self, p: Param, value: Any) -> None:
+        current = self.session.params.get(p.name)
+        if isinstance(current, Formula) and not current.is_constant:
+            raise ParamError(
+                p.name, f"is the formula {current.text}; type a number to use the slider"
+            )
         if isinstance(value, bool) or not isinstance(value, (int, float)):
             raise ParamError(p.name, f"expected a number, got {type(value).__name__}")
         v = float(value)
@@ -351,16 +381,19 @@ class SessionView:
             raise ParamError(p.name, f"{v:g} is outside the slider range [{p.min:g}, {p.max:g}]")
         v = round(v, 9)
         self.session.set_value(p.name, repr(v) if not v.is_integer() else str(int(v)))
+        self.controls.clear_error(p.name)
         self._param_changed()
 
     def _on_text(self, p: Param, value: Any) -> None:
         if not isinstance(value, str):
             raise ParamError(p.name, "expected text")
         self.session.set_value(p.name, value)
+        self.controls.clear_error(p.name)
         self._param_changed()
 
     def _on_value(self, p: Param, value: Any) -> None:
         self.session.set_value(p.name, value)
+        self.controls.clear_error(p.name)
         self._param_changed()
 
     def _on_snap(self, event: Any) -> None:
@@ -463,25 +496,21 @@ class SessionView:
             new_lesson = False
         if self._drawn_scene_rev != s.scene_revision:
             self.renderer.chosen_vectors = s.visible_vectors
-            self.renderer.draw_static(s.scene, frame_camera=new_lesson or self._drawn_scene_rev < 0)
+            frame = new_lesson or self._drawn_camera_rev != s.camera_revision
+            self.renderer.draw_static(s.scene, frame_camera=frame)
+            self._drawn_camera_rev = s.camera_revision
             self._drawn_scene_rev = s.scene_revision
             self._frame_dirty = True
+        if self._drawn_camera_rev != s.camera_revision:
+            self.renderer.frame_scene()
+            self._drawn_camera_rev = s.camera_revision
         if self._drawn_reset_rev != s.reset_revision:
             self.renderer.reset_live()
             self.plots.clear()
             self._drawn_reset_rev = s.reset_revision
             self._frame_dirty = True
         if heavy:
-            note = ""
-            if s.preset:
-                try:
-                    pr = s.lesson.preset(s.preset)
-                    note = f"<b>{html.escape(pr.title)}</b>" + (
-                        f"<br>{html.escape(pr.note)}" if pr.note else ""
-                    )
-                except ParamError:
-                    note = ""
-            content = f'<div class="al-preset-note" style="font-size:0.85em">{note}</div>'
+            content = preset_note_html(s)
             if self.preset_note.content != content:
                 self.preset_note.content = content
         if self._frame_dirty:
@@ -556,6 +585,7 @@ class SessionView:
             and not self._frame_dirty
             and s.scene_revision == self._drawn_scene_rev
             and s.reset_revision == self._drawn_reset_rev
+            and s.camera_revision == self._drawn_camera_rev
         ):
             if was_playing != s.playing or self.frame_count % cfg.readout_every == 0:
                 self._update_texts()
@@ -565,6 +595,7 @@ class SessionView:
             if (
                 s.scene_revision != self._drawn_scene_rev
                 or s.reset_revision != self._drawn_reset_rev
+                or s.camera_revision != self._drawn_camera_rev
                 or self._frame_dirty
             ):
                 self.refresh()
@@ -595,12 +626,13 @@ class SessionView:
     # ------------------------------------------------------------------ export
 
     def export(self, kind: str) -> None:
-        """Send the run as a CSV/JSON download or the scene as an HTML replay."""
-        name, data = export_run(self.session, kind)
+        """Send the run (grid or frames) as CSV/JSON, or the replay, as a download."""
+        s = self.session
+        text = str(self.grid_step.value).strip()
+        step = parse_step(text, grid_end(s)) if text else None
+        name, data = export_run(s, kind, step)
         self.client.send_file_download(name, data, save_immediately=True)
-        self.session.notify(
-            f"exported {name} ({len(data) / 1024:.1f} kB, {len(self.session.log)} samples)"
-        )
+        s.notify(f"exported {name} ({len(data) / 1024:.1f} kB)")
 
 
 __all__ = ["STORAGE_KEY", "SessionView", "ViewConfig"]
