@@ -29,6 +29,7 @@ from __future__ import annotations
 import copy
 import gc
 import hmac
+import secrets
 import sys
 import threading
 import time
@@ -55,6 +56,8 @@ from app.session import LabError, Session
 
 #: Follower sync / camera pushes (Hz).
 SYNC_HZ = 20.0
+#: Where an instructor page keeps its role token (its own browser storage).
+ROLE_KEY = "analyzer-lab-instructor"
 
 if TYPE_CHECKING:
     from app.server import LabServer
@@ -117,6 +120,7 @@ class Classroom:
         self.pending: dict[tuple[int, str], tuple[Callable[[Any], None], Any]] = {}
         self._refused_note: dict[int, float] = {}
         self.all_sessions: weakref.WeakSet[Session] = weakref.WeakSet()
+        self.tokens: set[str] = set()  # instructor pages' reload tokens (this server's life)
         self.stats = {
             "refused_follower": 0,
             "admitted": 0,
@@ -148,6 +152,8 @@ class Classroom:
         btn.on_click(lambda e: self._on_code(view, e))
         self.entries[cid] = (folder, text, btn)
         self.presenters[cid] = Presenter(self, view)
+        if self.tokens and self._restore_role(view):
+            return
         with self.lock:
             if self.broadcaster is not None and self.demo is not None:
                 self._follow(view)
@@ -194,20 +200,45 @@ class Classroom:
         if not ok:
             client.add_notification("Instructor code", message, auto_close_seconds=5.0, color="red")
             return
-        with self.lock:
-            try:
-                entry[0].remove()
-            except Exception:
-                pass
-            self.instructors[cid] = InstructorPanel(self, view)
-            self.entries.pop(cid, None)
-            self.followers.pop(cid, None)
+        self._grant(view)
+        token = secrets.token_urlsafe(24)
+        self.tokens.add(token)
+        try:  # the role survives a reload of this page (never another page's)
+            client.local_storage.set_item(ROLE_KEY, token)
+        except Exception:
+            pass
         client.add_notification(
             "Instructor",
             "you are the instructor: the Instructor panel is at the top",
             auto_close_seconds=5.0,
             color="green",
         )
+
+    def _grant(self, view: SessionView) -> None:
+        """Make the page the instructor: its panel replaces the code entry."""
+        cid = view.client.client_id
+        with self.lock:
+            entry = self.entries.pop(cid, None)
+            if entry is not None:
+                try:
+                    entry[0].remove()
+                except Exception:
+                    pass
+            self.instructors[cid] = InstructorPanel(self, view)
+            self.followers.pop(cid, None)
+
+    def _restore_role(self, view: SessionView) -> bool:
+        """A page reloaded by the instructor gets the role back from the token it keeps."""
+        try:
+            token = view.client.local_storage.get_item(ROLE_KEY, timeout=2.0)
+        except Exception:
+            return False
+        if not isinstance(token, str) or not any(
+            hmac.compare_digest(token, known) for known in list(self.tokens)
+        ):
+            return False
+        self._grant(view)
+        return True
 
     def check_code(self, client_id: int, text: Any) -> tuple[bool, str]:
         """Compare in constant time; refuse while this page or the server is locked out."""
@@ -328,6 +359,7 @@ class Classroom:
             with demo.lock:
                 # the page's own session is dropped: release makes a fresh one
                 view.show_session(demo)
+                view.set_following(True)
                 self.followers[view.client.client_id] = view
                 self._synced[view.client.client_id] = self._signature(demo)
         self.camera_dirty = True
@@ -363,6 +395,7 @@ class Classroom:
             own = self._copy_of(demo)
             with demo.lock, own.lock:
                 view.show_session(own)
+                view.set_following(False)
             try:
                 view.client.add_notification(
                     "Released",

@@ -87,6 +87,7 @@ class ParamControls:
         self.on_snap = on_snap
         self.widgets: dict[str, list[Any]] = {}
         self.errors: dict[str, Any] = {}  # param name -> its (hidden) error line
+        self.read_only = False  # while following the instructor
         self._shown: dict[int, Any] = {}  # widget id -> the session value it last showed
 
     def build(self, lesson: Lesson, params: Params) -> list[Any]:
@@ -143,7 +144,7 @@ class ParamControls:
                     step=float(step),
                     initial_value=slider_value(value, p),
                     hint=hint,
-                    disabled=not is_constant(value),
+                    disabled=self.read_only or not is_constant(value),
                 )
                 slider.on_update(self.guard(lambda e, p=p: self.on_slider(p, e.target.value)))
                 widgets.append(slider)
@@ -172,11 +173,27 @@ class ParamControls:
             text = gui.add_text(label, initial_value=number_text(value), hint=hint)
             text.on_update(self.guard(lambda e, p=p: self.on_text(p, e.target.value)))
             widgets.append(text)
+        for w in widgets:
+            if self.read_only and not w.disabled:
+                w.disabled = True
         if p.kind in ("choice", "bool", "int"):
             widgets[0].on_update(self.guard(lambda e, p=p: self.on_value(p, e.target.value)))
         if any(isinstance(w.value, str) for w in widgets):
             self.errors[p.name] = gui.add_html("", visible=False)
         self.widgets[p.name] = widgets
+
+    def set_read_only(self, on: bool, params: Params | None = None) -> None:
+        """Disable every field (following the instructor) or enable them again (a
+        formula's slider stays off while its value is a formula of t)."""
+        self.read_only = on
+        for name, widgets in self.widgets.items():
+            for w in widgets:
+                off = on
+                is_slider = hasattr(w, "min") and not hasattr(w, "multiline")
+                if not on and params is not None and is_slider and name in params:
+                    off = not is_constant(params[name])
+                if w.disabled != off:
+                    w.disabled = off
 
     def show_error(self, name: str, message: str) -> bool:
         """Show ``message`` under the field ``name``; False if it has no error line."""
@@ -225,9 +242,10 @@ class ParamControls:
                     is_slider = hasattr(w, "min") and not hasattr(w, "multiline")
                     if p.kind == "formula" and is_slider:
                         # a slider never stands for a formula of t: off until a number
+                        off = self.read_only or not is_constant(value)
+                        if w.disabled != off:
+                            w.disabled = off
                         constant = is_constant(value)
-                        if w.disabled == constant:
-                            w.disabled = not constant
                         if constant:
                             self.put(w, slider_value(value, p), force, current)
                     else:

@@ -22,9 +22,10 @@ from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
+from app.persistence import restore_state
 from app.runlog import LRUCache, lesson_scene, params_key
-from app.session import LabError, Session, SessionState
-from app.view import STORAGE_KEY, SessionView, ViewConfig
+from app.session import LabError, Session
+from app.view import SessionView, ViewConfig
 from app.viser_boundary import PAGE_TITLE, WakeBatch, make_viser_server
 from lessons.core.contract import Lesson
 
@@ -133,19 +134,9 @@ class LabServer:
     # -- sessions ---------------------------------------------------------------------
 
     def _on_connect(self, client: Any) -> None:
-        saved: str | None = None
-        if self.restore:
-            try:
-                saved = client.local_storage.get_item(STORAGE_KEY, timeout=2.0)
-            except Exception:
-                saved = None
         session = Session(self.lessons, self.default_lesson)
-        if saved:
-            try:
-                session.apply_state(SessionState.from_json(saved))
-                session.notify(f"restored your last lesson and parameters ({session.lesson.id})")
-            except Exception as exc:  # a stale or hand-made saved state
-                session.notify(f"saved state ignored: {exc}", "warning")
+        if self.restore:
+            restore_state(client, session)
         view = SessionView(client, session, self.config)
         view.last_tick = time.monotonic()  # type: ignore[attr-defined]
         with self._views_lock:

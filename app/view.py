@@ -32,10 +32,11 @@ from typing import TYPE_CHECKING, Any
 from app.controls import ParamControls
 from app.export import export_run, grid_end, parse_step
 from app.math_render import derivation_to_html
+from app.persistence import save_state
 from app.plots import PlotPanel
 from app.readout import preset_note_html, readout_html, speed_label, status_html
 from app.scene_render import SceneRenderer
-from app.session import SPEEDS, LabError, Session, SessionState, lesson_label
+from app.session import SPEEDS, LabError, Session, lesson_label
 from app.viser_boundary import fast_set
 from lessons.core.contract import Param, ParamError
 from lessons.core.formula import Formula
@@ -43,7 +44,6 @@ from lessons.core.formula import Formula
 if TYPE_CHECKING:
     import viser
 
-STORAGE_KEY = "analyzer-lab-state"
 NO_PRESET = "(defaults)"
 RETIRE_DELAY = 1.5  # seconds a replaced GUI folder stays (hidden) before it is removed
 
@@ -70,12 +70,10 @@ class SessionView:
         client: viser.ClientHandle,
         session: Session,
         config: ViewConfig | None = None,
-        on_state: Callable[[SessionView], None] | None = None,
     ) -> None:
         self.client = client
         self.session = session
         self.config = config or ViewConfig()
-        self.on_state = on_state
         self.closed = False
         self.frame_count = 0
         self.derivation_due: float | None = None
@@ -90,6 +88,7 @@ class SessionView:
         self._current_target: Any = None  # the widget whose callback runs now
         self._lesson_folders: list[Any] = []
         self._frame_dirty = True
+        self.following = False
         self.step_seconds = 0.0  # time spent in the lesson's stepper (frame loop)
         self.draw_seconds = 0.0  # time spent queueing the frame's updates
         self.renderer = SceneRenderer(client, self.config)
@@ -166,6 +165,24 @@ class SessionView:
         self.sync_widgets(force=True)
         self.derivation_due = time.monotonic()
 
+    def set_following(self, on: bool) -> None:
+        """Show the persistent "following the instructor" banner and make every control
+        read-only (or end both)."""
+        self.following = on
+        self.banner.content = (
+            '<div class="al-following" style="background:#1c4f8a;color:#fff;padding:4px 8px;'
+            'border-radius:4px;font-weight:600">Following the instructor: the controls are'
+            " read-only until the demo ends.</div>"
+            if on
+            else ""
+        )
+        self.banner.visible = on
+        self.transport.visible = not on  # (viser's button groups cannot be disabled)
+        for w in (self.lesson_dd, self.preset_dd, self.speed_dd):
+            if w.disabled != on:
+                w.disabled = on
+        self.controls.set_read_only(on, self.session.params)
+
     def mark_dirty(self) -> None:
         """Draw the session's current frame at the next tick."""
         self._frame_dirty = True
@@ -182,6 +199,7 @@ class SessionView:
         )
         gui.set_panel_label("Analyzer Lab")
         s = self.session
+        self.banner = gui.add_html("", visible=False)
         self._labels = {lesson_label(lesson): lesson.id for lesson in s.lessons.values()}
         self._ids = {v: k for k, v in self._labels.items()}
         self.lesson_dd = gui.add_dropdown(
@@ -438,44 +456,8 @@ class SessionView:
         self.derivation_due = time.monotonic()
         self._save_state()
 
-    # ------------------------------------------------------------------ state persistence
-
     def _save_state(self) -> None:
-        try:
-            self.client.local_storage.set_item(STORAGE_KEY, self.session.state().to_json())
-        except Exception:
-            pass
-        if self.on_state is not None:
-            self.on_state(self)
-
-    def restore_saved_state(self, timeout: float = 3.0) -> bool:
-        """Ask the browser for the state saved by this page before a reload; apply it."""
-        try:
-            text = self.client.local_storage.get_item(STORAGE_KEY, timeout=timeout)
-        except Exception:
-            return False
-        if not text:
-            return False
-        with self.session.lock:
-            try:
-                state = SessionState.from_json(text)
-                self.session.apply_state(state)
-                self.session.notify(
-                    f"restored your last lesson: {lesson_label(self.session.lesson)}"
-                )
-            except (LabError, ParamError) as exc:
-                self.session.notify(f"saved state ignored: {exc}", "warning")
-                return False
-            self.after_state_change()
-            self.refresh(heavy=True)
-        return True
-
-    def apply_state(self, state: SessionState) -> None:
-        """Take a state from elsewhere (e.g. a classroom mode) and show it."""
-        with self.session.lock:
-            self.session.apply_state(state)
-            self.after_state_change()
-            self.refresh(heavy=True)
+        save_state(self.client, self.session)
 
     # ------------------------------------------------------------------ per frame
 
@@ -635,4 +617,4 @@ class SessionView:
         s.notify(f"exported {name} ({len(data) / 1024:.1f} kB)")
 
 
-__all__ = ["STORAGE_KEY", "SessionView", "ViewConfig"]
+__all__ = ["SessionView", "ViewConfig"]
