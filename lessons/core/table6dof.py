@@ -40,7 +40,8 @@ from sympy.physics.mechanics import (
     inertia,
 )
 
-from lessons.core.mechanics import ConstrainedSystem, plain_symbols
+from lessons.core.constrained import ConstrainedSystem
+from lessons.core.lagrange import plain_symbols
 
 T_ = dynamicsymbols._t
 Array = np.ndarray
@@ -72,11 +73,6 @@ def rotation(alpha: Any, beta: Any, phi: Any) -> Array:
 def joints_body(r_t: float) -> Array:
     """Table joints A', B', C' in the table frame (rows)."""
     return np.array([[r_t * np.cos(a), r_t * np.sin(a), 0.0] for a in VERTEX_ANGLES])
-
-
-def hinge_axes() -> Array:
-    """Hinge axis e_k (parallel to the side opposite vertex k) in the table frame."""
-    return np.array([[-np.sin(a), np.cos(a), 0.0] for a in VERTEX_ANGLES])
 
 
 def radial_axes() -> Array:
@@ -241,6 +237,22 @@ def inverse_dynamics(q: Array, qd: Array, qdd: Array, p: Array) -> tuple[Array, 
     return sol[6:], sol[:6]
 
 
+def constraint_residual(q: Array, p: Array) -> float:
+    """The largest leg-constraint violation, in metres: the hinge rows (2.17) and the
+    length rows ``|A - A'|^2 - l^2`` divided by ``2 l`` (the leg's length error)."""
+    f = table_model().system.parts(0.0, q, np.zeros(12), p, np.zeros(6), ("f",))["f"]
+    f = f.copy()
+    f[1::2] /= 2.0 * float(p[PHYSICAL.index("l")])
+    return float(np.max(np.abs(f)))
+
+
+def axis_displacements(pose: Array, l: float, r_t: float) -> Array:
+    """Horizontal distance of each inductor from its table joint (along its virtual axis)."""
+    ind, _ = inverse_kinematics(pose, l, r_t)
+    J = table_joints(pose, r_t)
+    return np.array([np.hypot(ind[2 * k] - J[k, 0], ind[2 * k + 1] - J[k, 1]) for k in range(3)])
+
+
 def plane_through_joints(pose: Array, r_t: float) -> tuple[float, float]:
     """The table plane through A', B', C': the mixed-product determinant with D as the
     running point, and the normal form ``x cos a + y cos b + z cos g - h`` at D."""
@@ -262,7 +274,8 @@ __all__ = [
     "PHYSICAL",
     "POSE",
     "TableModel",
-    "hinge_axes",
+    "axis_displacements",
+    "constraint_residual",
     "inverse_dynamics",
     "inverse_kinematics",
     "joints_body",
