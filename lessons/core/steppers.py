@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
+from typing import Any
 
 import numpy as np
 from scipy.integrate import solve_ivp
@@ -46,64 +47,74 @@ class DenseSolution:
     ) -> None:
         self._rhs, self._tol, self._method = rhs, (rtol, atol), method
         self._pieces: list[tuple[float, float, Callable[[Array], Array]]] = []
-        self._t_end = float(t0)
-        self._y_end = np.array(y0, dtype=float)
+        self._t0, self._y0 = float(t0), np.array(y0, dtype=float)
+        self._t_end, self._y_end = self._t0, self._y0
         self.stopped_at = math.inf
         self.message = ""
 
     def _extend(self, t_max: float) -> None:
         while self._t_end < t_max and not self.message:
             a = self._t_end
-            bad: list[float] = []
-
-            def guarded(tt: float, yy: Array) -> Array:
-                # a non-finite derivative would make the step control loop forever:
-                # freeze the state and let the terminal event end the chunk
-                if bad:
-                    return np.zeros_like(yy)
-                try:
-                    out = np.asarray(self._rhs(tt, yy), dtype=float)
-                except _FAILURES:
-                    out = np.array([np.nan])
-                if not np.all(np.isfinite(out)):
-                    bad.append(tt)
-                    return np.zeros_like(yy)
-                return out
-
-            def stop(tt: float, yy: Array) -> float:
-                return -1.0 if bad else 1.0
-
-            stop.terminal = True  # type: ignore[attr-defined]
-            sol = solve_ivp(
-                guarded,
-                (a, a + CHUNK),
-                self._y_end,
-                method=self._method,
-                rtol=self._tol[0],
-                atol=self._tol[1],
-                dense_output=True,
-                events=stop,
-            )
-            b = float(sol.t[-1])
-            if bad:
-                b = min(b, bad[0])
-                self.message = (
-                    f"integration stopped at t = {bad[0]:.4g}: the equations gave a"
-                    " non-finite value (singular position or force)"
-                )
-            elif not sol.success or b < a + CHUNK:
-                self.message = f"integration stopped at t = {b:.4g}: {sol.message}"
+            sol, bad = self._solve(a, a + CHUNK)
+            first_bad = bad
+            for _ in range(40):  # solved again, halfway from its last good step to the bad time
+                if bad is None or bad <= a:
+                    break
+                clean = float(np.max(sol.t[sol.t < bad], initial=a))
+                sol, bad = self._solve(a, clean + 0.5 * (bad - clean))
+            if bad is not None:  # still failing: keep the steps before the bad time
+                b = float(np.max(sol.t[sol.t < bad], initial=a))
+            else:
+                b = float(sol.t[-1])
             if b > a:
                 self._pieces.append((a, b, sol.sol))
                 self._y_end = np.asarray(sol.sol(b), dtype=float)
+            if first_bad is not None:
+                self.message = (
+                    f"integration stopped at t = {first_bad:.4g}: the equations gave a"
+                    " non-finite value (singular position or force)"
+                )
+            elif not sol.success:
+                self.message = f"integration stopped at t = {b:.4g}: {sol.message}"
             self._t_end = b
             if self.message:
                 self.stopped_at = b
 
+    def _solve(self, a: float, b: float) -> tuple[Any, float | None]:
+        """solve_ivp over ``[a, b]`` with dense output; the first time the equations gave a
+        non-finite value (then the rest of the span is frozen), or None."""
+        bad: list[float] = []
+
+        def guarded(tt: float, yy: Array) -> Array:
+            # a non-finite derivative would make the step control loop forever:
+            # freeze the state (the span then ends at once); the span is solved again
+            if bad:
+                return np.zeros_like(yy)
+            try:
+                out = np.asarray(self._rhs(tt, yy), dtype=float)
+            except _FAILURES:
+                out = np.array([np.nan])
+            if not np.all(np.isfinite(out)):
+                bad.append(tt)
+                return np.zeros_like(yy)
+            return out
+
+        sol = solve_ivp(
+            guarded,
+            (a, b),
+            self._y_end,
+            method=self._method,
+            rtol=self._tol[0],
+            atol=self._tol[1],
+            dense_output=True,
+        )
+        return sol, (bad[0] if bad else None)
+
     def __call__(self, t: Array) -> Array:
         tt = np.atleast_1d(np.asarray(t, dtype=float))
         self._extend(float(np.max(tt, initial=self._t_end)))
-        out = np.full((len(tt), len(self._y_end)), np.nan)
+        out = np.full((len(tt), len(self._y0)), np.nan)
+        out[tt == self._t0] = self._y0
         for a, b, sol in self._pieces:
             k = (tt >= a) & (tt <= b)
             if np.any(k):
