@@ -142,7 +142,10 @@ class LinearPositioner(PositionerLesson):
             ),
             DerivationStep(
                 "Kinetic energy",
-                "All points have the same acceleration, so the moving mass M = sum m_i acts as one body.",
+                (
+                    "All points have the same acceleration, so the moving mass M = sum m_i acts "
+                    "as one body."
+                ),
                 sp.Eq(sp.Symbol("T"), M * x.diff(T_) ** 2 / 2),
             ),
             DerivationStep(
@@ -240,19 +243,28 @@ class LinearPositioner(PositionerLesson):
         return [
             Claim(
                 "eq-2.2",
-                "LagrangesMethod with T = M x'^2/2 and Q_x = F_dv - R_sopr + N_x gives (2.2): M x'' = F_dv - R_sopr + N_x",
+                (
+                    "LagrangesMethod with T = M x'^2/2 and Q_x = F_dv - R_sopr + N_x gives "
+                    "(2.2): M x'' = F_dv - R_sopr + N_x"
+                ),
                 "(2.2)",
                 symbolic_claim(eq_ok, "(2.2)"),
             ),
             Claim(
                 "forward-constant",
-                "Forward: F_dv = 2 N, R_sopr = 0.5 N, M = 5 kg from rest: x(10) = (1.5/5) 10^2/2 = 15 m",
+                (
+                    "Forward: F_dv = 2 N, R_sopr = 0.5 N, M = 5 kg from rest: x(10) = (1.5/5) "
+                    "10^2/2 = 15 m"
+                ),
                 "(2.2)",
                 constant_force,
             ),
             Claim(
                 "round-trip-forward-inverse",
-                "Forward then inverse recovers the drive force F_dv = 2 + sin 3t (within 1e-4 of its peak)",
+                (
+                    "Forward then inverse recovers the drive force F_dv = 2 + sin 3t (within "
+                    "1e-4 of its peak)"
+                ),
                 "(2.2)",
                 round_trip,
             ),

@@ -58,7 +58,10 @@ class Planar2Axis(PositionerLesson):
     title = "Two-coordinate planar positioner"
     problem = "Problem 2.3"
     source = "Textbook §2.1, Problem 2.3, eqs (2.5)-(2.11')"
-    summary = "An X-Y stage, horizontal (U = 0) or vertical (U = M g y): M x'' = -dU/dx + Q_x, M y'' = -dU/dy + Q_y."
+    summary = (
+        "An X-Y stage, horizontal (U = 0) or vertical (U = M g y): M x'' = -dU/dx + Q_x, M y'' = "
+        "-dU/dy + Q_y."
+    )
     order = 2.03
     coords = (Coord("x", "x", "m", 0.0, "0.2*sin(t)"), Coord("y", "y", "m", 0.0, "0.1*sin(2*t)"))
     inputs = (
@@ -179,7 +182,10 @@ class Planar2Axis(PositionerLesson):
             DerivationStep(
                 "Lagrange equations of the 2nd kind",
                 "q1 = x, q2 = y.",
-                r"\frac{d}{dt}\frac{\partial T}{\partial \dot q}-\frac{\partial T}{\partial q}=-\frac{\partial U}{\partial q}+Q_q,\quad q\in\{x,y\}",
+                (
+                    r"\frac{d}{dt}\frac{\partial T}{\partial \dot q}-\frac{\partial T}{\partial "
+                    r"q}=-\frac{\partial U}{\partial q}+Q_q,\quad q\in\{x,y\}"
+                ),
                 "(2.5)",
             ),
             DerivationStep(
@@ -204,7 +210,10 @@ class Planar2Axis(PositionerLesson):
             ),
             DerivationStep(
                 "Equations of motion (LagrangesMethod)",
-                "The printed y-row has dU/dx, dA/dx (typo) and (2.11') a minus before dA: the corrected form is shown.",
+                (
+                    "The printed y-row has dU/dx, dA/dx (typo) and (2.11') a minus before dA: "
+                    "the corrected form is shown."
+                ),
                 m.equations(),
                 "(2.11)",
                 reconstructed="corrected: y-row uses dU/dy and Q_y = dA/dy; sign + before dA as in (2.11)",
@@ -348,7 +357,10 @@ class Planar2Axis(PositionerLesson):
             ),
             Claim(
                 "eq-2.11-vertical",
-                "Vertical layout (2.9), U = M g y: M x'' = Q_x, M y'' = -M g + Q_y (corrected (2.11))",
+                (
+                    "Vertical layout (2.9), U = M g y: M x'' = Q_x, M y'' = -M g + Q_y "
+                    "(corrected (2.11))"
+                ),
                 "(2.11)",
                 symbolic_claim(eq_ok("vertical"), "(2.11), U = M g y"),
             ),
@@ -366,7 +378,10 @@ class Planar2Axis(PositionerLesson):
             ),
             Claim(
                 "round-trip-forward-inverse",
-                "Forward then inverse recovers Q_x = 2 cos t, Q_y = 40 + sin 2t (within 1e-4 of the peak)",
+                (
+                    "Forward then inverse recovers Q_x = 2 cos t, Q_y = 40 + sin 2t (within 1e-4 "
+                    "of the peak)"
+                ),
                 "(2.11)",
                 round_trip,
             ),

@@ -96,7 +96,10 @@ class Planar3Axis(PositionerLesson):
     title = "Three-coordinate planar motion system"
     problem = "Problem 2.4"
     source = "Textbook §2.1, Problem 2.4, eqs (2.12)-(2.16)"
-    summary = "Two planar modules A and B carry a table that translates and turns by phi; consistent model in x_A, y_A, phi."
+    summary = (
+        "Two planar modules A and B carry a table that translates and turns by phi; consistent "
+        "model in x_A, y_A, phi."
+    )
     order = 2.04
     coords = (
         Coord("x_A", "x_A", "m", 0.0, "0.1*sin(t)"),
@@ -278,16 +281,31 @@ class Planar3Axis(PositionerLesson):
             ),
             DerivationStep(
                 "Inverse kinematics",
-                "Valid for |phi| <= pi/2 (arcsin) and phi in [0, pi] (arccos); atan2 covers the full range.",
-                r"\varphi=\arcsin\frac{y_B-y_A}{AB}=\arccos\left(1-\frac{x_B-x_A}{AB}\right)=\operatorname{atan2}\left(y_B-y_A,\;AB-(x_B-x_A)\right)",
+                (
+                    "Valid for |phi| <= pi/2 (arcsin) and phi in [0, pi] (arccos); atan2 covers "
+                    "the full range."
+                ),
+                (
+                    r"\varphi=\arcsin\frac{y_B-y_A}{AB}=\arccos\left(1-\frac{x_B-x_A}{AB}\right)="
+                    r"\operatorname{atan2}\left(y_B-y_A,\;AB-(x_B-x_A)\right)"
+                ),
                 "(2.12)",
             ),
             DerivationStep(
                 "Lagrange equations",
-                "The source writes them for q1 = x_A, q2 = y_A only; the system has three degrees of freedom, so phi is the third coordinate.",
-                r"\frac{d}{dt}\frac{\partial T}{\partial \dot q}-\frac{\partial T}{\partial q}=-\frac{\partial U}{\partial q}+Q_q,\quad q\in\{x_A,y_A,\varphi\}",
+                (
+                    "The source writes them for q1 = x_A, q2 = y_A only; the system has three "
+                    "degrees of freedom, so phi is the third coordinate."
+                ),
+                (
+                    r"\frac{d}{dt}\frac{\partial T}{\partial \dot q}-\frac{\partial T}{\partial "
+                    r"q}=-\frac{\partial U}{\partial q}+Q_q,\quad q\in\{x_A,y_A,\varphi\}"
+                ),
                 "(2.13)",
-                reconstructed="consistent 3-DOF reading: phi added as a generalized coordinate, (2.13) has only x_A, y_A",
+                reconstructed=(
+                    "consistent 3-DOF reading: phi added as a generalized coordinate, (2.13) has "
+                    "only x_A, y_A"
+                ),
             ),
             DerivationStep(
                 "Kinetic energy",
@@ -300,11 +318,17 @@ class Planar3Axis(PositionerLesson):
                     + s["J"] * phi.diff(T_) ** 2 / 2,
                 ),
                 "(2.14)-(2.15)",
-                reconstructed="T_AB lost in the extraction; rebuilt from the surviving symbols (exact when the table's centre of mass is at A)",
+                reconstructed=(
+                    "T_AB lost in the extraction; rebuilt from the surviving symbols (exact when "
+                    "the table's centre of mass is at A)"
+                ),
             ),
             DerivationStep(
                 "Generalized forces (virtual work)",
-                "Drive forces F_A on A, F_B on B, moment M_phi on the table; dx_B = dx_A + AB sin(phi) dphi, dy_B = dy_A + AB cos(phi) dphi.",
+                (
+                    "Drive forces F_A on A, F_B on B, moment M_phi on the table; dx_B = dx_A + "
+                    "AB sin(phi) dphi, dy_B = dy_A + AB cos(phi) dphi."
+                ),
                 [
                     sp.Eq(sp.Symbol("Q_x"), s["FAx"] + s["FBx"]),
                     sp.Eq(sp.Symbol("Q_y"), s["FAy"] + s["FBy"]),
@@ -328,10 +352,17 @@ class Planar3Axis(PositionerLesson):
                 else "Inverse problem (program motion)",
                 "Drive forces given: integrate the three equations."
                 if params["problem"] == "forward"
-                else "x_A(t), y_A(t), phi(t) given: x_B, y_B from (2.12); with F_B given, the left-hand sides give Q_x, Q_y, Q_phi and so F_Ax, F_Ay, M_phi.",
+                else (
+                    "x_A(t), y_A(t), phi(t) given: x_B, y_B from (2.12); with F_B given, the "
+                    "left-hand sides give Q_x, Q_y, Q_phi and so F_Ax, F_Ay, M_phi."
+                ),
                 r"\ddot q=M(q)^{-1}\left(F(q,\dot q)+Q(t)\right)"
                 if params["problem"] == "forward"
-                else r"Q=M(q)\ddot q-F(q,\dot q),\quad F_{Ax}=Q_x-F_{Bx},\;F_{Ay}=Q_y-F_{By},\;M_\varphi=Q_\varphi-AB\,(F_{Bx}\sin\varphi+F_{By}\cos\varphi)",
+                else (
+                    r"Q=M(q)\ddot q-F(q,\dot q),\quad "
+                    r"F_{Ax}=Q_x-F_{Bx},\;F_{Ay}=Q_y-F_{By},\;M_\varphi=Q_\varphi-AB\,(F_{Bx}\sin"
+                    r"\varphi+F_{By}\cos\varphi)"
+                ),
                 "(2.13)-(2.16)",
             ),
         ]
@@ -431,25 +462,37 @@ class Planar3Axis(PositionerLesson):
         return [
             Claim(
                 "eq-3dof",
-                "LagrangesMethod with (2.12) substituted in (2.15) gives the consistent 3-DOF equations in x_A, y_A, phi",
+                (
+                    "LagrangesMethod with (2.12) substituted in (2.15) gives the consistent "
+                    "3-DOF equations in x_A, y_A, phi"
+                ),
                 "(2.12)-(2.16)",
                 symbolic_claim(eq_ok, "3-DOF equations"),
             ),
             Claim(
                 "q-phi",
-                "Virtual work: Q_x = F_Ax + F_Bx, Q_y = F_Ay + F_By, Q_phi = M_phi + AB (F_Bx sin phi + F_By cos phi)",
+                (
+                    "Virtual work: Q_x = F_Ax + F_Bx, Q_y = F_Ay + F_By, Q_phi = M_phi + AB "
+                    "(F_Bx sin phi + F_By cos phi)"
+                ),
                 "(2.16)",
                 symbolic_claim(q_phi, "generalized forces"),
             ),
             Claim(
                 "inverse-kinematics",
-                "phi = arcsin((y_B - y_A)/AB) = arccos(1 - (x_B - x_A)/AB) recovers phi = 0.3 (AB = 0.5)",
+                (
+                    "phi = arcsin((y_B - y_A)/AB) = arccos(1 - (x_B - x_A)/AB) recovers phi = "
+                    "0.3 (AB = 0.5)"
+                ),
                 "(2.12)",
                 ik,
             ),
             Claim(
                 "round-trip-forward-inverse",
-                "Forward then inverse recovers F_Ax, F_Ay, M_phi (F_B given) within 1e-4 of the peak",
+                (
+                    "Forward then inverse recovers F_Ax, F_Ay, M_phi (F_B given) within 1e-4 of "
+                    "the peak"
+                ),
                 "(2.13)-(2.16)",
                 round_trip,
             ),

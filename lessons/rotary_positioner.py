@@ -120,7 +120,10 @@ class RotaryPositioner(PositionerLesson):
         if J <= 0:
             raise ParamError(
                 "m1",
-                "the reduced moment of inertia sum m_i h_i^2 is zero: give some mass a non-zero radius",
+                (
+                    "the reduced moment of inertia sum m_i h_i^2 is zero: give some mass a "
+                    "non-zero radius"
+                ),
             )
 
     def extra_series(self, params: Params, q: Array, qd: Array, qdd: Array) -> dict[str, Array]:
@@ -279,13 +282,19 @@ class RotaryPositioner(PositionerLesson):
         return [
             Claim(
                 "eq-2.3-2.4",
-                "LagrangesMethod on three point masses gives (sum m_i h_i^2) phi'' = M_dv - M_c, i.e. J_z,pr = sum m_i h_i^2",
+                (
+                    "LagrangesMethod on three point masses gives (sum m_i h_i^2) phi'' = M_dv - "
+                    "M_c, i.e. J_z,pr = sum m_i h_i^2"
+                ),
                 "(2.3)-(2.4)",
                 symbolic_claim(eq_ok, "(2.4)"),
             ),
             Claim(
                 "forward-constant",
-                "Forward: M_dv - M_c = 0.08 N m on J = 0.105 kg m^2 from rest: phi(5) = 0.08/0.105 * 25/2 = 9.524 rad",
+                (
+                    "Forward: M_dv - M_c = 0.08 N m on J = 0.105 kg m^2 from rest: phi(5) = "
+                    "0.08/0.105 * 25/2 = 9.524 rad"
+                ),
                 "(2.3)",
                 constant,
             ),

@@ -19,16 +19,13 @@ from typing import Any
 
 import numpy as np
 import sympy as sp
-import trimesh
 
-from lessons.core.bodies import bounds_of, box, combine, cylinder, quat_wxyz, quat_z, segment_pose
 from lessons.core.contract import (
     Claim,
     ClaimResult,
     DerivationStep,
     Frame,
     Group,
-    MeshItem,
     Note,
     Param,
     ParamError,
@@ -42,7 +39,7 @@ from lessons.core.contract import (
 )
 from lessons.core.formula import Formula, t_symbol
 from lessons.core.lagrange import formula_derivatives, numerical_second_derivative
-from lessons.core.positioner_lesson import MODE, PROBLEM, T_, DynamicsLesson
+from lessons.core.positioner_lesson import MODE, PROBLEM, DynamicsLesson
 from lessons.core.steppers import ClosedForm, DenseSolution, Solution
 from lessons.core.table6dof import (
     COORDS,
@@ -54,10 +51,11 @@ from lessons.core.table6dof import (
     constraint_residual,
     inverse_dynamics,
     plane_through_joints,
+    pose_table,
     program_state,
-    rotation,
-    table_joints,
     table_model,
+    table_scene,
+    zero_tilt_energy_is_the_sources,
 )
 
 Array = np.ndarray
@@ -74,8 +72,10 @@ BAUMGARTE = 10.0  # 1/s, alpha = beta of the stabilized forward runs
 REST = {f"{n}_t": "0" for n in POSE} | {"z_D_t": "0.2"}
 
 
-def _body(name: str, default: float, label: str, unit: str, lo: float, hi: float) -> Param:
-    return Param(name, "float", default, label=label, unit=unit, min=lo, max=hi, group="body")
+def _number(
+    name: str, default: float, label: str, unit: str, lo: float, hi: float, group: str = "body"
+) -> Param:
+    return Param(name, "float", default, label=label, unit=unit, min=lo, max=hi, group=group)
 
 
 class Table6DOF(DynamicsLesson):
@@ -102,7 +102,7 @@ class Table6DOF(DynamicsLesson):
         Group("body", "Table, inductors and legs"),
         Group("program", "Table pose program"),
         Group("forces", "Extra inductor forces (forward problem)"),
-        Group("hold", "Inductor holding (forward problem)"),
+        Group("hold", "Stepper-motor holding F = -k (r - r_prog) - b (v - v_prog)"),
     )
     modes = ("problem", "feedforward")
     params = (
@@ -115,16 +115,16 @@ class Table6DOF(DynamicsLesson):
             group="mode",
             help="forward problem: the inductors also get the forces the inverse problem finds",
         ),
-        _body("M_c", 10.0, "table mass M_c", "kg", 0.01, 1e4),
-        _body("J_D", 0.2, "table inertia about its tilt axes J_D", "kg m^2", 1e-5, 1e4),
-        _body("J_Dz", 0.4, "table inertia about its normal J_Dz", "kg m^2", 1e-5, 1e4),
-        _body("m_A", 2.0, "inductor mass m_A", "kg", 1e-3, 1e4),
-        _body("m_B", 2.0, "inductor mass m_B", "kg", 1e-3, 1e4),
-        _body("m_C", 2.0, "inductor mass m_C", "kg", 1e-3, 1e4),
-        _body("m_l", 0.5, "leg mass m_l", "kg", 0.0, 1e3),
-        _body("l", 0.3, "leg length l (reconstructed)", "m", 0.01, 10.0),
-        _body("r_t", 0.15, "table joint radius r_t (reconstructed)", "m", 0.01, 10.0),
-        _body("g", 9.81, "g", "m/s^2", 0.0, 100.0),
+        _number("M_c", 10.0, "table mass M_c", "kg", 0.01, 1e4),
+        _number("J_D", 0.2, "table inertia about its tilt axes J_D", "kg m^2", 1e-5, 1e4),
+        _number("J_Dz", 0.4, "table inertia about its normal J_Dz", "kg m^2", 1e-5, 1e4),
+        _number("m_A", 2.0, "inductor mass m_A", "kg", 1e-3, 1e4),
+        _number("m_B", 2.0, "inductor mass m_B", "kg", 1e-3, 1e4),
+        _number("m_C", 2.0, "inductor mass m_C", "kg", 1e-3, 1e4),
+        _number("m_l", 0.5, "leg mass m_l", "kg", 0.0, 1e3),
+        _number("l", 0.3, "leg length l (reconstructed)", "m", 0.01, 10.0),
+        _number("r_t", 0.15, "table joint radius r_t (reconstructed)", "m", 0.01, 10.0),
+        _number("g", 9.81, "g", "m/s^2", 0.0, 100.0),
         *[
             Param(
                 f"{n}_t",
@@ -138,28 +138,8 @@ class Table6DOF(DynamicsLesson):
             for n, law in POSE_LAWS.items()
         ],
         *[Param(f, "formula", "0", label=f"{f} (t)", unit="N", group="forces") for f in FORCES],
-        Param(
-            "k_hold",
-            "float",
-            1e4,
-            label="inductor holding stiffness k",
-            unit="N/m",
-            min=0.0,
-            max=1e7,
-            group="hold",
-            help="linear stepper motors hold their commanded position:"
-            " F = -k (r - r_program) - b (v - v_program)",
-        ),
-        Param(
-            "b_hold",
-            "float",
-            200.0,
-            label="inductor holding damping b",
-            unit="N s/m",
-            min=0.0,
-            max=1e6,
-            group="hold",
-        ),
+        _number("k_hold", 1e4, "inductor holding stiffness k", "N/m", 0.0, 1e7, "hold"),
+        _number("b_hold", 200.0, "inductor holding damping b", "N s/m", 0.0, 1e6, "hold"),
     )
     presets = (
         Preset(
@@ -337,51 +317,19 @@ class Table6DOF(DynamicsLesson):
     # -- live -----------------------------------------------------------------------
 
     def pose_frame(self, params: Params, fr: Frame, state: Array) -> None:
-        q = np.where(np.isfinite(state[:12]), state[:12], 0.0)
         F = np.nan_to_num(np.array([fr.scalars[f] for f in FORCES]))
-        fr.poses["table"] = (q[:3].copy(), quat_wxyz(rotation(q[3], q[4], q[5])))
-        joints = table_joints(q[:6], float(params["r_t"]))
         scale = 0.1 / max(float(params["M_c"]) * max(float(params["g"]), 1.0) / 3.0, 1e-9)
-        for k, name in enumerate("ABC"):
-            A = np.array([q[6 + 2 * k], q[7 + 2 * k], 0.0])
-            fr.poses[f"inductor {name}"] = (A.copy(), quat_z(float(q[5])))
-            fr.poses[f"leg {name}{name}'"] = segment_pose(A, joints[k])
-            fr.vectors[f"F_{name}"] = (
-                A[None, :] + [0, 0, 0.03],
-                scale * np.array([[F[2 * k], F[2 * k + 1], 0.0]]),
-            )
-        fr.points["D"] = q[None, :3].copy()
+        pose_table(fr, np.nan_to_num(state[:12]), scale * F, float(params["r_t"]))
 
     def scene(self, params: Params) -> SceneSpec:
-        l, rt = float(params["l"]), float(params["r_t"])
-        R0 = rt + l
-        floor = box(
-            "floor (inductor plane z = 0)",
-            (3 * R0, 3 * R0, 0.01 * R0),
-            (170, 170, 170),
-            center=(0, 0, -0.03),
-            opacity=0.35,
-        )
-        plate = trimesh.creation.cylinder(radius=1.15 * rt, height=0.08 * rt, sections=3)
-        plate.apply_transform(trimesh.transformations.rotation_matrix(np.pi / 2, [0, 0, 1]))
-        table = combine("table", [plate], (120, 190, 120))
-        bodies: list[MeshItem] = [table]
-        colors = ((70, 130, 200), (200, 130, 70), (160, 90, 200))
-        for k, name in enumerate("ABC"):
-            bodies.append(box(f"inductor {name}", (0.25 * rt, 0.25 * rt, 0.12 * rt), colors[k]))
-            bodies.append(cylinder(f"leg {name}{name}'", 0.04 * rt, l, (90, 90, 90), sections=12))
-        ext = 1.6 * R0
-        return SceneSpec(
-            bounds=bounds_of(np.array([[-ext, -ext, -0.05], [ext, ext, l + 0.3 * rt]]), 0.02),
-            meshes=[floor],
-            bodies=bodies,
-            moving_points={"D": (120, 190, 120)},
-            moving_vectors={"F_A": colors[0], "F_B": colors[1], "F_C": colors[2]},
-        )
+        return table_scene(float(params["l"]), float(params["r_t"]))
 
     def derivation(self, params: Params) -> list[DerivationStep]:
         tm = table_model()
-        ge = r"\frac{d}{dt}\frac{\partial T}{\partial \dot q_i}-\frac{\partial T}{\partial q_i}=-\frac{\partial U}{\partial q_i}+Q_{q_i},\quad i=1,\dots,6"
+        ge = (
+            r"\frac{d}{dt}\frac{\partial T}{\partial \dot q_i}-\frac{\partial T}{\partial "
+            r"q_i}=-\frac{\partial U}{\partial q_i}+Q_{q_i},\quad i=1,\dots,6"
+        )
         why = "the mechanism is only in the lost Figs 2.6-2.9; rebuilt consistently from the text"
         return [
             DerivationStep(
@@ -398,8 +346,16 @@ class Table6DOF(DynamicsLesson):
             ),
             DerivationStep(
                 "Legs and joints",
-                "Each rigid leg of length l joins inductor k (ball joint) to table joint A'_k (hinge parallel to the opposite side of the table triangle): the inductor moves along the virtual axis n (eta), tau, rho perpendicular to that side.",
-                r"(\vec r_{A}-\vec r_{A'})\cdot R\,\vec e_A=0,\qquad |\vec r_{A}-\vec r_{A'}|^2-l^2=0\quad(\text{and likewise } B, C)",
+                (
+                    "Each rigid leg of length l joins inductor k (ball joint) to table joint "
+                    "A'_k (hinge parallel to the opposite side of the table triangle): the "
+                    "inductor moves along the virtual axis n (eta), tau, rho perpendicular to "
+                    "that side."
+                ),
+                (
+                    r"(\vec r_{A}-\vec r_{A'})\cdot R\,\vec e_A=0,\qquad |\vec r_{A}-\vec "
+                    r"r_{A'}|^2-l^2=0\quad(\text{and likewise } B, C)"
+                ),
                 "Figs 2.6-2.9",
                 reconstructed=why,
             ),
@@ -413,7 +369,10 @@ class Table6DOF(DynamicsLesson):
             DerivationStep(
                 "Table plane through A', B', C'",
                 "Vanishing mixed product; D lies on the plane.",
-                r"(\vec r_{A'}-\vec r_0)\cdot\left[(\vec r_{B'}-\vec r_0)\times(\vec r_{C'}-\vec r_0)\right]=0,\qquad x\cos\alpha+y\cos\beta+z\cos\gamma-h=0",
+                (
+                    r"(\vec r_{A'}-\vec r_0)\cdot\left[(\vec r_{B'}-\vec r_0)\times(\vec "
+                    r"r_{C'}-\vec r_0)\right]=0,\qquad x\cos\alpha+y\cos\beta+z\cos\gamma-h=0"
+                ),
                 "Problem 2.5",
             ),
             DerivationStep(
@@ -421,21 +380,33 @@ class Table6DOF(DynamicsLesson):
             ),
             DerivationStep(
                 "Table: translation of D and rotation about D",
-                "R = Rz(phi) Ry(beta) Rx(alpha); at zero tilt and J_Dz = J_D this is the source's 1/2 M (x'^2+y'^2+z'^2) + 1/2 Z_D (alpha'^2+beta'^2+gamma'^2).",
+                (
+                    "R = Rz(phi) Ry(beta) Rx(alpha); at zero tilt and J_Dz = J_D this is the "
+                    "source's 1/2 M (x'^2+y'^2+z'^2) + 1/2 Z_D (alpha'^2+beta'^2+gamma'^2)."
+                ),
                 sp.Eq(sp.Symbol("T_c"), sp.simplify(tm.T_table)),
                 "Problem 2.5",
-                reconstructed="the isotropic coefficient printed 'Z_D' read as the table inertia; angular velocity of the ZYX angles",
+                reconstructed=(
+                    "the isotropic coefficient printed 'Z_D' read as the table inertia; angular "
+                    "velocity of the ZYX angles"
+                ),
             ),
             DerivationStep(
                 "Inductors",
                 "",
-                r"T_A=\tfrac12 m_A(\dot x_A^2+\dot y_A^2),\;T_B=\tfrac12 m_B(\dot x_B^2+\dot y_B^2),\;T_C=\tfrac12 m_C(\dot x_C^2+\dot y_C^2)",
+                (
+                    r"T_A=\tfrac12 m_A(\dot x_A^2+\dot y_A^2),\;T_B=\tfrac12 m_B(\dot x_B^2+\dot "
+                    r"y_B^2),\;T_C=\tfrac12 m_C(\dot x_C^2+\dot y_C^2)"
+                ),
                 "Problem 2.5",
             ),
             DerivationStep(
                 "Legs (slender rods)",
                 "End velocities v_A (inductor) and v_A' (table joint).",
-                r"T_{AA'}=\frac{m_l}{6}\left(v_A^2+\vec v_A\cdot\vec v_{A'}+v_{A'}^2\right)\quad(\text{and likewise } BB', CC')",
+                (
+                    r"T_{AA'}=\frac{m_l}{6}\left(v_A^2+\vec v_A\cdot\vec "
+                    r"v_{A'}+v_{A'}^2\right)\quad(\text{and likewise } BB', CC')"
+                ),
                 "Problem 2.5",
                 reconstructed="leg energies lost in the extraction (only the factors 1/2 survive)",
             ),
@@ -453,8 +424,14 @@ class Table6DOF(DynamicsLesson):
             ),
             DerivationStep(
                 "Loops opened (§2.2)",
-                "12 coordinates (table pose + inductors), six leg constraints, multipliers eliminated by (2.33)-(2.34): the six equations of the source in closed form.",
-                r"A\ddot q=B+S F+H^{T}\lambda,\quad H\ddot q=-\Phi,\quad H\in\mathbb{R}^{6\times 12}",
+                (
+                    "12 coordinates (table pose + inductors), six leg constraints, multipliers "
+                    "eliminated by (2.33)-(2.34): the six equations of the source in closed form."
+                ),
+                (
+                    r"A\ddot q=B+S F+H^{T}\lambda,\quad H\ddot q=-\Phi,\quad "
+                    r"H\in\mathbb{R}^{6\times 12}"
+                ),
                 "(2.25), (2.30), (2.34)",
             ),
         ]
@@ -463,13 +440,12 @@ class Table6DOF(DynamicsLesson):
 
     def claims(self) -> list[Claim]:
         p0 = lambda **kw: self.pvec(self.resolve(kw))  # noqa: E731
+        rest = np.array([0, 0, 0.2, 0, 0, 0.0])  # table at rest, zero tilt, z_D = 0.2 m
+        tilted = np.array([0.01, 0.02, 0.19, 0.08, -0.05, 0.4])
 
         def dof() -> ClaimResult:
-            p = p0()
-            q, qd, _, _ = program_state(
-                np.array([0, 0, 0.2, 0, 0, 0.0]), np.zeros(6), np.zeros(6), p
-            )
-            H = table_model().system.parts(0.0, q, qd, p, np.zeros(6))["H"]
+            q, qd, _, _ = program_state(rest, np.zeros(6), np.zeros(6), p0())
+            H = table_model().system.parts(0.0, q, qd, p0(), np.zeros(6))["H"]
             r = int(np.linalg.matrix_rank(H))
             return ClaimResult(
                 "rank H = 6, 12 - 6 = 6 degrees of freedom", f"rank H = {r}, {12 - r} DOF", r == 6
@@ -481,11 +457,8 @@ class Table6DOF(DynamicsLesson):
             return close(want, float(max(S, key=lambda v: abs(v - want))), atol=1e-12)
 
         def ik_constraints() -> ClaimResult:
-            p = p0()
-            pose = np.array([0.01, 0.02, 0.19, 0.08, -0.05, 0.4])
-            q, qd, _, _ = program_state(
-                pose, np.array([0.1, 0, 0.02, 0.1, 0.1, 0.3]), np.zeros(6), p
-            )
+            p, pose_d = p0(), np.array([0.1, 0, 0.02, 0.1, 0.1, 0.3])
+            q, qd, _, _ = program_state(tilted, pose_d, np.zeros(6), p)
             f, c = table_model().system.residuals(0.0, q, qd, p, np.zeros(6))
             return at_most(
                 1e-12,
@@ -494,33 +467,17 @@ class Table6DOF(DynamicsLesson):
             )
 
         def plane() -> ClaimResult:
-            det, nf = plane_through_joints(np.array([0.01, 0.02, 0.19, 0.08, -0.05, 0.4]), 0.15)
+            det, nf = plane_through_joints(tilted, 0.15)
             return at_most(1e-12, max(abs(det), abs(nf)), "|mixed product|, |normal form at D| ")
 
         def energy_form() -> ClaimResult:
-            tm = table_model()
-            xD, yD, zD, al, be, ph = tm.q[:6]
-            Mc, JD, JDz = (sp.Symbol(n, real=True, positive=True) for n in ("M_c", "J_D", "J_Dz"))
-            d = lambda e: e.diff(T_)  # noqa: E731
-            want = (
-                Mc * (d(xD) ** 2 + d(yD) ** 2 + d(zD) ** 2) / 2
-                + JD * (d(al) ** 2 + d(be) ** 2 + d(ph) ** 2) / 2
-            )
-            rates = {qi.diff(T_): sp.Symbol(f"{qi.func}_rate", real=True) for qi in tm.q[:6]}
-            got = tm.T_table.subs(JDz, JD).xreplace(rates).subs({al: 0, be: 0})
-            want = want.xreplace(rates)
-            ok = sp.simplify(got - want) == 0
-            return ClaimResult(
-                "T_c = 1/2 M_c (x_D'^2 + y_D'^2 + z_D'^2) + 1/2 J_D (alpha'^2 + beta'^2 + phi'^2) at zero tilt",
-                "equal" if ok else "differ",
-                bool(ok),
-            )
+            ok = zero_tilt_energy_is_the_sources()
+            want = "T_c = M_c v_D^2/2 + J_D (alpha'^2 + beta'^2 + phi'^2)/2 at zero tilt"
+            return ClaimResult(want, "equal" if ok else "differ", ok)
 
         def static_force() -> ClaimResult:
             p = p0(m_l=0.0)
-            q, qd, qdd, _ = program_state(
-                np.array([0, 0, 0.2, 0, 0, 0.0]), np.zeros(6), np.zeros(6), p
-            )
+            q, qd, qdd, _ = program_state(rest, np.zeros(6), np.zeros(6), p)
             F, _ = inverse_dynamics(q, qd, qdd, p)
             mags = [float(np.hypot(F[2 * k], F[2 * k + 1])) for k in range(3)]
             inward = all(F[2 * k : 2 * k + 2] @ q[6 + 2 * k : 8 + 2 * k] < 0 for k in range(3))
@@ -557,19 +514,28 @@ class Table6DOF(DynamicsLesson):
         return [
             Claim(
                 "six-dof",
-                "Three inductors with two coordinates each and three legs give the table six degrees of freedom",
+                (
+                    "Three inductors with two coordinates each and three legs give the table six "
+                    "degrees of freedom"
+                ),
                 "Problem 2.5",
                 dof,
             ),
             Claim(
                 "axis-displacement",
-                "Zero tilt, z_D = 0.2 m, l = 0.3 m: each inductor sits at S = sqrt(l^2 - Z'^2) = 0.2236 m from its joint along its virtual axis",
+                (
+                    "Zero tilt, z_D = 0.2 m, l = 0.3 m: each inductor sits at S = sqrt(l^2 - "
+                    "Z'^2) = 0.2236 m from its joint along its virtual axis"
+                ),
                 "Problem 2.5, Fig. 2.9 (reconstructed geometry)",
                 axis_displacement,
             ),
             Claim(
                 "ik-constraints",
-                "The inverse kinematics satisfies the six leg constraints and the velocities satisfy (2.29) at a tilted, turned pose",
+                (
+                    "The inverse kinematics satisfies the six leg constraints and the velocities "
+                    "satisfy (2.29) at a tilted, turned pose"
+                ),
                 "(2.17), (2.29)",
                 ik_constraints,
             ),
@@ -581,25 +547,38 @@ class Table6DOF(DynamicsLesson):
             ),
             Claim(
                 "table-energy",
-                "At zero tilt with J_Dz = J_D the table's kinetic energy has the source's form 1/2 M (x'^2+y'^2+z'^2) + 1/2 Z_D (alpha'^2+beta'^2+gamma'^2)",
+                (
+                    "At zero tilt with J_Dz = J_D the table's kinetic energy has the source's "
+                    "form 1/2 M (x'^2+y'^2+z'^2) + 1/2 Z_D (alpha'^2+beta'^2+gamma'^2)"
+                ),
                 "Problem 2.5",
                 energy_form,
             ),
             Claim(
                 "static-holding-force",
-                "Massless legs, table at rest at z = 0.2 m: each inductor must push inward with M g sqrt(l^2 - z^2)/(3 z) = 36.56 N",
+                (
+                    "Massless legs, table at rest at z = 0.2 m: each inductor must push inward "
+                    "with M g sqrt(l^2 - z^2)/(3 z) = 36.56 N"
+                ),
                 "Problem 2.5, virtual work",
                 static_force,
             ),
             Claim(
                 "round-trip-inverse-forward",
-                "The inverse problem's forces, applied open-loop (k = 0), reproduce the pose program within 1e-6 over 1.5 s",
+                (
+                    "The inverse problem's forces, applied open-loop (k = 0), reproduce the pose "
+                    "program within 1e-6 over 1.5 s"
+                ),
                 "(2.34)",
                 inv_fwd,
             ),
             Claim(
                 "round-trip-forward-inverse",
-                "Forward run with holding stiffness and a 5 sin 3t N push: the inverse problem on the sampled motion recovers the six inductor forces within 1e-3 of the peak",
+                (
+                    "Forward run with holding stiffness and a 5 sin 3t N push: the inverse "
+                    "problem on the sampled motion recovers the six inductor forces within 1e-3 "
+                    "of the peak"
+                ),
                 "(2.34)",
                 fwd_inv,
             ),

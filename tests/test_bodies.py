@@ -3,15 +3,17 @@
 from __future__ import annotations
 
 import numpy as np
+from scipy.spatial.transform import Rotation
 
-from lessons.core.bodies import bounds_of, box, quat_wxyz, quat_z, segment_pose
+from lessons.core.bodies import bounds_of, box, quat_z, quat_zyx, segment_pose
+from lessons.core.table6dof import rotation
 
 
 def test_poses() -> None:
-    assert np.allclose(quat_wxyz(np.eye(3)), [1, 0, 0, 0])
-    a = 0.7
-    R = np.array([[np.cos(a), -np.sin(a), 0], [np.sin(a), np.cos(a), 0], [0, 0, 1]])
-    assert np.allclose(quat_wxyz(R), quat_z(a))
+    assert np.allclose(quat_zyx(0.0, 0.0, 0.0), [1, 0, 0, 0])
+    assert np.allclose(quat_zyx(0.7, 0.0, 0.0), quat_z(0.7))
+    x, y, z, w = Rotation.from_matrix(rotation(0.3, -0.2, 0.9)).as_quat()
+    assert np.allclose(quat_zyx(0.9, -0.2, 0.3), [w, x, y, z])
     pos, qt = segment_pose(np.zeros(3), np.array([1.0, 0.0, 0.0]))
     assert np.allclose(pos, [0.5, 0, 0])
     w, x, y, z = qt

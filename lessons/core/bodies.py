@@ -11,17 +11,25 @@ from collections.abc import Sequence
 
 import numpy as np
 import trimesh
-from scipy.spatial.transform import Rotation
 
 from lessons.core.contract import MeshItem
 
 Array = np.ndarray
 
 
-def quat_wxyz(R: Array) -> Array:
-    """Rotation matrix -> unit quaternion ``(w, x, y, z)``."""
-    x, y, z, w = Rotation.from_matrix(np.asarray(R, dtype=float)).as_quat()
-    return np.array([w, x, y, z])
+def quat_zyx(phi: float, beta: float, alpha: float) -> Array:
+    """``R = Rz(phi) Ry(beta) Rx(alpha)`` as a unit quaternion ``(w, x, y, z)``."""
+    cz, sz = np.cos(phi / 2), np.sin(phi / 2)
+    cy, sy = np.cos(beta / 2), np.sin(beta / 2)
+    cx, sx = np.cos(alpha / 2), np.sin(alpha / 2)
+    return np.array(
+        [
+            cz * cy * cx + sz * sy * sx,
+            cz * cy * sx - sz * sy * cx,
+            cz * sy * cx + sz * cy * sx,
+            sz * cy * cx - cz * sy * sx,
+        ]
+    )
 
 
 def quat_z(angle: float) -> Array:
@@ -39,9 +47,11 @@ def segment_pose(p0: Array, p1: Array) -> tuple[Array, Array]:
     n = np.linalg.norm(d)
     if n < 1e-15:
         return (p0 + p1) / 2, IDENTITY_Q.copy()
-    rot, _ = Rotation.align_vectors([d / n], [[0.0, 0.0, 1.0]])
-    x, y, z, w = rot.as_quat()
-    return (p0 + p1) / 2, np.array([w, x, y, z])
+    b = d / n
+    if b[2] < -1.0 + 1e-12:  # straight down: half a turn about X
+        return (p0 + p1) / 2, np.array([0.0, 1.0, 0.0, 0.0])
+    q = np.array([1.0 + b[2], -b[1], b[0], 0.0])  # the shortest turn from +Z to b
+    return (p0 + p1) / 2, q / np.linalg.norm(q)
 
 
 def mesh_item(

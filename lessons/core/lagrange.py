@@ -198,6 +198,8 @@ def formula_derivatives(
     def ev(tt: Array | float) -> tuple[Array, Array, Array]:
         shape = np.shape(tt)
         with np.errstate(all="ignore"):
+            if not shape:
+                return tuple(np.array([float(f(tt)) for f in row]) for row in fns)  # type: ignore[return-value]
             return tuple(
                 np.array(
                     [np.broadcast_to(np.asarray(f(tt), dtype=float), shape) for f in row],

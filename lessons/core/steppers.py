@@ -168,13 +168,17 @@ class SolutionStepper(Stepper):
         self._params = params
         self._t = 0.0
         self._sol, self._frame_of = start(params, 0.0, None)
+        self._y: tuple[float, Array] | None = None
 
     @property
     def t(self) -> float:
         return self._t
 
     def state(self) -> Array:
-        return self._sol(np.array([self._t]))[0]
+        """The state at the current time (read once per time)."""
+        if self._y is None or self._y[0] != self._t:
+            self._y = (self._t, self._sol(np.array([self._t]))[0])
+        return self._y[1]
 
     def frame(self) -> Frame:
         fr = self._frame_of(self._t, self.state())
@@ -184,18 +188,21 @@ class SolutionStepper(Stepper):
 
     def advance(self, dt: float) -> Frame:
         target = self._t + max(float(dt), 0.0)
-        self._sol(np.array([target]))
+        y = self._sol(np.array([target]))[0]
         self._t = min(target, max(self._t, self._sol.stopped_at))
+        self._y = (target, y) if self._t == target else None
         return self.frame()
 
     def set_params(self, params: Params) -> None:
         y = self.state()
         self._params = params
         self._sol, self._frame_of = self._start(params, self._t, y)
+        self._y = None
 
     def reset(self) -> Frame:
         self._t = 0.0
         self._sol, self._frame_of = self._start(self._params, 0.0, None)
+        self._y = None
         return self.frame()
 
 
