@@ -23,6 +23,16 @@ import sympy as sp
 from scipy.integrate import solve_ivp
 from sympy.physics.mechanics import Point, ReferenceFrame, dynamicsymbols
 
+from lessons.core.bodies import (
+    IDENTITY_Q,
+    bounds_of,
+    box,
+    cylinder,
+    mesh_item,
+    quat_z,
+    segment_pose,
+)
+from lessons.core.constrained import ConstrainedSystem
 from lessons.core.contract import (
     Claim,
     ClaimResult,
@@ -38,20 +48,9 @@ from lessons.core.contract import (
     Stepper,
     at_most,
 )
-from lessons.core.mechanics import (
-    IDENTITY_Q,
-    ConstrainedSystem,
-    LagrangeModel,
-    OdeStepper,
-    bounds_of,
-    box,
-    cylinder,
-    integrate,
-    mesh_item,
-    quat_z,
-    segment_pose,
-)
-from lessons.positioners import Planar3Axis, planar3_kinematics, planar3_symbols
+from lessons.core.lagrange import LagrangeModel
+from lessons.core.steppers import OdeStepper, integrate
+from lessons.planar_3axis import Planar3Axis, planar3_kinematics, planar3_symbols
 
 T_ = dynamicsymbols._t
 Array = np.ndarray

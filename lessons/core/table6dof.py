@@ -30,6 +30,7 @@ from typing import Any
 
 import numpy as np
 import sympy as sp
+import trimesh
 from sympy.physics.mechanics import (
     KanesMethod,
     Particle,
@@ -40,7 +41,10 @@ from sympy.physics.mechanics import (
     inertia,
 )
 
-from lessons.core.mechanics import ConstrainedSystem, plain_symbols
+from lessons.core.bodies import bounds_of, box, combine, cylinder, quat_z, quat_zyx, segment_pose
+from lessons.core.constrained import ConstrainedSystem
+from lessons.core.contract import Frame, MeshItem, SceneSpec
+from lessons.core.lagrange import plain_symbols
 
 T_ = dynamicsymbols._t
 Array = np.ndarray
@@ -50,6 +54,7 @@ INDUCTORS = ("x_A", "y_A", "x_B", "y_B", "x_C", "y_C")
 COORDS = POSE + INDUCTORS
 FORCES = ("F_Ax", "F_Ay", "F_Bx", "F_By", "F_Cx", "F_Cy")
 PHYSICAL = ("M_c", "J_D", "J_Dz", "m_A", "m_B", "m_C", "m_l", "l", "r_t", "g")
+COLORS = ((70, 130, 200), (200, 130, 70), (160, 90, 200))  # inductors A, B, C
 VERTEX_ANGLES = (np.pi / 2, np.pi / 2 + 2 * np.pi / 3, np.pi / 2 + 4 * np.pi / 3)  # A, B, C
 
 
@@ -72,11 +77,6 @@ def rotation(alpha: Any, beta: Any, phi: Any) -> Array:
 def joints_body(r_t: float) -> Array:
     """Table joints A', B', C' in the table frame (rows)."""
     return np.array([[r_t * np.cos(a), r_t * np.sin(a), 0.0] for a in VERTEX_ANGLES])
-
-
-def hinge_axes() -> Array:
-    """Hinge axis e_k (parallel to the side opposite vertex k) in the table frame."""
-    return np.array([[-np.sin(a), np.cos(a), 0.0] for a in VERTEX_ANGLES])
 
 
 def radial_axes() -> Array:
@@ -241,6 +241,81 @@ def inverse_dynamics(q: Array, qd: Array, qdd: Array, p: Array) -> tuple[Array, 
     return sol[6:], sol[:6]
 
 
+def constraint_residual(q: Array, p: Array) -> float:
+    """The largest leg-constraint violation, in metres: the hinge rows (2.17) and the
+    length rows ``|A - A'|^2 - l^2`` divided by ``2 l`` (the leg's length error)."""
+    f = table_model().system.parts(0.0, q, np.zeros(12), p, np.zeros(6), ("f",))["f"]
+    f = f.copy()
+    f[1::2] /= 2.0 * float(p[PHYSICAL.index("l")])
+    return float(np.max(np.abs(f)))
+
+
+def axis_displacements(pose: Array, l: float, r_t: float) -> Array:
+    """Horizontal distance of each inductor from its table joint (along its virtual axis)."""
+    ind, _ = inverse_kinematics(pose, l, r_t)
+    J = table_joints(pose, r_t)
+    return np.array([np.hypot(ind[2 * k] - J[k, 0], ind[2 * k + 1] - J[k, 1]) for k in range(3)])
+
+
+def zero_tilt_energy_is_the_sources() -> bool:
+    """At zero tilt with ``J_Dz = J_D`` the table's kinetic energy is the source's
+    ``1/2 M (x'^2 + y'^2 + z'^2) + 1/2 Z_D (alpha'^2 + beta'^2 + gamma'^2)``."""
+    tm = table_model()
+    xD, yD, zD, al, be, ph = tm.q[:6]
+    Mc, JD, JDz = (sp.Symbol(n, real=True, positive=True) for n in ("M_c", "J_D", "J_Dz"))
+    rates = {qi.diff(T_): sp.Symbol(f"{qi.func}_rate", real=True) for qi in tm.q[:6]}
+    d = lambda e: e.diff(T_).xreplace(rates)  # noqa: E731
+    want = (
+        Mc * (d(xD) ** 2 + d(yD) ** 2 + d(zD) ** 2) / 2
+        + JD * (d(al) ** 2 + d(be) ** 2 + d(ph) ** 2) / 2
+    )
+    got = tm.T_table.subs(JDz, JD).xreplace(rates).subs({al: 0, be: 0})
+    return bool(sp.simplify(got - want) == 0)
+
+
+def table_scene(l: float, rt: float) -> SceneSpec:
+    """The floor, the triangular table, the inductors and the legs (posed by
+    :func:`pose_table`)."""
+    R0 = rt + l
+    floor = box(
+        "floor (inductor plane z = 0)",
+        (3 * R0, 3 * R0, 0.01 * R0),
+        (170, 170, 170),
+        center=(0, 0, -0.03),
+        opacity=0.35,
+    )
+    plate = trimesh.creation.cylinder(radius=1.15 * rt, height=0.08 * rt, sections=3)
+    plate.apply_transform(trimesh.transformations.rotation_matrix(np.pi / 2, [0, 0, 1]))
+    bodies: list[MeshItem] = [combine("table", [plate], (120, 190, 120))]
+    for k, name in enumerate("ABC"):
+        bodies.append(box(f"inductor {name}", (0.25 * rt, 0.25 * rt, 0.12 * rt), COLORS[k]))
+        bodies.append(cylinder(f"leg {name}{name}'", 0.04 * rt, l, (90, 90, 90), sections=12))
+    ext = 1.6 * R0
+    return SceneSpec(
+        bounds=bounds_of(np.array([[-ext, -ext, -0.05], [ext, ext, l + 0.3 * rt]]), 0.02),
+        meshes=[floor],
+        bodies=bodies,
+        moving_points={"D": (120, 190, 120)},
+        moving_vectors={"F_A": COLORS[0], "F_B": COLORS[1], "F_C": COLORS[2]},
+    )
+
+
+def pose_table(fr: Frame, q: Array, arrows: Array, r_t: float) -> None:
+    """Poses of :func:`table_scene` for the 12 coordinates ``q``; ``arrows``: the six
+    inductor force arrows (already scaled)."""
+    fr.poses["table"] = (q[:3].copy(), quat_zyx(q[5], q[4], q[3]))
+    joints = table_joints(q[:6], r_t)
+    for k, name in enumerate("ABC"):
+        A = np.array([q[6 + 2 * k], q[7 + 2 * k], 0.0])
+        fr.poses[f"inductor {name}"] = (A.copy(), quat_z(float(q[5])))
+        fr.poses[f"leg {name}{name}'"] = segment_pose(A, joints[k])
+        fr.vectors[f"F_{name}"] = (
+            A[None, :] + [0, 0, 0.03],
+            np.array([[arrows[2 * k], arrows[2 * k + 1], 0.0]]),
+        )
+    fr.points["D"] = q[None, :3].copy()
+
+
 def plane_through_joints(pose: Array, r_t: float) -> tuple[float, float]:
     """The table plane through A', B', C': the mixed-product determinant with D as the
     running point, and the normal form ``x cos a + y cos b + z cos g - h`` at D."""
@@ -262,11 +337,15 @@ __all__ = [
     "PHYSICAL",
     "POSE",
     "TableModel",
-    "hinge_axes",
+    "axis_displacements",
+    "constraint_residual",
     "inverse_dynamics",
     "inverse_kinematics",
     "joints_body",
     "plane_through_joints",
+    "pose_table",
+    "table_scene",
+    "zero_tilt_energy_is_the_sources",
     "program_state",
     "radial_axes",
     "rotation",

@@ -1,0 +1,435 @@
+"""The common page of chapter 2's positioners (Problems 2.1-2.5): forward and inverse runs.
+
+Every positioner is solved two ways, (2.1)-(2.16): the *forward* problem (forces given
+as formulas of t -> the motion, integrated once per parameter set as a
+:class:`~lessons.core.steppers.DenseSolution`) and the *inverse* problem (a motion law
+given as formulas of t -> the drive forces, in closed form).  :class:`DynamicsLesson`
+holds what every such page shares: the solution of a parameter set, read by the headless
+run and by the live stepper alike, the run with its failure messages, the cached coarse
+run that sizes the scene.  :class:`PositionerLesson` adds the Lagrange models of
+Problems 2.1-2.4 (:class:`~lessons.core.lagrange.LagrangeModel`): parameters, series,
+observation and the round-trip claims from generalized coordinates and forces.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+import sympy as sp
+from sympy.physics.mechanics import dynamicsymbols
+
+from lessons.core.contract import (
+    ClaimResult,
+    Frame,
+    Group,
+    Lesson,
+    Param,
+    Params,
+    RunResult,
+    Series,
+    Stepper,
+)
+from lessons.core.formula import Formula, FormulaError, t_symbol
+from lessons.core.lagrange import LagrangeModel, formula_derivatives, recover_inputs
+from lessons.core.steppers import (
+    ClosedForm,
+    DenseSolution,
+    Solution,
+    SolutionStepper,
+    integrate,
+)
+
+T_ = dynamicsymbols._t  # the time of the sympy models
+Array = np.ndarray
+
+MODE = Group("mode", "Mode")
+FORCES = Group("forces", "Forces and moments")
+PROGRAM = Group("program", "Motion law (inverse problem)")
+START = Group("initial", "Start state (forward problem)")
+
+PROBLEM = Param(
+    "problem",
+    "choice",
+    "forward",
+    label="problem",
+    choices=("forward", "inverse"),
+    group="mode",
+    help="forward: forces given, motion found; inverse: motion law given, drive forces found",
+)
+
+
+def sym(name: str, **kw: Any) -> sp.Symbol:
+    return sp.Symbol(name, real=True, **kw)
+
+
+def is_zero(expr: sp.Expr) -> bool:
+    return sp.simplify(sp.expand(expr)) == 0
+
+
+def symbolic_claim(ok: Callable[[], bool], what: str) -> Callable[[], ClaimResult]:
+    """A claim check: ``ok()`` is a symbolic identity ``simplify(difference) == 0``."""
+
+    def check() -> ClaimResult:
+        passed = bool(ok())
+        return ClaimResult(
+            expected=f"{what}: simplify(difference) == 0",
+            got="0" if passed else "non-zero",
+            passed=passed,
+        )
+
+    return check
+
+
+def arrow(origin: Sequence[float], direction: Sequence[float]) -> tuple[Array, Array]:
+    """One moving vector of a frame (origin, direction)."""
+    return np.asarray([origin], dtype=float), np.asarray([direction], dtype=float)
+
+
+def check_formulas(formulas: Sequence[tuple[str, Formula]], t: Array) -> list[str]:
+    """One message per formula that is not finite on the samples ``t``."""
+    msgs = []
+    for name, f in formulas:
+        try:
+            f.check_finite(t)
+        except FormulaError as exc:
+            msgs.append(f"{name}: {exc}")
+    return msgs
+
+
+class DynamicsLesson(Lesson):
+    """A page solved once per parameter set: the run and the live frames read one solution.
+
+    Subclasses give :meth:`formulas_in_use`, :meth:`start` (the solution from a time and
+    a state), :meth:`observe` and :meth:`pose_frame`.
+    """
+
+    chapter = "2"
+    modes = ("problem",)
+    #: what a frame says where the state is not defined
+    undefined = "the motion is not defined"
+    _cache: dict[tuple[str, str], Any] = {}
+
+    def formulas_in_use(self, params: Params) -> list[tuple[str, Formula]]:
+        raise NotImplementedError
+
+    def start(self, params: Params, t0: float, y: Array | None) -> Solution:
+        """The solution of these parameters from ``(t0, y)`` (``y`` None: the lesson's own
+        start at t = 0)."""
+        raise NotImplementedError
+
+    def pose_frame(self, params: Params, fr: Frame, state: Array) -> None:
+        """Poses, points and vectors of the scene for one state (scalars already set)."""
+        raise NotImplementedError
+
+    def cached(self, what: str, params: Params, build: Callable[[], Any]) -> Any:
+        """``build()`` once per lesson, ``what`` and parameter values."""
+        key = (f"{self.id}:{what}", repr(sorted(params.raw().items())))
+        if key not in self._cache:
+            if len(self._cache) > 64:
+                self._cache.clear()
+            self._cache[key] = build()
+        return self._cache[key]
+
+    def solution(self, params: Params) -> Solution:
+        """The solution from t = 0 that runs and live frames share (once per parameter set)."""
+        return self.cached("solution", params, lambda: self.start(params, 0.0, None))
+
+    def coarse_run(self, params: Params) -> RunResult:
+        """A run over the lesson's default time (scene extents, force scale)."""
+        return self.cached("run", params, lambda: self.simulate(params, self.t_end))
+
+    def run_metrics(self, params: Params, series: dict[str, Array]) -> dict[str, Any]:
+        return {}
+
+    def simulate(self, params: Params, t_end: float | None = None) -> RunResult:
+        t = self.sample_grid(float(self.t_end if t_end is None else t_end))
+        msgs = check_formulas(self.formulas_in_use(params), t)
+        sol = self.solution(params)
+        if msgs:
+            state = np.full((len(t), sol(np.zeros(1)).shape[1]), np.nan)
+        else:
+            state = sol(t)
+            msgs += [sol.message] if sol.message else []
+        series = self.observation(params, t, state)
+        metrics = {"ok": not msgs, "problem": params["problem"]}
+        metrics.update(self.run_metrics(params, series))
+        return self.result(params, t, state, metrics, msgs)
+
+    def frame_at(self, params: Params, t: float, state: Array) -> Frame:
+        fr = Frame(t=float(t), scalars=self.frame_scalars(params, t, state[None, :]))
+        self.pose_frame(params, fr, state)
+        if not np.all(np.isfinite(state)):
+            fr.message = f"{self.undefined} at t = {t:g}"
+        return fr
+
+    def stepper(self, params: Params) -> Stepper:
+        def start(
+            ps: Params, t0: float, y: Array | None
+        ) -> tuple[Solution, Callable[[float, Array], Frame]]:
+            sol = self.solution(ps) if y is None else self.start(ps, t0, y)
+            return sol, lambda tt, state: self.frame_at(ps, tt, state)
+
+        return SolutionStepper(start, params)
+
+
+@dataclass(frozen=True)
+class Coord:
+    """A generalized coordinate: name (as in the textbook), unit, defaults."""
+
+    name: str
+    label: str
+    unit: str
+    q0: float = 0.0
+    law: str = "0"
+
+
+@dataclass(frozen=True)
+class Input:
+    """A force/moment entering the generalized forces; ``unknown``: solved for in the
+    inverse problem (otherwise a given formula in both problems)."""
+
+    name: str
+    label: str
+    unit: str
+    default: str
+    unknown: bool = True
+
+
+def positioner_groups(body: str) -> tuple[Group, ...]:
+    """The panel of a positioner: mode, the body (titled ``body``), forces, law, start."""
+    return (MODE, Group("body", body), FORCES, PROGRAM, START)
+
+
+def positioner_params(
+    coords: Sequence[Coord],
+    inputs: Sequence[Input],
+    body: Sequence[Param],
+    modes: Sequence[Param] = (),
+) -> tuple[Param, ...]:
+    """Problem, extra modes, the body (group "body"), force formulas, laws, start state."""
+    out: list[Param] = [PROBLEM, *modes, *body]
+    for i in inputs:
+        out.append(
+            Param(
+                i.name,
+                "formula",
+                i.default,
+                label=i.label + " (t)",
+                unit=i.unit,
+                group="forces",
+                help="given in the forward problem"
+                + (", found in the inverse problem" if i.unknown else " and the inverse problem"),
+            )
+        )
+    for c in coords:
+        out.append(
+            Param(
+                f"{c.name}_t",
+                "formula",
+                c.law,
+                label=f"{c.label}(t) law",
+                unit=c.unit,
+                group="program",
+                help="motion law of the inverse problem",
+            )
+        )
+    for c in coords:
+        for name, label, unit, v in (
+            (f"{c.name}0", f"{c.label}(0)", c.unit, c.q0),
+            (f"{c.name}_dot0", f"{c.label}'(0)", f"{c.unit}/s", 0.0),
+        ):
+            out.append(
+                Param(name, "float", v, label=label, unit=unit, min=-1e3, max=1e3, group="initial")
+            )
+    return tuple(out)
+
+
+def positioner_series(
+    coords: Sequence[Coord], inputs: Sequence[Input], extra: Sequence[Series] = ()
+) -> tuple[Series, ...]:
+    """Each coordinate with its velocity and acceleration, each force, then ``extra``."""
+    out: list[Series] = []
+    for c in coords:
+        out += [
+            Series(c.name, c.unit, f"coordinate {c.label}"),
+            Series(f"{c.name}_dot", f"{c.unit}/s", f"velocity {c.label}'"),
+            Series(f"{c.name}_ddot", f"{c.unit}/s^2", f"acceleration {c.label}''"),
+        ]
+    out += [Series(i.name, i.unit, i.label) for i in inputs]
+    return (*out, *extra)
+
+
+class PositionerLesson(DynamicsLesson):
+    """Problems 2.1-2.4: forward/inverse runs on a :class:`LagrangeModel`.
+
+    The state is ``[q, q']`` (forward: integrated; inverse: the law's closed form).
+    """
+
+    coords: tuple[Coord, ...] = ()
+    inputs: tuple[Input, ...] = ()
+    physical: tuple[str, ...] = ()  # model parameter names, in the model's order
+    t_end = 10.0
+    sampling = 0.01
+
+    # -- model ------------------------------------------------------------------
+
+    _models: dict[tuple[str, str], LagrangeModel] = {}
+
+    def model(self, params: Params) -> LagrangeModel:
+        """The Lagrange model (built and lambdified once per lesson and model key)."""
+        key = (self.id, self.model_key(params))
+        if key not in self._models:
+            self._models[key] = self.build_model(key[1])
+        return self._models[key]
+
+    def model_key(self, params: Params) -> str:
+        return ""
+
+    def build_model(self, key: str) -> LagrangeModel:
+        raise NotImplementedError
+
+    def pvec(self, params: Params) -> Array:
+        return np.array([float(params[n]) for n in self.physical], dtype=float)
+
+    @property
+    def unknown(self) -> list[int]:
+        return [k for k, i in enumerate(self.inputs) if i.unknown]
+
+    def y0(self, params: Params) -> Array:
+        return np.array(
+            [float(params[f"{c.name}0"]) for c in self.coords]
+            + [float(params[f"{c.name}_dot0"]) for c in self.coords]
+        )
+
+    def law(self, params: Params) -> Callable[[Array | float], tuple[Array, Array, Array]]:
+        """The inverse problem's law: ``t -> (q, q', q'')`` by exact differentiation."""
+        return formula_derivatives([params[f"{c.name}_t"].expr for c in self.coords], t_symbol)
+
+    def formulas_in_use(self, params: Params) -> list[tuple[str, Formula]]:
+        if params["problem"] == "forward":
+            return [(i.name, params[i.name]) for i in self.inputs]
+        return [(i.name, params[i.name]) for i in self.inputs if not i.unknown] + [
+            (f"{c.name}_t", params[f"{c.name}_t"]) for c in self.coords
+        ]
+
+    def forces(self, params: Params, t: Array, known_only: bool = False) -> Array:
+        """The force formulas on the samples ``t``: ``(n_inputs, len(t))`` (the unknown
+        inputs of the inverse problem are 0 with ``known_only``)."""
+        U = np.zeros((len(self.inputs), len(t)))
+        for k, i in enumerate(self.inputs):
+            if not (known_only and i.unknown):
+                with np.errstate(all="ignore"):
+                    U[k] = np.broadcast_to(np.asarray(params[i.name](t), dtype=float), t.shape)
+        return U
+
+    # -- one solution, one observation ------------------------------------------------
+
+    def start(self, params: Params, t0: float, y: Array | None) -> Solution:
+        if params["problem"] == "inverse":
+            ev = self.law(params)
+            return ClosedForm(lambda t: np.vstack(ev(t)[:2]).T)
+        model, p = self.model(params), self.pvec(params)
+        fs = [params[i.name] for i in self.inputs]
+        u_of_t = lambda tt, q, qd: np.array([float(f(tt)) for f in fs])  # noqa: E731
+        y_start = self.y0(params) if y is None else y
+        return DenseSolution(model.rhs(p, u_of_t), t0, y_start)
+
+    def motion(self, params: Params, t: Array, state: Array) -> tuple[Array, Array, Array, Array]:
+        """``(q, q', q'', u)`` on the samples from the state ``[q, q']`` at those times."""
+        n, model, p = len(self.coords), self.model(params), self.pvec(params)
+        q, qd = state[:, :n].T, state[:, n:].T
+        ok = np.all(np.isfinite(state), axis=1)
+        if params["problem"] == "forward":
+            U = self.forces(params, t)
+            qdd = np.full_like(q, np.nan)
+            for k in np.nonzero(ok & np.all(np.isfinite(U), axis=0))[0]:
+                qdd[:, k] = model.accelerations(q[:, k], qd[:, k], float(t[k]), p, U[:, k])
+            return q, qd, qdd, U
+        with np.errstate(all="ignore"):
+            qdd = self.law(params)(t)[2]
+        U = self.forces(params, t, known_only=True)
+        good = ok & np.all(np.isfinite(qdd), axis=0) & np.all(np.isfinite(U), axis=0)
+        U[:, ~good] = np.nan
+        for k in np.nonzero(good)[0]:
+            U[:, k] = model.solve_inputs(
+                q[:, k], qd[:, k], qdd[:, k], float(t[k]), p, U[:, k], self.unknown
+            )
+        return q, qd, qdd, U
+
+    def extra_series(self, params: Params, q: Array, qd: Array, qdd: Array) -> dict[str, Array]:
+        return {}
+
+    def observe(self, params: Params, t: Array, state: Any) -> dict[str, Array]:
+        q, qd, qdd, U = self.motion(params, t, np.asarray(state, dtype=float))
+        out: dict[str, Array] = {}
+        for k, c in enumerate(self.coords):
+            out[c.name], out[f"{c.name}_dot"], out[f"{c.name}_ddot"] = q[k], qd[k], qdd[k]
+        for k, i in enumerate(self.inputs):
+            out[i.name] = U[k]
+        out.update(self.extra_series(params, q, qd, qdd))
+        return out
+
+    def run_metrics(self, params: Params, series: dict[str, Array]) -> dict[str, Any]:
+        out: dict[str, Any] = {f"{c.name}_end": float(series[c.name][-1]) for c in self.coords}
+        for i in self.inputs:
+            u = series[i.name]
+            out[f"{i.name}_max_abs"] = (
+                float(np.nanmax(np.abs(u))) if np.any(np.isfinite(u)) else float("nan")
+            )
+        return out
+
+    # -- live -----------------------------------------------------------------------
+
+    def force_scale(self, params: Params) -> float:
+        """Arrow length per unit force: the largest force of the default run maps to a
+        quarter of the scene size."""
+        r = self.coarse_run(params)
+        U = np.array([r.series[i.name] for i in self.inputs])
+        fmax = float(np.nanmax(np.abs(U))) if np.any(np.isfinite(U)) else 0.0
+        return 0.25 * self.scene_size(params) / fmax if fmax > 0 else 0.0
+
+    def scene_size(self, params: Params) -> float:
+        return 1.0
+
+    def pose_frame(self, params: Params, fr: Frame, state: Array) -> None:
+        u = np.array([fr.scalars[i.name] for i in self.inputs])
+        u = np.where(np.isfinite(u), u, 0.0)
+        self.pose(params, fr, state[: len(self.coords)], u, self.force_scale(params))
+
+    def pose(self, params: Params, fr: Frame, q: Array, u: Array, scale: float) -> None:
+        raise NotImplementedError
+
+    # -- claims support ---------------------------------------------------------------
+
+    def round_trip_error(self, values: dict[str, Any], t_end: float = 5.0) -> tuple[float, float]:
+        """Forward run with the given forces, then the inverse problem on the sampled
+        motion (accelerations by differences): ``(max |u_rec - u|, max |u|)`` over the
+        unknown inputs, away from the two end samples."""
+        params = self.resolve({**values, "problem": "forward"})
+        t = np.linspace(0.0, t_end, 2001)
+        q, qd, _, U = self.motion(params, t, self.solution(params)(t))
+        rec = recover_inputs(self.model(params), t, q, qd, self.pvec(params), U, self.unknown)
+        idx = self.unknown
+        err = float(np.max(np.abs(rec[idx, 2:-2] - U[idx, 2:-2])))
+        return err, float(np.max(np.abs(U[idx])))
+
+    def inverse_forward_error(self, values: dict[str, Any], t_end: float = 5.0) -> float:
+        """Inverse problem on a motion law, then the forward problem driven by the
+        forces found (the inverse problem solved at each evaluation instant):
+        max |q_forward - q_law| over the coordinates."""
+        params = self.resolve({**values, "problem": "inverse"})
+        t = np.linspace(0.0, t_end, 101)
+        model, p, n = self.model(params), self.pvec(params), len(self.coords)
+        ev = self.law(params)
+
+        def u_exact(tt: float, q: Array, qd: Array) -> Array:
+            ql, qdl, qddl = ev(tt)
+            u0 = self.forces(params, np.array([tt]), known_only=True)[:, 0]
+            return model.solve_inputs(ql, qdl, qddl, tt, p, u0, self.unknown)
+
+        q_law, qd_law, _ = ev(t)
+        y, _ = integrate(model.rhs(p, u_exact), np.concatenate([q_law[:, 0], qd_law[:, 0]]), t)
+        return float(np.max(np.abs(y[:n] - q_law)))

@@ -1,0 +1,237 @@
+"""Solutions of the equations of motion as functions of time, and the live steppers on them.
+
+One truth for a headless run and the live view: :class:`DenseSolution` integrates
+``y' = rhs(t, y)`` from ``(t0, y0)`` in fixed chunks of time, on demand, keeping the
+solver's dense output, so that a run's samples and a live frame at the same time read the
+same solution (computed once per parameter set).  :class:`ClosedForm` does the same for a
+state known in closed form (a prescribed motion law).  :class:`SolutionStepper` plays a
+solution in the live view: ``advance`` only moves the time; new parameters restart the
+solution from the current state.  :func:`integrate` samples a :class:`DenseSolution`.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from typing import Any
+
+import numpy as np
+from scipy.integrate import solve_ivp
+
+from lessons.core.contract import Frame, Params, Stepper
+
+Array = np.ndarray
+Rhs = Callable[[float, Array], Array]
+#: lesson time covered by one solve_ivp call of a :class:`DenseSolution` (s)
+CHUNK = 2.0
+_FAILURES = (np.linalg.LinAlgError, ZeroDivisionError, FloatingPointError, ValueError)
+
+
+class DenseSolution:
+    """``y(t)`` of ``y' = rhs(t, y)``, ``y(t0) = y0``, solved chunk by chunk as far as asked.
+
+    Calling it with times ``t`` (1-D) gives the states ``(len(t), n)``.  Where the
+    equations give a non-finite value (a singular position, a force formula that blows
+    up) the solution stops: later states are NaN, :attr:`stopped_at` is the last good
+    time and :attr:`message` says why.
+    """
+
+    def __init__(
+        self,
+        rhs: Rhs,
+        t0: float,
+        y0: Array,
+        rtol: float = 1e-9,
+        atol: float = 1e-11,
+        method: str = "DOP853",
+    ) -> None:
+        self._rhs, self._tol, self._method = rhs, (rtol, atol), method
+        self._pieces: list[tuple[float, float, Callable[[Array], Array]]] = []
+        self._t0, self._y0 = float(t0), np.array(y0, dtype=float)
+        self._t_end, self._y_end = self._t0, self._y0
+        self.stopped_at = math.inf
+        self.message = ""
+
+    def _extend(self, t_max: float) -> None:
+        while self._t_end < t_max and not self.message:
+            a = self._t_end
+            sol, bad = self._solve(a, a + CHUNK)
+            first_bad = bad
+            for _ in range(40):  # solved again, halfway from its last good step to the bad time
+                if bad is None or bad <= a:
+                    break
+                clean = float(np.max(sol.t[sol.t < bad], initial=a))
+                sol, bad = self._solve(a, clean + 0.5 * (bad - clean))
+            if bad is not None:  # still failing: keep the steps before the bad time
+                b = float(np.max(sol.t[sol.t < bad], initial=a))
+            else:
+                b = float(sol.t[-1])
+            if b > a:
+                self._pieces.append((a, b, sol.sol))
+                self._y_end = np.asarray(sol.sol(b), dtype=float)
+            if first_bad is not None:
+                self.message = (
+                    f"integration stopped at t = {first_bad:.4g}: the equations gave a"
+                    " non-finite value (singular position or force)"
+                )
+            elif not sol.success:
+                self.message = f"integration stopped at t = {b:.4g}: {sol.message}"
+            self._t_end = b
+            if self.message:
+                self.stopped_at = b
+
+    def _solve(self, a: float, b: float) -> tuple[Any, float | None]:
+        """solve_ivp over ``[a, b]`` with dense output; the first time the equations gave a
+        non-finite value (then the rest of the span is frozen), or None."""
+        bad: list[float] = []
+
+        def guarded(tt: float, yy: Array) -> Array:
+            # a non-finite derivative would make the step control loop forever:
+            # freeze the state (the span then ends at once); the span is solved again
+            if bad:
+                return np.zeros_like(yy)
+            try:
+                out = np.asarray(self._rhs(tt, yy), dtype=float)
+            except _FAILURES:
+                out = np.array([np.nan])
+            if not np.all(np.isfinite(out)):
+                bad.append(tt)
+                return np.zeros_like(yy)
+            return out
+
+        sol = solve_ivp(
+            guarded,
+            (a, b),
+            self._y_end,
+            method=self._method,
+            rtol=self._tol[0],
+            atol=self._tol[1],
+            dense_output=True,
+        )
+        return sol, (bad[0] if bad else None)
+
+    def __call__(self, t: Array) -> Array:
+        tt = np.atleast_1d(np.asarray(t, dtype=float))
+        self._extend(float(np.max(tt, initial=self._t_end)))
+        out = np.full((len(tt), len(self._y0)), np.nan)
+        out[tt == self._t0] = self._y0
+        for a, b, sol in self._pieces:
+            k = (tt >= a) & (tt <= b)
+            if np.any(k):
+                out[k] = np.asarray(sol(tt[k]), dtype=float).T
+        return out
+
+
+class ClosedForm:
+    """A state known in closed form, ``t -> (len(t), n)`` states (never stops)."""
+
+    stopped_at = math.inf
+    message = ""
+
+    def __init__(self, states: Callable[[Array], Array]) -> None:
+        self._states = states
+
+    def __call__(self, t: Array) -> Array:
+        return self._states(np.atleast_1d(np.asarray(t, dtype=float)))
+
+
+Solution = DenseSolution | ClosedForm
+#: ``start(params, t0, y)``: the solution of these parameters from ``(t0, y)`` (``y`` None:
+#: the lesson's own start at t = 0), and ``frame_of(t, state)`` drawing one state
+Start = Callable[[Params, float, "Array | None"], tuple[Solution, Callable[[float, Array], Frame]]]
+
+
+def integrate(
+    rhs: Rhs,
+    y0: Array,
+    t: Array,
+    rtol: float = 1e-9,
+    atol: float = 1e-11,
+    method: str = "DOP853",
+) -> tuple[Array, str]:
+    """A :class:`DenseSolution` from ``t[0]`` on the sample times: ``(y (n, len(t)),
+    message)``; after a failure the samples are NaN and the message says where it stopped."""
+    sol = DenseSolution(rhs, float(t[0]), y0, rtol, atol, method)
+    return sol(t).T, sol.message
+
+
+class SolutionStepper(Stepper):
+    """Live run of a :data:`Solution`: ``advance`` moves the time and reads the state.
+
+    ``set_params`` restarts from the current state with the new parameters; ``reset``
+    starts again at t = 0 (the solution a headless run with these parameters reads).
+    After the solution stopped, the time holds at its last good value with its message.
+    """
+
+    def __init__(self, start: Start, params: Params) -> None:
+        self._start = start
+        self._params = params
+        self._t = 0.0
+        self._sol, self._frame_of = start(params, 0.0, None)
+        self._y: tuple[float, Array] | None = None
+
+    @property
+    def t(self) -> float:
+        return self._t
+
+    def state(self) -> Array:
+        """The state at the current time (read once per time)."""
+        if self._y is None or self._y[0] != self._t:
+            self._y = (self._t, self._sol(np.array([self._t]))[0])
+        return self._y[1]
+
+    def frame(self) -> Frame:
+        fr = self._frame_of(self._t, self.state())
+        if self._sol.message and self._t >= self._sol.stopped_at and not fr.message:
+            fr.message = self._sol.message
+        return fr
+
+    def advance(self, dt: float) -> Frame:
+        target = self._t + max(float(dt), 0.0)
+        y = self._sol(np.array([target]))[0]
+        self._t = min(target, max(self._t, self._sol.stopped_at))
+        self._y = (target, y) if self._t == target else None
+        return self.frame()
+
+    def set_params(self, params: Params) -> None:
+        y = self.state()
+        self._params = params
+        self._sol, self._frame_of = self._start(params, self._t, y)
+        self._y = None
+
+    def reset(self) -> Frame:
+        self._t = 0.0
+        self._sol, self._frame_of = self._start(self._params, 0.0, None)
+        self._y = None
+        return self.frame()
+
+
+class OdeStepper(SolutionStepper):
+    """Live run of ``y' = rhs(t, y)``; ``make(params)`` gives ``(y0, rhs, frame_of(t, y))``."""
+
+    def __init__(
+        self,
+        make: Callable[[Params], tuple[Array, Rhs, Callable[[float, Array], Frame]]],
+        params: Params,
+        rtol: float = 1e-8,
+        method: str = "DOP853",
+    ) -> None:
+        def start(
+            ps: Params, t0: float, y: Array | None
+        ) -> tuple[Solution, Callable[[float, Array], Frame]]:
+            y0, rhs, frame_of = make(ps)
+            sol = DenseSolution(rhs, t0, y0 if y is None else y, rtol, rtol * 1e-2, method)
+            return sol, frame_of
+
+        super().__init__(start, params)
+
+
+__all__ = [
+    "CHUNK",
+    "ClosedForm",
+    "DenseSolution",
+    "OdeStepper",
+    "Solution",
+    "SolutionStepper",
+    "integrate",
+]

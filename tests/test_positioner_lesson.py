@@ -1,0 +1,92 @@
+"""Tests of lessons.core.positioner_lesson: what Problems 2.1-2.5 share."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from lessons.catalog import all_lessons
+from lessons.core.contract import Lesson
+from lessons.linear_positioner import LESSON as LINEAR
+from lessons.planar_2axis import LESSON as PLANAR2
+from lessons.planar_3axis import LESSON as PLANAR3
+from lessons.rotary_positioner import LESSON as ROTARY
+from lessons.table_6dof import LESSON as TABLE
+
+LESSONS = [LINEAR, ROTARY, PLANAR2, PLANAR3, TABLE]
+BY_ID = {l.id: l for l in LESSONS}
+SMALL = ["linear-positioner", "rotary-positioner", "planar-2axis", "planar-3axis"]
+
+
+def test_ids_in_catalog() -> None:
+    ids = {l.id for l in all_lessons()}
+    assert {
+        "linear-positioner",
+        "rotary-positioner",
+        "planar-2axis",
+        "planar-3axis",
+        "table-6dof",
+    } <= ids
+
+
+@pytest.mark.parametrize("lesson", LESSONS, ids=lambda l: l.id)
+def test_declarations(lesson: Lesson) -> None:
+    assert lesson.declaration_errors() == []
+    assert lesson.modes[0] == "problem" and lesson.groups[0].name == "mode"
+    assert [g.name for g in lesson.groups][1] == "body"
+    for problem in ("forward", "inverse"):
+        assert all(n.text for n in lesson.notes(lesson.resolve({"problem": problem})))
+
+
+@pytest.mark.parametrize("lesson", LESSONS, ids=lambda l: l.id)
+def test_claims_pass(lesson: Lesson) -> None:
+    for claim in lesson.claims():
+        res = claim.check()
+        assert res.passed, f"{lesson.id}/{claim.id}: expected {res.expected}, got {res.got}"
+
+
+@pytest.mark.parametrize("lid", SMALL)
+def test_presets_simulate(lid: str) -> None:
+    lesson = BY_ID[lid]
+    for preset in lesson.presets:
+        params = lesson.resolve(preset=preset.name)
+        r = lesson.simulate(params, 2.0)
+        assert not r.messages
+        for c in lesson.coords:  # type: ignore[attr-defined]
+            for name in (c.name, f"{c.name}_dot", f"{c.name}_ddot"):
+                assert r.series[name].shape == r.t.shape and np.all(np.isfinite(r.series[name]))
+        for i in lesson.inputs:  # type: ignore[attr-defined]
+            assert np.all(np.isfinite(r.series[i.name]))
+
+
+@pytest.mark.parametrize("lid", SMALL)
+def test_stepper_and_scene(lid: str) -> None:
+    lesson = BY_ID[lid]
+    for problem in ("forward", "inverse"):
+        params = lesson.resolve({"problem": problem})
+        st = lesson.stepper(params)
+        f1 = st.advance(0.1)
+        st.set_params(lesson.resolve({"problem": problem}))
+        f2 = st.advance(0.1)
+        assert f2.t == pytest.approx(0.2) and f1.poses and f1.scalars
+        assert list(f2.scalars) == [s.name for s in lesson.series]
+        for name in lesson.scene(params).bodies:
+            assert name.name in f2.poses
+        f0 = st.reset()
+        assert f0.t == 0.0
+        sc = lesson.scene(params)
+        assert np.all(np.isfinite(np.array(sc.bounds)))
+        names = {s for p in lesson.plots for s in p.series}
+        assert names <= set(f2.scalars)
+        steps = lesson.derivation(params)
+        assert steps and all(s.title for s in steps)
+
+
+def test_set_params_keeps_the_forward_state() -> None:
+    params = LINEAR.resolve({"F_dv": "1", "R_sopr": "0"})
+    st = LINEAR.stepper(params)
+    x1 = st.advance(1.0).scalars["x"]  # 1/5 * 1^2 / 2 = 0.1 m
+    st.set_params(LINEAR.resolve({"F_dv": "0", "R_sopr": "0"}))
+    f = st.advance(1.0)
+    assert x1 == pytest.approx(0.1, rel=1e-9)
+    assert f.scalars["x"] == pytest.approx(0.1 + 0.2, rel=1e-9)  # coasting at 0.2 m/s
