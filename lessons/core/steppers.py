@@ -44,8 +44,10 @@ class DenseSolution:
         rtol: float = 1e-9,
         atol: float = 1e-11,
         method: str = "DOP853",
+        chunk: float = CHUNK,
     ) -> None:
         self._rhs, self._tol, self._method = rhs, (rtol, atol), method
+        self._chunk = float(chunk)
         self._pieces: list[tuple[float, float, Callable[[Array], Array]]] = []
         self._t0, self._y0 = float(t0), np.array(y0, dtype=float)
         self._t_end, self._y_end = self._t0, self._y0
@@ -55,7 +57,7 @@ class DenseSolution:
     def _extend(self, t_max: float) -> None:
         while self._t_end < t_max and not self.message:
             a = self._t_end
-            sol, bad = self._solve(a, a + CHUNK)
+            sol, bad = self._solve(a, a + self._chunk)
             first_bad = bad
             for _ in range(40):  # solved again, halfway from its last good step to the bad time
                 if bad is None or bad <= a:
@@ -151,7 +153,8 @@ def integrate(
 ) -> tuple[Array, str]:
     """A :class:`DenseSolution` from ``t[0]`` on the sample times: ``(y (n, len(t)),
     message)``; after a failure the samples are NaN and the message says where it stopped."""
-    sol = DenseSolution(rhs, float(t[0]), y0, rtol, atol, method)
+    span = max(float(t[-1]) - float(t[0]), 1e-12)  # one piece: one step-size history
+    sol = DenseSolution(rhs, float(t[0]), y0, rtol, atol, method, chunk=span)
     return sol(t).T, sol.message
 
 
