@@ -30,6 +30,7 @@ from lessons.constrained_examples import (
     inputs_of,
     observe_example,
     physical,
+    planar3,
     planar3_acceleration_difference,
     series_names,
     start_state,
@@ -62,7 +63,6 @@ from lessons.core.mechanics import (
     cylinder,
     mesh_item,
     quat_z,
-    segment_pose,
 )
 from lessons.positioners import Planar3Axis
 
@@ -231,7 +231,7 @@ class ConstrainedDynamics(Lesson):
             r = s["lambda_1"] * np.array([-np.sin(q[2]), np.cos(q[2]), 0.0])
             fr.vectors["reaction"] = (p[None, :], 0.1 * r[None, :])
         elif ex == "planar-3axis":
-            AB = float(Planar3Axis().resolve()["AB"])
+            AB = float(planar3()[1]["AB"])
             A, B = np.array([q[0], q[1], 0.0]), np.array([q[2] - AB, q[3], 0.0])
             h = 0.075 * AB
             mid = (A + B) / 2 + [0, 0, h]
@@ -246,7 +246,8 @@ class ConstrainedDynamics(Lesson):
             L = float(params["L"])
             bob = np.array([q[0], 0.0, q[1]])
             fr.poses["bob"] = (bob, IDENTITY_Q.copy())
-            fr.poses["rod"] = segment_pose(np.zeros(3), bob)
+            half = 0.5 * np.arctan2(q[0], q[1])  # the rod (a mesh along +Z) turned about Y
+            fr.poses["rod"] = (bob / 2, np.array([np.cos(half), 0.0, np.sin(half), 0.0]))
             fr.points["bob"] = bob[None, :]
             scale = 0.6 * L / (float(params["m"]) * max(float(params["g"]), 1e-9))
             fr.vectors["reaction"] = (bob[None, :], scale * s["lambda"] * bob[None, :])

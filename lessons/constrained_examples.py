@@ -129,7 +129,7 @@ def evaluator(example: str) -> ConstraintEval:
 
 
 @lru_cache(maxsize=1)
-def _planar3() -> tuple[Planar3Axis, Params]:
+def planar3() -> tuple[Planar3Axis, Params]:
     lesson = Planar3Axis()
     return lesson, lesson.resolve()
 
@@ -150,7 +150,7 @@ def physical(params: Params) -> Array:
     """The parameter vector of the example's system."""
     ex = str(params["example"])
     if ex == "planar-3axis":
-        lesson, pp = _planar3()
+        lesson, pp = planar3()
         return lesson.pvec(pp)
     names = {"pendulum": "m g L", "rheonomic-pendulum": "m g L eps nu", "knife-edge": "m J F"}
     return np.array([float(params[k]) for k in names[ex].split()])
@@ -178,7 +178,7 @@ def start_state(params: Params, t0: float) -> tuple[Array, Array]:
         return L[0] * np.array([np.sin(th0), -np.cos(th0)]), np.zeros(2)
     if ex == "knife-edge":
         return np.zeros(3), np.array([float(params["u0"]), 0.0, float(params["omega0"])])
-    lesson, pp = _planar3()
+    lesson, pp = planar3()
     xB, yB = planar3_kinematics(0.0, 0.0, 0.0, float(pp["AB"]), np)
     return np.array([0.0, 0.0, float(xB), float(yB), 0.0]), np.zeros(5)
 
@@ -224,7 +224,7 @@ def reference(params: Params, t0: float, q: Array, qd: Array) -> DenseSolution |
         r2 = q[0] ** 2 + q[1] ** 2
         z0 = [np.arctan2(q[0], -q[1]), (q[0] * qd[1] - q[1] * qd[0]) / r2]
         return DenseSolution(angle, t0, np.array(z0), "DOP853", 1e-12, 1e-12)
-    lesson, pp = _planar3()
+    lesson, pp = planar3()
     u = lambda t, qq, qqd: inputs_of(ex, np.array([t]))[:, 0]  # noqa: E731
     rhs = lesson.model(pp).rhs(lesson.pvec(pp), u)
     y0 = np.concatenate([q[[0, 1, 4]], qd[[0, 1, 4]]])
@@ -357,7 +357,7 @@ def observe_example(params: Params, t: Array, state: Array) -> dict[str, Array]:
 
 def planar3_acceleration_difference(seed: int = 1) -> float:
     """max |q'' of (2.34) - q'' of the reduced model| over 5 random consistent states."""
-    lesson, pp = _planar3()
+    lesson, pp = planar3()
     red, p = lesson.model(pp), lesson.pvec(pp)
     rng = np.random.default_rng(seed)
     xA, yA, phi, vxA, vyA, w = rng.normal(size=(6, 5))

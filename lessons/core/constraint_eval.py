@@ -68,7 +68,7 @@ class ConstraintEval:
         out, k = [], 0
         for shape in self._shapes:
             size = int(np.prod(shape))
-            out.append(np.moveaxis(flat[k : k + size].reshape(*shape, N), -1, 0))
+            out.append(flat[k : k + size].T.reshape(N, *shape))
             k += size
         return Parts(*out)
 
