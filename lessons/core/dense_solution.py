@@ -1,0 +1,172 @@
+"""A dense ODE solution built once per parameter set and shared by a run and a stepper.
+
+:class:`DenseSolution` steps one of scipy's solvers (RK45, DOP853, Radau) forward from
+``t0`` and keeps the interpolant of every step, so the solution at any time already
+covered is one evaluation.  The step sequence depends only on the equations, the start
+and the tolerances, never on how far anyone asks: a lesson's :meth:`simulate` and its
+live stepper that build the solution from the same values get the same numbers at the
+same times.  :class:`RunStepper` plays such a solution: ``advance(dt)`` moves the
+lesson time by ``dt``, extends the solution when needed (in blocks, so a frame usually
+only evaluates) and observes; ``set_params`` builds a new solution from the current
+state.  A closed-form run plays the same way (it covers every time).
+"""
+
+from __future__ import annotations
+
+import bisect
+from collections.abc import Callable
+from typing import Any, Protocol
+
+import numpy as np
+from scipy.integrate import DOP853, RK45, Radau
+
+from lessons.core.contract import Frame, Params, Stepper
+
+Array = np.ndarray
+SOLVERS = {"RK45": RK45, "DOP853": DOP853, "Radau": Radau}
+#: far end handed to the solver: the solution is open-ended and extended on demand
+_T_BOUND = 1e9
+
+
+class DenseSolution:
+    """``y' = rhs(t, y)`` from ``(t0, y0)``, stepped on demand; ``state(t)`` evaluates.
+
+    A non-finite derivative or a failed step ends the solution: ``failure`` then says
+    where, and later times evaluate to NaN.
+    """
+
+    def __init__(
+        self,
+        rhs: Callable[[float, Array], Array],
+        t0: float,
+        y0: Array,
+        method: str = "DOP853",
+        rtol: float = 1e-9,
+        atol: float = 1e-11,
+    ) -> None:
+        self._rhs = rhs
+        self.t0 = float(t0)
+        self.dim = len(y0)
+        self.failure = ""
+        self._ts = [self.t0]
+        self._steps: list[Any] = []
+        self._solver = SOLVERS[method](
+            self._guarded, self.t0, np.asarray(y0, dtype=float), _T_BOUND, rtol=rtol, atol=atol
+        )
+
+    def _guarded(self, t: float, y: Array) -> Array:
+        out = np.asarray(self._rhs(t, y), dtype=float)
+        if not np.all(np.isfinite(out)):
+            raise FloatingPointError(f"the equations gave a non-finite value at t = {t:.4g}")
+        return out
+
+    @property
+    def t_covered(self) -> float:
+        return self._ts[-1]
+
+    def extend(self, t: float) -> None:
+        """Step until the solution covers ``t`` (or fails)."""
+        while self._ts[-1] < t and not self.failure:
+            try:
+                message = self._solver.step()
+            except (np.linalg.LinAlgError, ZeroDivisionError, FloatingPointError) as exc:
+                message = str(exc)
+            if self._solver.status == "failed" or message:
+                self.failure = f"integration stopped at t = {self._ts[-1]:.4g}: {message}"
+                return
+            self._steps.append(self._solver.dense_output())
+            self._ts.append(float(self._solver.t))
+
+    def state(self, t: Array) -> Array:
+        """The solution at the times ``t`` (1-D): shape ``(len(t), dim)``, NaN where it
+        is not defined (before ``t0`` or after a failure)."""
+        t = np.asarray(t, dtype=float)
+        self.extend(float(np.max(t, initial=self.t0)))
+        out = np.full((len(t), self.dim), np.nan)
+        if not self._steps:
+            out[t == self.t0] = self._solver.y
+            return out
+        if len(t) == 1:  # a frame: one lookup
+            k = bisect.bisect_right(self._ts, float(t[0])) - 1
+            k = min(k, len(self._steps) - 1)
+            if t[0] >= self.t0 and t[0] <= self._ts[-1]:
+                out[0] = self._steps[k](float(t[0]))
+            return out
+        idx = np.clip(np.searchsorted(self._ts, t, side="right") - 1, 0, len(self._steps) - 1)
+        ok = (t >= self.t0) & (t <= self._ts[-1])
+        for k in np.unique(idx[ok]):
+            sel = ok & (idx == k)
+            out[sel] = self._steps[k](t[sel]).T
+        return out
+
+
+class Run(Protocol):
+    """What :class:`RunStepper` plays: the state at any time (a closed form, or dense
+    solutions extended on demand up to ``t_covered``) and why it ended, if it did."""
+
+    failure: str
+
+    @property
+    def t_covered(self) -> float: ...
+
+    def extend(self, t: float) -> None: ...
+
+    def state(self, t: Array) -> Array: ...
+
+
+class RunStepper(Stepper):
+    """Live view of a :class:`Run`: ``build(params, t0, state_or_None)`` makes the run
+    (from the current state after a parameter change), ``frame_of(params, t, state)``
+    the frame (``state`` with a leading time axis of length 1).  The run is extended
+    ``block`` lesson seconds ahead at a time."""
+
+    def __init__(
+        self,
+        build: Callable[[Params, float, Array | None], Run],
+        frame_of: Callable[[Params, float, Array], Frame],
+        params: Params,
+        block: float = 2.0,
+    ) -> None:
+        self._build, self._frame_of, self._block = build, frame_of, float(block)
+        self._params = params
+        self._t = 0.0
+        self._run = build(params, 0.0, None)
+
+    @property
+    def t(self) -> float:
+        return self._t
+
+    def frame(self) -> Frame:
+        if not self._run.failure and self._t > self._run.t_covered:
+            self._run.extend(self._t + self._block)
+        fr = self._frame_of(self._params, self._t, self._run.state(np.array([self._t])))
+        if self._run.failure and not fr.message:
+            fr.message = self._run.failure
+        return fr
+
+    def advance(self, dt: float) -> Frame:
+        self._t += max(float(dt), 0.0)
+        return self.frame()
+
+    def set_params(self, params: Params) -> None:
+        state = self._run.state(np.array([self._t]))
+        self._params = params
+        self._run = self._build(params, self._t, state[0] if np.all(np.isfinite(state)) else None)
+
+    def reset(self) -> Frame:
+        self._t = 0.0
+        self._run = self._build(self._params, 0.0, None)
+        return self.frame()
+
+
+class ClosedFormRun:
+    """A run given in closed form: ``state(t)`` is ``solution(t)`` (every time covered)."""
+
+    failure = ""
+    t_covered = np.inf
+
+    def __init__(self, solution: Callable[[Array], Array]) -> None:
+        self.state = solution
+
+    def extend(self, t: float) -> None:
+        """Nothing to compute: a closed form covers every time."""

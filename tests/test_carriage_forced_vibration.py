@@ -1,0 +1,74 @@
+"""Problem 2.7: lessons/carriage_forced_vibration.py."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from lessons.carriage_forced_vibration import CarriageForcedVibration
+from lessons.catalog import get_lesson
+
+FORCED = CarriageForcedVibration()
+
+
+def test_catalog_id() -> None:
+    assert get_lesson("carriage-forced-vibration").id == FORCED.id
+
+
+def test_every_claim_passes() -> None:
+    for claim in FORCED.claims():
+        r = claim.check()
+        assert r.passed, (claim.id, r.expected, r.got)
+
+
+def test_groups() -> None:
+    assert [g.title for g in FORCED.groups] == ["Carriage", "Air bearing", "Forcing", "Start state"]
+    assert FORCED.param("F0").group == "forcing" and FORCED.param("b").group == "bearing"
+
+
+def test_forced_params_exact() -> None:
+    assert [p.name for p in FORCED.params] == ["m", "b", "c", "F0", "w0", "q0", "v0"]
+
+
+@pytest.mark.parametrize("preset", [p.name for p in FORCED.presets])
+def test_forced_presets_run(preset: str) -> None:
+    params = FORCED.resolve(preset=preset)
+    run = FORCED.run(preset=preset)
+    for name in ("q", "v", "q_steady", "F_drive"):
+        assert run.series[name].shape == run.t.shape and np.all(np.isfinite(run.series[name]))
+    assert run.series["q"][0] == pytest.approx(params["q0"]) and run.series["v"][
+        0
+    ] == pytest.approx(params["v0"])
+    js = run.to_json_dict()
+    assert set(js["series"]) >= {"q", "v"} and len(js["t"]) == len(js["series"]["q"])
+    assert np.all(np.isfinite(np.array(FORCED.scene(params).bounds)))
+    assert FORCED.derivation(params)[-1].math.startswith(r"\begin{array}")
+
+
+def test_forced_headless_run_example_numbers() -> None:
+    run = FORCED.run(
+        values={"m": 2, "b": 0.8, "c": 50, "F0": 3, "w0": 4, "q0": 0.05, "v0": 0}, t_end=10
+    )
+    assert run.metrics["A0"] == pytest.approx(0.164094, abs=5e-7)
+    assert run.metrics["phi1"] == pytest.approx(-0.175940, abs=5e-7)
+    assert run.metrics["regime"] == "underdamped"
+    # the transient stays inside its envelope A e^{-f t} (2.80) and touches it
+    env = run.metrics["A"] * np.exp(-run.metrics["f"] * run.t)
+    assert np.all(np.abs(run.series["q_transient"]) <= env + 1e-12)
+    assert np.max(np.abs(run.series["q_transient"]) / env) > 0.999
+
+
+def test_forced_stepper_matches_simulate() -> None:
+    params = FORCED.resolve()
+    st = FORCED.stepper(params)
+    for _ in range(100):
+        f = st.advance(0.05)
+    run = FORCED.simulate(params, t_end=5.0)
+    assert f.scalars["q"] == pytest.approx(run.series["q"][-1], abs=1e-12)
+    st.set_params(FORCED.resolve({"b": 4.0}))
+    assert st.frame().scalars["q"] == f.scalars["q"]  # state kept
+    f2 = st.advance(0.05)
+    assert f2.t == pytest.approx(5.05)
+    assert st.reset().scalars["q"] == pytest.approx(params["q0"], abs=1e-15)
+    assert "carriage" in f2.poses and "spring" in f2.vectors
+    assert any(n.kind == "corrected" for n in FORCED.notes(params))

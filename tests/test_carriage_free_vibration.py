@@ -1,0 +1,98 @@
+"""Problem 2.6: lessons/carriage_free_vibration.py."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from lessons.carriage_free_vibration import CarriageFreeVibration, carriage_from_params
+from lessons.catalog import get_lesson
+from lessons.core.contract import DerivationStep, ParamError
+from lessons.core.vibration import closed_form_frequencies, eigen_frequencies
+
+FREE = CarriageFreeVibration()
+
+
+def test_catalog_ids() -> None:
+    assert get_lesson("carriage-free-vibration").id == FREE.id
+
+
+def test_every_claim_passes() -> None:
+    for claim in FREE.claims():
+        r = claim.check()
+        assert r.passed, (claim.id, r.expected, r.got)
+
+
+@pytest.mark.parametrize("preset", [p.name for p in FREE.presets])
+def test_free_presets_run(preset: str) -> None:
+    params = FREE.resolve(preset=preset)
+    run = FREE.run(preset=preset)
+    for name in ("x", "y", "z", "phi_x", "phi_y", "phi_z", "vx", "Fx", "E", "W"):
+        assert run.series[name].shape == run.t.shape
+        assert np.all(np.isfinite(run.series[name]))
+    # conservative system: E + W constant
+    tot = run.series["E_total"]
+    assert np.ptp(tot) <= 1e-9 * np.max(tot)
+    assert run.metrics["max_rel_err_closed_vs_eig"] <= 1e-9
+    scene = FREE.scene(params)
+    assert np.all(np.isfinite(np.array(scene.bounds)))
+    assert [b.name for b in scene.bodies] == ["carriage"]
+    steps = FREE.derivation(params)
+    assert all(isinstance(s, DerivationStep) and s.source for s in steps)
+    assert any(s.source == "(2.68)" and s.reconstructed for s in steps)
+
+
+def test_mode_animation_is_a_pure_mode() -> None:
+    params = FREE.resolve({"mode": "x-phi_y lower"}, preset="strong-coupling")
+    p = carriage_from_params(params)
+    w = closed_form_frequencies(p)["x-phi_y lower"]
+    run = FREE.simulate(params, t_end=2 * math.pi / w)
+    x, phi = run.series["x"], run.series["phi_y"]
+    # one period later it is back; the ratio of x to phi_y is fixed
+    assert x[-1] == pytest.approx(x[0], abs=1e-12)
+    mask = np.abs(phi) > 1e-3 * np.max(np.abs(phi))
+    ratio = x[mask] / phi[mask]
+    assert np.ptp(ratio) <= 1e-8 * np.max(np.abs(ratio))
+    assert run.series["y"] == pytest.approx(0.0, abs=1e-15)
+
+
+def test_free_stepper_advances_lesson_time_exactly() -> None:
+    params = FREE.resolve(preset="free-response")
+    st = FREE.stepper(params)
+    f0 = st.frame()
+    assert f0.poses["carriage"][1].shape == (4,)
+    for _ in range(10):
+        f1 = st.advance(0.005)
+    assert st.t == pytest.approx(0.05, abs=1e-15)
+    run = FREE.simulate(params, t_end=0.05)
+    assert f1.scalars["phi_y"] == pytest.approx(run.series["phi_y"][-1], abs=1e-12)
+    origins, dirs = f1.vectors["springs"]
+    assert origins.shape == dirs.shape == (6, 3)
+    q_before = dict(f1.scalars)
+    st.set_params(FREE.resolve({"Cz": 6e7}, preset="free-response"))  # state kept
+    assert st.frame().scalars["phi_y"] == pytest.approx(q_before["phi_y"], abs=1e-15)
+    assert st.reset().t == 0.0
+
+
+def test_free_groups_notes_and_english_labels() -> None:
+    assert [g.title for g in FREE.groups] == ["Mode", "Carriage", "Air bearing", "Start state"]
+    assert FREE.param("m").group == "carriage" and FREE.param("Cz").group == "bearing"
+    kinds = {n.kind for n in FREE.notes(FREE.resolve())}
+    assert {"info", "corrected"} <= kinds
+    labels = [m.label + m.name for m in FREE.scene(FREE.resolve()).markers]
+    assert all(ch.isascii() for text in labels for ch in text)
+
+
+def test_free_validate_refuses_unstable_bearing() -> None:
+    with pytest.raises(ParamError) as err:
+        FREE.resolve({"Ky": 100.0, "h": 0.1})
+    assert err.value.name == "Ky"
+
+
+def test_default_frequencies_agree_with_eigh() -> None:
+    p = carriage_from_params(FREE.resolve())
+    cf = np.sort(list(closed_form_frequencies(p).values()))
+    w, _ = eigen_frequencies(p)
+    assert np.max(np.abs(cf - w) / w) <= 1e-9
