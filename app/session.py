@@ -379,7 +379,8 @@ class Session:
         if dt <= 0 or not math.isfinite(dt):
             return frames
         t_before = self.stepper.t
-        n = max(1, min(self.max_substeps, int(math.ceil(dt / SUBSTEP_DT - 1e-9))))
+        substep = SUBSTEP_DT * self.lesson.time_scale
+        n = max(1, min(self.max_substeps, int(math.ceil(dt / substep - 1e-9))))
         piece = dt / n
         for _ in range(n):
             remaining = self.t_end - self.stepper.t if self.pause_at_end else math.inf
@@ -427,22 +428,25 @@ class Session:
             return []
         # lesson time goes forward in whole quanta (the remainder is carried to the next
         # tick): the same few step sizes recur, so cached step maps are reused
-        want = min(wall_dt, 0.25) * self.speed + self._time_debt
-        k = int(math.floor(want / TIME_QUANTUM + 0.5))
-        self._time_debt = want - k * TIME_QUANTUM
+        scale = self.lesson.time_scale
+        want = min(wall_dt, 0.25) * self.speed * scale + self._time_debt
+        quantum = TIME_QUANTUM * scale
+        k = int(math.floor(want / quantum + 0.5))
+        self._time_debt = want - k * quantum
         if k <= 0:
             return []
-        return self._advance(k * TIME_QUANTUM)
+        return self._advance(k * quantum)
 
     def step(self) -> list[Frame]:
-        """One single step (paused): ``STEP_DT`` lesson seconds times the speed."""
+        """One single step (paused): ``STEP_DT`` seconds times the speed (and the
+        lesson's time scale)."""
         self.playing = False
         if self.pause_at_end and self.stepper.t >= self.t_end - 1e-9:
             self.notify(
                 f"t_end = {self.t_end:g} s reached; reset or untick 'pause at t_end'", "info"
             )
             return []
-        return self._advance(STEP_DT * self.speed)
+        return self._advance(STEP_DT * self.speed * self.lesson.time_scale)
 
     # -- state ----------------------------------------------------------------------
 

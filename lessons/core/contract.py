@@ -449,6 +449,9 @@ class Lesson(ABC):
     readout: tuple[str, ...] = ()
     #: the source's sampling step for tables and exports (``None``: t_end / 100)
     sampling: float | None = None
+    #: lesson seconds played per wall-clock second at 1x (below 1: slow motion for
+    #: fast phenomena such as vibrations of hundreds of hertz)
+    time_scale: float = 1.0
 
     # -- parameters -------------------------------------------------------------
 
@@ -684,6 +687,7 @@ class Lesson(ABC):
             ],
             "readout": list(self.readout),
             "sampling": self.sampling,
+            "time_scale": self.time_scale,
             "presets": [
                 {"name": p.name, "title": p.title, "values": dict(p.values), "t_end": p.t_end}
                 for p in self.presets
