@@ -16,8 +16,6 @@ claims: lessons/core/servo_claims.py.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
-from functools import lru_cache
 from typing import Any
 
 import numpy as np
@@ -43,95 +41,48 @@ from lessons.core.contract import (
     Series,
     Stepper,
 )
-from lessons.core.servo import Channel, TwoAxisServo
 from lessons.core.servo_claims import servo_claims
 from lessons.core.servo_derivation import derivation_steps
-from lessons.core.servo_formulas import article_error
 from lessons.core.servo_metrics import curve_metrics
 from lessons.core.servo_notes import servo_notes
-from lessons.core.servo_paths import CURVES, DEGREE, Path, make_path
+from lessons.core.servo_paths import CURVES
+from lessons.core.servo_setup import SETTLE, channels, natural_t_end, setup_for
 
 #: parameters whose change restarts the live run (they fix the start of the program)
 RESTART = ("curve", "x0", "y0", "xc", "yc", "a", "b", "xdot0", "ydot0")
-#: transient considered gone after this many slowest time constants (e^-10 = 4.5e-5)
-SETTLE = 10.0
-PATH_NUMBERS = ("x0", "y0", "xc", "yc", "p", "omega", "v", "angle", "a", "b")
 CHANNELS = Group("channels", "Servo channels")
 PATH = Group("path", "Programmed path")
 VIEW = Group("controls", "View")
 MM = "mm"
+FEEDS = ("off", "on", "derivative")
+FORMS = ("k-T", "T1-T2")
 
 
-def channels(params: Params) -> tuple[Channel, Channel]:
-    """x channel from (k, T) or (T1, T2); y channel T1y = gamma T1, T2y^2 = gamma T2^2."""
-    if params["channel"] == "k-T":
-        cx = Channel.from_open_loop(float(params["k"]), float(params["T"]))
-    else:
-        cx = Channel(T1=float(params["T1"]), T2sq=float(params["T2"]) ** 2)
-    return cx, cx.scaled(float(params["gamma"]))
+HELP = {
+    "curve": "the article's programming devices",
+    "correction": "on: feed (T2^2 s^2 + T1 s + 1) x, the program correction (7), (21)-(22),"
+    " (31)-(34); derivative: feed x + T1 dx/dt (the conclusions)",
+    "omega": "PU rate (angular frequency for circles and ellipses)",
+    "p": "parabola parameter: y - yc = (x - xc)^n / p (horizontal: x - xc = (y - yc)^2/p)",
+    "v": "path speed of the line",
+    "xc": "vertex / centre",
+    "yc": "vertex / centre",
+    "x0": "start of the program (a horizontal parabola starts on its curve)",
+    "y0": "start ordinate (a vertical parabola starts on its curve)",
+    "xdot0": "initial servo velocity",
+    "channel": "k-T: open loop W(s) = k/((Ts+1)s), so T2^2 = T/k, T1 = 1/k; T1-T2: directly",
+    "k": "open-loop gain",
+    "T": "open-loop time constant",
+    "gamma": "non-identical channels: T1y = gamma T1, T2y^2 = gamma T2^2",
+    "magnify": "magnification of the contour error in the scene",
+}
 
 
-@dataclass
-class Setup:
-    """Everything a run needs, built once per parameter set."""
-
-    path: Path
-    cx: Channel
-    cy: Channel
-    system: TwoAxisServo
-    article: float
-    label: str
-
-    def measure(self, Z: np.ndarray) -> dict[str, np.ndarray]:
-        """Outputs of the states Z, the contour errors and the foot points of (x1, y1)."""
-        out = self.system.outputs(Z)
-        x, y = out["x"], out["y"]
-        out["delta"], out["foot_x"], out["foot_y"] = self.path.contour(out["x1"], out["y1"], x, y)
-        out["delta_steady"] = self.path.contour(out["x1ss"], out["y1ss"], x, y)[0]
-        return out
-
-
-@lru_cache(maxsize=16)
-def _setup(key: tuple[tuple[str, Any], ...]) -> Setup:
-    params = Params(key)
-    cx, cy = channels(params)
-    path = make_path(params["curve"], {n: float(params[n]) for n in PATH_NUMBERS})
-    system = TwoAxisServo(path.program, cx, cy, params["correction"])
-    gamma = float(params["gamma"])
-    if params["correction"] == "on":
-        value, label = 0.0, "0 (program corrected)"
-    elif params["correction"] == "derivative":
-        identical = params["curve"] == "parabola" and gamma == 1.0
-        value = -(float(params["omega"]) ** 2) * float(params["p"]) * cx.T2sq / 2.0
-        value, label = (value, "conclusions") if identical else (math.nan, "not in the article")
-    else:
-        value, label = article_error(path, cx, cy, gamma)
-    return Setup(path, cx, cy, system, value, label)
-
-
-def setup_for(params: Params) -> Setup:
-    return _setup(tuple(sorted(params.raw().items())))
-
-
-def natural_t_end(params: Params) -> float:
-    """A run long enough to pass the transient and show the steady error."""
-    cx, cy = channels(params)
-    settle = SETTLE / max(min(cx.decay_rate(), cy.decay_rate()), 1e-6)
-    curve, omega, p = params["curve"], float(params["omega"]), float(params["p"])
-    if curve in DEGREE or curve == "parabola-horizontal":
-        speed = omega * p * (1.0 if curve in ("cubic", "quartic") else 0.5)
-        along = ("yc", "y0") if curve == "parabola-horizontal" else ("xc", "x0")
-        gap = float(params[along[0]]) - float(params[along[1]])
-        span = 2.0 * gap / speed if gap > 0 else settle + 1.0
-        return float(min(max(span, 0.1), 600.0))
-    if curve == "line":
-        return float(min(settle * 1.5, 600.0))
-    period = 2 * math.pi / omega
-    return float(min(max(settle + 2 * period, 3 * period), 600.0))
-
-
-def _param(name, kind, default, label, unit="", lo=None, hi=None, step=None, **kw) -> Param:
-    return Param(name, kind, default, label, unit, lo, hi, step, **kw)
+def _param(name, kind, default, label, group, unit="", lo=None, hi=None, step=None, **kw):
+    """A parameter of this page (its help text from :data:`HELP`)."""
+    return Param(
+        name, kind, default, label, unit, lo, hi, step, group=group, help=HELP.get(name, ""), **kw
+    )
 
 
 def _preset(name: str, title: str, t_end: float, note: str, **values: Any) -> Preset:
@@ -162,90 +113,174 @@ class ServoErrorsLesson(Lesson):
     groups = (MODE, PATH, INITIAL, CHANNELS, VIEW)
     modes = ("curve", "correction")
     params = (
-        _param("curve", "choice", "parabola", "path", choices=CURVES, group="mode",
-               help="the article's programming devices"),
-        _param("correction", "choice", "off", "program correction / feed-forward",
-               choices=("off", "on", "derivative"), group="mode",
-               help="on: feed (T2^2 s^2 + T1 s + 1) x, the program correction (7), (21)-(22),"
-               " (31)-(34); derivative: feed x + T1 dx/dt (the conclusions)"),
-        _param("omega", "float", 5.0, "omega", "1/s", 1e-4, 1000.0, 0.1, group="path",
-               help="PU rate (angular frequency for circles and ellipses)"),
-        _param("p", "float", 20.0, "p", "mm (mm^2, mm^3)", 1e-3, 1e9, 1.0, group="path",
-               help="parabola parameter: y - yc = (x - xc)^n / p (x - xc = (y - yc)^2/p)"),
-        _param("v", "float", 50.0, "v (line)", "mm/s", 0.0, 1e4, 1.0, group="path",
-               help="path speed of the line"),
-        _param("angle", "float", 45.0, "line angle", "deg", -180.0, 180.0, 1.0, group="path"),
-        _param("xc", "float", 0.0, "xc", MM, -1e5, 1e5, 1.0, group="path", help="vertex/centre"),
-        _param("yc", "float", 0.0, "yc", MM, -1e5, 1e5, 1.0, group="path", help="vertex/centre"),
-        _param("a", "float", 15.0, "a (ellipse)", MM, 1e-3, 1e5, 1.0, group="path"),
-        _param("b", "float", 6.0, "b (ellipse)", MM, 1e-3, 1e5, 1.0, group="path"),
-        _param("x0", "float", -125.0, "x0", MM, -1e5, 1e5, 1.0, group="initial",
-               help="start of the program (a horizontal parabola starts on its curve)"),
-        _param("y0", "float", 781.25, "y0", MM, -1e5, 1e5, 1.0, group="initial",
-               help="start ordinate (a vertical parabola starts on its curve)"),
-        _param("xdot0", "float", 0.0, "dx1/dt(0)", "mm/s", -1e4, 1e4, 1.0, group="initial",
-               help="initial servo velocity"),
-        _param("ydot0", "float", 0.0, "dy1/dt(0)", "mm/s", -1e4, 1e4, 1.0, group="initial"),
-        _param("channel", "choice", "k-T", "channel given by", choices=("k-T", "T1-T2"),
-               group="channels",
-               help="k-T: open loop W(s) = k/((Ts+1)s), so T2^2 = T/k, T1 = 1/k; T1-T2: directly"),
-        _param("k", "float", 100.0, "k", "1/s", 1.0, 1e5, 1.0, group="channels",
-               help="open-loop gain"),
-        _param("T", "float", 0.1, "T", "s", 1e-4, 10.0, 0.001, group="channels",
-               help="open-loop time constant"),
-        _param("T1", "float", 0.01, "T1", "s", 1e-5, 10.0, 0.001, group="channels"),
-        _param("T2", "float", 0.0316227766, "T2", "s", 1e-5, 10.0, 0.001, group="channels"),
-        _param("gamma", "float", 1.0, "gamma (y channel)", "", 0.05, 20.0, 0.01,
-               group="channels", help="non-identical channels: T1y = gamma T1, T2y^2 = gamma T2^2"),
-        _param("magnify", "float", 100.0, "error x N", "", 1.0, 1e6, 1.0, group="controls",
-               help="magnification of the contour error in the scene"),
-    )  # fmt: skip
+        _param("curve", "choice", "parabola", "path", "mode", choices=CURVES),
+        _param("correction", "choice", "off", "correction / feed-forward", "mode", choices=FEEDS),
+        _param("omega", "float", 5.0, "omega", "path", "1/s", 1e-4, 1000.0, 0.1),
+        _param("p", "float", 20.0, "p", "path", "mm (mm^2, mm^3)", 1e-3, 1e9, 1.0),
+        _param("v", "float", 50.0, "v (line)", "path", "mm/s", 0.0, 1e4, 1.0),
+        _param("angle", "float", 45.0, "line angle", "path", "deg", -180.0, 180.0, 1.0),
+        _param("xc", "float", 0.0, "xc", "path", MM, -1e5, 1e5, 1.0),
+        _param("yc", "float", 0.0, "yc", "path", MM, -1e5, 1e5, 1.0),
+        _param("a", "float", 15.0, "a (ellipse)", "path", MM, 1e-3, 1e5, 1.0),
+        _param("b", "float", 6.0, "b (ellipse)", "path", MM, 1e-3, 1e5, 1.0),
+        _param("x0", "float", -125.0, "x0", "initial", MM, -1e5, 1e5, 1.0),
+        _param("y0", "float", 781.25, "y0", "initial", MM, -1e5, 1e5, 1.0),
+        _param("xdot0", "float", 0.0, "dx1/dt(0)", "initial", "mm/s", -1e4, 1e4, 1.0),
+        _param("ydot0", "float", 0.0, "dy1/dt(0)", "initial", "mm/s", -1e4, 1e4, 1.0),
+        _param("channel", "choice", "k-T", "channel given by", "channels", choices=FORMS),
+        _param("k", "float", 100.0, "k", "channels", "1/s", 1.0, 1e5, 1.0),
+        _param("T", "float", 0.1, "T", "channels", "s", 1e-4, 10.0, 0.001),
+        _param("T1", "float", 0.01, "T1", "channels", "s", 1e-5, 10.0, 0.001),
+        _param("T2", "float", 0.0316227766, "T2", "channels", "s", 1e-5, 10.0, 0.001),
+        _param("gamma", "float", 1.0, "gamma (y channel)", "channels", "", 0.05, 20.0, 0.01),
+        _param("magnify", "float", 100.0, "error x N", "controls", "", 1.0, 1e6, 1.0),
+    )
     presets = (
-        _preset("table-parabola", f"Table parabola: v = 50 mm/s, p = 20 mm, omega = 5, {TABLE_CELL}",
-                5.0, "(13): -0.2375 mm; simulation -0.2375 mm; printed -0.19 mm = 0.8 x (13)",
-                curve="parabola", k=100, T=0.1),
-        _preset("parabola-corrected", f"Parabola with program correction (22), {TABLE_CELL}",
-                5.0, "the steady error vanishes; the transient from rest remains",
-                correction="on"),
-        _preset("parabola-derivative", f"Parabola, derivative feed-forward x + T1 dx/dt, {TABLE_CELL}",
-                5.0, "conclusions: -omega^2 p T2^2/2 = -0.25 mm, larger than (13) -0.2375 mm",
-                correction="derivative"),
-        _preset("fig4b-gamma-0.5", "Horizontal parabola x = y^2/p (Fig. 4b), gamma = 0.5",
-                5.0, "(19): x = y^2/p - 0.025 y - 0.234375 mm; vertex (-0.2375, 0.25) mm",
-                gamma=0.5, **FIG4B),
-        _preset("fig4b-gamma-1", "Horizontal parabola x = y^2/p (Fig. 4b), identical channels",
-                5.0, "(19): x = y^2/p - 0.2375 mm; vertex (-0.2375, 0) mm", **FIG4B),
-        _preset("fig4b-gamma-2", "Horizontal parabola x = y^2/p (Fig. 4b), gamma = 2",
-                5.0, "(19): x = y^2/p + 0.05 y - 0.225 mm; vertex (-0.2375, -0.5) mm",
-                gamma=2, **FIG4B),
-        _preset("line-45", "Line at 45 deg, non-identical channels gamma = 1.2, k = 100, T = 0.05",
-                1.5, "(5)/(6): 0.05 mm = v T1 (gamma - 1)/2",
-                curve="line", T=0.05, x0=0, y0=0, gamma=1.2, magnify=200),
-        _preset("line-transient", "Line at 45 deg, identical channels, dx1/dt(0) = 50 mm/s",
-                1.5, "(4): transient error only; its peak ~ 1.05 T2^2/(T1 + T2)"
-                " x (xdot0 xc - ydot0 yc)/|.|",
-                curve="line", channel="T1-T2", T2=0.0223606798, x0=0, y0=0, xdot0=50, magnify=50),
-        _preset("circle", "Circle R0 = 10 mm, omega = 5, identical channels k = 100, T = 0.1",
-                5.0, "(28): R0 (1 - |Phi(j omega)|) = -0.24295 mm",
-                curve="circle", x0=0, y0=10, magnify=20),
-        _preset("circle-nonidentical", "Circle R0 = 10 mm, omega = 10; y: k = 60 (gamma = 5/3)",
-                5.0, "(29): tilt 63.127 deg; corrected (30): 12.00691 / 10.78178 mm",
-                curve="circle", omega=10, x0=0, y0=10, gamma=5 / 3, magnify=5),
-        _preset("ellipse", "Ellipse a = 15, b = 6 mm, omega = 8, identical channels",
-                5.0, "semi-axes a|Phi| = 15.96743, b|Phi| = 6.38697 mm",
-                curve="ellipse", omega=8, x0=0, y0=6, magnify=5),
-        _preset("ellipse-nonidentical", "Ellipse a = 15, b = 6 mm, omega = 8; gamma = 5/3",
-                5.0, "(29)/(30), m = a|Phi1|, n = b|Phi2|: 15.97402 / 6.62696 mm, tilt 1.809 deg",
-                curve="ellipse", omega=8, x0=0, y0=6, gamma=5 / 3, magnify=5),
-        _preset("cubic", "Cubic y = x^3/p, p = 400 mm^2, omega = 0.125, T2^2 = 0.0005 s^2",
-                2.0, "inflection shift 2 omega^3 p^2 (3 T1 T2^2 - T1^3) = 0.00875 mm",
-                curve="cubic", channel="T1-T2", T2=0.0223606798, omega=0.125, p=400,
-                x0=-50, y0=-312.5, magnify=200),
-        _preset("quartic", "Quartic y = x^4/p, p = 8000 mm^3, omega = 0.00625, T2^2 = 0.0005 s^2",
-                1.2, "vertex shift 3 omega^4 p^3 (3T1^4 + 8T2^4 - 12 T1^2 T2^2) = 0.00335 mm",
-                curve="quartic", channel="T1-T2", T2=0.0223606798, omega=0.00625, p=8000,
-                x0=-30, y0=101.25, magnify=500),
-    )  # fmt: skip
+        _preset(
+            "table-parabola",
+            f"Table parabola: v = 50 mm/s, p = 20 mm, omega = 5, {TABLE_CELL}",
+            5.0,
+            "(13): -0.2375 mm; simulation -0.2375 mm; printed -0.19 mm = 0.8 x (13)",
+            curve="parabola",
+            k=100,
+            T=0.1,
+        ),
+        _preset(
+            "parabola-corrected",
+            f"Parabola with program correction (22), {TABLE_CELL}",
+            5.0,
+            "the steady error vanishes; the transient from rest remains",
+            correction="on",
+        ),
+        _preset(
+            "parabola-derivative",
+            f"Parabola, derivative feed-forward x + T1 dx/dt, {TABLE_CELL}",
+            5.0,
+            "conclusions: -omega^2 p T2^2/2 = -0.25 mm, larger than (13) -0.2375 mm",
+            correction="derivative",
+        ),
+        _preset(
+            "fig4b-gamma-0.5",
+            "Horizontal parabola x = y^2/p (Fig. 4b), gamma = 0.5",
+            5.0,
+            "(19): x = y^2/p - 0.025 y - 0.234375 mm; vertex (-0.2375, 0.25) mm",
+            gamma=0.5,
+            **FIG4B,
+        ),
+        _preset(
+            "fig4b-gamma-1",
+            "Horizontal parabola x = y^2/p (Fig. 4b), identical channels",
+            5.0,
+            "(19): x = y^2/p - 0.2375 mm; vertex (-0.2375, 0) mm",
+            **FIG4B,
+        ),
+        _preset(
+            "fig4b-gamma-2",
+            "Horizontal parabola x = y^2/p (Fig. 4b), gamma = 2",
+            5.0,
+            "(19): x = y^2/p + 0.05 y - 0.225 mm; vertex (-0.2375, -0.5) mm",
+            gamma=2,
+            **FIG4B,
+        ),
+        _preset(
+            "line-45",
+            "Line at 45 deg, non-identical channels gamma = 1.2, k = 100, T = 0.05",
+            1.5,
+            "(5)/(6): 0.05 mm = v T1 (gamma - 1)/2",
+            curve="line",
+            T=0.05,
+            x0=0,
+            y0=0,
+            gamma=1.2,
+            magnify=200,
+        ),
+        _preset(
+            "line-transient",
+            "Line at 45 deg, identical channels, dx1/dt(0) = 50 mm/s",
+            1.5,
+            "(4): transient error only; its peak ~ 1.05 T2^2/(T1 + T2) x (xdot0 xc - ydot0 yc)/|.|",
+            curve="line",
+            channel="T1-T2",
+            T2=0.0223606798,
+            x0=0,
+            y0=0,
+            xdot0=50,
+            magnify=50,
+        ),
+        _preset(
+            "circle",
+            "Circle R0 = 10 mm, omega = 5, identical channels k = 100, T = 0.1",
+            5.0,
+            "(28): R0 (1 - |Phi(j omega)|) = -0.24295 mm",
+            curve="circle",
+            x0=0,
+            y0=10,
+            magnify=20,
+        ),
+        _preset(
+            "circle-nonidentical",
+            "Circle R0 = 10 mm, omega = 10; y: k = 60 (gamma = 5/3)",
+            5.0,
+            "(29): tilt 63.127 deg; corrected (30): 12.00691 / 10.78178 mm",
+            curve="circle",
+            omega=10,
+            x0=0,
+            y0=10,
+            gamma=5 / 3,
+            magnify=5,
+        ),
+        _preset(
+            "ellipse",
+            "Ellipse a = 15, b = 6 mm, omega = 8, identical channels",
+            5.0,
+            "semi-axes a|Phi| = 15.96743, b|Phi| = 6.38697 mm",
+            curve="ellipse",
+            omega=8,
+            x0=0,
+            y0=6,
+            magnify=5,
+        ),
+        _preset(
+            "ellipse-nonidentical",
+            "Ellipse a = 15, b = 6 mm, omega = 8; gamma = 5/3",
+            5.0,
+            "(29)/(30), m = a|Phi1|, n = b|Phi2|: 15.97402 / 6.62696 mm, tilt 1.809 deg",
+            curve="ellipse",
+            omega=8,
+            x0=0,
+            y0=6,
+            gamma=5 / 3,
+            magnify=5,
+        ),
+        _preset(
+            "cubic",
+            "Cubic y = x^3/p, p = 400 mm^2, omega = 0.125, T2^2 = 0.0005 s^2",
+            2.0,
+            "inflection shift 2 omega^3 p^2 (3 T1 T2^2 - T1^3) = 0.00875 mm",
+            curve="cubic",
+            channel="T1-T2",
+            T2=0.0223606798,
+            omega=0.125,
+            p=400,
+            x0=-50,
+            y0=-312.5,
+            magnify=200,
+        ),
+        _preset(
+            "quartic",
+            "Quartic y = x^4/p, p = 8000 mm^3, omega = 0.00625, T2^2 = 0.0005 s^2",
+            1.2,
+            "vertex shift 3 omega^4 p^3 (3T1^4 + 8T2^4 - 12 T1^2 T2^2) = 0.00335 mm",
+            curve="quartic",
+            channel="T1-T2",
+            T2=0.0223606798,
+            omega=0.00625,
+            p=8000,
+            x0=-30,
+            y0=101.25,
+            magnify=500,
+        ),
+    )
     series = (
         Series("x", MM, "programmed x (PU output)"),
         Series("y", MM, "programmed y (PU output)"),

@@ -181,3 +181,10 @@ class TwoAxisServo:
         t_s = settle / self.decay_rate()
         t = t_s + np.linspace(0.0, window, n)
         return t, self.outputs(self.states(t, self.initial_state(xdot0, ydot0)))
+
+
+def settled(
+    program: Program, cx: Channel, cy: Channel, correction: Correction = "off", **kw: float
+) -> tuple[np.ndarray, dict[str, np.ndarray]]:
+    """Times and outputs of a run after its transient (:meth:`TwoAxisServo.settled_outputs`)."""
+    return TwoAxisServo(program, cx, cy, correction).settled_outputs(**kw)

@@ -14,69 +14,42 @@ import math
 import numpy as np
 import sympy as sp
 
-from lessons.core.contract import Claim, ClaimResult, at_most, close
-from lessons.core.servo import Channel, Correction, Program, TwoAxisServo, planar_program
+from lessons.core.contract import Claim, ClaimResult, close
+from lessons.core.servo import Channel, TwoAxisServo, planar_program, settled
+from lessons.core.servo_claims_parabola import (
+    claim_alt_correction,
+    claim_beta,
+    claim_derivative,
+    claim_parabola_17_18,
+    claim_parabola_19,
+    claim_parabola_19_error,
+    claim_parabola_24,
+    claim_table_08,
+    claim_table_13,
+)
 from lessons.core.servo_formulas import (
     circle_axes_29_30,
     cubic_curve,
-    curve_17,
-    curve_19,
-    delta_parabola_13,
-    deviation_24,
     f_transient,
-    locus_18,
-    parabola_vertex_17,
-    parabola_vertex_19,
     quartic_curve,
     quartic_y1,
 )
-from lessons.core.servo_geometry import fit_centred_ellipse, line_distance, power_distance
+from lessons.core.servo_geometry import fit_centred_ellipse, line_distance
 from lessons.core.servo_paths import (
     ellipse_program,
-    horizontal_parabola_program,
     line_program,
     power_program,
-)
-from lessons.core.servo_table import (
-    parabola_table,
-    simulate_parabola_vertex_error,
-    table_ratio_interval,
 )
 
 ARTICLE = "Leppik (1960)"
 
 
-def _settled(
-    program: Program, cx: Channel, cy: Channel, correction: Correction = "off", **kw: float
-) -> tuple[np.ndarray, dict[str, np.ndarray]]:
-    """Times and outputs after the transient (see :meth:`TwoAxisServo.settled_outputs`)."""
-    return TwoAxisServo(program, cx, cy, correction).settled_outputs(**kw)
-
-
-def _claim_table_13() -> ClaimResult:
-    rows = parabola_table()
-    worst = max(abs(r.simulated_over_formula - 1.0) for r in rows)
-    return at_most(0.01, worst, "max |simulation/(13) - 1| ")
-
-
-def _claim_table_08() -> ClaimResult:
-    rows = parabola_table()
-    lo, hi = table_ratio_interval()
-    ok = all(r.within_print_rounding for r in rows) and lo <= 0.8 <= hi and not (lo <= 1.0 <= hi)
-    return ClaimResult(
-        expected="every printed cell = 0.8 x (13) to its printed digits; 0.8 in the interval, 1 "
-        "not",
-        got=f"{sum(r.within_print_rounding for r in rows)}/16 cells; interval [{lo:.4f}, {hi:.4f}]",
-        passed=ok,
-    )
-
-
-def _claim_line_5_6() -> ClaimResult:
+def claim_line_5_6() -> ClaimResult:
     ch = Channel.from_open_loop(100.0, 0.05)
     worst = 0.0
     got = []
     for ang, g, expected in ((45.0, 1.2, 0.05), (30.0, 0.7, -0.0649519052838329)):
-        _, out = _settled(line_program(0.0, 0.0, 50.0, ang), ch, ch.scaled(g), n=11)
+        _, out = settled(line_program(0.0, 0.0, 50.0, ang), ch, ch.scaled(g), n=11)
         d, _, _ = line_distance(out["x1"], out["y1"], out["x"], out["y"], ang)
         th = math.radians(ang)
         xc, yc = math.sin(th), math.cos(th)  # direction constants with omega = v
@@ -91,7 +64,7 @@ def _claim_line_5_6() -> ClaimResult:
     )
 
 
-def _claim_line_4() -> ClaimResult:
+def claim_line_4() -> ClaimResult:
     ch = Channel(0.01, 0.0005)
     sysm = TwoAxisServo(line_program(0.0, 0.0, 50.0, 45.0), ch, ch)
     t = np.linspace(0.0, 1.0, 2001)
@@ -116,9 +89,9 @@ def _claim_line_4() -> ClaimResult:
     )
 
 
-def _claim_circle_28() -> ClaimResult:
+def claim_circle_28() -> ClaimResult:
     ch = Channel.from_open_loop(100.0, 0.1)
-    _, out = _settled(
+    _, out = settled(
         ellipse_program(0.0, 10.0, 0.0, 0.0, 1.0, 1.0, 5.0), ch, ch, window=2 * math.pi / 5
     )
     r = np.hypot(out["x1"], out["y1"])
@@ -134,7 +107,7 @@ def _ellipse_case(
 ) -> tuple[tuple[float, float, float], tuple[float, float, float], tuple[float, float, float]]:
     ch = Channel.from_open_loop(100.0, 0.1)
     cy = ch.scaled(gamma)
-    _, out = _settled(
+    _, out = settled(
         ellipse_program(0.0, b, 0.0, 0.0, a, b, omega), ch, cy, window=2 * math.pi / omega
     )
     sim = fit_centred_ellipse(out["x1"], out["y1"])
@@ -143,7 +116,7 @@ def _ellipse_case(
     return sim, circle_axes_29_30(m, n, dphi), circle_axes_29_30(m, n, dphi, printed=True)
 
 
-def _claim_circle_29_30() -> ClaimResult:
+def claim_circle_29_30() -> ClaimResult:
     (a_s, b_s, ang_s), (alpha, a30, b30), (_, a_p, b_p) = _ellipse_case(10.0, 10.0, 10.0, 5.0 / 3.0)
     err = max(abs(a_s / a30 - 1), abs(b_s / b30 - 1))
     ok = (
@@ -161,7 +134,7 @@ def _claim_circle_29_30() -> ClaimResult:
     )
 
 
-def _claim_ellipse() -> ClaimResult:
+def claim_ellipse() -> ClaimResult:
     ch = Channel.from_open_loop(100.0, 0.1)
     (a1, b1, ang1), _, _ = _ellipse_case(15.0, 6.0, 8.0, 1.0)
     G = abs(ch.response(8.0))
@@ -183,80 +156,8 @@ def _claim_ellipse() -> ClaimResult:
     )
 
 
-def _claim_parabola_17_18() -> ClaimResult:
-    T1, T2sq, omega, p = 0.01, 0.001, 5.0, 20.0
-    ch = Channel(T1, T2sq)
-    worst, worst18 = 0.0, 0.0
-    for g in (0.5, 0.8, 1.5, 2.0):
-        _, out = _settled(
-            power_program(2, -300.0, 0.0, 0.0, p, omega), ch, ch.scaled(g), window=2.0, n=401
-        )
-        x, y = out["x1"], out["y1"]
-        worst = max(worst, float(np.max(np.abs(y - curve_17(x, omega, p, T1, T2sq, g)))))
-        xv, yv = parabola_vertex_17(omega, p, T1, T2sq, g)
-        worst18 = max(worst18, abs(yv - locus_18(xv, omega, p, T1, T2sq)))
-    return ClaimResult(
-        "|y1 - (17)| < 1e-7 mm, vertices on corrected (18) to 1e-12",
-        f"{worst:.1e} mm, {worst18:.1e}",
-        worst < 1e-7 and worst18 < 1e-12,
-    )
-
-
 #: the Fig. 4b case (2 T2^2 > T1^2): T1 = 0.01 s, T2^2 = 0.001 s^2, omega = 5, p = 20 mm
-FIG4B = (5.0, 20.0, 0.01, 0.001)
-
-
-def _fig4b_output(gamma: float) -> dict[str, np.ndarray]:
-    """Settled output of the horizontal parabola (y from -50 to 50 mm), y channel x gamma."""
-    omega, p, T1, T2sq = FIG4B
-    ch = Channel(T1, T2sq)
-    program = horizontal_parabola_program(-300.0, 0.0, 0.0, p, omega)
-    return _settled(program, ch, ch.scaled(gamma), window=2.0, n=4001)[1]
-
-
-def _claim_parabola_19() -> ClaimResult:
-    worst, worst_v, got = 0.0, 0.0, []
-    for g in (0.5, 0.8, 1.0, 1.25, 2.0):
-        out = _fig4b_output(g)
-        x, y = out["x1"], out["y1"]
-        worst = max(worst, float(np.max(np.abs(x - curve_19(y, *FIG4B, g)))))
-        near = np.abs(y) <= 8.0
-        c = np.polyfit(y[near], x[near], 2)
-        yv = -c[1] / (2 * c[0])
-        xv = float(np.polyval(c, yv))
-        xf, yf = parabola_vertex_19(*FIG4B, g)
-        worst_v = max(worst_v, abs(xv - xf), abs(yv - yf), abs(xv + 0.2375))
-        got.append(f"({xv:.6f}, {yv:.6f})")
-    return ClaimResult(
-        "|x1 - (19)| < 1e-7 mm; vertices (-0.2375, 0.25 ... -0.5) mm to 1e-7",
-        f"{worst:.1e} mm; vertices " + ", ".join(got),
-        worst < 1e-7 and worst_v < 1e-7,
-    )
-
-
-def _claim_parabola_19_error() -> ClaimResult:
-    expected = {(1.0, 1): 0.2375, (0.5, 1): 0.3448, (2.0, -1): 0.5533, (2.0, 1): 0.3445}
-    y = np.linspace(-20.0, 20.0, 40001)
-    worst, worst_sim, got = 0.0, 0.0, []
-    for (g, side), value in expected.items():
-        d = power_distance(y, curve_19(y, *FIG4B, g), 2, 0.0, 0.0, FIG4B[1])[0]
-        largest = float(np.max(np.abs(d[side * y > 0])))
-        worst = max(worst, abs(largest - value))
-        got.append(f"{largest:.5f}")
-        out = _fig4b_output(g)
-        ys = out["y1"][np.abs(out["y1"]) <= 20.0]
-        xs = out["x1"][np.abs(out["y1"]) <= 20.0]
-        d_sim = power_distance(ys, xs, 2, 0.0, 0.0, FIG4B[1])[0]
-        d_19 = power_distance(ys, curve_19(ys, *FIG4B, g), 2, 0.0, 0.0, FIG4B[1])[0]
-        worst_sim = max(worst_sim, float(np.max(np.abs(d_sim - d_19))))
-    return ClaimResult(
-        "0.2375, 0.3448, 0.5533, 0.3445 mm (atol 1e-4); simulation = (19) to 1e-7 mm",
-        ", ".join(got) + f" mm; simulation - (19) {worst_sim:.1e} mm",
-        worst <= 1e-4 and worst_sim < 1e-7,
-    )
-
-
-def _claim_correction() -> ClaimResult:
+def claim_correction() -> ClaimResult:
     ch = Channel.from_open_loop(100.0, 0.05)
     worst = 0.0
     cases = [
@@ -273,7 +174,7 @@ def _claim_correction() -> ClaimResult:
         ),
     ]
     for prog, cx, cy in cases:
-        _, out = _settled(prog, cx, cy, "on", n=201)
+        _, out = settled(prog, cx, cy, "on", n=201)
         worst = max(
             worst,
             float(np.max(np.abs(out["x1"] - out["x"]))),
@@ -307,66 +208,15 @@ def _claim_correction() -> ClaimResult:
     )
 
 
-def _claim_parabola_24() -> ClaimResult:
-    ch = Channel.from_open_loop(100.0, 0.1)
-    sysm = TwoAxisServo(power_program(2, 0.0, 0.0, 0.0, 20.0, 5.0), ch, ch, "on")
-    t = np.linspace(0.0, 3.0, 3001)
-    out = sysm.outputs(sysm.states(t, sysm.initial_state()))
-    dev = out["y1"] - out["x1"] ** 2 / 20.0
-    d24 = deviation_24(t, 5.0, 20.0, ch)
-    i = int(np.argmax(d24))
-    ok = (
-        float(np.max(np.abs(dev - d24))) < 1e-8
-        and abs(d24[i] - 0.56243) < 1e-4
-        and abs(t[i] - 0.25) < 0.005
-        and abs(dev[-1]) < 1e-5
-    )
-    return ClaimResult(
-        "|sim - (24)| < 1e-8; peak 0.56243 mm at 0.25 s; -> 0",
-        f"{np.max(np.abs(dev - d24)):.1e}; peak {d24[i]:.5f} at {t[i]:.3f} s; end {dev[-1]:.1e}",
-        ok,
-    )
-
-
-def _claim_derivative() -> ClaimResult:
-    ch = Channel.from_open_loop(100.0, 0.1)
-    d = simulate_parabola_vertex_error(ch, 5.0, 20.0, "derivative")
-    d13 = delta_parabola_13(5.0, 20.0, ch.T1, ch.T2sq)
-    ok = abs(d - (-0.25)) < 1e-6 and abs(d) > abs(d13)
-    return ClaimResult(
-        "-0.25 mm (= -omega^2 p T2^2/2), larger than |(13)| = 0.2375", f"{d:.7f} mm", ok
-    )
-
-
-def _claim_beta() -> ClaimResult:
-    b = sp.symbols("beta", positive=True)
-    f = 1 / b**2 - 2 / b
-    crit = sp.solve(sp.diff(f, b), b)
-    zero = sp.solve(f, b)
-    ok = (
-        crit == [1]
-        and f.subs(b, 1) == -1
-        and sp.diff(f, b, 2).subs(b, 1) > 0
-        and zero == [sp.Rational(1, 2)]
-        and sp.diff(f, b).subs(b, sp.Rational(1, 2)) == -8
-    )
-    return ClaimResult(
-        "stationary point beta = 1 (minimum, f = -1); zero 1/2, slope -8",
-        f"stationary {crit}, f'' {sp.diff(f, b, 2).subs(b, 1)}; zero {zero}, slope "
-        f"{sp.diff(f, b).subs(b, sp.Rational(1, 2))}",
-        ok,
-    )
-
-
-def _claim_cubic_quartic() -> ClaimResult:
+def claim_cubic_quartic() -> ClaimResult:
     T1, T2 = 0.01, 0.0005
     ch = Channel(T1, T2)
     w, p = 0.125, 400.0
-    _, out = _settled(power_program(3, -100.0, 0.0, 0.0, p, w), ch, ch, window=2.0, n=401)
+    _, out = settled(power_program(3, -100.0, 0.0, 0.0, p, w), ch, ch, window=2.0, n=401)
     x, y = out["x1"], out["y1"]
     e3 = float(np.max(np.abs(y - cubic_curve(x, w, p, T1, T2))))
     w, p = 0.00625, 8000.0
-    _, out = _settled(power_program(4, -100.0, 0.0, 0.0, p, w), ch, ch, window=2.0, n=401)
+    _, out = settled(power_program(4, -100.0, 0.0, 0.0, p, w), ch, ch, window=2.0, n=401)
     x, y = out["x1"], out["y1"]
     e4 = float(np.max(np.abs(y - quartic_curve(x, w, p, T1, T2))))
     tau = out["x"] / (w * p)  # PU time measured from the vertex
@@ -382,7 +232,7 @@ def _claim_cubic_quartic() -> ClaimResult:
     )
 
 
-def _claim_modulus_only() -> ClaimResult:
+def claim_modulus_only() -> ClaimResult:
     cx, cy, w, R0 = (
         Channel.from_open_loop(30.0, 0.01),
         Channel.from_open_loop(200.0, 0.02),
@@ -394,7 +244,7 @@ def _claim_modulus_only() -> ClaimResult:
     A = np.zeros((3, 3))
     A[0, 1], A[1, 0] = w * g2 / g1, -w * g1 / g2
     prog = planar_program(A, 0.0, R0 / g2)
-    _, out = _settled(prog, cx, cy, window=2 * math.pi / w, n=801)
+    _, out = settled(prog, cx, cy, window=2 * math.pi / w, n=801)
     a, b, ang = fit_centred_ellipse(out["x1"], out["y1"])
     D = abs(math.sin(float(np.angle(P2) - np.angle(P1))))
     a_fix, b_fix = R0 * math.sqrt(1 + D), R0 * math.sqrt(1 - D)
@@ -411,20 +261,7 @@ def _claim_modulus_only() -> ClaimResult:
     )
 
 
-def _claim_alt_correction() -> ClaimResult:
-    worst = 0.0
-    for T in (0.1, 1.0):
-        ch = Channel.from_open_loop(100.0, T)
-        d13 = delta_parabola_13(5.0, 20.0, ch.T1, ch.T2sq)
-        x0 = -50.0 * 25.0 / ch.decay_rate()
-        prog = power_program(2, x0, 0.0, -d13, 20.0, 5.0)  # Y0 = y0 - delta_max
-        _, out = _settled(prog, ch, ch, window=0.2, n=401, settle=20.0)
-        d, _, _ = power_distance(out["x1"], out["y1"], 2, 0.0, 0.0, 20.0, guess=out["x1"])
-        worst = max(worst, float(np.max(np.abs(d))))
-    return at_most(1e-6, worst, "max distance to y = x^2/p [mm] ")
-
-
-def _claim_quartic_beta() -> ClaimResult:
+def claim_quartic_beta() -> ClaimResult:
     b = sp.symbols("beta_1", positive=True)
     T2 = sp.symbols("T_2", positive=True)
     T1 = sp.sqrt(b) * T2
@@ -458,7 +295,7 @@ def servo_claims() -> list[Claim]:
             "table cells "
             "(v = 50 mm/s, p = 20 mm, omega = 5; k = 100..1000 1/s, T = 0.01..1 s).",
             "(13), table",
-            _claim_table_13,
+            claim_table_13,
         ),
         Claim(
             "table-0.8",
@@ -466,7 +303,7 @@ def servo_claims() -> list[Claim]:
             "factor compatible "
             "with all cells lies in [0.7947, 0.8053] and excludes 1.",
             "table",
-            _claim_table_08,
+            claim_table_08,
         ),
         Claim(
             "line-5-6",
@@ -475,7 +312,7 @@ def servo_claims() -> list[Claim]:
             "0.05 mm at 45 deg (gamma = 1.2), -0.064952 mm at 30 deg (gamma = 0.7), k = 100 1/s, "
             "T = 0.05 s.",
             "(5), (6)",
-            _claim_line_5_6,
+            claim_line_5_6,
         ),
         Claim(
             "line-4",
@@ -484,7 +321,7 @@ def servo_claims() -> list[Claim]:
             "velocities the error is the transient (4), peaking near 1.05 T2^2/(T1 + T2) (within "
             "5 %).",
             "(3), (4)",
-            _claim_line_4,
+            claim_line_4,
         ),
         Claim(
             "circle-28",
@@ -492,14 +329,14 @@ def servo_claims() -> list[Claim]:
             "1e-6 "
             "(-0.24295 mm for R0 = 10 mm, omega = 5, k = 100, T = 0.1).",
             "(27), (28)",
-            _claim_circle_28,
+            claim_circle_28,
         ),
         Claim(
             "circle-29-30",
             "Non-identical channels give an ellipse tilted by (29) with the semi-axes of (30) with "
             "cos^2 in the numerator (12.00691 / 10.78178 mm, 63.127 deg); the printed (30) is off.",
             "(29), (30)",
-            _claim_circle_29_30,
+            claim_circle_29_30,
         ),
         Claim(
             "ellipse",
@@ -508,7 +345,7 @@ def servo_claims() -> list[Claim]:
             "channels, the tilt (29) and the corrected (30) with m = a|Phi1|, n = b|Phi2| "
             "(15.97402 / 6.62696 mm, 1.809 deg).",
             f"{ARTICLE}, ellipses",
-            _claim_ellipse,
+            claim_ellipse,
         ),
         Claim(
             "parabola-17-18",
@@ -516,7 +353,7 @@ def servo_claims() -> list[Claim]:
             "corrected "
             "locus (18) (linear coefficient omega (T1^2 - T2^2)/T1).",
             "(16)-(18)",
-            _claim_parabola_17_18,
+            claim_parabola_17_18,
         ),
         Claim(
             "parabola-19",
@@ -526,7 +363,7 @@ def servo_claims() -> list[Claim]:
             "every gamma (the vertices lie on a straight line), y_c = -omega p T1 (gamma - 1)/2 = "
             "0.25 mm for gamma = 0.5 and -0.5 mm for gamma = 2.",
             "(19), Fig. 4b",
-            _claim_parabola_19,
+            claim_parabola_19,
         ),
         Claim(
             "parabola-19-error",
@@ -535,7 +372,7 @@ def servo_claims() -> list[Claim]:
             "gamma = 0.5; 0.5533 mm on y < 0 and 0.3445 mm on y > 0 for gamma = 2); the simulated "
             "distances equal those of (19).",
             "(19), Fig. 4b",
-            _claim_parabola_19_error,
+            claim_parabola_19_error,
         ),
         Claim(
             "correction",
@@ -543,7 +380,7 @@ def servo_claims() -> list[Claim]:
             "parabola, "
             "circle, non-identical channels); the PU starts at the article's X0, Y0.",
             "(7), (22), (34)",
-            _claim_correction,
+            claim_correction,
         ),
         Claim(
             "parabola-24",
@@ -551,14 +388,14 @@ def servo_claims() -> list[Claim]:
             "for k = 100, "
             "T = 0.1 its peak is 0.562 mm at t = 0.25 s and it then vanishes.",
             "(24), (25)",
-            _claim_parabola_24,
+            claim_parabola_24,
         ),
         Claim(
             "derivative-feed",
             "Feeding x + T1 dx/dt removes the x error but increases the contour error: -0.25 mm vs "
             "(13) -0.2375 mm (k = 100, T = 0.1).",
             f"{ARTICLE}, conclusions",
-            _claim_derivative,
+            claim_derivative,
         ),
         Claim(
             "beta-15",
@@ -566,7 +403,7 @@ def servo_claims() -> list[Claim]:
             "minimum, f = -1) "
             "and its zero at beta = 1/2 with slope -8.",
             "(15), Fig. 3",
-            _claim_beta,
+            claim_beta,
         ),
         Claim(
             "modulus-only",
@@ -575,7 +412,7 @@ def servo_claims() -> list[Claim]:
             "(12.346 / 6.897 mm: x k = 30, T = 0.01; y k = 200, T = 0.02; omega = 20, R0 = 10 "
             "mm); the printed form gives 13.379.",
             "after (35)",
-            _claim_modulus_only,
+            claim_modulus_only,
         ),
         Claim(
             "alt-correction",
@@ -583,7 +420,7 @@ def servo_claims() -> list[Claim]:
             "keeps the reproduced "
             "point on the programmed parabola although x != x1 (k = 100 1/s, T = 0.1 and 1 s).",
             "after (25)",
-            _claim_alt_correction,
+            claim_alt_correction,
         ),
         Claim(
             "quartic-beta",
@@ -592,13 +429,13 @@ def servo_claims() -> list[Claim]:
             "beta1 > 3.15 (roots 0.8453, 3.1547 of 3 beta1^2 - 12 beta1 + 8); the line y'' rises "
             "for beta1 < 3.",
             f"{ARTICLE}, parabolas of degree 3 and 4",
-            _claim_quartic_beta,
+            claim_quartic_beta,
         ),
         Claim(
             "cubic-quartic",
             "Cubic and quartic outputs follow the corrected curve equations (cubic: '+' not '='; "
             "quartic: the printed curve), and the corrected quartic y1(t), not the printed one.",
             f"{ARTICLE}, parabolas of degree 3 and 4",
-            _claim_cubic_quartic,
+            claim_cubic_quartic,
         ),
     ]
