@@ -21,7 +21,6 @@ from typing import Any
 import numpy as np
 
 from lessons.core.contract import (
-    INITIAL,
     MODE,
     Claim,
     CurveItem,
@@ -50,6 +49,7 @@ from lessons.core.servo_setup import SETTLE, channels, natural_t_end, setup_for
 
 #: parameters whose change restarts the live run (they fix the start of the program)
 RESTART = ("curve", "x0", "y0", "xc", "yc", "a", "b", "xdot0", "ydot0")
+START = Group("initial", "Start of the program")
 CHANNELS = Group("channels", "Servo channels")
 PATH = Group("path", "Programmed path")
 VIEW = Group("controls", "View")
@@ -110,7 +110,7 @@ class ServoErrorsLesson(Lesson):
     )
     order = 200.0
     t_end = 5.0
-    groups = (MODE, PATH, INITIAL, CHANNELS, VIEW)
+    groups = (MODE, PATH, START, CHANNELS, VIEW)
     modes = ("curve", "correction")
     params = (
         _param("curve", "choice", "parabola", "path", "mode", choices=CURVES),

@@ -68,6 +68,7 @@ def claim_parabola_17_18() -> ClaimResult:
     )
 
 
+#: the Fig. 4b case (2 T2^2 > T1^2): T1 = 0.01 s, T2^2 = 0.001 s^2, omega = 5, p = 20 mm
 FIG4B = (5.0, 20.0, 0.01, 0.001)
 
 

@@ -393,36 +393,37 @@ def _steps_ellipse(params: Params, cx: Channel, cy: Channel) -> list[DerivationS
     ] + _steps_circle(params, cx, cy)[4:5]
 
 
+def _deg34(title: str, text: str, math: str, why: str | None = None) -> DerivationStep:
+    """A step of the article's section on the parabolas of degree 3 and 4."""
+    return DerivationStep(title, text, math, "Leppik (1960), parabolas of degree 3 and 4", why)
+
+
 def _steps_cubic(params: Params, cx: Channel, cy: Channel) -> list[DerivationStep]:
     omega, p = float(params["omega"]), float(params["p"])
     return [
-        DerivationStep(
+        _deg34(
             "Cubic parabola: PU output",
             "The PU of Fig. 7 is not described; an integrator chain gives the same output.",
             r"x=\omega pt,\qquad y=\omega^3p^2t^3",
-            "Leppik (1960), parabolas of degree 3 and 4",
         ),
-        DerivationStep(
+        _deg34(
             "Servo output after the transient",
             "",
             r"x_1=\omega pt-\omega pT_1,\quad "
             r"y_1=\omega^3p^2t^3-3\omega^3p^2(T_1t^2+2T_2^2t-2T_1^2t+2T_1^3-4T_1T_2^2)",
-            "Leppik (1960), parabolas of degree 3 and 4",
         ),
-        DerivationStep(
+        _deg34(
             "Output curve",
             f"Inflection shift here: {_sig(cubic_offset(omega, p, cx, cy))} mm.",
             r"y=\frac{x^3}{p}+3\omega^2p(T_1^2-2T_2^2)x+2\omega^3p^2(3T_1T_2^2-T_1^3)",
-            "Leppik (1960), parabolas of degree 3 and 4",
-            reconstructed="printed 'y = x^3/rho = 3 omega^2 p(...)': '=' must be '+', rho is p",
+            why="printed 'y = x^3/rho = 3 omega^2 p(...)': '=' must be '+', rho is p",
         ),
-        DerivationStep(
+        _deg34(
             "Extrema (only for 2 T2^2 > T1^2)",
             "",
             r"x=\mp\omega p\sqrt{2T_2^2-T_1^2},\quad "
             r"y=2\omega^3p^2\left[(3T_1T_2^2-T_1^3)\pm(2T_2^2-T_1^2)^{3/2}\right]",
-            "Leppik (1960), parabolas of degree 3 and 4",
-            reconstructed="printed with a spurious inner -+ under the root",
+            why="printed with a spurious inner -+ under the root",
         ),
         _step_general_correction(),
     ]
@@ -431,21 +432,19 @@ def _steps_cubic(params: Params, cx: Channel, cy: Channel) -> list[DerivationSte
 def _steps_quartic(params: Params, cx: Channel, cy: Channel) -> list[DerivationStep]:
     omega, p = float(params["omega"]), float(params["p"])
     return [
-        DerivationStep(
+        _deg34(
             "Quartic parabola: PU output",
             "",
             r"x=\omega pt,\qquad y=\omega^4p^3t^4",
-            "Leppik (1960), parabolas of degree 3 and 4",
         ),
-        DerivationStep(
+        _deg34(
             "Servo output after the transient",
             "",
             r"y_1=\omega^4p^3t^4-4\omega^4p^3\left[T_1t^3-3(T_1^2-T_2^2)t^2+6(T_1^3-2T_1T_2^2)t-6(T_1^4-3T_1^2T_2^2+T_2^4)\right]",
-            "Leppik (1960), parabolas of degree 3 and 4",
-            reconstructed="printed with three sign errors and T1^2 for T1^3 in the t term (off "
+            why="printed with three sign errors and T1^2 for T1^3 in the t term (off "
             "by mm in simulation); the printed curve below is right",
         ),
-        DerivationStep(
+        _deg34(
             "Output curve",
             f"Vertex shift here: {_sig(quartic_offset(omega, p, cx, cy))} mm. With beta1 = "
             f"T1^2/T2^2 the "
@@ -453,7 +452,6 @@ def _steps_quartic(params: Params, cx: Channel, cy: Channel) -> list[DerivationS
             "for beta1 < 0.845 and "
             "beta1 > 3.155; the line y'' rises for beta1 < 3.",
             r"y=\frac{x^4}{p}+6\omega^2p(T_1^2-2T_2^2)x^2+8\omega^3p^2(3T_2^2T_1-T_1^3)x+3\omega^4p^3(3T_1^4+8T_2^4-12T_1^2T_2^2)",
-            "Leppik (1960), parabolas of degree 3 and 4",
         ),
         _step_general_correction(),
     ]

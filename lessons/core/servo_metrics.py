@@ -60,28 +60,26 @@ def curve_metrics(
         else:
             m["vertex_19_x"], m["vertex_19_y"] = parabola_vertex_19(omega, p, cx.T1, cx.T2sq, gamma)
     elif path.curve in ("circle", "ellipse"):
-        m.update(_closed_curve_metrics(path, cx, cy, omega, gamma, t, out, after))
+        period = 2 * math.pi / omega
+        last = after & (t >= t[-1] - period)  # the most settled full period
+        if last.sum() >= 16 and t[-1] - period >= t[0]:
+            after = last
+        xy = (out["x1"][after] - path.g["xc"], out["y1"][after] - path.g["yc"])
+        m.update(_closed_curve_metrics(path, cx.response(omega), cy.response(omega), gamma, xy))
     else:
         m["v_x"] = omega * p
     return m
 
 
 def _closed_curve_metrics(
-    path: Path,
-    cx: Channel,
-    cy: Channel,
-    omega: float,
-    gamma: float,
-    t: np.ndarray,
-    out: dict[str, np.ndarray],
-    after: np.ndarray,
+    path: Path, P1: complex, P2: complex, gamma: float, xy: tuple[np.ndarray, np.ndarray]
 ) -> dict[str, Any]:
+    """(28)-(30) for a circle/ellipse beside the axes fitted to the settled samples ``xy``
+    (relative to the centre)."""
     A0, B0 = path.size()
-    xc, yc = path.g["xc"], path.g["yc"]
     m: dict[str, Any] = (
-        {"R0": A0, "v": omega * A0} if path.curve == "circle" else {"a": A0, "b": B0}
+        {"R0": A0, "v": path.g["omega"] * A0} if path.curve == "circle" else {"a": A0, "b": B0}
     )
-    P1, P2 = cx.response(omega), cy.response(omega)
     mm, nn = A0 * abs(P1), B0 * abs(P2)
     dphi = float(np.angle(P2) - np.angle(P1))
     alpha, major, minor = circle_axes_29_30(mm, nn, dphi)
@@ -101,12 +99,8 @@ def _closed_curve_metrics(
     identical = gamma == 1.0
     if path.curve == "circle" and identical:
         m["R0_minus_R_28"] = A0 * (1.0 - abs(P1))
-    period = 2 * math.pi / omega
-    last = after & (t >= t[-1] - period)  # the most settled full period
-    if last.sum() >= 16 and t[-1] - period >= t[0]:
-        after = last
-    if after.sum() >= 16:
-        xs, ys = out["x1"][after] - xc, out["y1"][after] - yc
+    xs, ys = xy
+    if len(xs) >= 16:
         a_s, b_s, ang = fit_centred_ellipse(xs, ys)
         m.update({"sim_semi_major": a_s, "sim_semi_minor": b_s})
         if not identical:
