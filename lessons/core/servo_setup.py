@@ -46,14 +46,21 @@ class Setup:
     system: TwoAxisServo
     article: float
     label: str
+    #: the last measurement (states' bytes, result): a live frame measures its state once
+    last: tuple[bytes, dict[str, np.ndarray]] = (b"", {})
 
     def measure(self, Z: np.ndarray) -> dict[str, np.ndarray]:
         """Outputs of the states Z, the contour errors and the foot points of (x1, y1)."""
+        key = np.ascontiguousarray(Z, dtype=float).tobytes()
+        last_key, last = self.last
+        if key == last_key:
+            return dict(last)
         out = self.system.outputs(Z)
         x, y = out["x"], out["y"]
         out["delta"], out["foot_x"], out["foot_y"] = self.path.contour(out["x1"], out["y1"], x, y)
         out["delta_steady"] = self.path.contour(out["x1ss"], out["y1ss"], x, y)[0]
-        return out
+        self.last = (key, out)
+        return dict(out)
 
 
 @lru_cache(maxsize=16)
