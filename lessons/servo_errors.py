@@ -4,13 +4,13 @@ A programming device (PU) generates the programmed curve x = f1(t), y = f2(t); t
 channels (2) (T2^2 s^2 + T1 s + 1) x1 = x reproduce it.  The page: the paths (line,
 vertical and horizontal parabola, circle, ellipse, cubic, quartic), the servo channels
 (k, T or T1, T2, and gamma for non-identical channels), the exact solution of the whole
-linear system (one matrix exponential per time, so the live run and the headless run
-agree), the article's closed forms beside it, the program correction (7), (21)-(22),
-(31)-(34) and the derivative feed-forward of the conclusions, and the article's parabola
-table three ways: formula (13), simulation and the printed values (0.8 x (13) in every
-cell).  Paths: lessons/core/servo_paths.py; formulas: lessons/core/servo_formulas.py;
-table: lessons/core/servo_table.py; derivation: lessons/core/servo_derivation.py;
-claims: lessons/core/servo_claims.py.
+linear system (its matrix exponential, so the live run and the headless run agree), the
+article's closed forms beside it, the program correction (7), (21)-(22), (31)-(34) and the
+derivative feed-forward of the conclusions, and the article's parabola table three ways:
+formula (13), simulation and the printed values (0.8 x (13) in every cell).  The machinery
+is in lessons/core: servo.py (model), servo_paths.py (the PU of each path), servo_setup.py
+(a run from the values), servo_formulas.py, servo_table.py, servo_metrics.py,
+servo_notes.py, servo_derivation.py and servo_claims.py / servo_claims_parabola.py.
 """
 
 from __future__ import annotations

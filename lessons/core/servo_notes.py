@@ -14,6 +14,14 @@ from lessons.core.servo_formulas import delta_parabola_13
 from lessons.core.servo_table import PARABOLA_TABLE_PRINTED
 
 ARTICLE = "Leppik (1960)"
+FIG4 = {
+    "parabola": "Fig. 4a's remark that the error decreases for gamma > 1 is not reproduced with "
+    "gamma scaling the y channel (it grows, e.g. 0.2375 -> 0.67 mm for gamma = 2 with T1 = 0.01 s, "
+    "T2^2 = 0.001 s^2); the figure's parameters are not given.",
+    "parabola-horizontal": "Fig. 4b: the error grows for gamma < 1 and for gamma > 1, as the "
+    "article says; which branch carries the largest error depends on the figure's parameters, "
+    "which are not given.",
+}
 
 
 def servo_notes(params: Params, start: tuple[float, float]) -> list[Note]:
@@ -41,16 +49,8 @@ def servo_notes(params: Params, start: tuple[float, float]) -> list[Note]:
                 "printed 'T_y != gamma T_x'; the line case and (19) use T_y = gamma T_x",
             )
         )
-        if curve in ("parabola", "parabola-horizontal"):
-            notes.append(
-                Note(
-                    "warning",
-                    "Fig. 4's remarks on gamma < 1 / gamma > 1 are reproduced only in part "
-                    "(the vertical parabola's error grows for gamma > 1 too); the figure's "
-                    "parameters are not given.",
-                    f"{ARTICLE}, Fig. 4",
-                )
-            )
+        if curve in FIG4:
+            notes.append(Note("warning", FIG4[curve], f"{ARTICLE}, Fig. 4"))
         if curve in ("circle", "ellipse"):
             notes.append(
                 Note(
