@@ -21,8 +21,6 @@ from lessons.core.servo_formulas import delta_parabola_13
 from lessons.core.servo_geometry import power_distance
 from lessons.core.servo_paths import power_program
 
-PARABOLA_TABLE_K = (100.0, 200.0, 500.0, 1000.0)
-PARABOLA_TABLE_T = (0.01, 0.1, 0.5, 1.0)
 #: the table [mm] as printed (rows k [1/s], columns T [s]; the header is transposed in print)
 PARABOLA_TABLE_PRINTED: dict[tuple[float, float], str] = {
     (100.0, 0.01): "-0.01",
