@@ -6,96 +6,12 @@ import math
 
 import numpy as np
 import pytest
-from scipy import signal
 
 from lessons.core.contract import ParamError, Params
-from lessons.core.servo import (
-    Channel,
-    TwoAxisServo,
-    circle_axes_29_30,
-    delta_parabola_13,
-    ellipse_distance,
-    parabola_table,
-    power_distance,
-    power_program,
-    table_ratio_interval,
-)
-from lessons.servo_errors import LESSON, table_rows
+from lessons.core.servo_paths import CURVES
+from lessons.servo_errors import LESSON
 
-SERIES = ("t", "x", "y", "z", "x1", "y1")
-
-
-# ---------------------------------------------------------------- core
-
-
-@pytest.mark.filterwarnings("ignore::scipy.signal.BadCoefficients")
-def test_open_loop_channel_matches_closed_loop_of_W() -> None:
-    k, T = 200.0, 0.5
-    ch = Channel.from_open_loop(k, T)
-    assert ch.T1 == pytest.approx(1 / k) and ch.T2sq == pytest.approx(T / k)
-    # closed loop of W = k/((Ts+1)s) is k / (T s^2 + s + k) = 1 / ((T/k) s^2 + (1/k) s + 1)
-    ss = ch.state_space()
-    b, a = signal.ss2tf(ss.A, ss.B, ss.C, ss.D)
-    assert np.allclose(b[0] / a[-1], [0.0, 0.0, 1.0]) and np.allclose(
-        a / a[-1], [T / k, 1 / k, 1.0]
-    )
-    w = 3.0
-    expected = k / ((1j * w) * (T * 1j * w + 1) + k)
-    assert ch.response(w) == pytest.approx(expected, rel=1e-12)
-    _, h = signal.freqresp(ch.state_space(), [w])
-    assert h[0] == pytest.approx(expected, rel=1e-10)
-
-
-def test_exact_step_agrees_with_lsim() -> None:
-    """The matrix-exponential model and scipy.signal.lsim give the same channel output."""
-    ch = Channel(0.01, 0.001)
-    system = TwoAxisServo(power_program(2, -50.0, 0.0, 0.0, 20.0, 5.0), ch, ch)
-    t = np.linspace(0.0, 2.0, 4001)
-    out = system.outputs(system.run(t, system.initial_state()))
-    _, y, _ = signal.lsim(ch.state_space(), out["y"], t, X0=[out["y"][0], 0.0])
-    assert np.max(np.abs(y - out["y1"])) < 1e-3  # lsim interpolates the input linearly: O(dt^2)
-    assert np.max(np.abs(y - out["y1"])) > 0.0
-
-
-def test_distances() -> None:
-    d, fx, fy = power_distance(
-        np.array([0.0, 3.0]), np.array([-0.2, 0.45 - 0.1]), 2, 0.0, 0.0, 20.0
-    )
-    assert d[0] == pytest.approx(-0.2, abs=1e-12)
-    assert d[1] < 0 and abs(d[1]) < 0.1
-    assert fy[1] == pytest.approx(fx[1] ** 2 / 20.0)
-    d, _, _ = ellipse_distance(np.array([15.5, 0.0]), np.array([0.0, 5.0]), 0.0, 0.0, 15.0, 6.0)
-    assert d[0] == pytest.approx(-0.5, abs=1e-10) and d[1] == pytest.approx(1.0, abs=1e-10)
-
-
-# ---------------------------------------------------------------- the table
-
-
-def test_parabola_table_three_ways() -> None:
-    rows = table_rows()
-    assert len(rows) == 16
-    cell = next(r for r in rows if r["k"] == 100 and r["T"] == 0.1)
-    assert cell["formula_13"] == pytest.approx(-0.2375)
-    assert cell["simulated"] == pytest.approx(-0.2375, rel=1e-4)
-    assert cell["printed"] == pytest.approx(-0.19)
-    assert cell["printed_over_formula"] == pytest.approx(0.8)
-    for r in rows:
-        assert r["simulated"] == pytest.approx(r["formula_13"], rel=0.01)
-        assert r["within_print_rounding"], r
-        assert abs(r["printed"] - r["formula_13"]) > 0.1 * abs(
-            r["formula_13"]
-        )  # the printed values are not (13)
-    lo, hi = table_ratio_interval()
-    assert lo == pytest.approx(0.79467, abs=1e-4) and hi == pytest.approx(0.80533, abs=1e-4)
-
-
-def test_table_with_omega_squared_20_matches_the_print() -> None:
-    rows = parabola_table(omega=math.sqrt(20.0))  # omega^2 = 20 reproduces the printed values
-    assert all(
-        abs(r.simulated - r.printed)
-        <= 0.5 * 10 ** -(len(r.printed_text.split(".")[1]) if "." in r.printed_text else 0) + 1e-9
-        for r in rows
-    )
+SERIES = [s.name for s in LESSON.series]
 
 
 # ---------------------------------------------------------------- presets, runs
@@ -107,12 +23,19 @@ def test_presets_resolve_and_simulate(preset: str) -> None:
     assert isinstance(params, Params)
     result = LESSON.run(preset)
     data = result.to_json_dict()
-    for name in SERIES[1:]:
-        assert name in result.series and len(result.series[name]) == len(result.t)
-        assert np.all(np.isfinite(result.series[name]))
-    assert np.all(result.series["z"] == 0.0)
+    assert list(result.series) == SERIES
+    for name in SERIES:
+        assert len(result.series[name]) == len(result.t)
+        assert np.all(np.isfinite(result.series[name])), name
+    assert result.units == {name: "mm" for name in SERIES}
     assert "delta_after_transient" in data["metrics"]
     assert math.isfinite(result.metrics["delta_after_transient"])
+
+
+def test_table_cells_through_the_lesson() -> None:
+    rows = LESSON.derivation(LESSON.resolve(preset="table-parabola"))
+    table = next(s for s in rows if s.source == "table")
+    assert table.text.count("\n| ") == 17  # header + 16 cells
 
 
 def test_table_preset_metrics() -> None:
@@ -135,7 +58,7 @@ def test_line_offset_5_6() -> None:
 def test_line_at_rest_has_no_error_and_transient_follows_4() -> None:
     r = LESSON.run("line-transient", values={"xdot0": 0})
     assert np.max(np.abs(r.series["delta"])) < 1e-9
-    assert np.max(np.abs(r.series["ex"])) > 0.3  # the lag is along the line
+    assert np.max(np.abs(r.series["error_x"])) > 0.3  # the lag is along the line
     r = LESSON.run("line-transient")
     peak = float(np.max(np.abs(r.series["delta"])))
     assert peak == pytest.approx(0.580629, abs=1e-5)  # (4) with xdot0 = 50 mm/s at 45 deg
@@ -161,13 +84,6 @@ def test_circle_nonidentical_29_30() -> None:
     assert m["semi_major_30_printed"] == pytest.approx(
         12.02954, abs=1e-4
     )  # the printed (30) misses the square
-
-
-def test_axes_printed_vs_corrected_differ_by_cos() -> None:
-    _, a, b = circle_axes_29_30(9.14566, 10.36061, math.radians(31.622))
-    _, ap, bp = circle_axes_29_30(9.14566, 10.36061, math.radians(31.622), printed=True)
-    assert (a, b) == pytest.approx((12.10648, 6.66471), abs=2e-4)
-    assert (ap, bp) == pytest.approx((13.11954, 7.22241), abs=2e-4)
 
 
 def test_ellipse_presets() -> None:
@@ -199,7 +115,7 @@ def test_correction_removes_steady_error(preset: str) -> None:
     assert abs(off["delta_steady_extreme"]) > 1e-3
     assert abs(on.metrics["delta_steady_extreme"]) < 1e-9
     assert abs(on.series["delta"][-1]) < 1e-6
-    assert abs(on.series["ex"][-1]) < 1e-6 and abs(on.series["ey"][-1]) < 1e-6
+    assert abs(on.series["error_x"][-1]) < 1e-6 and abs(on.series["error_y"][-1]) < 1e-6
 
 
 def test_parabola_correction_starts_at_22() -> None:
@@ -245,7 +161,7 @@ def test_stepper_is_exact_and_keeps_state() -> None:
     assert st.t == pytest.approx(1.0)
     assert frame.points["reproduced"][0, 0] == pytest.approx(run.series["x1"][-1], abs=1e-9)
     assert frame.points["reproduced"][0, 1] == pytest.approx(run.series["y1"][-1], abs=1e-9)
-    assert set(frame.scalars) >= {"x1 - x", "y1 - y", "delta", "delta steady", "delta article"}
+    assert list(frame.scalars) == SERIES
     before = frame.points["reproduced"].copy()
     st.set_params(
         LESSON.resolve(preset="circle-nonidentical", values={"k": 300, "correction": "on"})
@@ -292,7 +208,7 @@ def test_scene(preset: str) -> None:
 # ---------------------------------------------------------------- page and claims
 
 
-@pytest.mark.parametrize("curve", ["line", "parabola", "circle", "ellipse", "cubic", "quartic"])
+@pytest.mark.parametrize("curve", CURVES)
 def test_derivation_marks_misprints(curve: str) -> None:
     values = {"curve": curve}
     if curve in ("circle", "ellipse"):
@@ -311,6 +227,10 @@ def test_derivation_marks_misprints(curve: str) -> None:
         assert any(s.source == "(18)" and s.reconstructed for s in steps)
     if curve == "circle":
         assert any(s.source == "(30)" and "cos^2" in (s.reconstructed or "") for s in steps)
+    if curve == "parabola-horizontal":
+        assert [s.source for s in steps].count("(19)") == 2
+    text = " ".join(s.source + " " + s.text + " " + (s.reconstructed or "") for s in steps)
+    assert "digest" not in text and "I.6" not in text and "I.7" not in text
 
 
 @pytest.mark.parametrize("claim", LESSON.claims(), ids=lambda c: c.id)
@@ -319,6 +239,63 @@ def test_claims_pass(claim) -> None:
     assert result.passed, (claim.id, result.expected, result.got)
 
 
-def test_formula_13_numbers() -> None:
-    assert delta_parabola_13(5, 20, 0.01, 0.001) == pytest.approx(-0.2375)
-    assert delta_parabola_13(5, 20, 0.01, 0.00005) == pytest.approx(0.0)  # T1^2 = 2 T2^2: no error
+# ---------------------------------------------------------------- horizontal parabola (19)
+
+
+@pytest.mark.parametrize(
+    ("preset", "gamma", "vertex_y", "at_zero"),
+    [("fig4b-gamma-0.5", 0.5, 0.25, -0.234375), ("fig4b-gamma-1", 1.0, 0.0, -0.2375),
+     ("fig4b-gamma-2", 2.0, -0.5, -0.225)],
+)  # fmt: skip
+def test_fig4b_presets_follow_19(
+    preset: str, gamma: float, vertex_y: float, at_zero: float
+) -> None:
+    r = LESSON.run(preset)
+    m = r.metrics
+    assert (m["vertex_19_x"], m["vertex_19_y"]) == pytest.approx((-0.2375, vertex_y))
+    assert m["delta_article"] == pytest.approx(-0.2375)  # (19): x_c for every gamma
+    assert m["article_formula"] == "(19) vertex"
+    after = r.t > 3.0  # 15 time constants: the transient has gone
+    x1, y1 = r.series["x1"][after], r.series["y1"][after]
+    c = 5.0 * 0.01 * (gamma - 1.0)
+    assert np.max(np.abs(x1 - (y1**2 / 20.0 + c * y1 + at_zero))) < 1e-5
+    # the steady output lags by T1 omega p / 2 = 0.5 mm: it passes its vertex at y = 0.5 mm
+    i = int(np.argmin(np.abs(r.series["y"] - 0.5)))
+    if gamma == 1.0:
+        assert r.series["delta_steady"][i] == pytest.approx(-0.2375, abs=1e-9)
+
+
+def test_fig4b_error_grows_off_the_vertex_for_gamma_2() -> None:
+    r = LESSON.run("fig4b-gamma-2")
+    # the steady output lags by gamma T1 omega p / 2 = 1 mm: |y1| <= 20 mm is y in [-19, 21]
+    d, y1 = r.series["delta_steady"], r.series["y"] - 1.0
+    left = float(np.max(np.abs(d[(y1 < 0) & (y1 >= -20)])))
+    right = float(np.max(np.abs(d[(y1 > 0) & (y1 <= 20)])))
+    assert left == pytest.approx(0.5533, abs=2e-4) and right == pytest.approx(0.3445, abs=2e-4)
+
+
+def test_derivative_feed_forward_preset() -> None:
+    m = LESSON.run("parabola-derivative").metrics
+    assert m["delta_article"] == pytest.approx(-0.25)
+    assert m["delta_after_transient"] == pytest.approx(-0.25, rel=1e-3)  # sampled
+    r = LESSON.run("parabola-derivative", values={"curve": "circle", "x0": 0, "y0": 10})
+    assert np.all(np.isnan(r.series["delta_article"]))
+    assert any("derivative feed-forward" in m for m in r.messages)
+
+
+def test_notes() -> None:
+    notes = LESSON.notes(LESSON.resolve(preset="fig4b-gamma-0.5", values={"x0": 0}))
+    kinds = {n.kind for n in notes}
+    assert {"info", "corrected", "warning"} <= kinds
+    assert any(n.text.startswith("x0 is taken on the curve") for n in notes)
+    assert all(n.source.startswith("Leppik (1960)") for n in notes if n.kind != "info" or n.source)
+    table = LESSON.notes(LESSON.resolve(preset="table-parabola"))
+    assert any("-0.19" in n.text and "0.8" in n.text for n in table)
+
+
+def test_declarations() -> None:
+    assert LESSON.declaration_errors() == []
+    assert LESSON.modes == ("curve", "correction")
+    assert [g.name for g in LESSON.groups][0] == "mode"
+    assert {LESSON.param(m).group for m in LESSON.modes} == {"mode"}
+    assert all(s.unit == "mm" for s in LESSON.series)
