@@ -49,10 +49,10 @@ from lessons.core.servo_setup import SETTLE, channels, natural_t_end, setup_for
 
 #: parameters whose change restarts the live run (they fix the start of the program)
 RESTART = ("curve", "x0", "y0", "xc", "yc", "a", "b", "xdot0", "ydot0")
-START = Group("initial", "Start of the program")
-CHANNELS = Group("channels", "Servo channels")
-PATH = Group("path", "Programmed path")
-VIEW = Group("controls", "View")
+START = Group("initial", "Start of the program", change="restart")
+CHANNELS = Group("channels", "Servo channels", change="live")
+PATH = Group("path", "Programmed path", change="restart")
+VIEW = Group("controls", "View", change="live")
 MM = "mm"
 FEEDS = ("off", "on", "derivative")
 FORMS = ("k-T", "T1-T2")
