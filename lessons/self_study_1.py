@@ -8,8 +8,8 @@ source, (а) u = 1, (б) u = t, (в) u = t², (г) u = sin t (presets ``-a`` ...
 * C1.3 the line from A(0, 0) to B(4, 4):                   x' = 4u,   y' = 4u (B at Θ = 1);
        and the line y = kx + b:                            x' = u,    y' = k u;
 * C1.4 the ellipse x²/α + y²/β = 1 from (a, 0), α = a², β = b²: x' = u y/β, y' = -u x/α.
-  The printed denominators allow three readings, (i) x²/2 + y² = 1 (the default,
-  DESIGN.md decision 6), (ii) x² + y²/2 = 1, (iii) x²/12 + y² = 1; a fourth choice takes
+  The printed denominators allow three readings, (i) x²/2 + y² = 1 (the default),
+  (ii) x² + y²/2 = 1, (iii) x²/12 + y² = 1; a fourth choice takes
   a and b as given.  The solution is x = a cos(Θ/ab), y = -b sin(Θ/ab);
 
 with Θ(t) = ∫u dt = t, t²/2, t³/3, 1 - cos t.  C1.5 asks for the analyzers of the
