@@ -55,7 +55,10 @@ class CircleLesson(PlanarLesson):
     chapter = "1"
     problem = "Problem 1.2"
     source = "Textbook §1.3, Problem 1.2, eqs (1.34)-(1.41); Figs. 1.11-1.14"
-    summary = "Undetermined coefficients give the harmonic analyzer x' = u y, y' = -u x; the start point sets the radius."
+    summary = (
+        "Undetermined coefficients give the harmonic analyzer x' = u y, y' = -u x;"
+        " the start point sets the radius."
+    )
     order = 1.2
     t_end = 10.0
     groups = (
@@ -333,13 +336,15 @@ class CircleLesson(PlanarLesson):
             ),
             Claim(
                 "digital-simple",
-                "Digital analyzer, simple additions, Δ = 0.01, R = 5: the radius grows by πΔR ≈ 0.157 per turn (exactly R(e^(πΔ) − 1) = 0.1596)",
+                "Digital analyzer, simple additions, Δ = 0.01, R = 5: the radius grows by"
+                " πΔR ≈ 0.157 per turn (exactly R(e^(πΔ) − 1) = 0.1596)",
                 "(1.25); derived, not in source",
                 self._claim_dda_simple,
             ),
             Claim(
                 "digital-improved",
-                "Digital analyzer, improved additions, Δ = 0.01, R = 5: the distance from the circle stays within ΔR/4 = 0.0125 (no growth over 10 turns)",
+                "Digital analyzer, improved additions, Δ = 0.01, R = 5: the distance from the"
+                " circle stays within ΔR/4 = 0.0125 (no growth over 10 turns)",
                 "(1.25); derived, not in source",
                 self._claim_dda_improved,
             ),

@@ -116,7 +116,8 @@ class ParabolaLesson(PlanarLesson):
             "Figs. 1.8-1.10: the family λ = 0.05, 0.1, 0.5",
             {**BOOK, "lambda": 0.05, "lambda_2": 0.1, "lambda_3": 0.5, "family": 3},
             10.0,
-            "ω = -1, a12 = 0.5, a13 = -7, a23 = -5, start (4, 10); series x, y (λ = 0.05), x_2, y_2 (0.1), x_3, y_3 (0.5)",
+            "ω = -1, a12 = 0.5, a13 = -7, a23 = -5, start (4, 10);"
+            " series x, y (λ = 0.05), x_2, y_2 (0.1), x_3, y_3 (0.5)",
         ),
         Preset("lambda-0.05", "λ = 0.05", {**BOOK, "lambda": 0.05}, 10.0, "a11 = 0.025, a22 = 10"),
         Preset("lambda-0.1", "λ = 0.1", {**BOOK, "lambda": 0.1}, 10.0, "a11 = 0.05, a22 = 5"),
@@ -260,7 +261,8 @@ class ParabolaLesson(PlanarLesson):
             ),
             Claim(
                 "closed-form",
-                "x(t), y(t) are X0 + t v0 + t²/2 A v0 with v0 = (97, 1.9), (47, 1.8), (7, 1); X(10) = (4349, -139.75), (2099, -134.5), (299, -92.5)",
+                "x(t), y(t) are X0 + t v0 + t²/2 A v0 with v0 = (97, 1.9), (47, 1.8), (7, 1);"
+                " X(10) = (4349, -139.75), (2099, -134.5), (299, -92.5)",
                 "Problem 1.1, Figs. 1.9-1.10",
                 self._claim_closed_form,
             ),

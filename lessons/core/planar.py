@@ -252,10 +252,6 @@ class DigitalAnalyzer:
         self.k = 0
 
     @property
-    def t(self) -> float:
-        return self.k * self.delta
-
-    @property
     def position(self) -> np.ndarray:
         """The quantized coordinates (the staircase) ``(N, 2)``."""
         return self.cont.copy() if self.pulse <= 0 else self.r0 + self.n * self.pulse
@@ -345,12 +341,6 @@ class PlanarState:
     digital: np.ndarray | None = None
     counts: np.ndarray | None = None
     reference: np.ndarray | None = None
-
-    def first(self) -> PlanarState:
-        """The state at the last time only (leading axis of length 1)."""
-        pick = [None if a is None else a[-1:] for a in (self.r, self.digital, self.counts)]
-        ref = None if self.reference is None else self.reference[-1:]
-        return PlanarState(self.model, pick[0], pick[1], pick[2], ref)
 
 
 @dataclass
