@@ -120,16 +120,7 @@ class PlanarModel:
         return PlanarModel(c, self.gain)
 
     def F(self, R: np.ndarray) -> np.ndarray:
-        c = self.coeffs
-        x, y = R[..., 0], R[..., 1]
-        return (
-            c["a11"] * x**2
-            + 2 * c["a12"] * x * y
-            + c["a22"] * y**2
-            + 2 * c["a13"] * x
-            + 2 * c["a23"] * y
-            + c["a33"]
-        )
+        return conic_expr(self.coeffs, R[..., 0], R[..., 1])
 
     def half_gradient(self, R: np.ndarray) -> np.ndarray:
         """(F_x/2, F_y/2) at ``R (..., N, 2)``."""
