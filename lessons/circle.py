@@ -17,17 +17,20 @@ import numpy as np
 import sympy as sp
 
 from lessons.core.contract import (
+    INITIAL,
     Claim,
     ClaimResult,
     DerivationStep,
+    Group,
+    Note,
     Param,
     ParamError,
     Params,
     Preset,
     at_most,
 )
-from lessons.core.planar import PlanarModel, radius_growth_per_turn
-from lessons.core.planar_lesson import PlanarLesson, PlanarPrepared
+from lessons.core.planar import PlanarModel, PlanarState, PlanarTrack, radius_growth_per_turn
+from lessons.core.planar_lesson import DIGITAL, MODE, PlanarLesson, PlanarPrepared
 
 RADIUS_MODES = (
     "start point",
@@ -52,9 +55,21 @@ class CircleLesson(PlanarLesson):
     chapter = "1"
     problem = "Problem 1.2"
     source = "Textbook §1.3, Problem 1.2, eqs (1.34)-(1.41); Figs. 1.11-1.14"
-    summary = "Undetermined coefficients give the harmonic analyzer x' = u y, y' = -u x; the start point sets the radius."
+    summary = (
+        "Undetermined coefficients give the harmonic analyzer x' = u y, y' = -u x;"
+        " the start point sets the radius."
+    )
     order = 1.2
     t_end = 10.0
+    groups = (
+        MODE,
+        Group("controls", "Control u(t) (1.40)"),
+        INITIAL,
+        Group("family", "Family (Fig. 1.12)"),
+        DIGITAL,
+    )
+    modes = ("radius_mode", "digital")
+    family = "family"
     own_params = (
         Param(
             "u",
@@ -73,7 +88,7 @@ class CircleLesson(PlanarLesson):
             RADIUS_MODES[0],
             "radius set by",
             choices=RADIUS_MODES,
-            group="initial",
+            group="mode",
             help="the start point (Fig. 1.13) or an explicit R with y0 = ±sqrt(R² - x0²) (Fig. 1.14)",
         ),
         Param(
@@ -89,7 +104,7 @@ class CircleLesson(PlanarLesson):
             min=1,
             max=12,
             step=1,
-            group="initial",
+            group="family",
             help="start points x0 + k·step (or radii R + k·step with an explicit R): Fig. 1.12",
         ),
         Param(
@@ -100,7 +115,7 @@ class CircleLesson(PlanarLesson):
             min=-1e3,
             max=1e3,
             step=0.5,
-            group="initial",
+            group="family",
         ),
     )
     presets = (
@@ -189,14 +204,21 @@ class CircleLesson(PlanarLesson):
             [np.full(len(k), x0), sign * np.sqrt(np.maximum(R**2 - x0**2, 0.0))], axis=1
         )
 
-    def planar_model(self, params: Params) -> tuple[PlanarModel, np.ndarray, list[str]]:
+    def planar_model(self, params: Params) -> tuple[PlanarModel, np.ndarray]:
         r0 = self.start_points(params)
-        notes = []
+        return PlanarModel.of([{"a11": 1.0, "a22": 1.0} for _ in r0], params["u"]), r0
+
+    def notes(self, params: Params) -> list[Note]:
+        r0 = self.start_points(params)
         if np.any(np.hypot(r0[:, 0], r0[:, 1]) == 0):
-            notes.append(
-                "a start point is the centre (0, 0): the circle has radius 0 and the point does not move"
-            )
-        return PlanarModel.of([{"a11": 1.0, "a22": 1.0} for _ in r0], params["u"]), r0, notes
+            return [
+                Note(
+                    "info",
+                    "a start point is the centre (0, 0): the circle has radius 0"
+                    " and the point does not move",
+                )
+            ]
+        return []
 
     def extra_derivation(self, params: Params, prepared: PlanarPrepared) -> list[DerivationStep]:
         x, y, R, u = sp.symbols("x y R u", real=True)
@@ -272,10 +294,11 @@ class CircleLesson(PlanarLesson):
         return steps
 
     def extra_metrics(
-        self, params: Params, prep: PlanarPrepared, t: np.ndarray, r: np.ndarray, v: np.ndarray
+        self, params: Params, track: PlanarTrack, t: np.ndarray, state: PlanarState
     ) -> dict[str, object]:
+        r = state.r
         rad = np.linalg.norm(r, axis=-1)
-        R0 = np.linalg.norm(prep.r0, axis=-1)
+        R0 = np.linalg.norm(track.r0, axis=-1)
         return {
             "radius": float(R0[0]),
             "radius_error_max": float(np.max(np.abs(rad - R0[None, :]))),
@@ -313,13 +336,15 @@ class CircleLesson(PlanarLesson):
             ),
             Claim(
                 "digital-simple",
-                "Digital analyzer, simple additions, Δ = 0.01, R = 5: the radius grows by πΔR ≈ 0.157 per turn (exactly R(e^{πΔ}-1) = 0.1596 to first order)",
+                "Digital analyzer, simple additions, Δ = 0.01, R = 5: the radius grows by"
+                " πΔR ≈ 0.157 per turn (exactly R(e^(πΔ) − 1) = 0.1596)",
                 "(1.25); derived, not in source",
                 self._claim_dda_simple,
             ),
             Claim(
                 "digital-improved",
-                "Digital analyzer, improved additions, Δ = 0.01, R = 5: the distance from the circle stays within ΔR/4 = 0.0125 (no growth over 10 turns)",
+                "Digital analyzer, improved additions, Δ = 0.01, R = 5: the distance from the"
+                " circle stays within ΔR/4 = 0.0125 (no growth over 10 turns)",
                 "(1.25); derived, not in source",
                 self._claim_dda_improved,
             ),

@@ -19,21 +19,25 @@ import numpy as np
 import sympy as sp
 
 from lessons.core.contract import (
+    INITIAL,
     Claim,
     ClaimResult,
     DerivationStep,
+    Group,
+    Note,
     Param,
     ParamError,
     Params,
     Preset,
     at_most,
 )
-from lessons.core.planar import PlanarModel, conic_expr
-from lessons.core.planar_lesson import PlanarLesson, PlanarPrepared
+from lessons.core.planar import PlanarModel, PlanarState, PlanarTrack, conic_expr
+from lessons.core.planar_lesson import DIGITAL, MODE, PlanarLesson, PlanarPrepared
 
 BOOK_LAMBDAS = (0.05, 0.1, 0.5)
 BOOK = {"omega": -1.0, "a12": 0.5, "a13": -7.0, "a23": -5.0, "x0": 4.0, "y0": 10.0}
-#: Digest §4.1 table: a33 of the parabola through (4, 10), v0 and A v0 of X(t) = X0 + t v0 + t²/2 A v0.
+#: a33 of the parabola through (4, 10), v0 and A v0 of X(t) = X0 + t v0 + t²/2 A v0 for the
+#: example's λ (computed from (1.33) with the example's numbers).
 TABLE = {
     0.05: {"a33": -884.4, "v0": (97.0, 1.9), "Av0": (67.5, -3.375), "X10": (4349.0, -139.75)},
     0.1: {"a33": -384.8, "v0": (47.0, 1.8), "Av0": (32.5, -3.25), "X10": (2099.0, -134.5)},
@@ -55,6 +59,16 @@ class ParabolaLesson(PlanarLesson):
     summary = "A two-integrator analyzer draws the parabola through the start point; x(t), y(t) come out quadratic."
     order = 1.1
     t_end = 10.0
+    groups = (
+        MODE,
+        Group("curve", "Parabola (1.33)"),
+        Group("controls", "Control ω (1.31)"),
+        INITIAL,
+        Group("family", "Family (Figs. 1.8-1.10)"),
+        DIGITAL,
+    )
+    modes = ("digital",)
+    family = "family"
     own_params = (
         Param(
             "lambda",
@@ -64,7 +78,7 @@ class ParabolaLesson(PlanarLesson):
             min=-100.0,
             max=100.0,
             step=0.01,
-            group="surface",
+            group="curve",
         ),
         Param(
             "omega",
@@ -77,27 +91,33 @@ class ParabolaLesson(PlanarLesson):
             group="controls",
             help="enters (1.32)-(1.33) as ω²",
         ),
-        Param("a12", "float", 0.5, "a12", min=-100.0, max=100.0, step=0.1, group="surface"),
-        Param("a13", "float", -7.0, "a13", min=-1e3, max=1e3, step=0.5, group="surface"),
-        Param("a23", "float", -5.0, "a23", min=-1e3, max=1e3, step=0.5, group="surface"),
+        Param("a12", "float", 0.5, "a12", min=-100.0, max=100.0, step=0.1, group="curve"),
+        Param("a13", "float", -7.0, "a13", min=-1e3, max=1e3, step=0.5, group="curve"),
+        Param("a23", "float", -5.0, "a23", min=-1e3, max=1e3, step=0.5, group="curve"),
         Param("x0", "float", 4.0, "x0", min=-1e4, max=1e4, step=0.5, group="initial"),
         Param("y0", "float", 10.0, "y0", min=-1e4, max=1e4, step=0.5, group="initial"),
         Param(
             "family",
-            "bool",
-            False,
-            "also run the textbook's λ = 0.05, 0.1, 0.5",
-            group="surface",
-            help="the family of Figs. 1.8-1.10 beside the chosen λ",
+            "int",
+            1,
+            "parabolas in the family",
+            min=1,
+            max=3,
+            step=1,
+            group="family",
+            help="1: λ alone; 2: also λ2; 3: also λ3 (Figs. 1.8-1.10: 0.05, 0.1, 0.5)",
         ),
+        Param("lambda_2", "float", 0.1, "λ2", min=-100.0, max=100.0, step=0.01, group="family"),
+        Param("lambda_3", "float", 0.5, "λ3", min=-100.0, max=100.0, step=0.01, group="family"),
     )
     presets = (
         Preset(
             "figs-1.8-1.10",
             "Figs. 1.8-1.10: the family λ = 0.05, 0.1, 0.5",
-            {**BOOK, "lambda": 0.05, "family": True},
+            {**BOOK, "lambda": 0.05, "lambda_2": 0.1, "lambda_3": 0.5, "family": 3},
             10.0,
-            "ω = -1, a12 = 0.5, a13 = -7, a23 = -5, start (4, 10); series x, y (λ = 0.05), x_2, y_2 (0.1), x_3, y_3 (0.5)",
+            "ω = -1, a12 = 0.5, a13 = -7, a23 = -5, start (4, 10);"
+            " series x, y (λ = 0.05), x_2, y_2 (0.1), x_3, y_3 (0.5)",
         ),
         Preset("lambda-0.05", "λ = 0.05", {**BOOK, "lambda": 0.05}, 10.0, "a11 = 0.025, a22 = 10"),
         Preset("lambda-0.1", "λ = 0.1", {**BOOK, "lambda": 0.1}, 10.0, "a11 = 0.05, a22 = 5"),
@@ -119,30 +139,31 @@ class ParabolaLesson(PlanarLesson):
     )
 
     def validate(self, params: Params) -> None:
-        if params["lambda"] == 0:
-            raise ParamError("lambda", "λ must not be 0 (a22 = a12/λ)")
+        for name, lam in zip(("lambda", "lambda_2", "lambda_3"), self.lambdas(params)):
+            if lam == 0:
+                raise ParamError(name, "λ must not be 0 (a22 = a12/λ)")
         if params["a12"] == 0:
             raise ParamError(
                 "a12", "a12 must not be 0 (the parabola degenerates into parallel lines)"
             )
 
     def lambdas(self, params: Params) -> list[float]:
-        lam = float(params["lambda"])
-        return [lam, *(l for l in BOOK_LAMBDAS if params["family"] and abs(l - lam) > 1e-12)]
+        """λ of the family's members (the first is ``lambda``)."""
+        lams = [float(params[n]) for n in ("lambda", "lambda_2", "lambda_3")]
+        return lams[: int(params["family"])]
 
-    def planar_model(self, params: Params) -> tuple[PlanarModel, np.ndarray, list[str]]:
+    def planar_model(self, params: Params) -> tuple[PlanarModel, np.ndarray]:
         lams = self.lambdas(params)
         coeffs = [parabola_coeffs(l, params["a12"], params["a13"], params["a23"]) for l in lams]
         r0 = np.repeat(np.array([[params["x0"], params["y0"]]], dtype=float), len(lams), axis=0)
-        notes = (
-            [
-                f"family: series without suffix λ = {lams[0]:g}"
-                + "".join(f", _{k + 1} λ = {l:g}" for k, l in enumerate(lams[1:], 1))
-            ]
-            if len(lams) > 1
-            else []
-        )
-        return PlanarModel.of(coeffs, float(params["omega"]) ** 2), r0, notes
+        return PlanarModel.of(coeffs, float(params["omega"]) ** 2), r0
+
+    def notes(self, params: Params) -> list[Note]:
+        lams = self.lambdas(params)
+        if len(lams) == 1:
+            return []
+        members = "".join(f", _{k + 1} λ = {l:g}" for k, l in enumerate(lams[1:], 1))
+        return [Note("info", f"family: series without suffix λ = {lams[0]:g}{members}")]
 
     block_figure = "Fig. 1.6"
 
@@ -205,14 +226,15 @@ class ParabolaLesson(PlanarLesson):
         ]
 
     def extra_metrics(
-        self, params: Params, prep: PlanarPrepared, t: np.ndarray, r: np.ndarray, v: np.ndarray
+        self, params: Params, track: PlanarTrack, t: np.ndarray, state: PlanarState
     ) -> dict[str, object]:
+        c = track.model.coeffs
         return {
-            "a11": float(prep.model.coeffs["a11"][0]),
-            "a22": float(prep.model.coeffs["a22"][0]),
-            "a33": float(prep.model.coeffs["a33"][0]),
-            "x_end": float(r[-1, 0, 0]),
-            "y_end": float(r[-1, 0, 1]),
+            "a11": float(c["a11"][0]),
+            "a22": float(c["a22"][0]),
+            "a33": float(c["a33"][0]),
+            "x_end": float(state.r[-1, 0, 0]),
+            "y_end": float(state.r[-1, 0, 1]),
         }
 
     # -- claims -------------------------------------------------------------------
@@ -234,13 +256,14 @@ class ParabolaLesson(PlanarLesson):
             Claim(
                 "a33",
                 "The parabolas through (4, 10) have a33 = -884.4, -384.8, 12 for λ = 0.05, 0.1, 0.5",
-                "digest §4.1",
+                "Problem 1.1, Figs. 1.8-1.10",
                 self._claim_a33,
             ),
             Claim(
                 "closed-form",
-                "x(t), y(t) are X0 + t v0 + t²/2 A v0 with v0 = (97, 1.9), (47, 1.8), (7, 1); X(10) = (4349, -139.75), (2099, -134.5), (299, -92.5)",
-                "digest §4.1 (Figs. 1.9-1.10)",
+                "x(t), y(t) are X0 + t v0 + t²/2 A v0 with v0 = (97, 1.9), (47, 1.8), (7, 1);"
+                " X(10) = (4349, -139.75), (2099, -134.5), (299, -92.5)",
+                "Problem 1.1, Figs. 1.9-1.10",
                 self._claim_closed_form,
             ),
             Claim(
@@ -252,7 +275,7 @@ class ParabolaLesson(PlanarLesson):
             Claim(
                 "omega-sign",
                 "ω = -1 and ω = +1 give identical runs (ω enters as ω²)",
-                "(1.32), AMBIGUITY 12",
+                "(1.32)-(1.33), Fig. 1.6",
                 self._claim_omega,
             ),
         ]

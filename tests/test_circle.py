@@ -62,3 +62,11 @@ def test_claims_pass():
     for c in LESSON.claims():
         r = c.check()
         assert r.passed, (c.id, r)
+
+
+def test_declarations():
+    assert LESSON.modes == ("radius_mode", "digital") and LESSON.family == "family"
+    assert LESSON.declaration_errors() == []
+    notes = LESSON.notes(LESSON.resolve({"x0": 0, "y0": 0}))
+    assert notes and "centre" in notes[0].text
+    assert LESSON.run(None, {"x0": 0, "y0": 0}, t_end=1.0).messages == [notes[0].text]

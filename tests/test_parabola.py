@@ -75,3 +75,14 @@ def test_stepper_scene_claims():
     assert sc.planar and np.all(np.isfinite(np.array(sc.bounds)))
     for c in LESSON.claims():
         assert c.check().passed, c.id
+
+
+def test_family_members_are_lambda_2_and_3():
+    params = LESSON.resolve({"family": 2, "lambda": 0.3, "lambda_2": 0.7})
+    assert LESSON.lambdas(params) == [0.3, 0.7]
+    names = [s.name for s in LESSON.series_for(params)]
+    assert "x_2" in names and "x_3" not in names and "x_dda" not in names
+    with pytest.raises(ParamError, match="lambda_2"):
+        LESSON.resolve({"family": 2, "lambda_2": 0})
+    assert LESSON.family == "family" and LESSON.modes == ("digital",)
+    assert LESSON.declaration_errors() == []

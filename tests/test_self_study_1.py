@@ -5,7 +5,7 @@ import json
 import numpy as np
 import pytest
 
-from lessons.self_study_1 import LESSON, SURFACE_TASKS, TASKS
+from lessons.self_study_1 import LESSON, READING_NAMES, SURFACE_TASKS, TASKS, semi_axes
 
 
 @pytest.mark.parametrize("preset", [p.name for p in LESSON.presets])
@@ -62,3 +62,46 @@ def test_claims_pass():
     for c in LESSON.claims():
         r = c.check()
         assert r.passed, (c.id, r)
+
+
+@pytest.mark.parametrize(
+    ("preset", "axes", "period"),
+    [
+        ("C1.4-ii", (1.0, np.sqrt(2.0)), 2 * np.pi * np.sqrt(2.0)),
+        ("C1.4-iii", (np.sqrt(12.0), 1.0), 2 * np.pi * np.sqrt(12.0)),
+        ("C1.4-ab", (2.0, 1.0), 4 * np.pi),
+    ],
+)
+def test_ellipse_readings(preset, axes, period):
+    a, b = axes
+    res = LESSON.run(preset)
+    x, y = res.series["x"], res.series["y"]
+    assert np.max(np.abs(x**2 / a**2 + y**2 / b**2 - 1)) < 1e-12
+    assert res.t[-1] == pytest.approx(period)
+    assert (x[-1], y[-1]) == pytest.approx((a, 0.0), abs=1e-9)
+    assert x[0] == pytest.approx(a)
+
+
+def test_ellipse_a_b_used_only_by_the_general_reading():
+    general = LESSON.resolve({"task": "C1.4-ellipse", "reading": READING_NAMES[3]})
+    general.update({"ellipse_a": 3.0, "ellipse_b": 0.5})
+    assert semi_axes(general) == (3.0, 0.5)
+    fixed = LESSON.resolve({"task": "C1.4-ellipse", "ellipse_a": 3.0})
+    assert semi_axes(fixed) == pytest.approx((np.sqrt(2.0), 1.0))
+
+
+def test_each_task_has_its_group_and_the_task_is_a_mode():
+    groups = {p.name: p.group for p in LESSON.params}
+    assert LESSON.modes == ("task", "digital") and groups["task"] == "mode"
+    assert groups["R"] == "c1_1" and groups["k"] == "c1_3" and groups["reading"] == "c1_4"
+    assert {groups[n] for n in ("a", "b", "c", "p", "u1", "u2", "u3")} == {"c1_5"}
+    assert LESSON.declaration_errors() == []
+
+
+def test_series_per_task_and_mode():
+    names = lambda **v: [s.name for s in LESSON.series_for(LESSON.resolve(v))]  # noqa: E731
+    assert "x_dda" not in names(task="C1.2-parabola")
+    assert "dda_error" in names(task="C1.2-parabola", digital="simple")
+    assert names(task="C1.5b-cone", digital="simple") == [
+        "x", "y", "z", "vx", "vy", "vz", "speed", "drift"
+    ]  # fmt: skip

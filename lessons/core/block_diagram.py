@@ -385,9 +385,11 @@ def render_svg(d: BlockDiagram) -> str:
     width = 660.0
     height = max((b.y + SIZE[b.kind][1] for b in d.blocks), default=60.0) + 30.0
     out: list[str] = [
-        f'<svg xmlns="http://www.w3.org/2000/svg" width="{width:.0f}" height="{height:.0f}" viewBox="0 0 {width:.0f} {height:.0f}" '
+        f'<svg xmlns="http://www.w3.org/2000/svg" width="{width:.0f}" height="{height:.0f}" '
+        f'viewBox="0 0 {width:.0f} {height:.0f}" '
         f'font-family="sans-serif" font-size="12" role="img" aria-label="{_e(d.title or "analyzer block diagram")}">',
-        '<defs><marker id="arrow" viewBox="0 0 10 10" refX="9" refY="5" markerWidth="7" markerHeight="7" orient="auto-start-reverse">'
+        '<defs><marker id="arrow" viewBox="0 0 10 10" refX="9" refY="5" '
+        'markerWidth="7" markerHeight="7" orient="auto-start-reverse">'
         '<path d="M 0 0 L 10 5 L 0 10 z" fill="#333"/></marker></defs>',
     ]
     if d.title:
@@ -408,7 +410,8 @@ def render_svg(d: BlockDiagram) -> str:
             )
         elif bl.kind in ("source", "constant"):
             out.append(
-                f'<rect x="{bl.x:.1f}" y="{bl.y:.1f}" width="{w:.0f}" height="{h:.0f}" rx="8" fill="#f7f7f7" stroke="#777"/>'
+                f'<rect x="{bl.x:.1f}" y="{bl.y:.1f}" width="{w:.0f}" height="{h:.0f}" '
+                'rx="8" fill="#f7f7f7" stroke="#777"/>'
             )
         else:
             out.append(
@@ -420,7 +423,8 @@ def render_svg(d: BlockDiagram) -> str:
         if bl.kind == "integrator":
             sx, sy = _port(bl, "out")
             out.append(
-                f'<line x1="{sx:.1f}" y1="{sy:.1f}" x2="{sx + 40:.1f}" y2="{sy:.1f}" stroke="#333" marker-end="url(#arrow)"/>'
+                f'<line x1="{sx:.1f}" y1="{sy:.1f}" x2="{sx + 40:.1f}" y2="{sy:.1f}" '
+                'stroke="#333" marker-end="url(#arrow)"/>'
             )
             out.append(f'<text x="{sx + 44:.1f}" y="{sy + 4:.1f}">{_e(bl.id[4:])}</text>')
     n_in: dict[str, int] = {}
@@ -436,19 +440,23 @@ def render_svg(d: BlockDiagram) -> str:
         if src.kind == "integrator" or src.row < 0 or x2 <= x1:
             # a net stub: the signal's name at the input
             out.append(
-                f'<line x1="{x2 - 26:.1f}" y1="{y2:.1f}" x2="{x2:.1f}" y2="{y2:.1f}" stroke="#333" marker-end="url(#arrow)"/>'
+                f'<line x1="{x2 - 26:.1f}" y1="{y2:.1f}" x2="{x2:.1f}" y2="{y2:.1f}" '
+                'stroke="#333" marker-end="url(#arrow)"/>'
             )
             out.append(
-                f'<text x="{x2 - 28:.1f}" y="{y2 - 3:.1f}" text-anchor="end" font-size="11">{_e(w.label if len(w.label) <= 12 else w.label[:11] + "…")}</text>'
+                f'<text x="{x2 - 28:.1f}" y="{y2 - 3:.1f}" text-anchor="end" font-size="11">'
+                f"{_e(w.label if len(w.label) <= 12 else w.label[:11] + '…')}</text>"
             )
         else:
             xm = (x1 + x2) / 2
             out.append(
-                f'<polyline points="{x1:.1f},{y1:.1f} {xm:.1f},{y1:.1f} {xm:.1f},{y2:.1f} {x2:.1f},{y2:.1f}" fill="none" stroke="#333" marker-end="url(#arrow)"/>'
+                f'<polyline points="{x1:.1f},{y1:.1f} {xm:.1f},{y1:.1f} {xm:.1f},{y2:.1f} {x2:.1f},{y2:.1f}" '
+                'fill="none" stroke="#333" marker-end="url(#arrow)"/>'
             )
         if dst.kind == "summer":
             out.append(
-                f'<text x="{x2 + 4:.1f}" y="{y2 + 4:.1f}" font-size="10" font-weight="bold">{"+" if w.sign > 0 else "−"}</text>'
+                f'<text x="{x2 + 4:.1f}" y="{y2 + 4:.1f}" font-size="10" font-weight="bold">'
+                f"{'+' if w.sign > 0 else '−'}</text>"
             )
     out.append("</svg>")
     return "".join(out)

@@ -1,4 +1,4 @@
-"""The plane conic analyzer (1.29)-(1.33), (1.40) and its digital form (1.24)-(1.25).
+"""The plane conic analyzer (1.29)-(1.33), (1.40), solved exactly, and its digital form (1.24)-(1.25).
 
 Conic (1.21) in the textbook's 2-D indexing (a13, a23 linear, a33 constant):
 
@@ -9,9 +9,18 @@ The analyzer moves the point along the level curve of F through its start point:
     dx/dt =  k(t) (a12 x + a22 y + a23) =  k F_y/2
     dy/dt = -k(t) (a11 x + a12 y + a13) = -k F_x/2                                 (1.30)-(1.32)
 
-with k = ω² for the parabola lesson (1.32)-(1.33) (dφ = ω dt, (1.31)) and k = u(t) for
-the circle (1.40).  The field is affine, so Gauss-Legendre steps (:func:`gl_linear`,
-d = 2) keep F to round-off.
+with k = ω² for the parabola (1.32)-(1.33) (dφ = ω dt, (1.31)) and k = u(t) for the
+circle (1.40).  The gain is one scalar, so the point depends on it only through the
+argument Θ(t) = ∫0^t k: with r' = A r + c in Θ and A traceless (A² = -D I,
+D = a11 a22 - a12²) the solution is closed-form,
+
+    r(Θ) = r0 + Θ f1(DΘ²) w0 + Θ² f2(DΘ²) A w0,   w0 = A r0 + c,
+
+f1 = sin√q/√q, f2 = (1 - cos√q)/q (sinh, cosh for q < 0; 1, 1/2 at q = 0): an ellipse,
+a hyperbola or (D = 0, the parabola's nilpotent matrix) a quadratic in Θ.  Θ(t) is
+exact for a constant gain and an 8-point Gauss-Legendre sum over 0.01 s panels
+otherwise.  :class:`PlanarTrack` holds this solution for one parameter set, so the
+headless run and the live view read the same numbers at any time.
 
 The *digital* analyzer replaces each integrator by successive additions (1.25):
 y = y0 + ΣΔy, Δz = c·y·Δx.  The argument advances by a quantum Δ per iteration; each
@@ -35,8 +44,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import sympy as sp
 
-from lessons.core.formula import Formula, t_symbol
-from lessons.core.integrators import gl_linear
+from lessons.core.formula import Formula
 
 CONIC_NAMES: tuple[str, ...] = ("a11", "a12", "a22", "a13", "a23", "a33")
 X, Y = sp.symbols("x y", real=True)
@@ -68,6 +76,21 @@ def gain_expr(gain: Formula | float) -> sp.Expr:
     return gain.expr if isinstance(gain, Formula) else sp.nsimplify(float(gain), rational=True)
 
 
+def _f1_f2(q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """f1 = sin√q/√q and f2 = (1 - cos√q)/q (hyperbolic for q < 0), by series near 0."""
+    q = np.asarray(q, dtype=float)
+    small = np.abs(q) < 1e-2
+    f1 = 1 - q / 6 * (1 - q / 20 * (1 - q / 42 * (1 - q / 72 * (1 - q / 110))))
+    f2 = 0.5 - q / 24 * (1 - q / 30 * (1 - q / 56 * (1 - q / 90 * (1 - q / 132))))
+    with np.errstate(all="ignore"):
+        s = np.sqrt(np.abs(q))
+        pos = q > 0
+        f1 = np.where(small, f1, np.where(pos, np.sin(s), np.sinh(s)) / np.where(small, 1.0, s))
+        big_f2 = np.where(pos, 1 - np.cos(s), np.cosh(s) - 1) / np.abs(np.where(small, 1.0, q))
+        f2 = np.where(small, f2, big_f2)
+    return f1, f2
+
+
 @dataclass
 class PlanarModel:
     """The conic analyzer for ``N`` family members (coefficients of shape ``(N,)``)."""
@@ -97,16 +120,7 @@ class PlanarModel:
         return PlanarModel(c, self.gain)
 
     def F(self, R: np.ndarray) -> np.ndarray:
-        c = self.coeffs
-        x, y = R[..., 0], R[..., 1]
-        return (
-            c["a11"] * x**2
-            + 2 * c["a12"] * x * y
-            + c["a22"] * y**2
-            + 2 * c["a13"] * x
-            + 2 * c["a23"] * y
-            + c["a33"]
-        )
+        return conic_expr(self.coeffs, R[..., 0], R[..., 1])
 
     def half_gradient(self, R: np.ndarray) -> np.ndarray:
         """(F_x/2, F_y/2) at ``R (..., N, 2)``."""
@@ -117,26 +131,13 @@ class PlanarModel:
             axis=-1,
         )
 
-    def scale(self, R: np.ndarray) -> float:
-        """A natural size of F near ``R`` (for relative drift)."""
+    def scale(self, R: np.ndarray) -> np.ndarray:
+        """A natural size of F near the states ``R (m, N, 2)``, one per time (for relative drift)."""
         c = self.coeffs
-        q = max(float(np.max(np.abs(c[n]))) for n in ("a11", "a12", "a22")) if self.size else 0.0
-        l = max(float(np.max(np.abs(c[n]))) for n in ("a13", "a23")) if self.size else 0.0
-        r = float(np.max(np.abs(R))) if np.size(R) else 1.0
-        return max(q * r * r + 2 * l * r + float(np.max(np.abs(c["a33"]))), 1e-300)
-
-    def linear_coeffs(self, t: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """``A (m, N, 2, 2)``, ``c (m, N, 2)`` of the affine field at times ``t (m,)``."""
-        k = _gain_values(self.gain, t)[:, None]  # (m, 1)
-        c = self.coeffs
-        m, N = len(t), self.size
-        A = np.empty((m, N, 2, 2))
-        A[:, :, 0, 0] = k * c["a12"]
-        A[:, :, 0, 1] = k * c["a22"]
-        A[:, :, 1, 0] = -k * c["a11"]
-        A[:, :, 1, 1] = -k * c["a12"]
-        cv = np.stack([k * c["a23"] * np.ones(N), -k * c["a13"] * np.ones(N)], axis=-1)
-        return A, cv
+        q = max(float(np.max(np.abs(c[n]))) for n in ("a11", "a12", "a22"))
+        lin = max(float(np.max(np.abs(c[n]))) for n in ("a13", "a23"))
+        r = np.max(np.abs(R), axis=(-2, -1))
+        return np.maximum(q * r * r + 2 * lin * r + float(np.max(np.abs(c["a33"]))), 1e-300)
 
     def velocity(self, t: float | np.ndarray, R: np.ndarray) -> np.ndarray:
         """The field at time(s) ``t`` and states ``R (..., N, 2)``."""
@@ -144,6 +145,20 @@ class PlanarModel:
         k = _gain_values(self.gain, np.asarray(t, dtype=float))
         k = np.reshape(k, np.shape(k) + (1,) * (g.ndim - np.ndim(k)))
         return np.stack([k[..., 0] * g[..., 1], -k[..., 0] * g[..., 0]], axis=-1)
+
+    def flow(self, r0: np.ndarray, theta: np.ndarray) -> np.ndarray:
+        """The exact solution from ``r0 (N, 2)`` after the arguments ``theta (m,)``: ``(m, N, 2)``."""
+        c = self.coeffs
+        th = np.asarray(theta, dtype=float)[:, None, None]
+        g = self.half_gradient(r0)
+        w0 = np.stack([g[:, 1], -g[:, 0]], axis=-1)  # A r0 + c
+        Aw0 = np.stack(
+            [c["a12"] * w0[:, 0] + c["a22"] * w0[:, 1], -c["a11"] * w0[:, 0] - c["a12"] * w0[:, 1]],
+            axis=-1,
+        )
+        D = c["a11"] * c["a22"] - c["a12"] ** 2
+        f1, f2 = _f1_f2(D[None, :, None] * th**2)
+        return r0[None] + th * f1 * w0[None] + th**2 * f2 * Aw0[None]
 
     def equations(
         self, gain: sp.Expr | None = None, names: tuple[str, str] = ("x", "y")
@@ -156,25 +171,42 @@ class PlanarModel:
             k * (a["a12"] * s1 + a["a22"] * s2 + a["a23"]),
             -k * (a["a11"] * s1 + a["a12"] * s2 + a["a13"]),
         )
-        return [
-            sp.Eq(sp.Derivative(sp.Function(n)(t_symbol), t_symbol), sp.expand(r))
-            for n, r in zip(names, rows)
-        ]
+        return [sp.Eq(sp.Symbol(f"d{n}/dt"), sp.expand(r)) for n, r in zip(names, rows)]
 
-    def integrate(
-        self, r0: np.ndarray, t_end: float, h: float = 1e-3, t0: float = 0.0, stages: int = 3
-    ) -> tuple[np.ndarray, np.ndarray]:
-        """``t (m,)`` and states ``(m, N, 2)`` from ``r0 (N, 2)``; ``t_end < t0`` runs backwards."""
-        r0 = np.atleast_2d(np.asarray(r0, dtype=float))
-        if t_end >= t0:
-            return gl_linear(self.linear_coeffs, r0, t0, t_end, h, stages)
 
-        def back(s: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-            A, c = self.linear_coeffs(2 * t0 - s)
-            return -A, -c
+class ArgumentIntegral:
+    """Θ(t) = ∫0^t k(s) ds of a gain (a number or a formula of t).
 
-        s, r = gl_linear(back, r0, t0, 2 * t0 - t_end, h, stages)
-        return 2 * t0 - s, r
+    A formula is summed by 8-point Gauss-Legendre over panels of 0.01 s, computed in
+    blocks of 256 panels and kept, so every caller gets the same numbers at the same t.
+    """
+
+    PANEL = 0.01
+    BLOCK = 256
+    NODES, WEIGHTS = np.polynomial.legendre.leggauss(8)
+
+    def __init__(self, gain: Formula | float) -> None:
+        self.gain = gain
+        self.constant = float(gain) if not isinstance(gain, Formula) else gain.constant_value
+        self.cum = np.zeros(1)  # Θ at the panel ends 0, H, 2H, ...
+
+    def _panels(self, t0: np.ndarray, length: np.ndarray) -> np.ndarray:
+        s = t0[:, None] + length[:, None] * (self.NODES[None, :] + 1) / 2
+        return length / 2 * (_gain_values(self.gain, s) @ self.WEIGHTS)
+
+    def __call__(self, t: np.ndarray) -> np.ndarray:
+        t = np.asarray(t, dtype=float)
+        if self.constant is not None:
+            return self.constant * t
+        H = self.PANEL
+        j = np.floor(t / H + 1e-12).astype(int)
+        while len(self.cum) <= int(j.max()):
+            k0 = len(self.cum) - 1
+            starts = (k0 + np.arange(self.BLOCK)) * H
+            vals = self._panels(starts, np.full(self.BLOCK, H))
+            self.cum = np.concatenate([self.cum, self.cum[-1] + np.cumsum(vals)])
+        rest = t - j * H
+        return self.cum[j] + self._panels(j * H, rest)
 
 
 @dataclass
@@ -209,10 +241,6 @@ class DigitalAnalyzer:
         self.acc = np.zeros_like(self.r0)
         self.cont = self.r0.copy()  # unquantized register contents (pulse = 0)
         self.k = 0
-
-    @property
-    def t(self) -> float:
-        return self.k * self.delta
 
     @property
     def position(self) -> np.ndarray:
@@ -267,13 +295,85 @@ class DigitalAnalyzer:
         return pos, pul
 
 
+class DigitalTrack:
+    """The digital analyzer's additions, computed in blocks and kept: the position and the
+    cumulative pulses after n additions (n = 0 is the start)."""
+
+    BLOCK = 256
+
+    def __init__(self, dda: DigitalAnalyzer) -> None:
+        self.dda = dda
+        self.k0 = dda.k
+        self.pos = [dda.position[None]]
+        self.counts = [np.zeros((1, *dda.r0.shape))]
+        self.done = 0
+
+    def at(self, n: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Positions and cumulative pulses ``(m, N, 2)`` after ``n (m,)`` additions."""
+        while self.done < int(np.max(n)):
+            pos, pul = self.dda.run(self.BLOCK)
+            self.pos.append(pos)
+            self.counts.append(self.counts[-1][-1] + np.cumsum(pul, axis=0))
+            self.done += self.BLOCK
+        if len(self.pos) > 1:
+            self.pos = [np.concatenate(self.pos)]
+            self.counts = [np.concatenate(self.counts)]
+        return self.pos[0][n], self.counts[0][n]
+
+
+@dataclass
+class PlanarState:
+    """The analyzer at ``m`` times: the continuous point ``r (m, N, 2)`` and, with the
+    digital analyzer on, its staircase ``digital``, its cumulative pulses ``counts`` and
+    the continuous point at the same additions ``reference``."""
+
+    model: PlanarModel
+    r: np.ndarray
+    digital: np.ndarray | None = None
+    counts: np.ndarray | None = None
+    reference: np.ndarray | None = None
+
+
+@dataclass
+class PlanarTrack:
+    """The solution of one parameter set from the anchor time ``t0`` (0, or the time of a
+    live change): the continuous point in closed form and the digital additions."""
+
+    model: PlanarModel
+    r0: np.ndarray  # (N, 2) at t0
+    t0: float = 0.0
+    digital: DigitalTrack | None = None
+    theta: ArgumentIntegral = field(init=False)
+
+    def __post_init__(self) -> None:
+        self.theta = ArgumentIntegral(self.model.gain)
+        self.theta0 = float(self.theta(np.array([self.t0]))[0])
+
+    def continuous(self, t: np.ndarray) -> np.ndarray:
+        return self.model.flow(self.r0, self.theta(t) - self.theta0)
+
+    def additions(self, t: np.ndarray) -> np.ndarray:
+        """Additions done by the times ``t`` since the anchor (at most the run's limit)."""
+        dda = self.digital.dda
+        n = np.floor(np.asarray(t) / dda.delta + 1e-9).astype(int) - self.digital.k0
+        return np.clip(n, 0, MAX_DIGITAL_ITERATIONS)
+
+    def at(self, t: np.ndarray) -> PlanarState:
+        t = np.asarray(t, dtype=float)
+        state = PlanarState(self.model, self.continuous(t))
+        if self.digital is not None:
+            n = self.additions(t)
+            state.digital, state.counts = self.digital.at(n)
+            state.reference = self.continuous((self.digital.k0 + n) * self.digital.dda.delta)
+        return state
+
+
 def radius_growth_per_turn(delta: float, mode: str) -> float:
     """Relative radius error of the digital circle (u = 1) after one turn [derived, not in source]:
     ``exp(πΔ) - 1 ≈ πΔ`` for the simple update; the improved one stays within ``Δ/4`` of R."""
     if mode == "simple":
-        return float(
-            np.expm1(np.log1p(delta**2) * np.pi / delta)
-        )  # sqrt(1 + Δ²) per addition, 2π/Δ additions
+        # sqrt(1 + Δ²) per addition, 2π/Δ additions
+        return float(np.expm1(np.log1p(delta**2) * np.pi / delta))
     return delta / 4.0
 
 

@@ -1,16 +1,18 @@
 """Shared machinery of the plane-curve lessons (Problems 1.1, 1.2, C1.1-C1.4).
 
-A subclass declares its parameters (the common ones below appended) and supplies
-:meth:`PlanarLesson.planar_model` (the conic analyzer and start points); this base
-gives the run (continuous Gauss-Legendre, and the digital analyzer (1.24)-(1.25) when
-``digital`` is ``simple`` or ``improved``), the live stepper, the planar scene and the
-plots.  The scene is drawn in the plane ``xy`` (z = 0) or ``xz`` (y = 0).
+A subclass declares its parameters (the digital analyzer's are appended) and supplies
+:meth:`PlanarLesson.planar_model` (the conic analyzer and its start points); this base
+gives the declared series, the one observation, the run and the live view (both read
+the same :class:`~lessons.core.planar.PlanarTrack`: the closed-form continuous point and
+the digital analyzer (1.24)-(1.25) when ``digital`` is ``simple`` or ``improved``), the
+planar scene and the plots.  The scene is drawn in the plane ``xy`` (z = 0) or ``xz``
+(y = 0).
 """
 
 from __future__ import annotations
 
 from abc import abstractmethod
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 import sympy as sp
@@ -20,6 +22,7 @@ from lessons.core.contract import (
     CurveItem,
     DerivationStep,
     Frame,
+    Group,
     Lesson,
     MarkerItem,
     Param,
@@ -28,16 +31,25 @@ from lessons.core.contract import (
     PlotSpec,
     RunResult,
     SceneSpec,
+    Series,
     Stepper,
 )
 from lessons.core.formula import Formula
 from lessons.core.planar import (
     DIGITAL_MODES,
     MAX_DIGITAL_ITERATIONS,
+    ArgumentIntegral,
     DigitalAnalyzer,
+    DigitalTrack,
     PlanarModel,
+    PlanarState,
+    PlanarTrack,
     embed,
 )
+from lessons.core.tracked import TrackStepper
+
+MODE = Group("mode", "Mode")
+DIGITAL = Group("digital", "Digital analyzer (1.24)-(1.25)", expanded=False)
 
 DIGITAL_PARAMS: tuple[Param, ...] = (
     Param(
@@ -46,8 +58,9 @@ DIGITAL_PARAMS: tuple[Param, ...] = (
         "off",
         "digital analyzer (1.25)",
         choices=DIGITAL_MODES,
-        group="method",
-        help="replace integration by successive additions: simple (Euler) or improved (the y addition uses the new x)",
+        group="mode",
+        help="replace integration by successive additions: simple (Euler) or improved"
+        " (the y addition uses the new x)",
     ),
     Param(
         "delta",
@@ -58,7 +71,7 @@ DIGITAL_PARAMS: tuple[Param, ...] = (
         min=1e-5,
         max=0.5,
         step=0.001,
-        group="method",
+        group="digital",
     ),
     Param(
         "pulse",
@@ -68,32 +81,44 @@ DIGITAL_PARAMS: tuple[Param, ...] = (
         min=0.0,
         max=100.0,
         step=0.001,
-        group="method",
-    ),
-    Param(
-        "h",
-        "float",
-        1e-3,
-        "step h (continuous run)",
-        unit="s",
-        min=1e-5,
-        max=0.1,
-        step=1e-4,
-        group="method",
+        group="digital",
     ),
 )
-MAX_SAMPLES = 4001
+PLANAR_SERIES: tuple[Series, ...] = (
+    Series("x", "", "x of the point", member=True),
+    Series("y", "", "y of the point (0 in the xz plane)", member=True),
+    Series("z", "", "z of the point (0 in the xy plane)", member=True),
+    Series("vx", "1/s", "velocity component dx/dt", member=True),
+    Series("vy", "1/s", "velocity component dy/dt", member=True),
+    Series("vz", "1/s", "velocity component dz/dt", member=True),
+    Series("speed", "1/s", "speed |v| of the point", member=True),
+    Series("drift", "", "invariant drift max |F| / scale over the family (0: on the curve)"),
+)
+DIGITAL_SERIES: tuple[Series, ...] = (
+    Series("x_dda", "", "x of the digital analyzer (the staircase)", member=True),
+    Series("y_dda", "", "y of the digital analyzer", member=True),
+    Series("z_dda", "", "z of the digital analyzer", member=True),
+    Series("nx", "", "step pulses on the first axis (x), cumulative and signed", member=True),
+    Series(
+        "ny",
+        "",
+        "step pulses on the second axis (y; z in the xz plane), cumulative and signed",
+        member=True,
+    ),
+    Series(
+        "dda_error",
+        "",
+        "distance of the digital point from the continuous one after the same additions",
+        member=True,
+    ),
+)
+DIGITAL_NAMES = frozenset(s.name for s in DIGITAL_SERIES)
 
 
 @dataclass
 class PlanarPrepared:
     model: PlanarModel  # with a33 through the start points
     r0: np.ndarray  # (N, 2)
-    messages: list[str] = field(default_factory=list)
-
-
-def _thin(n: int, samples: int = MAX_SAMPLES) -> np.ndarray:
-    return np.unique(np.linspace(0, n - 1, min(n, samples)).round().astype(int))
 
 
 class PlanarLesson(Lesson):
@@ -101,14 +126,18 @@ class PlanarLesson(Lesson):
 
     plane: str = "xy"
     own_params: tuple[Param, ...] = ()
+    series = (*PLANAR_SERIES, *DIGITAL_SERIES)
+    readout = ("x", "y", "z", "speed", "drift")
+    sampling = 0.01
 
     def __init_subclass__(cls, **kw: object) -> None:
         super().__init_subclass__(**kw)
         cls.params = (*cls.own_params, *DIGITAL_PARAMS)
+        axes = ("x", "y") if cls.plane == "xy" else ("x", "z")
         cls.plots = (
-            PlotSpec("coordinates", ("x", "y") if cls.plane == "xy" else ("x", "z")),
-            PlotSpec("velocity components", ("vx", "vy") if cls.plane == "xy" else ("vx", "vz")),
-            PlotSpec("invariant drift |F - F0| / scale", ("drift",)),
+            PlotSpec("coordinates", axes),
+            PlotSpec("velocity components", tuple("v" + a for a in axes)),
+            PlotSpec("invariant drift |F| / scale", ("drift",)),
             PlotSpec("digital analyzer: distance from the continuous path", ("dda_error",)),
             PlotSpec("digital analyzer: step pulses per axis (cumulative)", ("nx", "ny")),
         )
@@ -116,23 +145,38 @@ class PlanarLesson(Lesson):
     # -- the model ----------------------------------------------------------------
 
     @abstractmethod
-    def planar_model(self, params: Params) -> tuple[PlanarModel, np.ndarray, list[str]]:
-        """The analyzer (a33 may be anything), start points ``(N, 2)`` and notes."""
+    def planar_model(self, params: Params) -> tuple[PlanarModel, np.ndarray]:
+        """The analyzer (a33 may be anything) and its start points ``(N, 2)``."""
 
     def prepare(self, params: Params) -> PlanarPrepared:
-        model, r0, notes = self.planar_model(params)
+        model, r0 = self.planar_model(params)
         r0 = np.atleast_2d(np.asarray(r0, dtype=float))
-        return PlanarPrepared(model.through(r0), r0, list(notes))
+        return PlanarPrepared(model.through(r0), r0)
 
-    def axis_names(self) -> tuple[str, str]:
-        return ("x", "y") if self.plane == "xy" else ("x", "z")
+    def axis_names(self, params: Params) -> tuple[str, str]:
+        return ("x", "y") if self.plane_of(params) == "xy" else ("x", "z")
+
+    def plane_of(self, params: Params) -> str:
+        """The plane the curve lies in (a lesson with several curves may override)."""
+        return self.plane
+
+    def series_for(self, params: Params) -> tuple[Series, ...]:
+        """The declared series; the digital analyzer's only while it is on."""
+        out = super().series_for(params)
+        if params["digital"] != "off":
+            return out
+        return tuple(
+            s
+            for s in out
+            if s.name not in DIGITAL_NAMES and s.name.rsplit("_", 1)[0] not in DIGITAL_NAMES
+        )
 
     # -- the page -----------------------------------------------------------------
 
     def general_derivation(self, params: Params) -> list[DerivationStep]:
         a = {n: sp.Symbol(n) for n in ("a11", "a12", "a22", "a13", "a23", "a33")}
         x, y = sp.symbols("x y")
-        w, phi = sp.Symbol("ω"), sp.Symbol("φ")
+        w = sp.Symbol("ω")
         return [
             DerivationStep(
                 "The plane conic",
@@ -196,10 +240,9 @@ class PlanarLesson(Lesson):
                 "(1.25)",
             ),
         ]
-        mode = params["digital"] if "digital" in params else "off"
-        n = sp.Symbol("n")
-        xs, ys = (sp.Symbol(f"{s}_n") for s in self.axis_names())
-        xs1, ys1 = (sp.Symbol(f"{s}_n+1") for s in self.axis_names())
+        mode = params["digital"]
+        xs, ys = (sp.Symbol(f"{s}_n") for s in self.axis_names(params))
+        xs1, ys1 = (sp.Symbol(f"{s}_n+1") for s in self.axis_names(params))
         k, D = sp.Symbol("k"), sp.Symbol("Δ")
         a = {nm: sp.Symbol(nm) for nm in ("a11", "a12", "a22", "a13", "a23")}
         if mode != "off":
@@ -208,11 +251,14 @@ class PlanarLesson(Lesson):
                 DerivationStep(
                     f"The {mode} update",
                     (
-                        "Both additions use the old coordinates (Euler): a circle spirals out by about πΔR per turn."
+                        "Both additions use the old coordinates (Euler): a circle spirals out"
+                        " by about πΔR per turn."
                         if mode == "simple"
-                        else "The second addition uses the x just updated (symplectic Euler): on the circle x² + y² + Δxy is kept exactly, the error stays within ΔR/4."
+                        else "The second addition uses the x just updated (symplectic Euler):"
+                        " on the circle x² + y² + Δxy is kept exactly, the error stays within ΔR/4."
                     )
-                    + " Each coordinate emits a step pulse whenever its remainder register passes half a pulse length.",
+                    + " Each coordinate emits a step pulse whenever its remainder register"
+                    " passes half a pulse length.",
                     [
                         sp.Eq(xs1, xs + k * D * (a["a12"] * xs + a["a22"] * ys + a["a23"])),
                         sp.Eq(ys1, ys - k * D * (a["a11"] * second_x + a["a12"] * ys + a["a13"])),
@@ -251,7 +297,7 @@ class PlanarLesson(Lesson):
             if const
             else sp.Symbol("u", real=True)
         )
-        return prepared.model.equations(gain, self.axis_names())
+        return prepared.model.equations(gain, self.axis_names(params))
 
     def block_diagram(self, params: Params, prepared: PlanarPrepared | None = None) -> BlockDiagram:
         """The analyzer's block diagram (Fig. 1.5 notation) built from :meth:`diagram_equations`."""
@@ -271,120 +317,157 @@ class PlanarLesson(Lesson):
         )
 
     def validate(self, params: Params) -> None:
-        for name in ("u",):
-            if name in params and isinstance(params[name], Formula):
-                try:
-                    params[name].check_finite(np.linspace(0.0, self.t_end * 10, 2001))
-                except ValueError as exc:
-                    raise ParamError(name, str(exc)) from None
+        if "u" in params and isinstance(params["u"], Formula):
+            try:
+                params["u"].check_finite(np.linspace(0.0, self.t_end * 10, 2001))
+            except ValueError as exc:
+                raise ParamError("u", str(exc)) from None
 
-    # -- the run ------------------------------------------------------------------
+    # -- the solution -------------------------------------------------------------
+
+    def track(self, params: Params) -> PlanarTrack:
+        """The run of these values from t = 0 (shared by :meth:`simulate` and the live view)."""
+        prep = self.prepare(params)
+        return PlanarTrack(prep.model, prep.r0, 0.0, self._digital(params, prep.model, prep.r0, 0))
+
+    def _digital(
+        self, params: Params, model: PlanarModel, start: np.ndarray, k0: int
+    ) -> DigitalTrack | None:
+        if params["digital"] == "off":
+            return None
+        dda = DigitalAnalyzer(
+            model, start, float(params["delta"]), float(params["pulse"]), params["digital"]
+        )
+        dda.k = k0
+        return DigitalTrack(dda)
+
+    def continue_track(
+        self, old: Params, params: Params, t: float, state: PlanarState
+    ) -> PlanarTrack | None:
+        """New coefficients and controls act from the current point (the level curve through
+        it); a new start point, family size or plane starts over."""
+        prep = self.prepare(params)
+        if len(prep.r0) != state.r.shape[1] or self.plane_of(old) != self.plane_of(params):
+            return None
+        r = state.r[0]
+        model = prep.model.through(r)
+        start, k0 = r, int(np.floor(t / float(params["delta"]) + 1e-9))
+        if state.digital is not None and all(old[n] == params[n] for n in ("delta", "pulse")):
+            start = state.digital[0]
+        return PlanarTrack(model, r, t, self._digital(params, model, start, k0))
+
+    def observe(self, params: Params, t: np.ndarray, state: PlanarState) -> dict[str, np.ndarray]:
+        plane, model = self.plane_of(params), state.model
+        v = model.velocity(t, state.r)
+        r3, v3 = embed(state.r, plane), embed(v, plane)
+        speed = np.linalg.norm(v, axis=-1)
+        out: dict[str, np.ndarray] = {}
+        digital = params["digital"] != "off"
+        if digital:
+            d3 = embed(state.digital, plane)
+            err = np.linalg.norm(state.digital - state.reference, axis=-1)
+        for k in range(state.r.shape[1]):
+            sfx = "" if k == 0 else f"_{k + 1}"
+            for j, c in enumerate("xyz"):
+                out[c + sfx] = r3[:, k, j]
+                out["v" + c + sfx] = v3[:, k, j]
+            out["speed" + sfx] = speed[:, k]
+            if digital:
+                for j, c in enumerate("xyz"):
+                    out[f"{c}_dda{sfx}"] = d3[:, k, j]
+                out["nx" + sfx], out["ny" + sfx] = state.counts[:, k, 0], state.counts[:, k, 1]
+                out["dda_error" + sfx] = err[:, k]
+        out["drift"] = np.max(np.abs(model.F(state.r)), axis=1) / model.scale(state.r)
+        return out
 
     def simulate(self, params: Params, t_end: float | None = None) -> RunResult:
         t_end = self.t_end if t_end is None else float(t_end)
-        prep = self.prepare(params)
-        model, r0 = prep.model, prep.r0
-        messages = list(prep.messages)
-        mode = params["digital"]
-        h = float(params["h"])
-        series: dict[str, np.ndarray] = {}
+        track = self.track(params)
+        t = self.sample_grid(t_end)
+        state = track.at(t)
+        messages = [n.text for n in self.notes(params)]
         metrics: dict[str, object] = {"t_end": t_end}
-        if mode == "off":
-            t, r = model.integrate(r0, t_end, h)
-            idx = _thin(len(t))
-            t, r = t[idx], r[idx]
-        else:
-            delta = float(params["delta"])
-            n_it = int(np.ceil(t_end / delta - 1e-9))
-            if n_it > MAX_DIGITAL_ITERATIONS:
-                n_it = MAX_DIGITAL_ITERATIONS
+        if track.digital is not None:
+            n_it = int(track.additions(np.array([t_end]))[0])
+            if t_end / float(params["delta"]) > MAX_DIGITAL_ITERATIONS:
                 messages.append(
-                    f"the digital run is limited to {MAX_DIGITAL_ITERATIONS} additions: it stops at t = {n_it * delta:.4g}"
+                    f"the digital run is limited to {MAX_DIGITAL_ITERATIONS} additions:"
+                    f" it holds from t = {n_it * float(params['delta']):.4g}"
                 )
-            dda = DigitalAnalyzer(model, r0, delta, float(params["pulse"]), mode)
-            pos, pul = dda.run(n_it)
-            pos = np.concatenate([r0[None], pos])
-            pul = np.concatenate([np.zeros((1, *r0.shape), dtype=np.int64), pul])
-            m = max(1, int(np.ceil(delta / h - 1e-9)))
-            tc, rc = model.integrate(r0, n_it * delta, delta / m)
-            rc = rc[::m][: n_it + 1]
-            t = np.arange(n_it + 1) * delta
-            idx = _thin(len(t))
-            counts = np.cumsum(pul, axis=0)
-            t, r, pos, counts = t[idx], rc[idx], pos[idx], counts[idx]
-            err = np.linalg.norm(pos - r, axis=-1)
-            p3 = embed(pos, self.plane)
-            for k in range(r.shape[1]):
-                sfx = "" if k == 0 else f"_{k + 1}"
-                for j, c in enumerate("xyz"):
-                    series[f"{c}_dda{sfx}"] = p3[:, k, j]
-                series["nx" + sfx] = counts[:, k, 0].astype(float)
-                series["ny" + sfx] = counts[:, k, 1].astype(float)
-                series["dda_error" + sfx] = err[:, k]
-            scaleF = model.scale(pos)
+            track.digital.at(np.array([n_it]))
+            counts = track.digital.counts[0][: n_it + 1]
+            err = np.linalg.norm(state.digital - state.reference, axis=-1)
+            level = np.abs(state.model.F(state.digital)) / state.model.scale(state.digital)[:, None]
             metrics.update(
                 {
                     "dda_error_max": float(err.max()),
                     "dda_error_end": float(err[-1, 0]),
-                    "dda_level_error_max": float(np.abs(model.F(pos)).max() / scaleF),
-                    "pulses_x": int(np.abs(pul[..., 0]).sum()),
-                    "pulses_y": int(np.abs(pul[..., 1]).sum()),
+                    "dda_level_error_max": float(level.max()),
+                    "pulses_x": int(np.abs(np.diff(counts[..., 0], axis=0)).sum()),
+                    "pulses_y": int(np.abs(np.diff(counts[..., 1], axis=0)).sum()),
                     "additions": n_it,
                 }
             )
-        v = model.velocity(t, r)
-        r3, v3 = embed(r, self.plane), embed(v, self.plane)
-        for k in range(r.shape[1]):
-            sfx = "" if k == 0 else f"_{k + 1}"
-            for j, c in enumerate("xyz"):
-                series[c + sfx] = r3[:, k, j]
-            for j, c in enumerate("xyz"):
-                series["v" + c + sfx] = v3[:, k, j]
-        F = model.F(r)
-        scale = model.scale(r)
-        series["drift"] = np.abs(F).max(axis=1) / scale
+        F = np.abs(state.model.F(state.r))
+        v = state.model.velocity(t, state.r)
         metrics.update(
             {
-                "invariant_drift_max": float(np.abs(F).max()),
-                "invariant_drift_rel": float(np.abs(F).max() / scale),
+                "invariant_drift_max": float(F.max()),
+                "invariant_drift_rel": float(np.max(F.max(axis=1) / state.model.scale(state.r))),
                 "speed_max": float(np.linalg.norm(v, axis=-1).max()),
             }
         )
-        metrics.update(self.extra_metrics(params, prep, t, r, v))
-        return RunResult(self.id, None, params.raw(), t, series, metrics, messages)
+        metrics.update(self.extra_metrics(params, track, t, state))
+        return self.result(params, t, state, metrics, messages)
 
     def extra_metrics(
-        self, params: Params, prep: PlanarPrepared, t: np.ndarray, r: np.ndarray, v: np.ndarray
+        self, params: Params, track: PlanarTrack, t: np.ndarray, state: PlanarState
     ) -> dict[str, object]:
         return {}
 
     def stepper(self, params: Params) -> Stepper:
-        return PlanarStepper(self, params)
+        return TrackStepper(self, params)
+
+    def make_frame(self, params: Params, t: float, state: PlanarState) -> Frame:
+        plane, model = self.plane_of(params), state.model
+        r = state.r[0]
+        v = model.velocity(t, r)
+        p3 = embed(r, plane)
+        points = {"point": p3}
+        if state.digital is not None:
+            points["digital"] = embed(state.digital[0], plane)
+        moving = np.any(np.linalg.norm(v, axis=-1) > 0)
+        return Frame(
+            t=t,
+            points=points,
+            vectors={
+                "velocity": (p3, embed(v, plane)),
+                "gradient": (p3, embed(model.half_gradient(r), plane)),
+            },
+            scalars=self.frame_scalars(params, t, state),
+            message="" if moving else "the analyzer field is zero here: the point does not move",
+        )
 
     def scene(self, params: Params) -> SceneSpec:
         prep = self.prepare(params)
-        T = float(self.t_end)
-        curves = []
-        pts = [prep.r0]
-        for sgn in (1, -1):
-            t, r = prep.model.integrate(prep.r0, sgn * T, max(float(params["h"]), T / 4000))
-            pts.append(r.reshape(-1, 2))
-            for k in range(r.shape[1]):
-                curves.append(
-                    CurveItem(
-                        f"level-curve-{'fwd' if sgn > 0 else 'back'}-{k + 1}",
-                        embed(r[:, k], self.plane),
-                        (60, 60, 60),
-                        1.5,
-                    )
-                )
+        plane, model = self.plane_of(params), prep.model
+        c = model.coeffs
+        D = c["a11"] * c["a22"] - c["a12"] ** 2
+        reach = float(np.max(np.abs(ArgumentIntegral(model.gain)(np.linspace(0, self.t_end, 201)))))
+        curves, pts = [], [prep.r0]
+        for k in range(model.size):
+            span = 2 * np.pi / np.sqrt(D[k]) if D[k] > 0 else max(reach, 1e-6)
+            member = PlanarModel({n: v[k : k + 1] for n, v in c.items()}, 1.0)
+            r = member.flow(prep.r0[k : k + 1], np.linspace(-span, span, 2001))[:, 0]
+            r = r[np.all(np.isfinite(r), axis=1)]
+            pts.append(r)
+            curves.append(CurveItem(f"level-curve-{k + 1}", embed(r, plane), (60, 60, 60), 1.5))
         allp = np.concatenate(pts)
-        allp = allp[np.all(np.isfinite(allp), axis=1)]
         lo2, hi2 = allp.min(axis=0), allp.max(axis=0)
         pad = 0.08 * max(float(np.max(hi2 - lo2)), 1e-6)
         lo2, hi2 = lo2 - pad, hi2 + pad
         lo3, hi3 = np.full(3, -pad), np.full(3, pad)
-        j = 1 if self.plane == "xy" else 2
+        j = 1 if plane == "xy" else 2
         lo3[0], hi3[0], lo3[j], hi3[j] = lo2[0], hi2[0], lo2[1], hi2[1]
         moving = {"point": (220, 30, 30)}
         if params["digital"] != "off":
@@ -395,7 +478,7 @@ class PlanarLesson(Lesson):
             markers=[
                 MarkerItem(
                     "start",
-                    embed(prep.r0, self.plane),
+                    embed(prep.r0, plane),
                     (230, 80, 60),
                     0.02 * float(np.max(hi2 - lo2)),
                     "start",
@@ -404,106 +487,4 @@ class PlanarLesson(Lesson):
             moving_points=moving,
             moving_vectors={"velocity": (30, 120, 30), "gradient": (60, 60, 200)},
             planar=True,
-        )
-
-
-class PlanarStepper(Stepper):
-    """Live run: Gauss-Legendre steps of the continuous analyzer, and the digital analyzer beside it."""
-
-    def __init__(self, lesson: PlanarLesson, params: Params) -> None:
-        self.lesson = lesson
-        self._t = 0.0
-        self.dda: DigitalAnalyzer | None = None
-        self.set_params(params)
-        self.R = self.prep.r0.copy()
-
-    @property
-    def t(self) -> float:
-        return self._t
-
-    def set_params(self, params: Params) -> None:
-        """New coefficients and controls act from the current state (the level curve through
-        the current point); a new start point or family size applies on :meth:`reset`."""
-        prep = self.lesson.prepare(params)
-        self.params, self.h = params, float(params["h"])
-        if hasattr(self, "R") and len(self.R) == len(prep.r0):
-            prep = PlanarPrepared(prep.model.through(self.R), prep.r0, prep.messages)
-        elif hasattr(self, "R"):
-            self.R = prep.r0.copy()
-            self._t = 0.0
-        self.prep = prep
-        mode = params["digital"]
-        if mode == "off":
-            self.dda = None
-        elif (
-            self.dda is None
-            or self.dda.mode != mode
-            or self.dda.delta != float(params["delta"])
-            or self.dda.pulse != float(params["pulse"])
-        ):
-            start = self.R if hasattr(self, "R") else prep.r0
-            self.dda = DigitalAnalyzer(
-                prep.model, start, float(params["delta"]), float(params["pulse"]), mode
-            )
-            self.dda.k = int(round(self._t / float(params["delta"])))
-        else:
-            self.dda.model = prep.model
-
-    def reset(self) -> Frame:
-        self._t = 0.0
-        self.prep = self.lesson.prepare(self.params)
-        self.R = self.prep.r0.copy()
-        if self.dda is not None:
-            self.dda = DigitalAnalyzer(
-                self.prep.model, self.prep.r0, self.dda.delta, self.dda.pulse, self.dda.mode
-            )
-        return self.frame()
-
-    def advance(self, dt: float) -> Frame:
-        if not np.isfinite(dt) or dt <= 0:
-            return self.frame()
-        n = max(1, int(np.ceil(dt / self.h - 1e-9)))
-        _, states = self.prep.model.integrate(self.R, self._t + dt, dt / n, t0=self._t)
-        self.R = states[-1]
-        self._t += dt
-        if self.dda is not None:
-            todo = int(np.floor(self._t / self.dda.delta + 1e-9)) - self.dda.k
-            if todo > 0:
-                self.dda.run(min(todo, MAX_DIGITAL_ITERATIONS))
-        return self.frame()
-
-    def frame(self) -> Frame:
-        model = self.prep.model
-        v = model.velocity(self._t, self.R)
-        g = model.half_gradient(self.R)
-        plane = self.lesson.plane
-        p3 = embed(self.R, plane)
-        drift = float(np.max(np.abs(model.F(self.R)))) / model.scale(self.R)
-        v3 = embed(v, plane)
-        scalars = {
-            "x": float(p3[0, 0]),
-            "y": float(p3[0, 1]),
-            "z": float(p3[0, 2]),
-            "vx": float(v3[0, 0]),
-            "vy": float(v3[0, 1]),
-            "vz": float(v3[0, 2]),
-            "drift": drift,
-        }
-        points = {"point": p3}
-        message = (
-            ""
-            if np.any(np.linalg.norm(v, axis=-1) > 0)
-            else "the analyzer field is zero here: the point does not move"
-        )
-        if self.dda is not None:
-            pos = self.dda.position
-            points["digital"] = embed(pos, plane)
-            scalars["dda_error"] = float(np.linalg.norm(pos[0] - self.R[0]))
-            scalars["nx"], scalars["ny"] = float(self.dda.n[0, 0]), float(self.dda.n[0, 1])
-        return Frame(
-            t=self._t,
-            points=points,
-            vectors={"velocity": (p3, v3), "gradient": (p3, embed(g, plane))},
-            scalars=scalars,
-            message=message,
         )
