@@ -88,12 +88,14 @@ class ParamControls:
         self.widgets: dict[str, list[Any]] = {}
         self.errors: dict[str, Any] = {}  # param name -> its (hidden) error line
         self.read_only = False  # while following the instructor
+        self.folders: dict[str, tuple[Any, Any]] = {}  # group name -> (group, folder)
         self._shown: dict[int, Any] = {}  # widget id -> the session value it last showed
 
     def build(self, lesson: Lesson, params: Params) -> list[Any]:
         """Create the folders and widgets (inside the caller's tab); returns the folders."""
         self.widgets = {}
         self.errors = {}
+        self.folders = {}
         self._shown = {}
         folders: list[Any] = []
         gui = self.gui
@@ -111,8 +113,11 @@ class ParamControls:
             members = grouped.get(group.name, [])
             if not members:
                 continue
-            folder = gui.add_folder(group.title, expand_by_default=group.expanded)
+            folder = gui.add_folder(
+                group.title, expand_by_default=group.expanded, visible=group.applies(params)
+            )
             folders.append(folder)
+            self.folders[group.name] = (group, folder)
             with folder:
                 for p in members:
                     self._add(p, params)
@@ -232,6 +237,10 @@ class ParamControls:
         """Show the session's values in the widgets (programmatic: callbacks ignore it).
         A field that shows an error keeps the text the student typed."""
         failing = self.failing()
+        for group, folder in self.folders.values():
+            shown = group.applies(params)  # e.g. only the selected task's parameters
+            if folder.visible != shown:
+                folder.visible = shown
         for name, widgets in self.widgets.items():
             if name not in params or name in failing:
                 continue

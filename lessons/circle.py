@@ -18,6 +18,7 @@ import sympy as sp
 
 from lessons.core.contract import (
     INITIAL,
+    MODE,
     Claim,
     ClaimResult,
     DerivationStep,
@@ -30,7 +31,7 @@ from lessons.core.contract import (
     at_most,
 )
 from lessons.core.planar import PlanarModel, PlanarState, PlanarTrack, radius_growth_per_turn
-from lessons.core.planar_lesson import DIGITAL, MODE, PlanarLesson, PlanarPrepared
+from lessons.core.planar_lesson import DIGITAL, PlanarLesson, PlanarPrepared
 
 RADIUS_MODES = (
     "start point",

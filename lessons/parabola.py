@@ -20,6 +20,7 @@ import sympy as sp
 
 from lessons.core.contract import (
     INITIAL,
+    MODE,
     Claim,
     ClaimResult,
     DerivationStep,
@@ -32,7 +33,7 @@ from lessons.core.contract import (
     at_most,
 )
 from lessons.core.planar import PlanarModel, PlanarState, PlanarTrack, conic_expr
-from lessons.core.planar_lesson import DIGITAL, MODE, PlanarLesson, PlanarPrepared
+from lessons.core.planar_lesson import DIGITAL, PlanarLesson, PlanarPrepared
 
 BOOK_LAMBDAS = (0.05, 0.1, 0.5)
 BOOK = {"omega": -1.0, "a12": 0.5, "a13": -7.0, "a23": -5.0, "x0": 4.0, "y0": 10.0}

@@ -27,6 +27,7 @@ import numpy as np
 import sympy as sp
 
 from lessons.core.contract import (
+    MODE,
     Claim,
     ClaimResult,
     DerivationStep,
@@ -42,7 +43,7 @@ from lessons.core.contract import (
     at_most,
 )
 from lessons.core.planar import CONIC_NAMES, PlanarModel, PlanarState, conic_expr
-from lessons.core.planar_lesson import DIGITAL, MODE, PLANAR_SERIES, PlanarLesson
+from lessons.core.planar_lesson import DIGITAL, PLANAR_SERIES, PlanarLesson
 from lessons.core.self_study_surfaces import (
     SURFACE_TASKS,
     SurfaceAnalyzer,
@@ -56,6 +57,13 @@ from lessons.core.self_study_surfaces import (
 
 PLANAR_TASKS = ("C1.1-circle", "C1.2-parabola", "C1.3-line-AB", "C1.3-line-kx+b", "C1.4-ellipse")
 TASKS = (*PLANAR_TASKS, *SURFACE_TASKS)
+
+#: The tasks whose parameters each group holds (the view shows the selected task's).
+C1_1 = tuple(t for t in TASKS if t.startswith("C1.1"))
+C1_3 = tuple(t for t in TASKS if t.startswith("C1.3"))
+C1_4 = tuple(t for t in TASKS if t.startswith("C1.4"))
+C1_5 = tuple(t for t in TASKS if t.startswith("C1.5"))
+NON_SURFACE = tuple(t for t in TASKS if not t.startswith("C1.5"))
 #: The source's control options (а)-(г) and Θ(t) = ∫0^t u.
 CONTROLS = {
     "a": ("1", lambda t: t),
@@ -188,11 +196,13 @@ class SelfStudy1Lesson(PlanarLesson):
     t_end = 10.0
     groups = (
         MODE,
-        Group("controls", "Control u(t) (а)-(г), C1.1-C1.4"),
-        Group("c1_1", "C1.1: circle x² + z² = R²"),
-        Group("c1_3", "C1.3: line y = kx + b"),
-        Group("c1_4", "C1.4: ellipse"),
-        Group("c1_5", "C1.5: surfaces and controls"),
+        Group(
+            "controls", "Control u(t) (a)-(d), C1.1-C1.4", change="live", when=("task", NON_SURFACE)
+        ),
+        Group("c1_1", "C1.1: circle x² + z² = R²", when=("task", C1_1)),
+        Group("c1_3", "C1.3: line y = kx + b", when=("task", C1_3)),
+        Group("c1_4", "C1.4: ellipse", when=("task", C1_4)),
+        Group("c1_5", "C1.5: surfaces and controls", when=("task", C1_5)),
         DIGITAL,
     )
     modes = ("task", "digital")

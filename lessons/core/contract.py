@@ -151,12 +151,22 @@ class Group:
     ``"live"`` takes effect at once and the run goes on (the scene is redrawn a little
     later, off the hot path); ``"scene"`` the same, with the scene redrawn at once;
     ``"restart"`` starts the run again from the new initial state.
+    ``when``: ``(mode, values)``: the group matters (and is shown) only while the mode
+    parameter ``mode`` has one of ``values`` (e.g. one self-study task's parameters).
     """
 
     name: str
     title: str
     expanded: bool = True
     change: GroupChange = "scene"
+    when: tuple[str, tuple[str, ...]] | None = None
+
+    def applies(self, params: Mapping[str, Any]) -> bool:
+        """Whether the group matters for these values (see ``when``)."""
+        if self.when is None:
+            return True
+        mode, values = self.when
+        return str(params.get(mode)) in values
 
 
 #: The groups most lessons use, in panel order (a lesson may declare its own).
@@ -439,8 +449,8 @@ class Lesson(ABC):
     groups: tuple[Group, ...] = DEFAULT_GROUPS
     #: the parameters that select the lesson's mode (choices or on/off), shown first
     modes: tuple[str, ...] = ()
-    #: the parameters of the start point (x, y, z), if the lesson has one
-    start_point: tuple[str, str, str] | None = None
+    #: the parameters of the start point ((x, y) in a plane or (x, y, z)), if any
+    start_point: tuple[str, ...] | None = None
     #: the whole-number parameter giving the size of a family of start points, if any
     family: str | None = None
     #: every quantity the lesson observes: the columns of a run, the values of a frame
@@ -522,6 +532,17 @@ class Lesson(ABC):
         for n in self.start_point or ():
             if n not in names:
                 errors.append(f"start point {n!r} is not a parameter")
+        if self.start_point is not None and len(self.start_point) not in (2, 3):
+            errors.append("the start point has 2 or 3 coordinates")
+        for g in self.groups:
+            if g.when is not None:
+                mode, values = g.when
+                if mode not in self.modes:
+                    errors.append(f"group {g.name!r}: {mode!r} is not one of the modes")
+                elif self.param(mode).kind == "choice":
+                    unknown = set(values) - set(self.param(mode).choices)
+                    if unknown:
+                        errors.append(f"group {g.name!r}: {sorted(unknown)} are not choices")
         if self.family is not None and (
             self.family not in names or self.param(self.family).kind != "int"
         ):

@@ -48,7 +48,6 @@ from lessons.core.planar import (
 )
 from lessons.core.tracked import TrackStepper
 
-MODE = Group("mode", "Mode")
 DIGITAL = Group("digital", "Digital analyzer (1.24)-(1.25)", expanded=False)
 
 DIGITAL_PARAMS: tuple[Param, ...] = (
