@@ -26,36 +26,26 @@ from lessons.core.contract import (
     Claim,
     ClaimResult,
     DerivationStep,
-    Frame,
     Group,
-    Lesson,
     Note,
     Param,
     ParamError,
     Params,
-    PlotSpec,
     Preset,
-    RunResult,
-    SceneSpec,
-    Series,
-    Stepper,
     close,
 )
-from lessons.core.manipulator_pages import caveat, derivation_steps
-from lessons.core.manipulator_scene import drawing, moving_points, poses
+from lessons.core.manipulator_lesson import ManipulatorLesson
+from lessons.core.manipulator_pages import caveat, derivation_steps, source_of
 from lessons.core.manipulator_tasks import (
     AXES,
-    FORCES,
     MC_READINGS,
     MG_READINGS,
-    SERIES,
     TASKS,
     Solution,
-    SolutionStepper,
     family,
     model_of,
 )
-from lessons.core.manipulators import TIME, model_for
+from lessons.core.manipulators import by_hand, model_for
 
 MG_READING = tuple(MG_READINGS)
 
@@ -82,7 +72,7 @@ def _task_preset(
     return Preset(name, f"{task}: {title}", {"task": task, **values}, t_end, note)
 
 
-class SelfStudy2(Lesson):
+class SelfStudy2(ManipulatorLesson):
     id = "self-study-2"
     title = "Self-study C2.1-C2.6: equations of simple manipulators"
     chapter = "2"
@@ -95,7 +85,6 @@ class SelfStudy2(Lesson):
     )
     order = 2.99
     t_end = 2.0
-    sampling = 0.01
     groups = (
         Group("mode", "Task"),
         Group("plane", "Plane of motion"),
@@ -293,17 +282,6 @@ class SelfStudy2(Lesson):
             5.0,
         ),
     )
-    series = SERIES
-    readout = ("phi", "phi_dot", "S", "x", "y", "z", "M_g", "s", "constraint_error")
-    plots = (
-        PlotSpec("Angles", ("phi",), "rad"),
-        PlotSpec("Translations", ("S", "S1", "S2", "x", "y", "z", "s"), "m"),
-        PlotSpec("Moments", ("M_g", "M_c", "Q_phi"), "N m"),
-        PlotSpec("Forces", ("F_g", "F_c", "Q_S", "Q_S1", "Q_S2", "Q_x", "Q_y", "Q_z"), "N"),
-        PlotSpec("Inductors (C2.6)", ("x_A", "y_A", "x_B", "y_B", "x_C", "y_C"), "m"),
-        PlotSpec("Constraint multipliers (C2.6)", ("lambda_1", "lambda_2", "lambda_A", "lambda_B")),
-    )
-
     # -- parameters ---------------------------------------------------------------
 
     def validate(self, params: Params) -> None:
@@ -323,7 +301,8 @@ class SelfStudy2(Lesson):
 
     def notes(self, params: Params) -> list[Note]:
         task = params["task"]
-        out = [Note("reconstructed", caveat(params), task, "only the figure's labels survive")]
+        text, evidence = caveat(params)
+        out = [Note("reconstructed", text, source_of(task), evidence)]
         if family(task) == "C2.1" and params["vertical"] and params["inertia"] == "J0":
             out.append(
                 Note(
@@ -347,88 +326,6 @@ class SelfStudy2(Lesson):
             out.append(Note("info", f"{task} moves in a horizontal plane: 'vertical' is not used."))
         return out
 
-    # -- observation and runs -------------------------------------------------------
-
-    def series_for(self, params: Params) -> tuple[Series, ...]:
-        names = tasks.series_names(params)
-        return tuple(s for s in SERIES if s.name in names)
-
-    def observe(self, params: Params, t: np.ndarray, state: Any) -> dict[str, np.ndarray]:
-        return tasks.observe(params, t, state)
-
-    def simulate(self, params: Params, t_end: float | None = None) -> RunResult:
-        t_end = float(self.t_end if t_end is None else t_end)
-        t = self.sample_grid(t_end)
-        model = model_of(params)
-        solution = Solution(params, 0.0, tasks.initial_state(params, model))
-        Y = solution(t)
-        messages = [n.text for n in self.notes(params)]
-        for name in FORCES.get(family(params["task"]), ()):
-            with np.errstate(all="ignore"):
-                values = np.broadcast_to(np.asarray(params[name](t), dtype=float), t.shape)
-            if not np.all(np.isfinite(values)):
-                at = float(t[int(np.argmax(~np.isfinite(values)))])
-                messages.append(f"{name} = {params[name].text} is not finite at t = {at:.6g} s.")
-        metrics: dict[str, Any] = {
-            "task": params["task"],
-            "n_coordinates": model.n,
-            "n_constraints": len(model.constraints),
-        }
-        if solution.message(t_end):
-            messages.append(solution.message(t_end))
-        if solution.reached:
-            metrics["t_180"] = solution.stop
-        elif params["task"] in ("C2.1a", "C2.1b"):
-            messages.append("phi does not reach 180 deg within the run.")
-        result = self.result(params, t, Y, metrics, messages)
-        if "constraint_error" in result.series:
-            metrics["max_constraint_error"] = float(np.max(result.series["constraint_error"]))
-        for name in model.coords:
-            metrics[f"{name}_end"] = float(result.series[name][-1])
-        result.metrics = metrics
-        return result
-
-    def stepper(self, params: Params) -> Stepper:
-        return SolutionStepper(params, self._frame)
-
-    def _frame(self, params: Params, t: float, state: np.ndarray, message: str) -> Frame:
-        model = model_of(params)
-        consts = tasks.constants(params, model)
-        q = state[0, : model.n]
-        return Frame(
-            t=t,
-            points={p: model.point(p, q, consts)[None, :] for p in moving_points(params["task"])},
-            poses=poses(params, model, q, consts),
-            scalars=self.frame_scalars(params, t, state),
-            message=message,
-        )
-
-    # -- scene and page ---------------------------------------------------------------
-
-    def scene(self, params: Params) -> SceneSpec:
-        task = params["task"]
-        t_end = next(p.t_end for p in self.presets if p.values["task"] == task)
-        model = model_of(params)
-        consts = tasks.constants(params, model)
-        t = np.linspace(0.0, float(t_end), 201)
-        Y = Solution(params, 0.0, tasks.initial_state(params, model))(t)
-        q = Y[:, : model.n].T
-        pts = np.vstack([model.point(p, q, consts) for p in model.points] + [np.zeros((1, 3))])
-        pts = pts[np.all(np.isfinite(pts), axis=1)]
-        span = max(float(np.max(np.abs(pts))), 0.2)
-        size = 0.08 * min(span, 1.0) if span < 5 else 0.08 * span**0.5
-        lo, hi = pts.min(axis=0) - 2 * size, pts.max(axis=0) + 2 * size
-        lo[2], hi[2] = min(lo[2], -size), max(hi[2], size)
-        bodies, curves, markers = drawing(params, size, lo, hi)
-        return SceneSpec(
-            bounds=(tuple(lo.tolist()), tuple(hi.tolist())),
-            curves=curves,
-            markers=markers,
-            moving_points=moving_points(task),
-            bodies=bodies,
-            planar=family(task) != "C2.4",
-        )
-
     def derivation(self, params: Params) -> list[DerivationStep]:
         return derivation_steps(params, model_of(params))
 
@@ -444,9 +341,10 @@ class SelfStudy2(Lesson):
             ),
             Claim(
                 "c2-1-equation",
-                "C2.1 (horizontal plane): LagrangesMethod gives J phi'' = M_g - M_c.",
+                "C2.1: LagrangesMethod gives J phi'' = M_g - M_c - m1 g l_OM cos phi "
+                "(J = J0 + m1 l_OM^2; g = 0 in a horizontal plane).",
                 "C2.1",
-                _check_c21_equation,
+                lambda: _check_equations(("C2.1a", "xyz")),
             ),
             Claim(
                 "c2-1a-time",
@@ -518,7 +416,7 @@ class SelfStudy2(Lesson):
                 "c2-2-equation",
                 "C2.2: 2 m x'' = sqrt(2) (F_g - F_c) - m g [vertical]; on the line s = sqrt(2) x.",
                 "C2.2",
-                _check_c22_equation,
+                lambda: _check_equations(("C2.2a", "xyz")),
             ),
             Claim(
                 "c2-2-runs",
@@ -532,14 +430,14 @@ class SelfStudy2(Lesson):
                 "C2.3a-c: LagrangesMethod reproduces the hand-derived equations of the three "
                 "arrangements.",
                 "C2.3",
-                _check_c23,
+                lambda: _check_equations(*((f"C2.3{v}", "xyz") for v in "abc")),
             ),
             Claim(
                 "c2-4-equations",
                 "C2.4: (m1+m2+m3) x'' = Q1, (m2+m3) y'' = Q2, m3 z'' = Q3 - m3 g; a locked axis "
                 "drops its equation.",
                 "C2.4",
-                _check_c24,
+                lambda: _check_equations(("C2.4c", "xyz"), ("C2.4a", "y"), ("C2.4b", "xz")),
             ),
             Claim(
                 "c2-5-equations",
@@ -564,26 +462,12 @@ LESSON = SelfStudy2()
 
 # ---------------------------------------------------------------- claim checks
 
-D = lambda f, k=1: sp.diff(f, TIME, k)  # noqa: E731
-
-
-def _differences(equations: list[sp.Expr], by_hand: list[sp.Expr]) -> list[sp.Expr]:
-    return [sp.simplify(e - h) for e, h in zip(equations, by_hand)]
-
 
 def _check_c21_numbers() -> ClaimResult:
     vals = [LESSON.resolve(preset=p.name) for p in LESSON.presets if p.name.startswith("c2-1")]
     ok = all((v["l_OM"], v["m1"], v["J0"]) == (0.2, 0.4, 0.01) for v in vals)
     r = close(0.026, vals[0]["J0"] + vals[0]["m1"] * vals[0]["l_OM"] ** 2, atol=1e-15)
     return ClaimResult(f"presets 0.2, 0.4, 0.01; J = {r.expected}", f"J = {r.got}", ok and r.passed)
-
-
-def _check_c21_equation() -> ClaimResult:
-    m = model_for("C2.1a")
-    l, J0, m1e, ge = m.consts
-    Mg, Mc = m.inputs
-    d = sp.simplify(m.equations[0].subs(ge, 0) - ((J0 + m1e * l**2) * D(m.q[0], 2) - (Mg - Mc)))
-    return ClaimResult("difference 0", str(d), d == 0)
 
 
 def _check_t180(
@@ -636,14 +520,6 @@ def _check_switch(preset: str, below: float, above: float, speed2: float) -> Cla
     )
 
 
-def _check_c22_equation() -> ClaimResult:
-    m = model_for("C2.2a")
-    mm, ge = m.consts
-    Fg, Fc = m.inputs
-    d = sp.simplify(m.equations[0] - (2 * mm * D(m.q[0], 2) - sp.sqrt(2) * (Fg - Fc) + mm * ge))
-    return ClaimResult("difference 0", str(d), d == 0)
-
-
 def _check_c22_runs() -> ClaimResult:
     got = [
         float(LESSON.run(preset=p, t_end=t_end).series["s"][-1])
@@ -656,89 +532,22 @@ def _check_c22_runs() -> ClaimResult:
     )
 
 
-def _check_c23() -> ClaimResult:
-    a = model_for("C2.3a")
-    phi, S = a.q
-    J, m2, ge = a.consts
-    Q1, Q2 = a.inputs
-    diffs = _differences(
-        a.equations,
-        [
-            (J + m2 * S**2) * D(phi, 2)
-            + 2 * m2 * S * D(S) * D(phi)
-            + m2 * ge * S * sp.cos(phi)
-            - Q1,
-            m2 * D(S, 2) - m2 * S * D(phi) ** 2 + m2 * ge * sp.sin(phi) - Q2,
-        ],
-    )
-    b = model_for("C2.3b")
-    S1, S2 = b.q
-    m1, m2b, geb = b.consts
-    diffs += _differences(
-        b.equations,
-        [(m1 + m2b) * D(S1, 2) - b.inputs[0], m2b * D(S2, 2) + m2b * geb - b.inputs[1]],
-    )
-    c = model_for("C2.3c")
-    Sc, ph = c.q
-    m1c, m2c, Jc, l, gec = c.consts
-    diffs += _differences(
-        c.equations,
-        [
-            (m1c + m2c) * D(Sc, 2)
-            - m2c * l * (sp.sin(ph) * D(ph, 2) + sp.cos(ph) * D(ph) ** 2)
-            - c.inputs[0],
-            (Jc + m2c * l**2) * D(ph, 2)
-            - m2c * l * sp.sin(ph) * D(Sc, 2)
-            + m2c * gec * l * sp.cos(ph)
-            - c.inputs[1],
-        ],
-    )
-    return ClaimResult("all differences 0", str(diffs), all(x == 0 for x in diffs))
-
-
-def _check_c24() -> ClaimResult:
-    m = model_for("C2.4c", "xyz")
-    x, y, z = m.q
-    m1, m2, m3, ge = m.consts
-    Q = m.inputs
-    diffs = _differences(
-        m.equations,
-        [
-            (m1 + m2 + m3) * D(x, 2) - Q[0],
-            (m2 + m3) * D(y, 2) - Q[1],
-            m3 * D(z, 2) + m3 * ge - Q[2],
-        ],
-    )
-    single = model_for("C2.4a", "y")
-    ok_single = single.n == 1 and _differences(
-        single.equations, [(m2 + m3) * D(single.q[0], 2) - Q[1]]
-    ) == [0]
-    return ClaimResult(
-        "differences 0; axis y alone: (m2+m3) y'' = Q2",
-        f"{diffs}; {ok_single}",
-        all(x == 0 for x in diffs) and ok_single,
-    )
+def _check_equations(*cases: tuple[str, str]) -> ClaimResult:
+    """LagrangesMethod against the equations derived by hand, for ``(task, axes)`` cases."""
+    diffs = []
+    for task, axes in cases:
+        model = model_for(task, axes)
+        diffs += [sp.simplify(e - h) for e, h in zip(model.equations, by_hand(model))]
+    return ClaimResult("all differences 0", str(diffs), all(d == 0 for d in diffs))
 
 
 def _check_c25() -> ClaimResult:
-    m = model_for("C2.5")
-    x, y, phi = m.q
-    m1, J, l = m.consts
-    Q1, Q2, Q3 = m.inputs
-    s, c = sp.sin(phi), sp.cos(phi)
-    diffs = _differences(
-        m.equations,
-        [
-            m1 * D(x, 2) - m1 * l * (s * D(phi, 2) + c * D(phi) ** 2) - Q1,
-            m1 * D(y, 2) + m1 * l * (c * D(phi, 2) - s * D(phi) ** 2) - Q2,
-            (J + m1 * l**2) * D(phi, 2) + m1 * l * (-s * D(x, 2) + c * D(y, 2)) - Q3,
-        ],
-    )
+    equations = _check_equations(("C2.5", "xyz"))
     end = float(LESSON.run(preset="c2-5").series["phi"][-1])
     return ClaimResult(
-        "differences 0; a force at A alone turns the element",
-        f"{diffs}; phi(end) = {end:.4g}",
-        all(v == 0 for v in diffs) and abs(end) > 1e-3,
+        f"{equations.expected}; a force at A alone turns the element",
+        f"{equations.got}; phi(end) = {end:.4g}",
+        equations.passed and abs(end) > 1e-3,
     )
 
 

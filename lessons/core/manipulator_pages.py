@@ -31,10 +31,10 @@ _MG_LAWS = (
     r"M_g=\begin{cases}2\varphi,&0\le\varphi\le\pi/4\\8\pi,&\varphi>\pi/4\end{cases}",
 )
 _MG_WHY = (
-    "token-consistent reading, continuous at 4 pi (alternatives: the constants 2 / 8, "
-    "or a switch at pi/4)",
+    "M_g read as 2 phi up to 4 pi and 8 pi beyond: token-consistent and continuous at 4 pi "
+    "(alternatives: the constants 2 / 8, or a switch at pi/4)",
     "M_g read as the constants 2 and 8 N m (alternative: 2 phi / 8 pi, from the pi/phi tokens)",
-    "switch read as pi/4 (alternative: 4 pi, which makes M_g continuous)",
+    "M_g switch read as pi/4 (alternative: 4 pi, which makes M_g continuous)",
 )
 
 
@@ -48,8 +48,11 @@ def caveat(params: Params) -> tuple[str, str]:
     fam = family(task)
     if task == "C2.1b":
         if params["Mc_reading"] == MC_READINGS[0]:
-            return "M_c = 0.1 phi (alternative: the constant 0.1 N m)", "three phi tokens, no dots"
-        return "M_c = 0.1 N m (alternative: 0.1 phi)", "the formula of C2.1b is garbled"
+            return (
+                "M_c read as 0.1 phi (alternative: the constant 0.1 N m)",
+                "three phi tokens, no dots",
+            )
+        return "M_c read as the constant 0.1 N m (alternative: 0.1 phi)", "the formula is garbled"
     if task == "C2.1c":
         why = _MG_WHY[list(MG_READINGS).index(params["Mg_reading"])]
         return why, "the formula of C2.1c survives only as tokens"

@@ -316,7 +316,7 @@ class Solution:
         self.reason = ""
 
     def _extend(self, t: float) -> None:
-        while self.end < t and math.isinf(self.stop):
+        while (self.end < t or not self._pieces) and math.isinf(self.stop):
             k = len(self._pieces)
             self._segment(self.t0 + k * SEGMENT, self.t0 + (k + 1) * SEGMENT)
 

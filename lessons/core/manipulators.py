@@ -390,3 +390,53 @@ def model_for(task: str, axes: str = "xyz") -> Model:
     if task.startswith("C2.6"):
         return _c26(task[-1])
     raise KeyError(task)
+
+
+def by_hand(model: Model) -> list[sp.Expr]:
+    """The task's equations derived by hand from T, U and Q of its figure, each as
+    ``lhs - Q = 0`` in the model's coordinates: what LagrangesMethod must reproduce (2.5)."""
+    q, c, u = model.q, model.consts, model.inputs
+
+    def d(f: Any, k: int = 1) -> Any:
+        return sp.diff(f, TIME, k)
+
+    if model.key == "C2.1":
+        (phi,), (l, J0, m1, ge), (Mg, Mc) = q, c, u
+        return [(J0 + m1 * l**2) * d(phi, 2) + m1 * ge * l * sp.cos(phi) - (Mg - Mc)]
+    if model.key == "C2.2":
+        (x,), (m, ge), (Fg, Fc) = q, c, u
+        return [2 * m * d(x, 2) - sp.sqrt(2) * (Fg - Fc) + m * ge]
+    if model.key == "C2.3a":
+        (phi, S), (J, m2, ge), (Q1, Q2) = q, c, u
+        return [
+            (J + m2 * S**2) * d(phi, 2)
+            + 2 * m2 * S * d(S) * d(phi)
+            + m2 * ge * S * sp.cos(phi)
+            - Q1,
+            m2 * d(S, 2) - m2 * S * d(phi) ** 2 + m2 * ge * sp.sin(phi) - Q2,
+        ]
+    if model.key == "C2.3b":
+        (S1, S2), (m1, m2, ge), (Q1, Q2) = q, c, u
+        return [(m1 + m2) * d(S1, 2) - Q1, m2 * d(S2, 2) + m2 * ge - Q2]
+    if model.key == "C2.3c":
+        (S, phi), (m1, m2, J, l, ge), (Q1, Q2) = q, c, u
+        s, co = sp.sin(phi), sp.cos(phi)
+        return [
+            (m1 + m2) * d(S, 2) - m2 * l * (s * d(phi, 2) + co * d(phi) ** 2) - Q1,
+            (J + m2 * l**2) * d(phi, 2) - m2 * l * s * d(S, 2) + m2 * ge * l * co - Q2,
+        ]
+    if model.key == "C2.5":
+        (x, y, phi), (m1, J, l), (Q1, Q2, Q3) = q, c, u
+        s, co = sp.sin(phi), sp.cos(phi)
+        return [
+            m1 * d(x, 2) - m1 * l * (s * d(phi, 2) + co * d(phi) ** 2) - Q1,
+            m1 * d(y, 2) + m1 * l * (co * d(phi, 2) - s * d(phi) ** 2) - Q2,
+            (J + m1 * l**2) * d(phi, 2) + m1 * l * (-s * d(x, 2) + co * d(y, 2)) - Q3,
+        ]
+    # C2.4: each stage carries the ones after it; gravity acts along Z on the Z stage
+    (m1, m2, m3, ge), Q = c, u
+    carried = {"x": m1 + m2 + m3, "y": m2 + m3, "z": m3}
+    return [
+        carried[a] * d(qa, 2) + (m3 * ge if a == "z" else 0) - Q["xyz".index(a)]
+        for a, qa in zip(model.coords, q)
+    ]
