@@ -90,19 +90,22 @@ class ManipulatorLesson(Lesson):
             messages.append("phi does not reach 180 deg within the run.")
         result = self.result(params, t, Y, metrics, messages)
         if "constraint_error" in result.series:
-            metrics["max_constraint_error"] = float(np.max(result.series["constraint_error"]))
+            result.metrics["max_constraint_error"] = float(
+                np.max(result.series["constraint_error"])
+            )
         for name in model.coords:
-            metrics[f"{name}_end"] = float(result.series[name][-1])
-        result.metrics = metrics
+            result.metrics[f"{name}_end"] = float(result.series[name][-1])
         return result
 
     def stepper(self, params: Params) -> Stepper:
         return SolutionStepper(params, self._frame)
 
-    def _frame(self, params: Params, t: float, state: np.ndarray, message: str) -> Frame:
+    def _frame(
+        self, params: Params, t: float, state: np.ndarray, drawn: np.ndarray, message: str
+    ) -> Frame:
         model = model_of(params)
         consts = tasks.constants(params, model)
-        q = state[0, : model.n]
+        q = drawn[: model.n]
         return Frame(
             t=t,
             points={p: model.point(p, q, consts)[None, :] for p in moving_points(params["task"])},

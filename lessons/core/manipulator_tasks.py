@@ -366,6 +366,11 @@ class Solution:
             why = "the equations gave a non-finite value" if bad else sol.message
             self.reason = f"integration stopped at t = {self.stop:.6g} s: {why}"
 
+    @property
+    def last(self) -> np.ndarray:
+        """The last state computed (finite: a failing step freezes the state)."""
+        return self._y_end
+
     def message(self, t: float) -> str:
         """Why the state holds or is missing at ``t`` ("" while it runs)."""
         if t < self.stop:
@@ -392,12 +397,18 @@ class Solution:
 class SolutionStepper(Stepper):
     """The live run: plays the :class:`Solution` a headless run evaluates.
 
-    ``frame_of(params, t, state, message)`` draws one state (shape ``(1, 2n)``).  New
+    ``frame_of(params, t, state, drawn, message)`` makes the frame of one state (shape
+    ``(1, 2n)``); the bodies are drawn at ``drawn``: the state, or after a failure the
+    last state computed.  New
     values of the same task continue from the current state; another task (or a run
     that failed) starts again; a link that reached phi_k keeps holding.
     """
 
-    def __init__(self, params: Params, frame_of: Callable[[Params, float, np.ndarray, str], Frame]):
+    def __init__(
+        self,
+        params: Params,
+        frame_of: Callable[[Params, float, np.ndarray, np.ndarray, str], Frame],
+    ) -> None:
         self._frame_of = frame_of
         self.params = params
         self.reset()
@@ -408,7 +419,9 @@ class SolutionStepper(Stepper):
 
     def frame(self) -> Frame:
         state = self._solution(np.array([self._t]))
-        return self._frame_of(self.params, self._t, state, self._solution.message(self._t))
+        drawn = state[0] if np.all(np.isfinite(state)) else self._solution.last
+        message = self._solution.message(self._t)
+        return self._frame_of(self.params, self._t, state, drawn, message)
 
     def advance(self, dt: float) -> Frame:
         self._t += max(float(dt), 0.0)
