@@ -49,7 +49,7 @@ MG_READINGS = {
     "2 phi / 8 pi, switch at pi/4": (2.0, 0.0, 8 * math.pi, math.pi / 4),
 }
 #: length of one segment of the solution (s)
-SEGMENT = 1.0
+SEGMENT = 0.25
 PHI_K = math.pi
 
 # model constant (symbol name) -> parameter name, per task family
