@@ -74,6 +74,11 @@ def _task_preset(
     return Preset(name, f"{task}: {title}", {"task": task, **values}, t_end, note)
 
 
+def _task(prefix: str) -> tuple[str, tuple[str, ...]]:
+    """The group belongs to the tasks whose names start with ``prefix``."""
+    return ("task", tuple(t for t in TASKS if t.startswith(prefix)))
+
+
 class SelfStudy2(ManipulatorLesson):
     id = "self-study-2"
     title = "Self-study C2.1-C2.6: equations of simple manipulators"
@@ -88,14 +93,14 @@ class SelfStudy2(ManipulatorLesson):
     order = 2.99
     t_end = 2.0
     groups = (
-        Group("mode", "Task"),
-        Group("plane", "Plane of motion"),
-        Group("c2_1", "C2.1: link turning about O (Fig. 2.13)"),
-        Group("c2_2", "C2.2: slider on y = x + 1 (Fig. 2.14)"),
-        Group("c2_3", "C2.3: two-DOF arms (Fig. 2.15)"),
-        Group("c2_4", "C2.4: Cartesian stages X, Y, Z (Fig. 2.16)"),
-        Group("c2_5", "C2.5: positioner element that turns (Fig. 2.3)"),
-        Group("c2_6", "C2.6: three inductors (Fig. 2.6)"),
+        Group("mode", "Task", change="restart"),
+        Group("plane", "Plane of motion", change="restart"),
+        Group("c2_1", "C2.1: link turning about O (Fig. 2.13)", when=_task("C2.1")),
+        Group("c2_2", "C2.2: slider on y = x + 1 (Fig. 2.14)", when=_task("C2.2")),
+        Group("c2_3", "C2.3: two-DOF arms (Fig. 2.15)", when=_task("C2.3")),
+        Group("c2_4", "C2.4: Cartesian stages X, Y, Z (Fig. 2.16)", when=_task("C2.4")),
+        Group("c2_5", "C2.5: positioner element that turns (Fig. 2.3)", when=_task("C2.5")),
+        Group("c2_6", "C2.6: three inductors (Fig. 2.6)", when=_task("C2.6")),
     )
     modes = ("task",)
     params = (

@@ -2,7 +2,7 @@
 
 A :class:`ConstraintEval` takes the symbolic matrices of a constrained system
 (``A, B, f, H, psi, Phi`` in the plain symbols ``q, q', t``, its parameters and
-inputs, as :class:`lessons.core.mechanics.ConstrainedSystem` keeps them) and lambdifies
+inputs, as :class:`lessons.core.constrained.ConstrainedSystem` keeps them) and lambdifies
 them once into one function of whole arrays of states.  The multipliers (2.33) and the
 accelerations (2.34) then come from stacked solves: one call serves the integrator (one
 state), a live frame (one state) and a headless run (every sample at once), with the
