@@ -142,17 +142,42 @@ def sanitize_svg(markup: str) -> str:
     return s.result()
 
 
+#: TeX spellings that must never reach a student as text, and what they show as.
+TEX_NAMES = {
+    "varphi": "φ",
+    "vartheta": "ϑ",
+    "varepsilon": "ε",
+    "varpi": "ϖ",
+    "varrho": "ϱ",
+    "varsigma": "ς",
+}
+_TEX_COMMAND = re.compile(r"\\([A-Za-z]+)")
+
+
+def plain_name(name: str) -> str:
+    """A symbol name as plain text: TeX commands and braces removed (``z_{z\\,pr}`` ->
+    ``z_z pr``, ``\\varphi`` -> ``φ``), markup characters escaped."""
+    text = name.replace("\\,", " ").replace("\\;", " ").replace("\\ ", " ")
+    text = _TEX_COMMAND.sub(lambda m: TEX_NAMES.get(m.group(1), m.group(1)), text)
+    for tex, shown in TEX_NAMES.items():
+        text = re.sub(rf"(?<![A-Za-z]){tex}(?![A-Za-z])", shown, text)
+    text = text.replace("{", "").replace("}", "")
+    return html.escape(text, quote=True)
+
+
 def _escape_names(expr: sp.Basic) -> sp.Basic:
-    """Symbols/undefined functions whose names hold markup characters get escaped names,
-    so sympy's printer (which copies names verbatim) yields displayable, inert text."""
+    """Symbols/undefined functions get plain, escaped names, so sympy's printer (which
+    copies names verbatim) yields displayable, inert text with no TeX in it."""
     subs: dict[Any, Any] = {}
     for s in expr.atoms(sp.Symbol):
-        if set(s.name) & set("<>&\"'"):
-            subs[s] = sp.Symbol(html.escape(s.name, quote=True), **s.assumptions0)
+        shown = plain_name(s.name)
+        if shown != s.name:
+            subs[s] = sp.Symbol(shown, **s.assumptions0)
     for f in expr.atoms(AppliedUndef):
         name = f.func.__name__
-        if set(name) & set("<>&\"'"):
-            subs[f] = sp.Function(html.escape(name, quote=True))(*f.args)
+        shown = plain_name(name)
+        if shown != name:
+            subs[f] = sp.Function(shown)(*f.args)
     return expr.xreplace(subs) if subs else expr
 
 
@@ -174,6 +199,8 @@ def expr_to_mathml(expr: sp.Basic | str, display: str = "block") -> str:
             raw = mathml(_escape_names(sp.sympify(expr)), printer="presentation")
         except Exception:
             return f'<math display="{display}"><mtext>{html.escape(str(expr))}</mtext></math>'
+    # sympy prints d/dt with the double-struck differential d (U+2146): ordinary d
+    raw = raw.replace("&dd;", "d").replace("\u2146", "d")
     return sanitize_mathml(f'<math display="{display}">{raw}</math>')
 
 
