@@ -33,9 +33,8 @@ def test_segment_distance_broadcasts() -> None:
 
 def test_tolerance_changes_pieces() -> None:
     s = study("S1")
-    pa, na, pb, nb = s.ends
-    assert len(bisect_segment(s.machine, pa, na, s.qa, pb, nb, 0.1).moves) == 4
-    assert len(bisect_segment(s.machine, pa, na, s.qa, pb, nb, 0.001).moves) == 64
+    assert len(bisect_segment(s.machine, s.ends, s.qa, 0.1).moves) == 4
+    assert len(bisect_segment(s.machine, s.ends, s.qa, 0.001).moves) == 64
 
 
 def test_nonlinear_keeps_point_on_segment_at_constant_speed() -> None:
@@ -79,8 +78,8 @@ def test_nonlinear_as_linear_submoves_falls_as_inverse_square() -> None:
 def test_fixed_normal_half_angle() -> None:
     for name, half in (("S1", 1.645), ("S2", 1.690), ("S3", 2.578), ("S4", 1.718)):
         s = study(name)
-        pa, na, pb, nb = s.ends
-        mv = fixed_normal_move(s.machine, pa, na, pb, nb, float(s.qa[3]))
+        _, na, _, nb = s.ends
+        mv = fixed_normal_move(s.machine, s.ends, float(s.qa[3]))
         assert mv.q0[3:] == pytest.approx(mv.q1[3:])
         assert move_deviation(s.machine, mv) <= 1e-9
         assert math.degrees(off_normal_max(s.machine, s.task, [mv], samples=1025)) == pytest.approx(
@@ -94,9 +93,9 @@ def test_fixed_normal_half_angle() -> None:
 def test_a_wrong_split_normal_would_fail() -> None:
     """The bisection claim would fail if the split normal were not the mean of the ends."""
     s = study("S1")
-    pa, na, pb, nb = s.ends
+    pa, na, pb, _ = s.ends
     m = s.machine
-    bad = [move_deviation(m, mv) for mv in bisect_uniform(m, pa, na, s.qa, pb, nb, 1)]
+    bad = [move_deviation(m, mv) for mv in bisect_uniform(m, s.ends, s.qa, 1)]
     assert max(bad) == pytest.approx(0.355, abs=1e-3)
     qm = m.inverse(0.5 * (pa + pb), na, float(s.qa[3]))  # the start normal kept at the split
     wrong = move_deviation(m, Move("linear", qm, s.qb, 0.5 * (pa + pb), pb))

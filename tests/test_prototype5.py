@@ -81,8 +81,8 @@ def test_near_vertical_improved_limits() -> None:
     )
     assert r["converged"] and (r["pieces"], r["depth"]) == (122, 9)
     s = study("S4", "improved")
-    pa, na, pb, nb = s.ends
-    assert moves_backwards(s.machine, bisect_uniform(s.machine, pa, na, s.qa, pb, nb, 1), pa, pb)
+    pa, _, pb, _ = s.ends
+    assert moves_backwards(s.machine, bisect_uniform(s.machine, s.ends, s.qa, 1), pa, pb)
     assert r["xy"] == pytest.approx(78.1, abs=0.1)
 
 

@@ -168,19 +168,20 @@ class Bisection:
     worst_mm: float
 
 
+Ends = tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]  # (p_a, n_a, p_b, n_b)
+
+
 def bisect_segment(
     machine: Machine5,
-    pa: np.ndarray,
-    na: np.ndarray,
+    ends: Ends,
     qa: np.ndarray,
-    pb: np.ndarray,
-    nb: np.ndarray,
     tol: float,
     max_depth: int = 30,
     seg: int = 0,
     max_pieces: int = 4096,
 ) -> Bisection:
-    """Method 2: split the segment until every linear piece deviates by at most ``tol`` [mm].
+    """Method 2: split the segment ``ends`` (start point and normal, end point and normal),
+    starting from the axes ``qa``, until every linear piece deviates by at most ``tol`` [mm].
 
     The split point is the chord midpoint, its normal the normalized mean of the piece's
     end normals.  The refined task is translated in order, each pose by rule (2)/(3)
@@ -204,21 +205,15 @@ def bisect_segment(
         qm = rec(pa, na, qa, pm, nm, depth + 1)
         return rec(pm, nm, qm, pb, nb, depth + 1)
 
+    pa, na, pb, nb = ends
     rec(np.asarray(pa, float), unit(na), np.asarray(qa, float), np.asarray(pb, float), unit(nb), 0)
     worst = max(devs)
     return Bisection(moves, worst <= tol, max(m.depth for m in moves), worst)
 
 
-def bisect_uniform(
-    machine: Machine5,
-    pa: np.ndarray,
-    na: np.ndarray,
-    qa: np.ndarray,
-    pb: np.ndarray,
-    nb: np.ndarray,
-    depth: int,
-) -> list[Move]:
+def bisect_uniform(machine: Machine5, ends: Ends, qa: np.ndarray, depth: int) -> list[Move]:
     """Method 2 split ``depth`` times everywhere (2^depth pieces), translated in order."""
+    pa, na, pb, nb = ends
     nodes = [(np.asarray(pa, float), unit(na)), (np.asarray(pb, float), unit(nb))]
     for _ in range(depth):
         new = [nodes[0]]
@@ -245,16 +240,9 @@ def nonlinear_submoves(machine: Machine5, move: Move, count: int) -> list[Move]:
     ]
 
 
-def fixed_normal_move(
-    machine: Machine5,
-    pa: np.ndarray,
-    na: np.ndarray,
-    pb: np.ndarray,
-    nb: np.ndarray,
-    C_ref: float,
-    seg: int = 0,
-) -> Move:
+def fixed_normal_move(machine: Machine5, ends: Ends, C_ref: float, seg: int = 0) -> Move:
     """Method 1: the whole segment with the beam along the mean normal, no rotation."""
+    pa, na, pb, nb = ends
     nm = mean_normal(na, nb)
     q0 = machine.inverse(pa, nm, C_ref)
     q1 = machine.inverse(pb, nm, float(q0[3]))

@@ -181,15 +181,14 @@ def build_program(
             q_prev = qb
         elif method == "bisection":
             budget = max(MAX_MOVES - len(moves) - (task.segments - i - 1), 1)
-            bis = bisect_segment(
-                machine, pa, na, q_prev, pb, nb, tolerance_mm, max_depth, i, budget
-            )
+            ends = (pa, na, pb, nb)
+            bis = bisect_segment(machine, ends, q_prev, tolerance_mm, max_depth, i, budget)
             if not bis.converged:
                 notes.append(_bisection_stopped(i, bis, tolerance_mm, len(bis.moves) >= budget))
             moves.extend(bis.moves)
             q_prev = bis.moves[-1].q1
         else:  # fixed-normal: method 1
-            mv = fixed_normal_move(machine, pa, na, pb, nb, float(q_prev[3]), seg=i)
+            mv = fixed_normal_move(machine, (pa, na, pb, nb), float(q_prev[3]), seg=i)
             if moves and not np.allclose(moves[-1].q1[3:], mv.q0[3:], atol=1e-12):
                 reorientations += 1
             moves.append(mv)

@@ -86,14 +86,10 @@ def study(
 def uniform_levels(name: str, limits: str, depth: int = 6) -> tuple[float, ...]:
     """Largest piece deviation after 0..depth uniform bisection levels [mm]."""
     s = study(name, limits)
-    pa, na, pb, nb = s.ends
     out = [move_deviation(s.machine, s.linear())]
     for d in range(1, depth + 1):
         out.append(
-            max(
-                move_deviation(s.machine, mv)
-                for mv in bisect_uniform(s.machine, pa, na, s.qa, pb, nb, d)
-            )
+            max(move_deviation(s.machine, mv) for mv in bisect_uniform(s.machine, s.ends, s.qa, d))
         )
     return tuple(out)
 
@@ -102,8 +98,7 @@ def uniform_levels(name: str, limits: str, depth: int = 6) -> tuple[float, ...]:
 def adaptive(name: str, limits: str, tol: float = 0.020) -> Bisection:
     """Method 2 on segment ``name`` to the tolerance ``tol`` [mm] (depth cap 30)."""
     s = study(name, limits)
-    pa, na, pb, nb = s.ends
-    return bisect_segment(s.machine, pa, na, s.qa, pb, nb, tol, 30)
+    return bisect_segment(s.machine, s.ends, s.qa, tol, 30)
 
 
 # ---------------------------------------------------------------- claims
@@ -254,8 +249,8 @@ def check_sub_moves() -> ClaimResult:
 
 def check_fixed_normal() -> ClaimResult:
     s = study("S1")
-    pa, na, pb, nb = s.ends
-    mv = fixed_normal_move(s.machine, pa, na, pb, nb, float(s.qa[3]))
+    _, na, _, nb = s.ends
+    mv = fixed_normal_move(s.machine, s.ends, float(s.qa[3]))
     dev = move_deviation(s.machine, mv)
     off = math.degrees(off_normal_max(s.machine, s.task, [mv], samples=1025))
     half = 0.5 * math.degrees(float(angle_between(na, nb)))
@@ -347,17 +342,17 @@ def check_near_vertical_improved() -> ClaimResult:
 
 def check_backwards() -> ClaimResult:
     s = study("S4", "improved")
-    pa, na, pb, nb = s.ends
+    pa, _, pb, _ = s.ends
     back = [
-        moves_backwards(s.machine, bisect_uniform(s.machine, pa, na, s.qa, pb, nb, d), pa, pb)
+        moves_backwards(s.machine, bisect_uniform(s.machine, s.ends, s.qa, d), pa, pb)
         for d in range(1, 7)
     ]
     ordinary = []
     for name in ("S1", "S2", "S3"):
         t = study(name)
-        a, an, b, bn = t.ends
+        a, _, b, _ = t.ends
         ordinary.append(
-            moves_backwards(t.machine, bisect_uniform(t.machine, a, an, t.qa, b, bn, 2), a, b)
+            moves_backwards(t.machine, bisect_uniform(t.machine, t.ends, t.qa, 2), a, b)
         )
     return ClaimResult(
         expected="S4 (improved limits) moves backwards at bisection levels 1-6; S1-S3 never",

@@ -11,9 +11,7 @@ Coordinates are the machine's left-handed frame (Z towards the material, i.e. do
 
 from __future__ import annotations
 
-from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Protocol
 
 import numpy as np
 import trimesh
@@ -21,50 +19,49 @@ import trimesh
 from lessons.core.kinematics5 import TWO_PI, unit
 
 
-class Workpiece(Protocol):
-    """A surface seen from the tool side, parametrised by horizontal offsets (u, v).
+class Workpiece:
+    """A surface seen from the tool side: the height ``z(u, v)`` over the disc of offsets
+    ``u^2 + v^2 <= radius^2`` around ``centre`` (+z into the material).
 
     ``point_normal(u, v)`` gives surface points and unit normals pointing *into the
-    material* (the beam direction); ``mesh()`` a trimesh for display; ``radius`` the
-    largest offset ``sqrt(u^2 + v^2)`` covered.
+    material* (the beam direction), ``n ~ (-z_u, -z_v, 1)``; ``mesh()`` a trimesh for
+    display.  A workpiece implements :meth:`height` (z and its two slopes).
     """
 
     name: str
     radius: float
+    centre: tuple[float, float]
 
-    def point_normal(self, u: np.ndarray, v: np.ndarray) -> tuple[np.ndarray, np.ndarray]: ...
+    def height(self, u: np.ndarray, v: np.ndarray) -> tuple[np.ndarray, ...]:
+        """``z``, ``dz/du``, ``dz/dv`` at the offsets ``(u, v)``."""
+        raise NotImplementedError
 
-    def mesh(self) -> trimesh.Trimesh: ...
+    def point_normal(self, u: np.ndarray, v: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        u = np.asarray(u, dtype=float)
+        v = np.asarray(v, dtype=float)
+        z, z_u, z_v = self.height(u, v)
+        p = np.stack([self.centre[0] + u, self.centre[1] + v, z], axis=-1)
+        return p, unit(np.stack([-z_u, -z_v, np.ones_like(z)], axis=-1))
 
-
-def disc_mesh(
-    point_normal: Callable[[np.ndarray, np.ndarray], tuple[np.ndarray, np.ndarray]],
-    radius: float,
-    rings: int = 24,
-    sectors: int = 64,
-) -> trimesh.Trimesh:
-    """A height-field mesh over the disc ``u^2 + v^2 <= radius^2`` (polar grid)."""
-    r = np.linspace(0.0, radius, rings + 1)[1:]
-    a = np.linspace(0.0, TWO_PI, sectors, endpoint=False)
-    rr, aa = np.meshgrid(r, a, indexing="ij")
-    u = np.concatenate([[0.0], (rr * np.cos(aa)).ravel()])
-    v = np.concatenate([[0.0], (rr * np.sin(aa)).ravel()])
-    pts, _ = point_normal(u, v)
-    faces = []
-    for j in range(sectors):
-        faces.append([0, 1 + j, 1 + (j + 1) % sectors])
-    for i in range(rings - 1):
-        for j in range(sectors):
-            a0 = 1 + i * sectors + j
-            a1 = 1 + i * sectors + (j + 1) % sectors
-            b0 = a0 + sectors
-            b1 = a1 + sectors
-            faces += [[a0, b0, b1], [a0, b1, a1]]
-    return trimesh.Trimesh(vertices=pts, faces=np.asarray(faces), process=False)
+    def mesh(self, rings: int = 24, sectors: int = 64) -> trimesh.Trimesh:
+        """A mesh over the disc (polar grid)."""
+        r = np.linspace(0.0, self.radius, rings + 1)[1:]
+        a = np.linspace(0.0, TWO_PI, sectors, endpoint=False)
+        rr, aa = np.meshgrid(r, a, indexing="ij")
+        u = np.concatenate([[0.0], (rr * np.cos(aa)).ravel()])
+        v = np.concatenate([[0.0], (rr * np.sin(aa)).ravel()])
+        pts, _ = self.point_normal(u, v)
+        faces = [[0, 1 + j, 1 + (j + 1) % sectors] for j in range(sectors)]
+        for i in range(rings - 1):
+            for j in range(sectors):
+                a0 = 1 + i * sectors + j
+                a1 = 1 + i * sectors + (j + 1) % sectors
+                faces += [[a0, a0 + sectors, a1 + sectors], [a0, a1 + sectors, a1]]
+        return trimesh.Trimesh(vertices=pts, faces=np.asarray(faces), process=False)
 
 
 @dataclass(frozen=True)
-class Paraboloid:
+class Paraboloid(Workpiece):
     """The article's final test part: dish ``z = z0 - r^2/(4F)`` (+z into the material).
 
     Inward normal ``n ~ (u/2F, v/2F, 1)``; F and the dimensions are assumed (the article
@@ -77,22 +74,12 @@ class Paraboloid:
     radius: float = 1000.0
     name: str = "paraboloid"
 
-    def point_normal(self, u: np.ndarray, v: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        u = np.asarray(u, dtype=float)
-        v = np.asarray(v, dtype=float)
-        p = np.stack(
-            [self.centre[0] + u, self.centre[1] + v, self.z0 - (u * u + v * v) / (4 * self.F)],
-            axis=-1,
-        )
-        n = unit(np.stack([u / (2 * self.F), v / (2 * self.F), np.ones_like(u)], axis=-1))
-        return p, n
-
-    def mesh(self) -> trimesh.Trimesh:
-        return disc_mesh(self.point_normal, self.radius)
+    def height(self, u: np.ndarray, v: np.ndarray) -> tuple[np.ndarray, ...]:
+        return self.z0 - (u * u + v * v) / (4 * self.F), -u / (2 * self.F), -v / (2 * self.F)
 
 
 @dataclass(frozen=True)
-class SphereCap:
+class SphereCap(Workpiece):
     """A spherical dome (the ball is the material): top at ``z_top``, radius ``R``."""
 
     R: float = 1000.0
@@ -101,16 +88,9 @@ class SphereCap:
     radius: float = 700.0
     name: str = "sphere"
 
-    def point_normal(self, u: np.ndarray, v: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        u = np.asarray(u, dtype=float)
-        v = np.asarray(v, dtype=float)
-        h = np.sqrt(np.maximum(self.R**2 - u * u - v * v, 0.0))
-        p = np.stack([self.centre[0] + u, self.centre[1] + v, self.z_top + self.R - h], axis=-1)
-        n = np.stack([-u, -v, h], axis=-1) / self.R
-        return p, unit(n)
-
-    def mesh(self) -> trimesh.Trimesh:
-        return disc_mesh(self.point_normal, self.radius)
+    def height(self, u: np.ndarray, v: np.ndarray) -> tuple[np.ndarray, ...]:
+        h = np.sqrt(self.R**2 - u * u - v * v)
+        return self.z_top + self.R - h, u / h, v / h
 
 
 # ---------------------------------------------------------------- a task
