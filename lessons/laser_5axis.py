@@ -356,7 +356,7 @@ class Laser5Axis(Lesson):
         if r_max > wp.radius:
             raise ParamError(
                 "radius" if params["path"] == "circle" else "u1",
-                f"the path reaches {r_max:.0f} mm from the axis; the {wp.name} covers"
+                f"the path reaches {r_max:.0f} mm from the axis; the {params['surface']} covers"
                 f" {wp.radius:.0f} mm",
             )
         moves = int(params["segments"]) * int(params["sub_moves"])
@@ -557,7 +557,7 @@ class Laser5Axis(Lesson):
 
     def observe(self, params: Params, t: np.ndarray, state: Playhead) -> dict[str, Any]:
         """Every series from the program at the playhead (one function for runs and frames)."""
-        s = state.program.sample(state)
+        s = state.values
         p, q = s["p"], s["q"]
         return {
             "x": p[:, 0],

@@ -113,13 +113,6 @@ class Machine5:
             axis=-1,
         )
 
-    def in_limits(self, q: np.ndarray, tol: float = 1e-12) -> bool:
-        """Whether ``q`` respects the rotary limits of the variant."""
-        C, B = float(q[3]), float(q[4])
-        if self.limits == "original":
-            return -tol <= C < TWO_PI + tol and -tol <= B <= math.pi / 2 + tol
-        return -math.pi / 4 < B < math.pi / 4
-
     def rotary(self, n: np.ndarray, C_ref: float | None = None) -> tuple[float, float]:
         """Rule (2): rotary positions (C, B) for beam ``n``; ``C_ref`` resolves ambiguity.
 

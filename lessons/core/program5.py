@@ -49,6 +49,11 @@ class Playhead:
     tau: np.ndarray
     running: np.ndarray
 
+    @cached_property
+    def values(self) -> dict[str, np.ndarray]:
+        """The machine at these times (:meth:`Program.sample`), evaluated once."""
+        return self.program.sample(self)
+
 
 @dataclass
 class Program:

@@ -185,7 +185,7 @@ class ProgramStepper(Stepper):
     def frame(self) -> Frame:
         prog = self.prog
         head = prog.playhead(self._t)
-        s = prog.sample(head)
+        s = head.values
         pv = to_view(s["p"])
         if self._t >= prog.duration:
             message = "task finished"

@@ -19,18 +19,18 @@ import trimesh
 from lessons.core.kinematics5 import TWO_PI, unit
 
 
+@dataclass(frozen=True)
 class Workpiece:
     """A surface seen from the tool side: the height ``z(u, v)`` over the disc of offsets
     ``u^2 + v^2 <= radius^2`` around ``centre`` (+z into the material).
 
     ``point_normal(u, v)`` gives surface points and unit normals pointing *into the
     material* (the beam direction), ``n ~ (-z_u, -z_v, 1)``; ``mesh()`` a trimesh for
-    display.  A workpiece implements :meth:`height` (z and its two slopes).
+    display.  A workpiece implements :meth:`height` (z and its two slopes) and has a
+    ``radius``.
     """
 
-    name: str
-    radius: float
-    centre: tuple[float, float]
+    centre: tuple[float, float] = (1500.0, 1500.0)
 
     def height(self, u: np.ndarray, v: np.ndarray) -> tuple[np.ndarray, ...]:
         """``z``, ``dz/du``, ``dz/dv`` at the offsets ``(u, v)``."""
@@ -69,10 +69,8 @@ class Paraboloid(Workpiece):
     """
 
     F: float = 500.0
-    centre: tuple[float, float] = (1500.0, 1500.0)
     z0: float = 900.0
     radius: float = 1000.0
-    name: str = "paraboloid"
 
     def height(self, u: np.ndarray, v: np.ndarray) -> tuple[np.ndarray, ...]:
         return self.z0 - (u * u + v * v) / (4 * self.F), -u / (2 * self.F), -v / (2 * self.F)
@@ -83,10 +81,8 @@ class SphereCap(Workpiece):
     """A spherical dome (the ball is the material): top at ``z_top``, radius ``R``."""
 
     R: float = 1000.0
-    centre: tuple[float, float] = (1500.0, 1500.0)
     z_top: float = 400.0
     radius: float = 700.0
-    name: str = "sphere"
 
     def height(self, u: np.ndarray, v: np.ndarray) -> tuple[np.ndarray, ...]:
         h = np.sqrt(self.R**2 - u * u - v * v)
