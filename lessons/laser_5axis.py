@@ -65,8 +65,8 @@ SOURCE = "LSP-2000 article (five-axis laser complex), eqs (1)-(4), Figs 3-5"
 
 
 def machine_of(params: Params) -> Machine5:
-    lengths = (float(params[n]) for n in ("R_C", "R_B", "k_C1", "k_C2", "k_X", "k_Y", "k_Z"))
-    return Machine5(*lengths, limits=params["limits"])
+    geometry = (float(params[n]) for n in ("R_C", "R_B", "k_C1", "k_C2", "k_X", "k_Y", "k_Z"))
+    return Machine5(*geometry, limits=params["limits"])
 
 
 def workpiece_of(params: Params) -> Workpiece:
