@@ -22,6 +22,7 @@ Series and metrics are in the machine's left-handed frame (Z towards the workpie
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 from functools import lru_cache
 from typing import Any
 
@@ -117,86 +118,73 @@ GROUPS = (
     Group("path", "Task path"),
 )
 
+
+def _grouped(group: str, *params: Param) -> tuple[Param, ...]:
+    """The parameters of one panel group."""
+    return tuple(replace(p, group=group) for p in params)
+
+
 PARAMS: tuple[Param, ...] = (
-    Param(
-        "method",
-        "choice",
-        "bisection",
-        "controller",
-        choices=METHODS,
-        group="interpolation",
-        help="linear: all axes proportional; bisection: method 2; nonlinear: interpolation (4);"
-        " fixed-normal: method 1",
+    *_grouped(
+        "interpolation",
+        Param(
+            "method",
+            "choice",
+            "bisection",
+            "controller",
+            choices=METHODS,
+            help="linear: all axes proportional; bisection: method 2; nonlinear: interpolation"
+            " (4); fixed-normal: method 1",
+        ),
+        Param("delta_p", "float", 20.0, "tolerance delta_p", "um", 1.0, 1000.0, 1.0),
+        Param("V", "float", 50.0, "contour feed V", "mm/s", 0.1, 1000.0, 1.0),
+        Param("max_depth", "int", 30, "bisection depth cap", "", 1, 30, 1),
+        Param("sub_moves", "int", 0, "nonlinear as N linear moves (0: exact)", "", 0, 256, 1),
     ),
-    Param(
-        "delta_p", "float", 20.0, "tolerance delta_p", "um", 1.0, 1000.0, 1.0, group="interpolation"
-    ),
-    Param("V", "float", 50.0, "contour feed V", "mm/s", 0.1, 1000.0, 1.0, group="interpolation"),
-    Param("max_depth", "int", 30, "bisection depth cap", "", 1, 30, 1, group="interpolation"),
-    Param(
-        "sub_moves",
-        "int",
-        0,
-        "nonlinear as N linear moves (0: exact)",
-        "",
-        0,
-        256,
-        1,
-        group="interpolation",
-    ),
-    Param(
+    *_grouped(
         "limits",
-        "choice",
-        "improved",
-        "rotary limits",
-        choices=("original", "improved"),
-        group="limits",
-        help="original: C in [0, 2pi), B in [0, pi/2]; improved: B in (-pi/4, pi/4), C free",
+        Param(
+            "limits",
+            "choice",
+            "improved",
+            "rotary limits",
+            choices=("original", "improved"),
+            help="original: C in [0, 2pi), B in [0, pi/2]; improved: B in (-pi/4, pi/4), C free",
+        ),
     ),
-    Param("R_C", "float", 200.0, "C lever R_C", "mm", 0.0, 1000.0, 10.0, group="machine"),
-    Param("R_B", "float", 300.0, "B lever R_B", "mm", 10.0, 1000.0, 10.0, group="machine"),
-    Param("k_C1", "choice", "1", "sense of C, k_C1", choices=("1", "-1"), group="machine"),
-    Param(
-        "k_C2", "float", 0.0, "C zero offset k_C2", "rad", -math.pi, math.pi, 0.01, group="machine"
+    *_grouped(
+        "machine",
+        Param("R_C", "float", 200.0, "C lever R_C", "mm", 0.0, 1000.0, 10.0),
+        Param("R_B", "float", 300.0, "B lever R_B", "mm", 10.0, 1000.0, 10.0),
+        Param("k_C1", "choice", "1", "sense of C, k_C1", choices=("1", "-1")),
+        Param("k_C2", "float", 0.0, "C zero offset k_C2", "rad", -math.pi, math.pi, 0.01),
+        Param("k_X", "float", 0.0, "X offset k_X", "mm", -500.0, 500.0, 1.0),
+        Param("k_Y", "float", 0.0, "Y offset k_Y", "mm", -500.0, 500.0, 1.0),
+        Param("k_Z", "float", 0.0, "Z offset k_Z", "mm", -500.0, 500.0, 1.0),
     ),
-    Param("k_X", "float", 0.0, "X offset k_X", "mm", -500.0, 500.0, 1.0, group="machine"),
-    Param("k_Y", "float", 0.0, "Y offset k_Y", "mm", -500.0, 500.0, 1.0, group="machine"),
-    Param("k_Z", "float", 0.0, "Z offset k_Z", "mm", -500.0, 500.0, 1.0, group="machine"),
-    Param(
-        "surface",
-        "choice",
-        "paraboloid",
+    *_grouped(
         "workpiece",
-        choices=("paraboloid", "sphere"),
-        group="workpiece",
+        Param("surface", "choice", "paraboloid", "workpiece", choices=("paraboloid", "sphere")),
+        Param("F", "float", 500.0, "paraboloid focal length F", "mm", 100.0, 5000.0, 10.0),
+        Param("R_s", "float", 1000.0, "sphere radius", "mm", 200.0, 5000.0, 10.0),
     ),
-    Param(
-        "F",
-        "float",
-        500.0,
-        "paraboloid focal length F",
-        "mm",
-        100.0,
-        5000.0,
-        10.0,
-        group="workpiece",
+    *_grouped(
+        "path",
+        Param("path", "choice", "circle", "task path", choices=("line", "circle")),
+        Param("u0", "float", 300.0, "start offset u0", "mm", -1000.0, 1000.0, 1.0),
+        Param("v0", "float", 0.0, "start offset v0", "mm", -1000.0, 1000.0, 1.0),
+        Param("u1", "float", 300.0, "end offset u1", "mm", -1000.0, 1000.0, 1.0),
+        Param("v1", "float", 60.0, "end offset v1", "mm", -1000.0, 1000.0, 1.0),
+        Param("radius", "float", 300.0, "circle radius", "mm", 1.0, 1000.0, 1.0),
+        Param("segments", "int", 32, "task segments", "", 1, 200, 1),
     ),
-    Param("R_s", "float", 1000.0, "sphere radius", "mm", 200.0, 5000.0, 10.0, group="workpiece"),
-    Param("path", "choice", "circle", "task path", choices=("line", "circle"), group="path"),
-    Param("u0", "float", 300.0, "start offset u0", "mm", -1000.0, 1000.0, 1.0, group="path"),
-    Param("v0", "float", 0.0, "start offset v0", "mm", -1000.0, 1000.0, 1.0, group="path"),
-    Param("u1", "float", 300.0, "end offset u1", "mm", -1000.0, 1000.0, 1.0, group="path"),
-    Param("v1", "float", 60.0, "end offset v1", "mm", -1000.0, 1000.0, 1.0, group="path"),
-    Param("radius", "float", 300.0, "circle radius", "mm", 1.0, 1000.0, 1.0, group="path"),
-    Param("segments", "int", 32, "task segments", "", 1, 200, 1, group="path"),
 )
 
 
 def _preset_duration(values: dict[str, Any]) -> float:
     """The task's length over the feed V: the program's duration."""
-    p = {prm.name: prm.parse(values.get(prm.name, prm.default)) for prm in PARAMS}
-    task = task_of(Params(p))
-    return float(np.linalg.norm(np.diff(task.points, axis=0), axis=1).sum() / float(p["V"]))
+    p = Params({prm.name: prm.parse(values.get(prm.name, prm.default)) for prm in PARAMS})
+    return task_of(p).length / float(p["V"])
 
 
 def _preset(name: str, title: str, values: dict[str, Any], note: str = "") -> Preset:
@@ -312,6 +300,28 @@ SERIES = (
 )
 
 
+RECONSTRUCTED = Note(
+    "reconstructed",
+    "Equations (1) and (2) are lost in the article and (3) survives as tokens: the kinematics"
+    " are rebuilt from the machine description.",
+    source="LSP-2000 article, (1)-(3)",
+    evidence="the tokens of (3), X x R n R C k k k, fit"
+    " X = x - R_B n_x - R_C sin(k_C1 C + k_C2) - k_X using each once",
+)
+ASSUMED = Note(
+    "info",
+    "The article's test part has 'a parabolic surface'; F, the dish's size and place, R_C and"
+    " R_B are assumed values.",
+    source="LSP-2000 article, Conclusions",
+)
+VERTICAL_START = Note(
+    "info",
+    "A task point has a vertical beam: rule (2)'s first variant leaves C free; it takes the C"
+    " of the next tilted pose (no lever swing).",
+    source="LSP-2000 article, rule (2)",
+)
+
+
 class Laser5Axis(Lesson):
     id = "laser-5axis"
     title = "LSP-2000 five-axis laser: linear vs nonlinear interpolation"
@@ -371,34 +381,11 @@ class Laser5Axis(Lesson):
             raise ParamError("limits", f"the task is out of reach: {exc}") from None
 
     def notes(self, params: Params) -> list[Note]:
-        out = [
-            Note(
-                "reconstructed",
-                "Equations (1) and (2) are lost in the article and (3) survives as tokens: the "
-                "kinematics are rebuilt from the machine description.",
-                source="LSP-2000 article, (1)-(3)",
-                evidence="the tokens of (3), X x R n R C k k k, fit"
-                " X = x - R_B n_x - R_C sin(k_C1 C + k_C2) - k_X using each once",
-            )
-        ]
+        out = [RECONSTRUCTED]
         if params["surface"] == "paraboloid":
-            out.append(
-                Note(
-                    "info",
-                    "The article's test part has 'a parabolic surface'; F, the dish's size and "
-                    "place, R_C and R_B are assumed values.",
-                    source="LSP-2000 article, Conclusions",
-                )
-            )
+            out.append(ASSUMED)
         if any(vertical(n) for n in task_of(params).normals):
-            out.append(
-                Note(
-                    "info",
-                    "A task point has a vertical beam: rule (2)'s first variant leaves C free; "
-                    "it takes the C of the next tilted pose (no lever swing).",
-                    source="LSP-2000 article, rule (2)",
-                )
-            )
+            out.append(VERTICAL_START)
         return out + program_of(params).notes
 
     # -- derivation -----------------------------------------------------------------

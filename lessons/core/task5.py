@@ -105,6 +105,11 @@ class Task:
     def segments(self) -> int:
         return len(self.points) - 1
 
+    @property
+    def length(self) -> float:
+        """The polyline's length [mm]."""
+        return float(np.linalg.norm(np.diff(self.points, axis=0), axis=1).sum())
+
     def normal_at(self, seg: int, lam: np.ndarray) -> np.ndarray:
         """Surface normal below the chord point at parameter ``lam`` of segment ``seg``."""
         lam = np.clip(np.asarray(lam, dtype=float), 0.0, 1.0)
