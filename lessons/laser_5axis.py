@@ -102,8 +102,8 @@ def _program(values: tuple[tuple[str, Any], ...]) -> Program:
         str(params["method"]),
         float(params["delta_p"]) * 1e-3,
         float(params["V"]),
-        int(params["max_depth"]),
-        int(params["sub_moves"]),
+        max_depth=int(params["max_depth"]),
+        sub_moves=int(params["sub_moves"]),
     )
 
 

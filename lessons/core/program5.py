@@ -164,6 +164,7 @@ def build_program(
     method: str,
     tolerance_mm: float,
     feed: float,
+    *,
     max_depth: int = 30,
     sub_moves: int = 0,
 ) -> Program:
