@@ -111,11 +111,11 @@ def _program(values: tuple[tuple[str, Any], ...]) -> Program:
 
 
 GROUPS = (
-    Group("interpolation", "Interpolation"),
-    Group("limits", "Rotary limits"),
-    Group("machine", "Machine geometry"),
-    Group("workpiece", "Workpiece"),
-    Group("path", "Task path"),
+    Group("interpolation", "Interpolation", change="restart"),
+    Group("limits", "Rotary limits", change="restart"),
+    Group("machine", "Machine geometry", change="restart"),
+    Group("workpiece", "Workpiece", change="restart"),
+    Group("path", "Task path", change="restart"),
 )
 
 
