@@ -43,7 +43,8 @@ SVG_TAGS = frozenset(
 SVG_ATTRS = frozenset(
     """width height viewbox x y x1 y1 x2 y2 cx cy r rx ry d points fill stroke stroke-width
     stroke-dasharray font-family font-size font-weight text-anchor dominant-baseline transform
-    marker-end marker-start id refx refy markerwidth markerheight orient opacity role aria-label""".split()
+    marker-end marker-start id refx refy markerwidth markerheight orient opacity role aria-label
+    preserveaspectratio""".split()
 )
 _SAFE_SVG_VALUE = re.compile(
     r"^(?!.*(?:javascript|data:|expression))[\w .,:%#+\-()]*$", re.IGNORECASE
@@ -54,6 +55,7 @@ _SVG_NAMES = {
     "refy": "refY",
     "markerwidth": "markerWidth",
     "markerheight": "markerHeight",
+    "preserveaspectratio": "preserveAspectRatio",
 }
 
 
@@ -201,7 +203,50 @@ def expr_to_mathml(expr: sp.Basic | str, display: str = "block") -> str:
             return f'<math display="{display}"><mtext>{html.escape(str(expr))}</mtext></math>'
     # sympy prints d/dt with the double-struck differential d (U+2146): ordinary d
     raw = raw.replace("&dd;", "d").replace("\u2146", "d")
-    return sanitize_mathml(f'<math display="{display}">{raw}</math>')
+    out = sanitize_mathml(f'<math display="{display}">{raw}</math>')
+    if not isinstance(expr, str) and math_width(out) > MAX_LINE_GLYPHS:
+        return _broken_lines(expr, display) or out
+    return out
+
+
+#: Longer formulas are broken into lines at their top-level + and - (see _broken_lines).
+MAX_LINE_GLYPHS = 80
+LINE_GLYPHS = 48
+
+
+def _row(expr: sp.Basic) -> str:
+    from sympy.printing.mathml import mathml
+
+    raw = mathml(_escape_names(expr), printer="presentation")
+    return raw.replace("&dd;", "d").replace("\u2146", "d")
+
+
+def _broken_lines(expr: Any, display: str) -> str | None:
+    """An equation ``lhs = a + b + ...`` (or a long sum) as aligned lines of a table, a
+    few terms per line, so that it reads in a narrow panel without scrolling."""
+    expr = sp.sympify(expr)
+    lhs, rhs = (expr.lhs, expr.rhs) if isinstance(expr, sp.Equality) else (None, expr)
+    if not isinstance(rhs, sp.Add):
+        return None
+    lines: list[list[sp.Basic]] = [[]]
+    used = 0.0
+    for term in sp.Add.make_args(rhs):
+        w = math_width(f"<math>{_row(term)}</math>")
+        if lines[-1] and used + w > LINE_GLYPHS:
+            lines.append([])
+            used = 0.0
+        lines[-1].append(term)
+        used += w + 1.0
+    rows = []
+    for k, terms in enumerate(lines):
+        part = _row(sp.Add(*terms, evaluate=False))
+        if k == 0:
+            head = f"{_row(lhs)}<mo>=</mo>" if lhs is not None else ""
+        else:  # a continued line starts with its sign
+            head = "" if terms[0].could_extract_minus_sign() else "<mo>+</mo>"
+        rows.append(f'<mtr><mtd columnalign="left"><mrow>{head}{part}</mrow></mtd></mtr>')
+    table = f'<mtable columnalign="left">{"".join(rows)}</mtable>'
+    return sanitize_mathml(f'<math display="{display}">{table}</math>')
 
 
 def _as_list(math: sp.Basic | Sequence[sp.Basic] | str | None) -> list[sp.Basic | str]:
@@ -219,6 +264,65 @@ RECON_STYLE = (
     "padding:0 4px;font-size:0.8em"
 )
 SOURCE_STYLE = "color:#555;font-size:0.85em;margin-left:6px"
+
+
+#: Average width of a rendered math glyph in em (a deliberate over-estimate: fit first).
+GLYPH_EM = 0.62
+
+
+def math_width(mathml: str) -> float:
+    """The width of a MathML formula in glyphs, estimated from its structure: a fraction
+    is as wide as its wider part, scripts count at 70 %, rows add up."""
+    import xml.etree.ElementTree as ET
+
+    try:
+        root = ET.fromstring(mathml)
+    except ET.ParseError:
+        return float(len(re.sub(r"<[^>]+>", "", mathml)))
+
+    def width(el: ET.Element) -> float:
+        tag = el.tag.rsplit("}", 1)[-1]
+        kids = list(el)
+        if tag in ("mi", "mn", "mtext", "ms"):
+            return float(len((el.text or "").strip()) or 1)
+        if tag == "mo":
+            text = (el.text or "").strip()
+            return len(text) + (0.6 if text in "=+-−<>≤≥±" else 0.2)
+        if tag == "mfrac":
+            return max((width(k) for k in kids), default=0.0) + 0.4
+        if tag in ("msup", "msub", "munder", "mover"):
+            return width(kids[0]) + 0.7 * sum(width(k) for k in kids[1:]) if kids else 0.0
+        if tag in ("msubsup", "munderover"):
+            return width(kids[0]) + 0.7 * max((width(k) for k in kids[1:]), default=0.0)
+        if tag in ("msqrt", "mroot"):
+            return sum(width(k) for k in kids) + 1.0
+        if tag == "mtable":
+            return max((width(k) for k in kids), default=0.0)
+        return sum(width(k) for k in kids)
+
+    return max(width(root), 1.0)
+
+
+def _fit_font(mathml: str) -> str:
+    """A font size that fits the formula into its container's width (CSS container
+    units), never above the surrounding size and never below 45 % of it."""
+    em = math_width(mathml) * GLYPH_EM
+    return f"clamp(0.45em, {100.0 / em:.2f}cqi, 1em)"
+
+
+def _fit_svg(svg: str) -> str:
+    """A figure scaled to the panel's width (its drawing size kept as the viewBox)."""
+    clean = sanitize_svg(svg)
+    m = re.match(r"<svg([^>]*)>", clean)
+    if not m:
+        return clean
+    attrs = m.group(1)
+    w = re.search(r'\swidth="([\d.]+)"', attrs)
+    h = re.search(r'\sheight="([\d.]+)"', attrs)
+    if "viewBox" not in attrs and w and h:
+        attrs += f' viewBox="0 0 {w.group(1)} {h.group(1)}"'
+    attrs = re.sub(r'\s(width|height)="[^"]*"', "", attrs)
+    return f'<svg{attrs} width="100%" preserveAspectRatio="xMidYMid meet">' + clean[m.end() :]
 
 
 def step_to_html(step: DerivationStep, index: int | None = None) -> str:
@@ -239,11 +343,14 @@ def step_to_html(step: DerivationStep, index: int | None = None) -> str:
     if step.text:
         parts.append(f'<div style="font-size:0.9em;margin:2px 0">{esc(step.text)}</div>')
     for item in _as_list(step.math):
-        parts.append(f'<div style="overflow-x:auto">{expr_to_mathml(item)}</div>')
-    if step.svg:
+        mathml = expr_to_mathml(item)
         parts.append(
-            f'<div class="al-figure" style="overflow-x:auto;max-width:100%">{sanitize_svg(step.svg)}</div>'
+            '<div class="al-eq" style="container-type:inline-size;width:100%;overflow:hidden">'
+            f'<div style="font-size:{_fit_font(mathml)};line-height:normal;margin:4px 0">'
+            f"{mathml}</div></div>"
         )
+    if step.svg:
+        parts.append(f'<div class="al-figure" style="width:100%">{_fit_svg(step.svg)}</div>')
     if step.reconstructed:
         parts.append(
             f'<div style="font-size:0.8em;color:#7a5600">reconstructed: {esc(step.reconstructed)}</div>'

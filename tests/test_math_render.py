@@ -101,3 +101,43 @@ def test_block_diagram_svg_is_rendered_and_sanitized():
     ):
         assert bad not in clean.lower(), bad
     assert "&lt;b&gt;" in clean and '<rect width="5">' in clean
+
+
+def test_symbol_names_never_show_tex() -> None:
+    from app.math_render import plain_name
+
+    assert plain_name(r"z_{z\,pr}") == "z_z pr"
+    assert plain_name("varphi") == "φ"
+    assert plain_name(r"\varphi_1") == "φ_1"
+    html_out = expr_to_mathml(sp.Symbol("varphi") + sp.Symbol(r"z_{z\,pr}"))
+    assert "varphi" not in html_out and "{" not in html_out and "\\" not in html_out
+
+
+def test_time_derivative_uses_an_ordinary_d() -> None:
+    t = sp.Symbol("t")
+    out = expr_to_mathml(sp.Derivative(sp.Function("x")(t), t))
+    assert "\u2146" not in out and "&dd;" not in out
+    assert "<mo>d</mo>" in out
+
+
+def test_long_equation_is_broken_into_lines_that_fit() -> None:
+    from app.math_render import LINE_GLYPHS, MAX_LINE_GLYPHS, math_width
+
+    xs = sp.symbols("x1:13")
+    eq = sp.Eq(sp.Symbol("y"), sum(sp.Symbol(f"a{k}") * x**2 for k, x in enumerate(xs)))
+    out = expr_to_mathml(eq)
+    assert "<mtable" in out and out.count("<mtr>") >= 3
+    rows = out.split("<mtr>")[1:]
+    assert all(math_width(f"<math>{r.split('</mtr>')[0]}</math>") <= LINE_GLYPHS + 12 for r in rows)
+    short = expr_to_mathml(sp.Eq(sp.Symbol("y"), xs[0] + xs[1]))
+    assert "<mtable" not in short and math_width(short) < MAX_LINE_GLYPHS
+
+
+def test_figures_scale_to_the_panel_width() -> None:
+    from app.math_render import step_to_html
+
+    svg = '<svg width="660" height="300"><rect x="0" y="0" width="660" height="300"/></svg>'
+    out = step_to_html(DerivationStep("diagram", svg=svg))
+    head = out[out.index("<svg") : out.index(">", out.index("<svg"))]
+    assert 'width="100%"' in head and 'viewBox="0 0 660 300"' in head
+    assert 'width="660"' not in head
