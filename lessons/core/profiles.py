@@ -30,6 +30,8 @@ import numpy as np
 import sympy as sp
 
 ProfileKind = Literal["trapezoid", "triangle"]
+#: the speed-law choices: the source's rule (1.8)/(1.9), or one law forced
+PROFILE_CHOICES = ("auto", "trapezoid", "triangle")
 
 
 @dataclass(frozen=True)
@@ -151,13 +153,18 @@ def triangle_1_9(S_l: float, k1: float, k2: float) -> tuple[float, float, float]
     return t1, tau, v1
 
 
-def speed_profile(S_l: float, v0: float, Delta0: float, Delta1: float) -> SpeedProfile:
+def speed_profile(
+    S_l: float, v0: float, Delta0: float, Delta1: float, kind: str = "auto"
+) -> SpeedProfile:
     """The speed law of §1.1: trapezoid if L > 0 (1.8), else the minimum-time triangle (1.9).
 
     The triangle uses the trapezoid's slopes k1 = v0/Delta0, k2 = v0/Delta1.  Written
     with durations, its peak is ``v1 = sqrt(2 S_l v0 / (Delta0 + Delta1))``, reached at
     ``t1 = v1 Delta0 / v0`` and ending at ``tau = v1 (Delta0 + Delta1) / v0``; this equals
     (1.9) for finite slopes and stays defined when one ramp is instantaneous.
+
+    ``kind`` ``"trapezoid"`` or ``"triangle"`` forces one law: the trapezoid needs L > 0;
+    the triangle with L > 0 peaks above v0 (it covers the curve faster than the limit allows).
     """
     for name, val in (("S_l", S_l), ("v0", v0), ("Delta0", Delta0), ("Delta1", Delta1)):
         if not math.isfinite(val):
@@ -168,15 +175,21 @@ def speed_profile(S_l: float, v0: float, Delta0: float, Delta1: float) -> SpeedP
         raise ValueError(f"v0 must be positive, got {v0:g}")
     if Delta0 < 0 or Delta1 < 0:
         raise ValueError("ramp durations Delta0, Delta1 must be >= 0")
+    if kind not in PROFILE_CHOICES:
+        raise ValueError(f"the profile must be one of {', '.join(PROFILE_CHOICES)}; got {kind!r}")
     k1 = v0 / Delta0 if Delta0 > 0 else math.inf
     k2 = v0 / Delta1 if Delta1 > 0 else math.inf
     L = trapezoid_L(S_l, v0, Delta0, Delta1)
-    if L > 0:
+    if kind == "trapezoid" and L <= 0:
+        raise ValueError(f"a trapezoid needs L > 0 (1.8); here L = {L:.6g}")
+    if kind == "trapezoid" or (kind == "auto" and L > 0):
         Delta = L / v0
         T = Delta0 + Delta + Delta1
         return SpeedProfile(
             "trapezoid", S_l, v0, Delta0, Delta1, L, Delta, T, Delta0, T, v0, k1, k2
         )
+    if Delta0 + Delta1 <= 0:
+        raise ValueError("a triangle needs Delta0 + Delta1 > 0 (its ramps have the slopes v0/Delta)")
     v1 = math.sqrt(2 * S_l * v0 / (Delta0 + Delta1))
     t1 = v1 * Delta0 / v0
     tau = v1 * (Delta0 + Delta1) / v0
@@ -203,6 +216,7 @@ def _triangle_symbolic() -> tuple[tuple[str, sp.Expr], ...]:
 
 
 __all__ = [
+    "PROFILE_CHOICES",
     "ProfileKind",
     "SpeedProfile",
     "speed_profile",
