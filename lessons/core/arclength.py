@@ -62,18 +62,21 @@ class OmegaTable:
     dphi: np.ndarray
 
     def __call__(self, s: np.ndarray) -> np.ndarray:
-        s = np.asarray(s, dtype=float)
-        k = np.clip(np.searchsorted(self.s, s, side="right") - 1, 0, len(self.s) - 2)
-        s0, h = self.s[k], self.s[k + 1] - self.s[k]
-        u = np.divide(s - s0, h, out=np.zeros_like(s), where=h > 0)
-        u = np.clip(u, 0.0, 1.0)
-        w = 1.0 - u
-        return (
-            (1 + 2 * u) * w * w * self.phi[k]
-            + u * w * w * h * self.dphi[k]
-            + u * u * (3 - 2 * u) * self.phi[k + 1]
-            - u * u * w * h * self.dphi[k + 1]
-        )
+        return hermite(self.s, self.phi, self.dphi, s)
+
+
+def hermite(nodes: np.ndarray, values: np.ndarray, slopes: np.ndarray, x: np.ndarray) -> np.ndarray:
+    """Piecewise cubic Hermite interpolation: ``values`` (n,) or (n, k) and their ``slopes``
+    at the non-decreasing ``nodes`` (n,), evaluated at ``x`` (clamped to the nodes' range)."""
+    x = np.asarray(x, dtype=float)
+    k = np.clip(np.searchsorted(nodes, x, side="right") - 1, 0, len(nodes) - 2)
+    h = nodes[k + 1] - nodes[k]
+    u = np.clip(np.divide(x - nodes[k], h, out=np.zeros_like(x), where=h > 0), 0.0, 1.0)
+    w = 1.0 - u
+    c = [(1 + 2 * u) * w * w, u * w * w * h, u * u * (3 - 2 * u), -u * u * w * h]
+    if values.ndim > 1:
+        c = [b[:, None] for b in c]
+    return c[0] * values[k] + c[1] * slopes[k] + c[2] * values[k + 1] + c[3] * slopes[k + 1]
 
 
 class ArcLengthCurve:
@@ -233,28 +236,38 @@ class ArcLengthCurve:
         """(1.6): r(s) as an (N, 3) array."""
         return self.r(self.phi_of_s(s))
 
+    def unit_tangent(self, phi: np.ndarray) -> np.ndarray:
+        """r'/|r'| at ``phi``; where it is undefined (an infinite or a zero derivative, e.g.
+        at the ends of (1.4)) the limit from a nearby interior point (see below)."""
+        phi = np.atleast_1d(np.asarray(phi, dtype=float))
+        out = self._unit(phi)
+        bad = ~np.all(np.isfinite(out), axis=1)
+        if bad.any():
+            out[bad] = self.unit_tangent_theta(self.theta_of_phi(phi[bad]))
+        return out
+
     def unit_tangent_theta(self, theta: np.ndarray) -> np.ndarray:
         """r'/|r'| at phi(theta); where it is undefined (an infinite or a zero derivative,
         e.g. at the ends of (1.4)) the limit is taken from a nearby interior point."""
         theta = np.atleast_1d(np.asarray(theta, dtype=float))
-        out = self._tangent(theta)
+        out = self._unit(self.phi_of_theta(theta))
         bad = ~np.all(np.isfinite(out), axis=1)
         for eps in (1e-9, 1e-7, 1e-5, 1e-3):
             if not bad.any():
                 break
             th = theta[bad]
             nudged = np.where(th < np.pi / 2, th + eps, th - eps)
-            out[bad] = self._tangent(np.clip(nudged, eps, np.pi - eps))
+            out[bad] = self._unit(self.phi_of_theta(np.clip(nudged, eps, np.pi - eps)))
             bad = ~np.all(np.isfinite(out), axis=1)
         return out
 
-    def _tangent(self, theta: np.ndarray) -> np.ndarray:
+    def _unit(self, phi: np.ndarray) -> np.ndarray:
         with np.errstate(all="ignore"):
-            d = np.asarray(self.dr(self.phi_of_theta(theta)), dtype=float)
+            d = np.asarray(self.dr(phi), dtype=float)
             n = np.linalg.norm(d, axis=1)
             out = d / n[:, None]
         out[~np.isfinite(n) | (n == 0)] = np.nan
         return out
 
 
-__all__ = ["ArcLengthCurve", "ArcLengthTable", "OmegaTable"]
+__all__ = ["ArcLengthCurve", "ArcLengthTable", "OmegaTable", "hermite"]

@@ -13,8 +13,9 @@ curve is covered in minimum time by the triangle of Fig. 1.2 with rising slope
     t1 = sqrt(2 S_l k2 / (k1 (k1 + k2))),  tau = (k1 + k2) t1 / k2,
     v1 = sqrt(2 S_l k1 k2 / (k1 + k2))                                  (1.9)
 
-The project takes the trapezoid's slopes, ``k1 = v0/Delta0`` and ``k2 = v0/Delta1``
-(DESIGN.md §3 item 5), so the two cases join at ``L = 0`` (there ``v1 = v0``).
+The source gives the slopes only as ``k1 = tg alpha``, ``k2 = tg beta`` (Fig. 1.2); the
+lab takes the trapezoid's, ``k1 = v0/Delta0`` and ``k2 = v0/Delta1``, so the two cases
+join at ``L = 0`` (there ``v1 = v0``).
 The closed forms of ``s(t) = integral of v`` (1.7) are derived here; the source only
 says "integrate (1.7)".
 """
@@ -28,6 +29,7 @@ from typing import Literal
 
 import numpy as np
 import sympy as sp
+from scipy import integrate
 
 ProfileKind = Literal["trapezoid", "triangle"]
 #: the speed-law choices: the source's rule (1.8)/(1.9), or one law forced
@@ -189,11 +191,28 @@ def speed_profile(
             "trapezoid", S_l, v0, Delta0, Delta1, L, Delta, T, Delta0, T, v0, k1, k2
         )
     if Delta0 + Delta1 <= 0:
-        raise ValueError("a triangle needs Delta0 + Delta1 > 0 (its ramps have the slopes v0/Delta)")
+        raise ValueError(
+            "a triangle needs Delta0 + Delta1 > 0 (its ramps have the slopes v0/Delta)"
+        )
     v1 = math.sqrt(2 * S_l * v0 / (Delta0 + Delta1))
     t1 = v1 * Delta0 / v0
     tau = v1 * (Delta0 + Delta1) / v0
     return SpeedProfile("triangle", S_l, v0, Delta0, Delta1, L, 0.0, tau, t1, tau, v1, k1, k2)
+
+
+def integral_of_v(p: SpeedProfile) -> float:
+    """The area under v(t) by adaptive quadrature, piece by piece (independent of s(t))."""
+    return sum(
+        integrate.quad(lambda t: float(p.v(t)), a, b, epsabs=1e-13, epsrel=1e-13)[0]
+        for a, b in zip(p.breakpoints[:-1], p.breakpoints[1:])
+    )
+
+
+def triangle_printed() -> dict[str, sp.Expr]:
+    """(1.9) as printed, in symbols S_l, k_1, k_2 (the names :func:`triangle_symbolic` uses)."""
+    S, k1, k2 = sp.symbols("S_l k_1 k_2", positive=True)
+    t1 = sp.sqrt(2 * S * k2 / (k1 * (k1 + k2)))
+    return {"t_1": t1, "tau": (k1 + k2) / k2 * t1, "v_1": sp.sqrt(2 * S * k1 * k2 / (k1 + k2))}
 
 
 def triangle_symbolic() -> dict[str, sp.Expr]:
@@ -219,8 +238,10 @@ __all__ = [
     "PROFILE_CHOICES",
     "ProfileKind",
     "SpeedProfile",
+    "integral_of_v",
     "speed_profile",
     "trapezoid_L",
     "triangle_1_9",
+    "triangle_printed",
     "triangle_symbolic",
 ]
