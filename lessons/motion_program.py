@@ -317,8 +317,9 @@ class MotionProgramLesson(Lesson):
             out[c] = X[:, k]
             out[f"{c}_dot"] = V[:, k]
             out[f"{c}_analyzer"] = Y[:, k]
-        out["speed"] = np.linalg.norm(np.einsum("nij,nj->ni", U, Y), axis=1)
-        out["error"] = np.linalg.norm(Y - X, axis=1)
+        UY, E = np.einsum("nij,nj->ni", U, Y), Y - X
+        out["speed"] = np.sqrt(np.einsum("ij,ij->i", UY, UY))
+        out["error"] = np.sqrt(np.einsum("ij,ij->i", E, E))
         out["dist_sq"] = law["D"]
         for k, name in enumerate(U_NAMES):
             out[name] = U[:, k // 3, k % 3]
@@ -610,10 +611,16 @@ class MotionStepper(Stepper):
 
     def __init__(self, lesson: MotionProgramLesson, params: Params) -> None:
         self._lesson = lesson
-        self._params = params
-        self._prog = program_of(params)
         self._t = 0.0
         self._note = ""
+        self._use(params)
+
+    def _use(self, params: Params) -> None:
+        self._params = params
+        self._prog = program_of(params)
+        pts = self._prog.curve.samples
+        size = max(float(np.max(pts.max(axis=0) - pts.min(axis=0))), 1e-9)
+        self._vscale = 0.25 * size / max(self._prog.profile.v1, 1e-12)  # arrow length
 
     @property
     def t(self) -> float:
@@ -631,13 +638,10 @@ class MotionStepper(Stepper):
             msgs.append("(1.5) is suspended near the origin (1.14)")
         if t >= prog.T and not msgs:
             msgs.append(f"the motion is complete at T = {prog.T:.6g}")
-        pts = prog.curve.samples
-        size = max(float(np.max(pts.max(axis=0) - pts.min(axis=0))), 1e-9)
-        vscale = 0.25 * size / max(prog.profile.v1, 1e-12)
         return Frame(
             t=t,
             points={"point": X, "analyzer": np.where(np.isfinite(Y), Y, X)},
-            vectors={"velocity": (X, V * vscale)},
+            vectors={"velocity": (X, V * self._vscale)},
             scalars=sc,
             message=" ".join(msgs),
         )
@@ -659,10 +663,9 @@ class MotionStepper(Stepper):
         return self.frame()
 
     def set_params(self, params: Params) -> None:
-        new = program_of(params)
-        self._params = params
-        if new is not self._prog:
-            self._prog = new
+        old = self._prog
+        self._use(params)
+        if self._prog is not old:
             self._note = (
                 f"parameters changed at t = {self._t:.4g}: the program and (1.5) from r(phi0)"
                 " are recomputed for the new values"

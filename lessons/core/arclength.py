@@ -14,8 +14,9 @@ series at first-kind nodes (never at the panel ends), integrated exactly, and th
 panel count is doubled until the total length settles to ~1e-13.  The inverse
 s -> theta uses a safeguarded Newton iteration on the panel's polynomial.  For many
 evaluations (a time law played frame by frame) the inverse phi = omega(s) is also
-tabulated once per curve (:class:`OmegaTable`): phi and dphi/ds = 1/|r'| at dense nodes
-uniform in theta (so they crowd where the curve is slow), cubic Hermite in between.
+tabulated once per curve (``omega``): phi and dphi/ds = 1/|r'| at dense nodes uniform in
+theta (so they crowd where the curve is slow), cubic Hermite in between (:class:`CubicHermite`;
+error ~ h^4, a few 1e-13 of the range for a smooth curve).
 """
 
 from __future__ import annotations
@@ -50,33 +51,30 @@ class ArcLengthTable:
     accuracy: float  # last change of the total length on refinement
 
 
-@dataclass
-class OmegaTable:
-    """phi = omega(s) (1.13) tabulated: nodes ``s`` (non-decreasing), ``phi`` there and the
-    slopes ``dphi`` = 1/|r'(phi)| (at most 3 x the neighbouring secants: finite at a cusp,
-    where |r'| = 0, and the cubic stays monotone); cubic Hermite
-    in between (error ~ h^4, a few 1e-13 of the range for a smooth curve)."""
+class CubicHermite:
+    """Piecewise cubic Hermite interpolation of ``values`` (n,) or (n, k) with ``slopes`` at
+    the non-decreasing ``nodes`` (n,); evaluated at points clamped to the nodes' range.
 
-    s: np.ndarray
-    phi: np.ndarray
-    dphi: np.ndarray
+    The cubics are stored in power form once, so that an evaluation (also at one point,
+    as a live frame needs) costs a search and one Horner scheme."""
 
-    def __call__(self, s: np.ndarray) -> np.ndarray:
-        return hermite(self.s, self.phi, self.dphi, s)
+    def __init__(self, nodes: np.ndarray, values: np.ndarray, slopes: np.ndarray) -> None:
+        self.nodes = np.asarray(nodes, dtype=float)
+        y, m = np.asarray(values, dtype=float), np.asarray(slopes, dtype=float)
+        h = np.diff(self.nodes).reshape((-1,) + (1,) * (y.ndim - 1))
+        with np.errstate(all="ignore"):
+            d = np.where(h > 0, (y[1:] - y[:-1]) / h, 0.0)
+            c2 = np.where(h > 0, (3 * d - 2 * m[:-1] - m[1:]) / h, 0.0)
+            c3 = np.where(h > 0, (m[:-1] + m[1:] - 2 * d) / (h * h), 0.0)
+        self.coef = np.stack([y[:-1], m[:-1], c2, c3])  # (4, n-1[, k])
 
-
-def hermite(nodes: np.ndarray, values: np.ndarray, slopes: np.ndarray, x: np.ndarray) -> np.ndarray:
-    """Piecewise cubic Hermite interpolation: ``values`` (n,) or (n, k) and their ``slopes``
-    at the non-decreasing ``nodes`` (n,), evaluated at ``x`` (clamped to the nodes' range)."""
-    x = np.asarray(x, dtype=float)
-    k = np.clip(np.searchsorted(nodes, x, side="right") - 1, 0, len(nodes) - 2)
-    h = nodes[k + 1] - nodes[k]
-    u = np.clip(np.divide(x - nodes[k], h, out=np.zeros_like(x), where=h > 0), 0.0, 1.0)
-    w = 1.0 - u
-    c = [(1 + 2 * u) * w * w, u * w * w * h, u * u * (3 - 2 * u), -u * u * w * h]
-    if values.ndim > 1:
-        c = [b[:, None] for b in c]
-    return c[0] * values[k] + c[1] * slopes[k] + c[2] * values[k + 1] + c[3] * slopes[k + 1]
+    def __call__(self, x: np.ndarray) -> np.ndarray:
+        x = np.clip(np.asarray(x, dtype=float), self.nodes[0], self.nodes[-1])
+        k = np.clip(np.searchsorted(self.nodes, x, side="right") - 1, 0, len(self.nodes) - 2)
+        c0, c1, c2, c3 = self.coef[:, k]
+        u = (x - self.nodes[k]).reshape(x.shape + (1,) * (c0.ndim - x.ndim))
+        # at a node its value exactly (also when the next node is undefined)
+        return np.where(u == 0, c0, c0 + u * (c1 + u * (c2 + u * c3)))
 
 
 class ArcLengthCurve:
@@ -165,8 +163,10 @@ class ArcLengthCurve:
                 return cur
             prev = cur
 
-    def _omega_table(self) -> OmegaTable:
-        """Tabulate phi = omega(s) at 8 nodes per panel (at least 4097), uniform in theta."""
+    def _omega_table(self) -> CubicHermite:
+        """phi = omega(s) (1.13) at 8 nodes per panel (at least 4097), uniform in theta, with
+        the slopes dphi/ds = 1/|r'(phi)|, at most 3 x the neighbouring secants (finite at a
+        cusp, where |r'| = 0, and the cubic stays monotone)."""
         theta = np.linspace(0.0, np.pi, max(4096, 8 * (len(self.table.edges) - 1)) + 1)
         s = np.maximum.accumulate(self.s_of_theta(theta))
         s[0], s[-1] = 0.0, self.S_l
@@ -179,7 +179,7 @@ class ArcLengthCurve:
         # Fritsch-Carlson bound: slopes <= 3 x the neighbouring secants keep the cubic
         # monotone (and finite at a cusp, where |r'| = 0)
         cap = 3 * np.minimum(np.append(secant, secant[-1]), np.insert(secant, 0, secant[0]))
-        return OmegaTable(s, phi, np.where(np.isfinite(slope), np.minimum(slope, cap), cap))
+        return CubicHermite(s, phi, np.where(np.isfinite(slope), np.minimum(slope, cap), cap))
 
     # -- s(theta), theta(s) --------------------------------------------------------------
 
@@ -262,12 +262,12 @@ class ArcLengthCurve:
         return out
 
     def _unit(self, phi: np.ndarray) -> np.ndarray:
+        d = self.dr(phi)
         with np.errstate(all="ignore"):
-            d = np.asarray(self.dr(phi), dtype=float)
-            n = np.linalg.norm(d, axis=1)
+            n = np.sqrt(np.einsum("ij,ij->i", d, d))
             out = d / n[:, None]
         out[~np.isfinite(n) | (n == 0)] = np.nan
         return out
 
 
-__all__ = ["ArcLengthCurve", "ArcLengthTable", "OmegaTable", "hermite"]
+__all__ = ["ArcLengthCurve", "ArcLengthTable", "CubicHermite"]

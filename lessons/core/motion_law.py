@@ -25,7 +25,7 @@ from functools import lru_cache
 import numpy as np
 import sympy as sp
 
-from lessons.core.arclength import hermite
+from lessons.core.arclength import CubicHermite
 from lessons.core.contract import ParamError
 from lessons.core.profiles import SpeedProfile, speed_profile
 from lessons.core.space_curve import CurveModel, curve_model
@@ -51,6 +51,7 @@ class Program:
     steps: np.ndarray | None = None  # the RK4 step grid on [0, T]
     Y: np.ndarray | None = None  # (n, 3) solution of (1.5) at the steps
     F: np.ndarray | None = None  # (n, 3) its slope U Y at the steps
+    dense: CubicHermite | None = None  # the solution between the steps
 
     @property
     def T(self) -> float:
@@ -68,7 +69,8 @@ class Program:
         s, v = self.profile.s(t), self.profile.v(t)
         phi = arc.omega(s)
         X = arc.r(phi)
-        V = np.nan_to_num(np.where(v[:, None] > 0, arc.unit_tangent(phi) * v[:, None], 0.0))
+        V = arc.unit_tangent(phi) * v[:, None]
+        V[~np.isfinite(V)] = 0.0  # a tangent that has no limit (never at rest: v = 0)
         return {"s": s, "v": v, "phi": phi, "X": X, "V": V, "D": np.einsum("ij,ij->i", X, X)}
 
     def controls(self, law: dict[str, np.ndarray]) -> np.ndarray:
@@ -90,9 +92,9 @@ class Program:
     def solution(self, t: np.ndarray) -> np.ndarray:
         """The solution of (1.5) at the times ``t`` (N, 3): dense output of the RK4 steps;
         at rest after T; NaN inside the windows around the origin."""
-        assert self.steps is not None and self.Y is not None and self.F is not None
+        assert self.dense is not None
         t = np.atleast_1d(np.asarray(t, dtype=float))
-        Y = hermite(self.steps, self.Y, self.F, np.clip(t, 0.0, self.T))
+        Y = self.dense(t)
         Y[self.in_gap(t)] = np.nan
         return Y
 
@@ -240,6 +242,7 @@ def motion_program(
     prog = Program(cm, prof, ts, tuple((t - half, t + half) for t in ts), cusp_t)
     prog.steps = step_grid(prog)
     prog.Y, prog.F = solve_15(prog, prog.steps)
+    prog.dense = CubicHermite(prog.steps, prog.Y, prog.F)
     return prog
 
 

@@ -24,7 +24,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from functools import lru_cache
+from functools import cached_property, lru_cache
 from typing import Literal
 
 import numpy as np
@@ -88,43 +88,42 @@ class SpeedProfile:
 
     # -- the law ------------------------------------------------------------------
 
-    def v(self, t: np.ndarray | float) -> np.ndarray:
-        """The speed law v(t) (zero before 0 and after T)."""
-        t = np.asarray(t, dtype=float)
+    @cached_property
+    def _pieces(self) -> tuple[np.ndarray, ...]:
+        """Edges 0, t1, t1 + Delta, T and, for the five pieces (before 0, rise, plateau,
+        fall, after T): start time, s and v at the start, acceleration."""
         a, c, T, p = self.rise, self.flat, self.T, self.peak
-        out = np.zeros_like(t)
-        up = (t > 0) & (t < a)
-        out[up] = p * t[up] / a
-        mid = (t >= a) & (t <= a + c)
-        out[mid] = p
-        down = (t > a + c) & (t < T)
-        out[down] = p * (T - t[down]) / self.fall
-        return out
+        edges = np.array([0.0, a, a + c, T])
+        start = np.array([0.0, 0.0, a, a + c, T])
+        s0 = np.array([0.0, 0.0, p * a / 2, p * a / 2 + p * c, self.S_l])
+        v0 = np.array([0.0, 0.0, p, p, 0.0])
+        acc = np.array(
+            [0.0, p / a if a > 0 else 0.0, 0.0, -p / self.fall if self.fall > 0 else 0.0, 0.0]
+        )
+        return edges, start, s0, v0, acc
+
+    def _piece(self, t: np.ndarray | float) -> tuple[np.ndarray, np.ndarray]:
+        edges, start, *_ = self._pieces
+        t = np.asarray(t, dtype=float)
+        j = np.searchsorted(edges, t, side="right")
+        return j, t - start[j]
+
+    def v(self, t: np.ndarray | float) -> np.ndarray:
+        """The speed law v(t) (zero before 0 and from T on)."""
+        j, tau = self._piece(t)
+        _, _, _, v0, acc = self._pieces
+        return v0[j] + acc[j] * tau
 
     def s(self, t: np.ndarray | float) -> np.ndarray:
         """Path covered, s(t) = integral of v over [0, t] (1.7), in closed form."""
-        t = np.asarray(t, dtype=float)
-        a, c, T, p = self.rise, self.flat, self.T, self.peak
-        out = np.zeros_like(t)
-        up = (t > 0) & (t < a)
-        out[up] = p * t[up] ** 2 / (2 * a)
-        mid = (t >= a) & (t <= a + c)
-        out[mid] = p * a / 2 + p * (t[mid] - a)
-        down = (t > a + c) & (t < T)
-        out[down] = self.S_l - p * (T - t[down]) ** 2 / (2 * self.fall)
-        out[t >= T] = self.S_l
-        return out
+        j, tau = self._piece(t)
+        _, _, s0, v0, acc = self._pieces
+        return s0[j] + tau * (v0[j] + 0.5 * acc[j] * tau)
 
     def acceleration(self, t: np.ndarray | float) -> np.ndarray:
         """dv/dt (piecewise constant; zero outside the ramps)."""
-        t = np.asarray(t, dtype=float)
-        a, c, T, p = self.rise, self.flat, self.T, self.peak
-        out = np.zeros_like(t)
-        if a > 0:
-            out[(t > 0) & (t < a)] = p / a
-        if self.fall > 0:
-            out[(t > a + c) & (t < T)] = -p / self.fall
-        return out
+        j, _ = self._piece(t)
+        return self._pieces[4][j]
 
     def time_at(self, s: np.ndarray | float) -> np.ndarray:
         """Inverse of s(t) on [0, T]: the time when the path ``s`` is reached."""

@@ -56,15 +56,18 @@ class CurveFormulaParam(Param):
 
 
 def vector_fn(exprs: list[sp.Expr]) -> Callable[[np.ndarray], np.ndarray]:
+    """phi (N,) -> (N, 3): the three expressions of phi, lambdified once."""
     # derivatives of abs() bring sign() and DiracDelta(); the latter is zero almost everywhere
     exprs = [e.replace(sp.DiracDelta, lambda *a: sp.S.Zero) for e in exprs]
     fns = [sp.lambdify([PHI], e, modules="numpy") for e in exprs]
 
     def f(phi: np.ndarray) -> np.ndarray:
         phi = np.atleast_1d(np.asarray(phi, dtype=float))
+        out = np.empty(phi.shape + (3,))
         with np.errstate(all="ignore"):
-            cols = [np.broadcast_to(np.asarray(fn(phi), dtype=float), phi.shape) for fn in fns]
-        return np.stack(cols, axis=1)
+            for k, fn in enumerate(fns):
+                out[:, k] = fn(phi)  # a constant broadcasts
+        return out
 
     return f
 
