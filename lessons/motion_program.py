@@ -28,7 +28,6 @@ from lessons.core.contract import (
     ClaimResult,
     CurveItem,
     DerivationStep,
-    Frame,
     Group,
     Lesson,
     MarkerItem,
@@ -46,13 +45,20 @@ from lessons.core.contract import (
     close,
 )
 from lessons.core.formula import parse_formula, parse_number
-from lessons.core.motion_law import STEP_ANGLE, Program, controls_residuals, motion_program
+from lessons.core.motion_law import (
+    STEP_ANGLE,
+    Program,
+    ProgramStepper,
+    check_controls,
+    motion_program,
+)
 from lessons.core.profiles import (
     PROFILE_CHOICES,
-    integral_of_v,
+    check_covers,
+    check_join,
+    check_numbers,
+    check_triangle_formulas,
     speed_profile,
-    triangle_1_9,
-    triangle_printed,
     triangle_symbolic,
 )
 from lessons.core.space_curve import PHI, CurveFormulaParam, curve_model, hausdorff
@@ -68,78 +74,37 @@ HELIX_13 = ("2*sin(phi)*cos(phi)", "2*cos(phi)^2 - 1", "2*phi", "0", "pi/2")
 HELIX_14 = ("sqrt(1 - phi^2)", "phi", "acos(phi)", "-1", "1")
 
 
-def _preset(name: str, title: str, curve: tuple, law: tuple, t_end: float, note: str = ""):
-    values = dict(zip(("x", "y", "z", "phi0", "phi1"), curve))
-    values.update(zip(("v0", "Delta0", "Delta1"), law))
-    return Preset(name, title, values, t_end=t_end, note=note)
-
-
-PRESETS = (
-    _preset(
-        "helix-1.2",
-        "Helix half-turn (1.2): x = sin phi, y = cos phi, z = phi",
-        HELIX_12,
-        (1.0, 1.0, 1.0),
-        6.0,
-        "The source gives no speed-profile numbers; v0 = 1, Delta0 = Delta1 = 1 are "
-        "illustrative (trapezoid, T = 5.443).",
-    ),
-    _preset(
-        "helix-1.3",
-        "Same helix, form (1.3): x = 2 sin phi cos phi, y = 2 cos^2 phi - 1, z = 2 phi",
-        HELIX_13,
-        (1.0, 1.0, 1.0),
-        6.0,
-        "(1.3)(phi) = (1.2)(2 phi): the same point set and the same motion.",
-    ),
-    _preset(
-        "helix-1.4",
-        "Same helix, form (1.4): x = sqrt(1 - phi^2), y = phi, z = arccos phi",
-        HELIX_14,
-        (1.0, 1.0, 1.0),
-        6.0,
-        "(1.4)(phi) = (1.2)(arccos phi): same point set, run in the opposite direction; "
-        "|r'|^2 = 2/(1 - phi^2) is singular (integrably) at both ends.",
-    ),
-    _preset(
-        "helix-triangle",
-        "Helix (1.2) with a short-curve speed law: triangle (1.9)",
-        HELIX_12,
-        (4.0, 2.0, 2.0),
-        3.5,
-        "L = -3.557 < 0: minimum-time triangle, t1 = 1.4905, tau = v1 = 2.9809 "
-        "(illustrative numbers).",
-    ),
-    _preset(
-        "circle",
-        "Circle of radius 2 in the plane z = 1",
-        ("2*cos(phi)", "2*sin(phi)", "1", "0", "2*pi"),
-        (2.0, 1.0, 1.0),
-        8.0,
-    ),
-    _preset(
-        "spiral",
-        "Conical spiral, two turns",
-        ("(1 + phi/5)*cos(phi)", "(1 + phi/5)*sin(phi)", "phi/10", "0", "4*pi"),
-        (2.0, 1.0, 1.0),
-        16.0,
-    ),
-    _preset(
-        "line",
-        "Straight segment from (1, 2, 0) to (3, 0, 1)",
-        ("1 + phi", "2 - phi", "phi/2", "0", "2"),
-        (1.0, 0.5, 0.5),
-        4.0,
-    ),
-    _preset(
-        "line-through-origin",
-        "Segment through the origin: (1.14) fails, (1.15) divides by zero",
-        ("phi", "phi", "phi", "-1", "1"),
-        (1.0, 0.5, 0.5),
-        4.5,
-        "X(t) passes through 0 at t = 1.982: no phase curve of (1.5) can pass the origin.",
-    ),
-)
+PRESETS = tuple(
+    Preset(name, title, {**dict(zip(("x", "y", "z", "phi0", "phi1"), curve)),
+                         **dict(zip(("v0", "Delta0", "Delta1"), law))}, t_end=t_end, note=note)
+    for name, title, curve, law, t_end, note in (
+        ("helix-1.2", "Helix half-turn (1.2): x = sin phi, y = cos phi, z = phi",
+         HELIX_12, (1.0, 1.0, 1.0), 6.0,
+         "The source gives no speed-profile numbers; v0 = 1, Delta0 = Delta1 = 1 are"
+         " illustrative (trapezoid, T = 5.443)."),
+        ("helix-1.3", "Same helix, form (1.3): x = 2 sin phi cos phi, y = 2 cos^2 phi - 1, z = 2 phi",
+         HELIX_13, (1.0, 1.0, 1.0), 6.0,
+         "(1.3)(phi) = (1.2)(2 phi): the same point set and the same motion."),
+        ("helix-1.4", "Same helix, form (1.4): x = sqrt(1 - phi^2), y = phi, z = arccos phi",
+         HELIX_14, (1.0, 1.0, 1.0), 6.0,
+         "(1.4)(phi) = (1.2)(arccos phi): same point set, run in the opposite direction;"
+         " |r'|^2 = 2/(1 - phi^2) is singular (integrably) at both ends."),
+        ("helix-triangle", "Helix (1.2) with a short-curve speed law: triangle (1.9)",
+         HELIX_12, (4.0, 2.0, 2.0), 3.5,
+         "L = -3.557 < 0: minimum-time triangle, t1 = 1.4905, tau = v1 = 2.9809"
+         " (illustrative numbers)."),
+        ("circle", "Circle of radius 2 in the plane z = 1",
+         ("2*cos(phi)", "2*sin(phi)", "1", "0", "2*pi"), (2.0, 1.0, 1.0), 8.0, ""),
+        ("spiral", "Conical spiral, two turns",
+         ("(1 + phi/5)*cos(phi)", "(1 + phi/5)*sin(phi)", "phi/10", "0", "4*pi"),
+         (2.0, 1.0, 1.0), 16.0, ""),
+        ("line", "Straight segment from (1, 2, 0) to (3, 0, 1)",
+         ("1 + phi", "2 - phi", "phi/2", "0", "2"), (1.0, 0.5, 0.5), 4.0, ""),
+        ("line-through-origin", "Segment through the origin: (1.14) fails, (1.15) divides by zero",
+         ("phi", "phi", "phi", "-1", "1"), (1.0, 0.5, 0.5), 4.5,
+         "X(t) passes through 0 at t = 1.982: no phase curve of (1.5) can pass the origin."),
+    )
+)  # fmt: skip
 
 U_NAMES = tuple(f"u{i}{j}" for i in (1, 2, 3) for j in (1, 2, 3))
 
@@ -242,65 +207,42 @@ class MotionProgramLesson(Lesson):
         cm, prof = prog.curve, prog.profile
         out = [Note("info", f"L = {prof.L:.6g}: {prof.kind}, T = {prof.T:.6g} s (1.8), (1.9)")]
         if prof.kind == "triangle":
-            out.append(
-                Note(
-                    "reconstructed",
-                    f"the triangle's slopes are the trapezoid's: k1 = v0/Delta0, k2 = v0/Delta1;"
-                    f" v1 = {prof.v1:.6g}",
-                    "(1.9)",
-                    "the source gives only k1 = tg alpha, k2 = tg beta (Fig. 1.2)",
-                )
-            )
+            text = "the triangle's slopes are the trapezoid's: k1 = v0/Delta0, k2 = v0/Delta1"
+            evidence = "the source gives only k1 = tg alpha, k2 = tg beta (Fig. 1.2)"
+            out.append(Note("reconstructed", f"{text}; v1 = {prof.v1:.6g}", "(1.9)", evidence))
+        warnings = []
         if prof.v1 > prof.v0 * (1 + 1e-12):
-            out.append(
-                Note(
-                    "warning",
-                    f"L > 0 but the triangle is forced: its peak v1 = {prof.v1:.6g} exceeds"
-                    f" v0 = {prof.v0:g} (the source uses (1.9) only for L <= 0)",
-                )
+            warnings.append(
+                f"L > 0 but the triangle is forced: its peak v1 = {prof.v1:.6g} exceeds"
+                f" v0 = {prof.v0:g} (the source uses (1.9) only for L <= 0)"
             )
         if cm.arc.table.accuracy > 1e-9 * max(1.0, cm.arc.S_l):
-            out.append(
-                Note(
-                    "warning",
-                    f"arc length (1.12) settled only to {cm.arc.table.accuracy:.2g}:"
-                    " the curve is hard to integrate",
-                )
+            warnings.append(
+                f"arc length (1.12) settled only to {cm.arc.table.accuracy:.2g}:"
+                " the curve is hard to integrate"
             )
-        for ts, (g0, g1) in zip(prog.singular_t, prog.gaps):
-            out.append(
-                Note(
-                    "warning",
-                    f"X(t) = 0 at t = {ts:.6g}: (1.14) fails and (1.15) divides by zero there;"
-                    " the zero solution of (1.5) cannot be left or reached, so (1.5) is"
-                    f" suspended on ({max(g0, 0):.4g}, {g1:.4g}) and restarted from the curve",
-                )
-            )
-        for tc in prog.cusp_t:
-            out.append(
-                Note(
-                    "warning",
-                    f"r'(phi) = 0 at t = {tc:.6g}: the curve is not regular there (a cusp);"
-                    " the RK4 steps are split there",
-                )
-            )
+        warnings += [
+            f"X(t) = 0 at t = {ts:.6g}: (1.14) fails and (1.15) divides by zero there; the zero"
+            " solution of (1.5) cannot be left or reached, so (1.5) is suspended on"
+            f" ({max(g0, 0):.4g}, {g1:.4g}) and restarted from the curve"
+            for ts, (g0, g1) in zip(prog.singular_t, prog.gaps)
+        ]
+        warnings += [
+            f"r'(phi) = 0 at t = {tc:.6g}: the curve is not regular there (a cusp);"
+            " the RK4 steps are split there"
+            for tc in prog.cusp_t
+        ]
         if cm.nonsmooth:
-            out.append(
-                Note(
-                    "warning",
-                    "the curve uses abs(): its tangent may jump; RK4 loses accuracy on a step"
-                    " across a corner (see the error)",
-                )
+            warnings.append(
+                "the curve uses abs(): its tangent may jump; RK4 loses accuracy on a step"
+                " across a corner (see the error)"
             )
         if not prog.singular_t and cm.min_radius < 1e-3 * cm.scale:
-            out.append(
-                Note(
-                    "warning",
-                    f"the curve passes at {cm.min_radius:.3g} from the origin (curve size"
-                    f" {cm.scale:.3g}): |u_ij| ~ v/|X| is large there",
-                )
+            warnings.append(
+                f"the curve passes at {cm.min_radius:.3g} from the origin (curve size"
+                f" {cm.scale:.3g}): |u_ij| ~ v/|X| is large there"
             )
-        return out
+        return out + [Note("warning", w) for w in warnings]
 
     # -- observation and simulation -----------------------------------------------------
 
@@ -368,7 +310,7 @@ class MotionProgramLesson(Lesson):
     # -- live -------------------------------------------------------------------------
 
     def stepper(self, params: Params) -> Stepper:
-        return MotionStepper(self, params)
+        return ProgramStepper(params, program_of, self.frame_scalars)
 
     def scene(self, params: Params) -> SceneSpec:
         pts = program_of(params).curve.samples
@@ -412,142 +354,74 @@ class MotionProgramLesson(Lesson):
         min_D = float(np.min(prog.law(np.linspace(0, prof.T, 401))["D"]))
         meets = ", ".join(f"{v:.6g}" for v in prog.singular_t)
         f_i = [sp.Derivative(sp.Function(f"f_{i}")(PHI), PHI) for i in (1, 2, 3)]
-        return [
-            DerivationStep(
-                "The curve l",
-                "A space curve with an arbitrary parameter phi on I = [phi0, phi1]; here the typed one.",
-                curve_eqs(cm.exprs),
-                source="(1.1)",
-                reconstructed="lost in extraction; the form follows from the text and from (1.13)",
-            ),
-            DerivationStep(
-                "Example: a helix half-turn", "phi in [0, pi].", form(HELIX_12), "(1.2)"
-            ),
-            DerivationStep(
-                "The same helix, second form",
-                "phi in [0, pi/2]; (1.3)(phi) = (1.2)(2 phi).",
-                form(HELIX_13),
-                "(1.3)",
-            ),
-            DerivationStep(
-                "The same helix, third form",
-                "phi in [-1, 1]; (1.4)(phi) = (1.2)(arccos phi): the same point set, traversed in"
-                " the opposite direction, with |r'|^2 = 2/(1 - phi^2) integrably singular at both ends.",
-                form(HELIX_14),
-                "(1.4)",
-                reconstructed="the square root over 1 - phi^2 was lost; without it x^2 + y^2 != 1",
-            ),
-            DerivationStep(
-                "The differential analyzer",
-                "A linear system of the 3rd order whose coefficients u_ij(t) are the controls; its"
-                " phase curve must start at r(phi0), describe l and only l, and never exceed v(t).",
-                sp.Eq(
-                    Xv.diff(t), sp.Matrix(3, 3, lambda i, j: sp.Symbol(f"u_{i + 1}{j + 1}")) * Xv
-                ),
-                "(1.5)",
-                reconstructed="lost in extraction; rebuilt from the text, article 001 and (1.15)",
-            ),
-            DerivationStep(
-                "Arc length",
-                f"For this curve |r'(phi)|^2 is shown below; S_l = s(phi1) = {cm.arc.S_l:.12g}."
-                " Numerically: the substitution phi = phi0 + (phi1 - phi0) sin^2(theta/2) removes"
-                " end-point singularities such as that of (1.4).",
-                [
-                    sp.Eq(
-                        sp.Function("s")(PHI),
-                        sp.Integral(sp.sqrt(sum(d**2 for d in f_i)), (PHI, phi0, PHI)),
-                    ),
-                    sp.Eq(sp.Symbol("|r'|^2"), speed2),
-                ],
-                "(1.12)",
-                reconstructed="decoded from the scrambled extraction; the radical sign was restored",
-            ),
-            DerivationStep(
-                "Arc-length form",
-                "s(phi) increases, so phi = omega(s) exists and x = f1(omega(s)) = x(s), ...",
-                [
-                    sp.Eq(x, sp.Function("f_1")(sp.Function("omega")(s))),
-                    sp.Eq(x, sp.Function("x")(s)),
-                ],
-                "(1.13), (1.6)",
-            ),
-            DerivationStep(
-                "Path covered in time",
-                "",
-                sp.Eq(
-                    sp.Function("s")(t),
-                    sp.Integral(sp.Function("v")(sp.Symbol("xi")), (sp.Symbol("xi"), 0, t)),
-                ),
-                "(1.7)",
-            ),
-            DerivationStep(
-                "Length left for the constant speed",
-                f"Here L = {prof.L:.6g}: the profile is a {prof.kind}.",
-                sp.Eq(L, S_l - v0 / 2 * (D0 + D1)),
-                "(1.8)",
-            ),
-            DerivationStep(
-                "Trapezoid (L > 0)",
-                "Constant segment Delta = L/v0, total time T = Delta0 + Delta + Delta1"
-                f" (here T = {prof.T:.6g}).",
-                [sp.Eq(sp.Symbol("Delta"), L / v0), sp.Eq(sp.Symbol("T"), D0 + L / v0 + D1)],
-                "(1.8)",
-            ),
-            DerivationStep(
-                "Triangle (L <= 0): minimum time",
-                "v1 = k1 t1 = k2 (tau - t1) and v1 tau / 2 = S_l give (1.9).",
-                [sp.Eq(t1, tri["t_1"]), sp.Eq(tau, tri["tau"]), sp.Eq(v1, tri["v_1"])],
-                "(1.9)",
-                reconstructed="scrambled in the extraction; re-derived (its symbol multiset matches)",
-            ),
-            DerivationStep(
-                "Slopes of the triangle",
-                "The source says only k1 = tg alpha, k2 = tg beta; the lab takes the trapezoid's"
-                " ramps, so v1^2 = 2 S_l v0 / (Delta0 + Delta1), L <= 0 iff v1 <= v0, and the two"
-                " cases join at L = 0.",
-                [sp.Eq(k1, v0 / D0), sp.Eq(k2, v0 / D1)],
-                "(1.9)",
-                reconstructed="slopes not given in the source (Fig. 1.2 names only the angles);"
-                " chosen so that the two laws join at L = 0",
-            ),
-            DerivationStep(
-                "s(t) in closed form",
-                "Trapezoid: s = v0 t^2/(2 Delta0) on the ramp, v0 Delta0/2 + v0 (t - Delta0) on the"
-                " plateau, S_l - v0 (T - t)^2/(2 Delta1) at the end. Triangle: s = k1 t^2/2, then"
-                " S_l - k2 (tau - t)^2/2.",
-                sp.Eq(sp.Function("s")(t), v0 * t**2 / (2 * D0)),
-                "(1.7)",
-                reconstructed="the source only says 'integrate (1.7)'; the closed form is derived",
-            ),
-            DerivationStep(
-                "The time law",
-                "x(s(t)) = X(t), y(s(t)) = Y(t), z(s(t)) = Z(t): the motion along l at the speed v(t).",
-                [sp.Eq(x, X), sp.Eq(y, Y), sp.Eq(z, Z)],
-                "(1.10), (1.11)",
-            ),
-            DerivationStep(
-                "Velocity without numerical differentiation",
-                "The unit tangent times the speed law.",
-                sp.Eq(Xv.diff(t), sp.Symbol("r'(phi)/|r'(phi)|") * sp.Function("v")(t)),
-                "(1.11)",
-                reconstructed="implementation detail, not printed in the source",
-            ),
-            DerivationStep(
-                "No phase curve through the origin",
-                f"(1.5) has the zero solution and unique solutions. Here min D = {min_D:.6g}"
-                + (f"; the curve meets the origin at t = {meets}." if meets else "."),
-                sp.Ne(X**2 + Y**2 + Z**2, 0),
-                "(1.14)",
-            ),
-            DerivationStep(
-                "The controls",
-                "u_ij = Xdot_i X_j / D with D = X^2 + Y^2 + Z^2: a rank-one matrix with U X = Xdot,"
-                " so X(t) solves (1.5). The dot belongs to the row variable (the other reading fails"
-                " U X = Xdot).",
-                [sp.Eq(sp.Symbol("U"), Xv.diff(t) * Xv.T / Dsym), sp.Eq(Dsym, X**2 + Y**2 + Z**2)],
-                "(1.15)",
-            ),
-        ]
+        s_of_phi = sp.Integral(sp.sqrt(sum(d**2 for d in f_i)), (PHI, phi0, PHI))
+        xi = sp.Symbol("xi")
+        U = sp.Matrix(3, 3, lambda i, j: sp.Symbol(f"u_{i + 1}{j + 1}"))
+        rows = [
+            ("The curve l", "A space curve with an arbitrary parameter phi on I = [phi0, phi1];"
+             " here the typed one.", curve_eqs(cm.exprs), "(1.1)",
+             "lost in extraction; the form follows from the text and from (1.13)"),
+            ("Example: a helix half-turn", "phi in [0, pi].", form(HELIX_12), "(1.2)", None),
+            ("The same helix, second form", "phi in [0, pi/2]; (1.3)(phi) = (1.2)(2 phi).",
+             form(HELIX_13), "(1.3)", None),
+            ("The same helix, third form", "phi in [-1, 1]; (1.4)(phi) = (1.2)(arccos phi): the"
+             " same point set, traversed in the opposite direction, with |r'|^2 = 2/(1 - phi^2)"
+             " integrably singular at both ends.", form(HELIX_14), "(1.4)",
+             "the square root over 1 - phi^2 was lost; without it x^2 + y^2 != 1"),
+            ("The differential analyzer", "A linear system of the 3rd order whose coefficients"
+             " u_ij(t) are the controls; its phase curve must start at r(phi0), describe l and"
+             " only l, and never exceed v(t).", sp.Eq(Xv.diff(t), U * Xv), "(1.5)",
+             "lost in extraction; rebuilt from the text, article 001 and (1.15)"),
+            ("Arc length", f"For this curve |r'(phi)|^2 is shown below; S_l = s(phi1) ="
+             f" {cm.arc.S_l:.12g}. Numerically: the substitution phi = phi0 + (phi1 - phi0)"
+             " sin^2(theta/2) removes end-point singularities such as that of (1.4).",
+             [sp.Eq(sp.Function("s")(PHI), s_of_phi), sp.Eq(sp.Symbol("|r'|^2"), speed2)],
+             "(1.12)", "decoded from the scrambled extraction; the radical sign was restored"),
+            ("Arc-length form", "s(phi) increases, so phi = omega(s) exists and"
+             " x = f1(omega(s)) = x(s), ...",
+             [sp.Eq(x, sp.Function("f_1")(sp.Function("omega")(s))), sp.Eq(x, sp.Function("x")(s))],
+             "(1.13), (1.6)", None),
+            ("Path covered in time", "",
+             sp.Eq(sp.Function("s")(t), sp.Integral(sp.Function("v")(xi), (xi, 0, t))), "(1.7)",
+             None),
+            ("Length left for the constant speed", f"Here L = {prof.L:.6g}: the profile is a"
+             f" {prof.kind}.", sp.Eq(L, S_l - v0 / 2 * (D0 + D1)), "(1.8)", None),
+            ("Trapezoid (L > 0)", "Constant segment Delta = L/v0, total time"
+             f" T = Delta0 + Delta + Delta1 (here T = {prof.T:.6g}).",
+             [sp.Eq(sp.Symbol("Delta"), L / v0), sp.Eq(sp.Symbol("T"), D0 + L / v0 + D1)],
+             "(1.8)", None),
+            ("Triangle (L <= 0): minimum time",
+             "v1 = k1 t1 = k2 (tau - t1) and v1 tau / 2 = S_l give (1.9).",
+             [sp.Eq(t1, tri["t_1"]), sp.Eq(tau, tri["tau"]), sp.Eq(v1, tri["v_1"])], "(1.9)",
+             "scrambled in the extraction; re-derived (its symbol multiset matches)"),
+            ("Slopes of the triangle", "The source says only k1 = tg alpha, k2 = tg beta; the"
+             " lab takes the trapezoid's ramps, so v1^2 = 2 S_l v0 / (Delta0 + Delta1),"
+             " L <= 0 iff v1 <= v0, and the two cases join at L = 0.",
+             [sp.Eq(k1, v0 / D0), sp.Eq(k2, v0 / D1)], "(1.9)",
+             "slopes not given in the source (Fig. 1.2 names only the angles); chosen so that"
+             " the two laws join at L = 0"),
+            ("s(t) in closed form", "Trapezoid: s = v0 t^2/(2 Delta0) on the ramp,"
+             " v0 Delta0/2 + v0 (t - Delta0) on the plateau, S_l - v0 (T - t)^2/(2 Delta1) at the"
+             " end. Triangle: s = k1 t^2/2, then S_l - k2 (tau - t)^2/2.",
+             sp.Eq(sp.Function("s")(t), v0 * t**2 / (2 * D0)), "(1.7)",
+             "the source only says 'integrate (1.7)'; the closed form is derived"),
+            ("The time law", "x(s(t)) = X(t), y(s(t)) = Y(t), z(s(t)) = Z(t): the motion along l"
+             " at the speed v(t).", [sp.Eq(x, X), sp.Eq(y, Y), sp.Eq(z, Z)], "(1.10), (1.11)",
+             None),
+            ("Velocity without numerical differentiation", "The unit tangent times the speed law.",
+             sp.Eq(Xv.diff(t), sp.Symbol("r'(phi)/|r'(phi)|") * sp.Function("v")(t)), "(1.11)",
+             "implementation detail, not printed in the source"),
+            ("No phase curve through the origin", "(1.5) has the zero solution and unique"
+             f" solutions. Here min D = {min_D:.6g}"
+             + (f"; the curve meets the origin at t = {meets}." if meets else "."),
+             sp.Ne(X**2 + Y**2 + Z**2, 0), "(1.14)", None),
+            ("The controls", "u_ij = Xdot_i X_j / D with D = X^2 + Y^2 + Z^2: a rank-one matrix"
+             " with U X = Xdot, so X(t) solves (1.5). The dot belongs to the row variable (the"
+             " other reading fails U X = Xdot).",
+             [sp.Eq(sp.Symbol("U"), Xv.diff(t) * Xv.T / Dsym), sp.Eq(Dsym, X**2 + Y**2 + Z**2)],
+             "(1.15)", None),
+        ]  # fmt: skip
+        return [DerivationStep(*row[:4], reconstructed=row[4]) for row in rows]
 
     # -- claims -----------------------------------------------------------------------
 
@@ -573,19 +447,24 @@ class MotionProgramLesson(Lesson):
              "with the root x^2 + y^2 = 1 on (1.4); without it (x = 1 - phi^2)"
              " x^2 + y^2 = 0.8125 at phi = 0.5", "(1.4)", check_radical),
             ("trapezoid-numbers", "v0 = 1, Delta0 = Delta1 = 1 on the helix: L = 3.442883,"
-             " T = 5.442883", "(1.8)", check_trapezoid_numbers),
+             " T = 5.442883", "(1.8)", lambda: check_numbers(
+                 speed_profile(SQRT2PI, 1.0, 1.0, 1.0), kind="trapezoid",
+                 L=3.442882938158366, T=5.442882938158366)),
             ("trapezoid-covers", "the trapezoid law covers exactly S_l: integral of v = s(T) = S_l,"
-             " v <= v0, slopes v0/Delta", "(1.7), (1.8)", lambda: check_covers(1.0, 1.0, 1.0)),
+             " v <= v0, slopes v0/Delta", "(1.7), (1.8)", lambda: check_covers(SQRT2PI, 1.0, 1.0, 1.0)),
             ("triangle-numbers", "v0 = 4, Delta0 = Delta1 = 2 on the helix: L = -3.557117,"
-             " t1 = 1.490450, tau = v1 = 2.980900", "(1.9)", check_triangle_numbers),
+             " t1 = 1.490450, tau = v1 = 2.980900", "(1.9)",
+             lambda: check_numbers(speed_profile(SQRT2PI, 4.0, 2.0, 2.0), kind="triangle",
+                 L=-3.557117061841634, t1=1.4904500894290902, tau=2.9809001788581804,
+                 v1=2.9809001788581804)),
             ("triangle-covers", "the triangle law covers exactly S_l with v1 <= v0 and the ramps'"
-             " slopes", "(1.7), (1.9)", lambda: check_covers(4.0, 1.0, 3.0)),
+             " slopes", "(1.7), (1.9)", lambda: check_covers(SQRT2PI, 4.0, 1.0, 3.0)),
             ("triangle-formulas", "(1.9) solves v1 = k1 t1 = k2 (tau - t1), v1 tau/2 = S_l",
-             "(1.9)", check_triangle_symbolic),
+             "(1.9)", check_triangle_formulas),
             ("profiles-join", "at L = 0 the triangle has v1 = v0 and equals the trapezoid"
              " (Delta = 0)", "(1.8), (1.9)", check_join),
             ("controls-identity", "U X = Xdot for u_ij = Xdot_i X_j / D; the reading X_i Xdot_j / D"
-             " fails", "(1.15)", check_controls_symbolic),
+             " fails", "(1.15)", check_controls),
             ("reproduce-trapezoid",
              "(1.5) with (1.15) reproduces the helix, trapezoid law, to 1e-6 (RK4)", "(1.5), (1.15)",
              lambda: at_most(1e-6, reproduction_error(1.0, 1.0, 1.0), "max |X5 - X| ")),
@@ -600,81 +479,6 @@ class MotionProgramLesson(Lesson):
              lambda: close(1.0, helix_min_D(), atol=1e-12)),
         ]  # fmt: skip
         return [Claim(*row) for row in rows]
-
-
-# ------------------------------------------------------------------ the live run
-
-
-class MotionStepper(Stepper):
-    """Live run: the program point X(t) and the solution of (1.5), both read from the
-    program computed once per parameter set."""
-
-    def __init__(self, lesson: MotionProgramLesson, params: Params) -> None:
-        self._lesson = lesson
-        self._t = 0.0
-        self._note = ""
-        self._use(params)
-
-    def _use(self, params: Params) -> None:
-        self._params = params
-        self._prog = program_of(params)
-        pts = self._prog.curve.samples
-        size = max(float(np.max(pts.max(axis=0) - pts.min(axis=0))), 1e-9)
-        self._vscale = 0.25 * size / max(self._prog.profile.v1, 1e-12)  # arrow length
-
-    @property
-    def t(self) -> float:
-        return self._t
-
-    def frame(self) -> Frame:
-        prog, t = self._prog, self._t
-        tt = np.array([t])
-        Y = prog.solution(tt)
-        sc = self._lesson.frame_scalars(self._params, t, Y)
-        X = np.array([[sc["x"], sc["y"], sc["z"]]])
-        V = np.array([[sc["x_dot"], sc["y_dot"], sc["z_dot"]]])
-        msgs = [self._note] if self._note else []
-        if not math.isfinite(sc["x_analyzer"]) and not self._note:
-            msgs.append("(1.5) is suspended near the origin (1.14)")
-        if t >= prog.T and not msgs:
-            msgs.append(f"the motion is complete at T = {prog.T:.6g}")
-        return Frame(
-            t=t,
-            points={"point": X, "analyzer": np.where(np.isfinite(Y), Y, X)},
-            vectors={"velocity": (X, V * self._vscale)},
-            scalars=sc,
-            message=" ".join(msgs),
-        )
-
-    def advance(self, dt: float) -> Frame:
-        dt = float(dt)
-        if not math.isfinite(dt) or dt <= 0:
-            return self.frame()
-        a, b = self._t, self._t + dt
-        self._t = b
-        self._note = ""
-        for ts, (g0, g1) in zip(self._prog.singular_t, self._prog.gaps):
-            if a < g1 and b > g0:
-                self._note = (
-                    f"X(t) passes through the origin at t = {ts:.4g}: (1.14) fails, (1.15) divides"
-                    " by zero; (1.5) cannot pass the origin, so it is restarted from the curve"
-                    f" after t = {g1:.4g}."
-                )
-        return self.frame()
-
-    def set_params(self, params: Params) -> None:
-        old = self._prog
-        self._use(params)
-        if self._prog is not old:
-            self._note = (
-                f"parameters changed at t = {self._t:.4g}: the program and (1.5) from r(phi0)"
-                " are recomputed for the new values"
-            )
-
-    def reset(self) -> Frame:
-        self._t = 0.0
-        self._note = ""
-        return self.frame()
 
 
 # ------------------------------------------------------------------ claim computations
@@ -727,84 +531,6 @@ def check_radical() -> ClaimResult:
         "max |x^2 + y^2 - 1| < 1e-14 with the root; 0.8125 without",
         f"{dev:.2g}; {without:.10g}",
         dev < 1e-14 and abs(without - 0.8125) < 1e-15,
-    )
-
-
-def check_trapezoid_numbers() -> ClaimResult:
-    p = speed_profile(SQRT2PI, 1.0, 1.0, 1.0)
-    ok = p.kind == "trapezoid" and abs(p.L - 3.442882938158366) < 1e-9
-    ok = ok and abs(p.T - 5.442882938158366) < 1e-9
-    return ClaimResult(
-        "trapezoid, L = 3.442883, T = 5.442883", f"{p.kind}, L = {p.L:.9g}, T = {p.T:.9g}", ok
-    )
-
-
-def check_triangle_numbers() -> ClaimResult:
-    p = speed_profile(SQRT2PI, 4.0, 2.0, 2.0)
-    printed = triangle_1_9(SQRT2PI, p.k1, p.k2)
-    want = (-3.557117061841634, 1.4904500894290902, 2.9809001788581804, 2.9809001788581804)
-    got = (p.L, p.t1, p.tau, p.v1)
-    ok = p.kind == "triangle" and max(abs(a - b) for a, b in zip(want, got)) < 1e-9
-    ok = ok and max(abs(a - b) for a, b in zip(printed, (p.t1, p.tau, p.v1))) < 1e-12
-    return ClaimResult(
-        "triangle, L = -3.557117, t1 = 1.490450, tau = v1 = 2.980900, as (1.9) prints",
-        f"{p.kind}, L = {p.L:.9g}, t1 = {p.t1:.9g}, tau = {p.tau:.9g}, v1 = {p.v1:.9g}",
-        ok,
-    )
-
-
-def check_covers(v0: float, Delta0: float, Delta1: float) -> ClaimResult:
-    p = speed_profile(SQRT2PI, v0, Delta0, Delta1)
-    area = integral_of_v(p)
-    t = np.linspace(0.0, p.T, 20001)
-    vmax = float(np.max(p.v(t)))
-    acc = p.acceleration(t)
-    slopes_ok = np.all(acc <= p.k1 * (1 + 1e-12)) and np.all(-acc <= p.k2 * (1 + 1e-12))
-    err = max(abs(area - SQRT2PI), abs(float(p.s(p.T)) - SQRT2PI))
-    return ClaimResult(
-        f"integral of v = s(T) = {SQRT2PI:.10g}, max v <= v0 = {v0:g}, |dv/dt| <= v0/Delta",
-        f"{p.kind}: integral {area:.12g}, s(T) {float(p.s(p.T)):.12g}, max v {vmax:.6g}",
-        bool(err < 1e-10 and vmax <= v0 * (1 + 1e-12) and slopes_ok),
-    )
-
-
-def check_triangle_symbolic() -> ClaimResult:
-    sol, printed = triangle_symbolic(), triangle_printed()
-    diffs = {k: sp.simplify(sp.radsimp(sol[k] - printed[k])) for k in printed}
-    S, k1, k2 = sp.symbols("S_l k_1 k_2", positive=True)
-    v0, D0, D1 = sp.symbols("v_0 Delta_0 Delta_1", positive=True)
-    v1sq = sp.simplify((printed["v_1"] ** 2).subs({k1: v0 / D0, k2: v0 / D1}))
-    ok = all(d == 0 for d in diffs.values()) and sp.simplify(v1sq - 2 * S * v0 / (D0 + D1)) == 0
-    return ClaimResult(
-        "(1.9) - sympy solution = 0 for t1, tau, v1; v1^2 = 2 S_l v0/(Delta0+Delta1)",
-        f"{diffs}; v1^2 = {v1sq}",
-        bool(ok),
-    )
-
-
-def check_join() -> ClaimResult:
-    v0, D0, D1 = 1.5, 0.7, 1.3
-    S0 = v0 * (D0 + D1) / 2  # L = 0
-    tri = speed_profile(S0, v0, D0, D1)
-    near = speed_profile(S0 * (1 + 1e-9), v0, D0, D1)  # L slightly > 0: trapezoid
-    t = np.linspace(0.0, tri.T, 2001)
-    dv = float(np.max(np.abs(tri.v(t) - near.v(t))))
-    ok = (tri.kind, near.kind) == ("triangle", "trapezoid") and dv < 1e-8
-    ok = ok and abs(tri.v1 - v0) < 1e-12 and abs(tri.T - (D0 + D1)) < 1e-12
-    return ClaimResult(
-        "at L = 0: v1 = v0 = 1.5, tau = Delta0 + Delta1 = 2, laws coincide",
-        f"{tri.kind}/{near.kind}, v1 = {tri.v1:.12g}, tau = {tri.T:.12g}, max |dv| = {dv:.2g}",
-        ok,
-    )
-
-
-def check_controls_symbolic() -> ClaimResult:
-    r1, r2, rank = controls_residuals()
-    ok = r1 == sp.zeros(3, 1) and r2 != sp.zeros(3, 1) and rank == 1
-    return ClaimResult(
-        "U X - Xdot = 0, rank U = 1; alternative reading != 0",
-        f"{list(r1)}; alternative zero: {r2 == sp.zeros(3, 1)}",
-        bool(ok),
     )
 
 

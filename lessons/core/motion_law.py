@@ -10,15 +10,17 @@ D = X^2 + Y^2 + Z^2 (1.14), make the linear system (1.5) Xdot = U(t) X reproduce
 (1.5) from r(phi0): classical RK4 on a fixed step grid on [0, T] (steps aligned with the
 kinks of v(t), the cusps of l and the windows around passes through the origin, and
 h max(|U|, turning rate of the tangent) <= STEP_ANGLE), kept as a dense solution (cubic
-Hermite with the slopes U X at the steps).  A run and the live view both read this one
-solution.  Where D vanishes (1.15) divides by zero and (1.5), which has the zero
-solution, cannot reach or leave the origin: the solution is undefined (NaN) in a short
-window around that time and restarts from the curve after it.
+Hermite with the slopes U X at the steps).  A run and the live view
+(:class:`ProgramStepper`) both read this one solution.  Where D vanishes (1.15) divides
+by zero and (1.5), which has the zero solution, cannot reach or leave the origin: the
+solution is undefined (NaN) in a short window around that time and restarts from the
+curve after it.
 """
 
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 from functools import lru_cache
 
@@ -26,7 +28,7 @@ import numpy as np
 import sympy as sp
 
 from lessons.core.arclength import CubicHermite
-from lessons.core.contract import ParamError
+from lessons.core.contract import ClaimResult, Frame, ParamError, Params, Stepper
 from lessons.core.profiles import SpeedProfile, speed_profile
 from lessons.core.space_curve import CurveModel, curve_model
 
@@ -206,6 +208,18 @@ def _rk4_step(y: list[float], h: float, a: list[list[float]], x: list[list[float
     return [y[i] + h / 6 * (k[0][i] + 2 * k[1][i] + 2 * k[2][i] + k[3][i]) for i in range(3)]
 
 
+def check_controls() -> ClaimResult:
+    """(1.15) read as u_ij = Xdot_i X_j / D gives U X = Xdot and rank U = 1; the other
+    reading X_i Xdot_j / D does not."""
+    r1, r2, rank = controls_residuals()
+    ok = r1 == sp.zeros(3, 1) and r2 != sp.zeros(3, 1) and rank == 1
+    return ClaimResult(
+        "U X - Xdot = 0, rank U = 1; alternative reading != 0",
+        f"{list(r1)}; alternative zero: {r2 == sp.zeros(3, 1)}",
+        bool(ok),
+    )
+
+
 def controls_residuals() -> tuple[sp.Matrix, sp.Matrix, int]:
     """U X - Xdot for (1.15) read as u_ij = Xdot_i X_j / D and for the other reading
     X_i Xdot_j / D (symbolic, simplified), and the rank of the first U."""
@@ -246,4 +260,91 @@ def motion_program(
     return prog
 
 
-__all__ = ["Program", "controls_residuals", "motion_program", "solve_15", "step_grid"]
+class ProgramStepper(Stepper):
+    """The live run of a motion program: frames read the program point X(t) and the
+    solution of (1.5) from the program computed once per parameter set, so a frame costs
+    one evaluation of the time law and of the dense solution.  ``program`` gives the
+    program of the parameters; ``scalars(params, t, Y)`` is the lesson's observation at
+    one time (``Y`` the solution there, shape (1, 3)): it must hold the series x, y, z,
+    x_dot, y_dot, z_dot and x_analyzer."""
+
+    def __init__(
+        self,
+        params: Params,
+        program: Callable[[Params], Program],
+        scalars: Callable[[Params, float, np.ndarray], dict[str, float]],
+    ) -> None:
+        self._program, self._scalars = program, scalars
+        self._t = 0.0
+        self._note = ""
+        self._use(params)
+
+    def _use(self, params: Params) -> None:
+        self._params = params
+        self._prog = self._program(params)
+        pts = self._prog.curve.samples
+        size = max(float(np.max(pts.max(axis=0) - pts.min(axis=0))), 1e-9)
+        self._vscale = 0.25 * size / max(self._prog.profile.v1, 1e-12)  # arrow length
+
+    @property
+    def t(self) -> float:
+        return self._t
+
+    def frame(self) -> Frame:
+        prog, t = self._prog, self._t
+        Y = prog.solution(np.array([t]))
+        sc = self._scalars(self._params, t, Y)
+        X = np.array([[sc["x"], sc["y"], sc["z"]]])
+        V = np.array([[sc["x_dot"], sc["y_dot"], sc["z_dot"]]])
+        msgs = [self._note] if self._note else []
+        if not math.isfinite(sc["x_analyzer"]) and not self._note:
+            msgs.append("(1.5) is suspended near the origin (1.14)")
+        if t >= prog.T and not msgs:
+            msgs.append(f"the motion is complete at T = {prog.T:.6g}")
+        return Frame(
+            t=t,
+            points={"point": X, "analyzer": np.where(np.isfinite(Y), Y, X)},
+            vectors={"velocity": (X, V * self._vscale)},
+            scalars=sc,
+            message=" ".join(msgs),
+        )
+
+    def advance(self, dt: float) -> Frame:
+        dt = float(dt)
+        if not math.isfinite(dt) or dt <= 0:
+            return self.frame()
+        a, b = self._t, self._t + dt
+        self._t = b
+        self._note = ""
+        for ts, (g0, g1) in zip(self._prog.singular_t, self._prog.gaps):
+            if a < g1 and b > g0:
+                self._note = (
+                    f"X(t) passes through the origin at t = {ts:.4g}: (1.14) fails, (1.15) divides"
+                    " by zero; (1.5) cannot pass the origin, so it is restarted from the curve"
+                    f" after t = {g1:.4g}."
+                )
+        return self.frame()
+
+    def set_params(self, params: Params) -> None:
+        old = self._prog
+        self._use(params)
+        if self._prog is not old:
+            self._note = (
+                f"parameters changed at t = {self._t:.4g}: the program and (1.5) from r(phi0)"
+                " are recomputed for the new values"
+            )
+
+    def reset(self) -> Frame:
+        self._t = 0.0
+        self._note = ""
+        return self.frame()
+
+
+__all__ = [
+    "Program",
+    "check_controls",
+    "controls_residuals",
+    "motion_program",
+    "solve_15",
+    "step_grid",
+]

@@ -31,6 +31,8 @@ import numpy as np
 import sympy as sp
 from scipy import integrate
 
+from lessons.core.contract import ClaimResult
+
 ProfileKind = Literal["trapezoid", "triangle"]
 #: the speed-law choices: the source's rule (1.8)/(1.9), or one law forced
 PROFILE_CHOICES = ("auto", "trapezoid", "triangle")
@@ -233,9 +235,78 @@ def _triangle_symbolic() -> tuple[tuple[str, sp.Expr], ...]:
     return tuple((str(k), v) for k, v in sol[0].items())
 
 
+# ------------------------------------------------------------------ checks of the laws
+
+
+def check_covers(S_l: float, v0: float, Delta0: float, Delta1: float) -> ClaimResult:
+    """The law covers exactly S_l: integral of v = s(T) = S_l, v <= v0, |dv/dt| <= v0/Delta."""
+    p = speed_profile(S_l, v0, Delta0, Delta1)
+    area = integral_of_v(p)
+    t = np.linspace(0.0, p.T, 20001)
+    vmax = float(np.max(p.v(t)))
+    acc = p.acceleration(t)
+    slopes_ok = np.all(acc <= p.k1 * (1 + 1e-12)) and np.all(-acc <= p.k2 * (1 + 1e-12))
+    err = max(abs(area - S_l), abs(float(p.s(p.T)) - S_l))
+    return ClaimResult(
+        f"integral of v = s(T) = {S_l:.10g}, max v <= v0 = {v0:g}, |dv/dt| <= v0/Delta",
+        f"{p.kind}: integral {area:.12g}, s(T) {float(p.s(p.T)):.12g}, max v {vmax:.6g}",
+        bool(err < 1e-10 and vmax <= v0 * (1 + 1e-12) and slopes_ok),
+    )
+
+
+def check_numbers(p: SpeedProfile, kind: str, **want: float) -> ClaimResult:
+    """The law's kind and numbers (to 1e-9); a triangle also against (1.9) as printed."""
+    got = {k: float(getattr(p, k)) for k in want}
+    ok = p.kind == kind and all(abs(got[k] - v) < 1e-9 for k, v in want.items())
+    if p.kind == "triangle":
+        printed = triangle_1_9(p.S_l, p.k1, p.k2)
+        ok = ok and max(abs(a - b) for a, b in zip(printed, (p.t1, p.tau, p.v1))) < 1e-12
+    return ClaimResult(
+        ", ".join([kind, *(f"{k} = {v:.7g}" for k, v in want.items())]),
+        ", ".join([p.kind, *(f"{k} = {v:.9g}" for k, v in got.items())]),
+        bool(ok),
+    )
+
+
+def check_triangle_formulas() -> ClaimResult:
+    """(1.9) as printed = the sympy solution; with the ramps' slopes v1^2 = 2 S_l v0/(D0 + D1)."""
+    sol, printed = triangle_symbolic(), triangle_printed()
+    diffs = {k: sp.simplify(sp.radsimp(sol[k] - printed[k])) for k in printed}
+    S, k1, k2 = sp.symbols("S_l k_1 k_2", positive=True)
+    v0, D0, D1 = sp.symbols("v_0 Delta_0 Delta_1", positive=True)
+    v1sq = sp.simplify((printed["v_1"] ** 2).subs({k1: v0 / D0, k2: v0 / D1}))
+    ok = all(d == 0 for d in diffs.values()) and sp.simplify(v1sq - 2 * S * v0 / (D0 + D1)) == 0
+    return ClaimResult(
+        "(1.9) - sympy solution = 0 for t1, tau, v1; v1^2 = 2 S_l v0/(Delta0+Delta1)",
+        f"{diffs}; v1^2 = {v1sq}",
+        bool(ok),
+    )
+
+
+def check_join() -> ClaimResult:
+    """At L = 0 (v0 = 1.5, Delta0 = 0.7, Delta1 = 1.3) the triangle is the trapezoid."""
+    v0, D0, D1 = 1.5, 0.7, 1.3
+    S0 = v0 * (D0 + D1) / 2  # L = 0
+    tri = speed_profile(S0, v0, D0, D1)
+    near = speed_profile(S0 * (1 + 1e-9), v0, D0, D1)  # L slightly > 0: trapezoid
+    t = np.linspace(0.0, tri.T, 2001)
+    dv = float(np.max(np.abs(tri.v(t) - near.v(t))))
+    ok = (tri.kind, near.kind) == ("triangle", "trapezoid") and dv < 1e-8
+    ok = ok and abs(tri.v1 - v0) < 1e-12 and abs(tri.T - (D0 + D1)) < 1e-12
+    return ClaimResult(
+        "at L = 0: v1 = v0 = 1.5, tau = Delta0 + Delta1 = 2, laws coincide",
+        f"{tri.kind}/{near.kind}, v1 = {tri.v1:.12g}, tau = {tri.T:.12g}, max |dv| = {dv:.2g}",
+        ok,
+    )
+
+
 __all__ = [
     "PROFILE_CHOICES",
     "ProfileKind",
+    "check_covers",
+    "check_join",
+    "check_numbers",
+    "check_triangle_formulas",
     "SpeedProfile",
     "integral_of_v",
     "speed_profile",
