@@ -74,13 +74,9 @@ def vector_fn(exprs: list[sp.Expr]) -> Callable[[np.ndarray], np.ndarray]:
 
 @dataclass
 class CurveModel:
-    """The typed curve (1.1): formulas, derivatives, arc-length table."""
+    """The typed curve (1.1): its formulas and arc-length table (with r, r' and the range)."""
 
-    texts: tuple[str, str, str]
     exprs: tuple[sp.Expr, sp.Expr, sp.Expr]
-    dexprs: tuple[sp.Expr, sp.Expr, sp.Expr]
-    phi0: float
-    phi1: float
     arc: ArcLengthCurve
     scale: float  # max |r| on the curve (at least 1)
     samples: np.ndarray  # (N, 3) points, uniform in s
@@ -133,20 +129,7 @@ def curve_model(x: str, y: str, z: str, phi0: float, phi1: float) -> CurveModel:
     origin_s, rmin = _zero_passes(arc, r, dr)
     cusp_s, _ = _zero_passes(arc, dr, vector_fn([sp.diff(e, PHI) for e in dexprs]))
     nonsmooth = any(e.has(sp.sign, sp.Abs, sp.Heaviside) for e in dexprs)
-    return CurveModel(
-        (x, y, z),
-        exprs,
-        dexprs,
-        float(phi0),
-        float(phi1),
-        arc,
-        scale,
-        pts,
-        origin_s,
-        rmin,
-        cusp_s,
-        nonsmooth,
-    )
+    return CurveModel(exprs, arc, scale, pts, origin_s, rmin, cusp_s, nonsmooth)
 
 
 def _check_continuous(name: str, f: Formula, phi0: float, phi1: float) -> None:
