@@ -177,7 +177,7 @@ class MotionProgramLesson(Lesson):
         Series("v_limit", "m/s", "the speed law v(t), (1.8)/(1.9)"),
         Series("phi", "", "curve parameter phi = omega(s(t)), (1.13)"),
         *(Series(c, "m", f"{c.upper()}(t) of the program, (1.11)") for c in "xyz"),
-        *(Series(f"{c}_dot", "m/s", f"d{c.upper()}/dt = r'/|r'| v(t)") for c in "xyz"),
+        *(Series(f"v{c}", "m/s", f"d{c.upper()}/dt = r'/|r'| v(t) of the program") for c in "xyz"),
         *(
             Series(f"{c}_analyzer", "m", f"{c} of the solution of (1.5) with the controls (1.15)")
             for c in "xyz"
@@ -257,7 +257,7 @@ class MotionProgramLesson(Lesson):
         out = {"s": law["s"], "v_limit": law["v"], "phi": law["phi"]}
         for k, c in enumerate("xyz"):
             out[c] = X[:, k]
-            out[f"{c}_dot"] = V[:, k]
+            out[f"v{c}"] = V[:, k]
             out[f"{c}_analyzer"] = Y[:, k]
         UY, E = np.einsum("nij,nj->ni", U, Y), Y - X
         out["speed"] = np.sqrt(np.einsum("ij,ij->i", UY, UY))

@@ -24,7 +24,7 @@ from lessons.motion_program import (
 )
 
 S_HELIX = math.pi * math.sqrt(2.0)
-SERIES = ("x", "y", "z", "x_dot", "y_dot", "z_dot", "speed", "v_limit", "s", "x_analyzer")
+SERIES = ("x", "y", "z", "vx", "vy", "vz", "speed", "v_limit", "s", "x_analyzer")
 METRICS = ("S_l", "T", "profile", "L", "v1")
 
 
@@ -134,7 +134,7 @@ def test_speed_never_exceeds_the_law():
         r = LESSON.run(preset)
         ok = np.isfinite(r.series["speed"])
         assert np.max(r.series["speed"][ok] - r.series["v_limit"][ok]) <= 1e-9
-        speed_prog = np.sqrt(sum(r.series[f"{c}_dot"] ** 2 for c in "xyz"))
+        speed_prog = np.sqrt(sum(r.series[f"v{c}"] ** 2 for c in "xyz"))
         assert np.max(np.abs(speed_prog - r.series["v_limit"])) <= 1e-12
         assert np.max(r.series["v_limit"]) <= float(LESSON.resolve(preset=preset)["v0"]) + 1e-12
         assert r.series["s"][-1] == pytest.approx(r.metrics["S_l"], abs=1e-12)

@@ -266,7 +266,7 @@ class ProgramStepper(Stepper):
     one evaluation of the time law and of the dense solution.  ``program`` gives the
     program of the parameters; ``scalars(params, t, Y)`` is the lesson's observation at
     one time (``Y`` the solution there, shape (1, 3)): it must hold the series x, y, z,
-    x_dot, y_dot, z_dot and x_analyzer."""
+    vx, vy, vz and x_analyzer."""
 
     def __init__(
         self,
@@ -295,7 +295,7 @@ class ProgramStepper(Stepper):
         Y = prog.solution(np.array([t]))
         sc = self._scalars(self._params, t, Y)
         X = np.array([[sc["x"], sc["y"], sc["z"]]])
-        V = np.array([[sc["x_dot"], sc["y_dot"], sc["z_dot"]]])
+        V = np.array([[sc["vx"], sc["vy"], sc["vz"]]])
         msgs = [self._note] if self._note else []
         if not math.isfinite(sc["x_analyzer"]) and not self._note:
             msgs.append("(1.5) is suspended near the origin (1.14)")
