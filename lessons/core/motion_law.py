@@ -72,7 +72,7 @@ class Program:
         phi = arc.omega(s)
         X = arc.r(phi)
         V = arc.unit_tangent(phi) * v[:, None]
-        V[~np.isfinite(V)] = 0.0  # a tangent that has no limit (never at rest: v = 0)
+        V[~np.isfinite(V)] = 0.0  # r' without a limiting direction there
         return {"s": s, "v": v, "phi": phi, "X": X, "V": V, "D": np.einsum("ij,ij->i", X, X)}
 
     def controls(self, law: dict[str, np.ndarray]) -> np.ndarray:
