@@ -7,7 +7,7 @@ import math
 import numpy as np
 import pytest
 
-from lessons.core.arclength import ArcLengthCurve
+from lessons.core.arclength import ArcLengthCurve, CubicHermite
 
 
 def vec(*fs):
@@ -69,3 +69,31 @@ def test_non_finite_derivative_is_refused():
 def test_bad_range_is_refused():
     with pytest.raises(ValueError):
         ArcLengthCurve(*H12[:2], 1.0, 1.0)
+
+
+def test_cubic_hermite_is_exact_for_cubics_and_at_nodes():
+    x = np.array([0.0, 0.5, 2.0, 3.0])
+    y = np.stack([x**3 - x, 2 * x], axis=1)
+    dy = np.stack([3 * x**2 - 1, 2 + 0 * x], axis=1)
+    h = CubicHermite(x, y, dy)
+    q = np.linspace(0, 3, 31)
+    assert np.max(np.abs(h(q) - np.stack([q**3 - q, 2 * q], axis=1))) < 1e-12
+    assert np.array_equal(h(x), y)
+    assert h(np.array([5.0])).tolist() == [[24.0, 6.0]]  # clamped to the last node
+
+
+@pytest.mark.parametrize("spec", [H12, H14])
+def test_tabulated_omega_matches_the_newton_inverse(spec):
+    c = ArcLengthCurve(*spec)
+    s = np.linspace(0, c.S_l, 20001)
+    assert np.max(np.abs(c.omega(s) - c.phi_of_s(s))) < 1e-12
+    assert c.omega(np.array([0.0, c.S_l])).tolist() == [c.phi0, c.phi1]
+
+
+def test_tabulated_omega_through_a_cusp():
+    r = vec(lambda p: p**3, lambda p: p**2, lambda p: 0 * p)
+    dr = vec(lambda p: 3 * p**2, lambda p: 2 * p, lambda p: 0 * p)
+    c = ArcLengthCurve(r, dr, -1.0, 1.0)
+    s = np.linspace(0, c.S_l, 20001)
+    assert np.all(np.isfinite(c.omega.coef))
+    assert np.max(np.linalg.norm(c.r(c.omega(s)) - c.point_of_s(s), axis=1)) < 1e-8

@@ -7,24 +7,24 @@ import math
 
 import numpy as np
 import pytest
-from scipy.integrate import solve_ivp
 
 from lessons.catalog import get_lesson
 from lessons.core.contract import Formula, ParamError
+from lessons.core.motion_law import motion_program
+from lessons.core.space_curve import CurveFormulaParam
 from lessons.motion_program import (
     HELIX_12,
+    HELIX_13,
+    HELIX_14,
     LESSON,
     U_NAMES,
-    CurveFormulaParam,
+    _arc,
     helix_hausdorff,
-    helix_length,
     helix_reversal_gap,
-    program_from,
-    reproduce,
 )
 
 S_HELIX = math.pi * math.sqrt(2.0)
-SERIES = ("x", "y", "z", "vx", "vy", "vz", "v", "v_limit", "s", "x5", "y5", "z5")
+SERIES = ("x", "y", "z", "vx", "vy", "vz", "speed", "v_limit", "s", "x_analyzer")
 METRICS = ("S_l", "T", "profile", "L", "v1")
 
 
@@ -59,6 +59,9 @@ def test_curve_formula_param_parses_phi_only():
         ({"z": "1/(phi - 1)"}, "z"),
         ({"v0": 0}, "v0"),
         ({"Delta0": -1}, "Delta0"),
+        ({"profile": "trapezoid", "v0": 4, "Delta0": 2, "Delta1": 2}, "profile"),
+        ({"profile": "triangle", "Delta0": 0, "Delta1": 0}, "profile"),
+        ({"profile": "square"}, "profile"),
     ],
 )
 def test_bad_values_are_refused_with_the_parameter_named(values, name):
@@ -81,7 +84,7 @@ def test_every_preset_resolves_simulates_and_finishes(preset):
     assert r.metrics["max_error"] < 1e-6
     assert r.metrics["max_speed_excess"] < 1e-9
     # the last point is the end of the curve
-    end = program_from(
+    end = motion_program(
         params["x"].text, params["y"].text, params["z"].text, params["phi0"], params["phi1"]
     ).curve.samples[-1]
     assert np.allclose([r.series["x"][-1], r.series["y"][-1], r.series["z"][-1]], end, atol=1e-9)
@@ -93,10 +96,8 @@ def test_every_preset_resolves_simulates_and_finishes(preset):
 
 
 def test_helix_lengths_and_one_point_set():
-    from lessons.motion_program import HELIX_13, HELIX_14
-
     for c in (HELIX_12, HELIX_13, HELIX_14):
-        assert helix_length(c) == pytest.approx(S_HELIX, abs=1e-9)
+        assert _arc(c).S_l == pytest.approx(S_HELIX, abs=1e-9)
     assert helix_hausdorff() <= 1e-9
     assert helix_reversal_gap() <= 1e-9
 
@@ -110,14 +111,6 @@ def test_helix_forms_give_the_same_motion_and_1_4_reversed():
     assert r4.series["x"][0] == pytest.approx(0.0, abs=1e-12)
     assert (r4.series["y"][0], r4.series["z"][0]) == pytest.approx((-1.0, math.pi), abs=1e-12)
     assert (r2.series["y"][0], r2.series["z"][0]) == pytest.approx((1.0, 0.0), abs=1e-12)
-
-
-def test_hausdorff_check_can_fail():
-    from lessons.motion_program import _nearest_distance, curve_model
-
-    other = curve_model("sin(phi)", "cos(phi)", "1.001*phi", 0.0, math.pi).arc
-    pts = np.array([[0.0, -1.0, math.pi]])
-    assert _nearest_distance(other, pts)[0] > 1e-3
 
 
 # ---------------------------------------------------------------- speed law
@@ -139,57 +132,12 @@ def test_trapezoid_and_triangle_metrics():
 def test_speed_never_exceeds_the_law():
     for preset in ("helix-1.2", "helix-triangle", "spiral"):
         r = LESSON.run(preset)
-        ok = np.isfinite(r.series["v"])
-        assert np.max(r.series["v"][ok] - r.series["v_limit"][ok]) <= 1e-9
-        speed_prog = np.sqrt(r.series["vx"] ** 2 + r.series["vy"] ** 2 + r.series["vz"] ** 2)
+        ok = np.isfinite(r.series["speed"])
+        assert np.max(r.series["speed"][ok] - r.series["v_limit"][ok]) <= 1e-9
+        speed_prog = np.sqrt(sum(r.series[f"v{c}"] ** 2 for c in "xyz"))
         assert np.max(np.abs(speed_prog - r.series["v_limit"])) <= 1e-12
         assert np.max(r.series["v_limit"]) <= float(LESSON.resolve(preset=preset)["v0"]) + 1e-12
         assert r.series["s"][-1] == pytest.approx(r.metrics["S_l"], abs=1e-12)
-
-
-# ---------------------------------------------------------------- (1.5) with (1.15)
-
-
-@pytest.mark.parametrize("v0,d0,d1", [(1.0, 1.0, 1.0), (4.0, 2.0, 2.0)])
-def test_rk4_reproduction_and_independent_dop853(v0, d0, d1):
-    prog = program_from(*HELIX_12[:3], 0.0, math.pi, v0, d0, d1)
-    res = reproduce(prog)
-    assert np.max(res["err"]) <= 1e-6
-    assert np.linalg.norm(res["X5"][-1] - [0.0, -1.0, math.pi]) <= 1e-6
-
-    # the same system (1.5) with u_ij of (1.15), integrated by DOP853 (rtol 1e-11, atol 1e-12)
-    def rhs(t, y):
-        st = prog.state(np.array([t]))
-        U = prog.controls(st)[0]
-        return U @ y
-
-    sol = solve_ivp(
-        rhs,
-        (0.0, prog.T),
-        res["X"][0],
-        method="DOP853",
-        rtol=1e-11,
-        atol=1e-12,
-        t_eval=res["t"][::50],
-    )
-    X = prog.state(sol.t)["X"]
-    assert np.max(np.linalg.norm(sol.y.T - X, axis=1)) <= 1e-6
-
-
-def test_error_measure_detects_a_coarse_integration():
-    prog = program_from(*HELIX_12[:3], 0.0, math.pi, 1.0, 1.0, 1.0)
-    coarse = reproduce(prog, samples=6, substeps=1)
-    assert np.max(coarse["err"]) > 1e-4
-
-
-def test_controls_are_rank_one_and_reproduce_xdot():
-    prog = program_from(*HELIX_12[:3], 0.0, math.pi, 1.0, 1.0, 1.0)
-    st = prog.state(np.linspace(0, prog.T, 301))
-    U = prog.controls(st)
-    assert np.max(np.abs(np.einsum("nij,nj->ni", U, st["X"]) - st["V"])) < 1e-14
-    sv = np.linalg.svd(U, compute_uv=False)
-    assert np.max(sv[:, 1:]) < 1e-14
-    assert np.min(st["D"]) == pytest.approx(1.0, abs=1e-12)  # (1.14): D = 1 + Z^2
 
 
 # ---------------------------------------------------------------- singular cases of (1.14)/(1.15)
@@ -201,9 +149,9 @@ def test_pass_through_origin_is_reported_and_handled():
     assert r.metrics["singular_times"] == pytest.approx([t_star], abs=1e-7)
     assert any("(1.14) fails" in m for m in r.messages)
     gap = np.abs(r.t - t_star) < 1e-3 * r.metrics["T"] * (1 - 1e-9)  # open window
-    assert gap.any() and np.all(np.isnan(r.series["x5"][gap]))
+    assert gap.any() and np.all(np.isnan(r.series["x_analyzer"][gap]))
     assert np.all(np.isnan(r.series["u11"][gap]))
-    assert np.all(np.isfinite(r.series["x5"][~gap]))
+    assert np.all(np.isfinite(r.series["x_analyzer"][~gap]))
     assert r.metrics["max_error"] < 1e-6
     assert np.isfinite(r.metrics["max_abs_u"])
 
@@ -221,7 +169,7 @@ def test_curve_starting_at_the_origin():
         t_end=None,
     )
     assert r.metrics["singular_times"] == [0.0]
-    assert math.isnan(r.series["x5"][1])
+    assert math.isnan(r.series["x_analyzer"][1])
     assert r.metrics["max_error"] < 1e-6
 
 
@@ -265,21 +213,60 @@ def test_stepper_advance_set_params_reset():
     st.set_params(LESSON.resolve(preset="helix-triangle"))
     assert st.t == pytest.approx(2.0)
     f = st.frame()
-    assert "restarted" in f.message
+    assert "recomputed" in f.message
     f = st.reset()
     assert f.t == 0.0
 
 
 def test_stepper_through_the_origin():
-    st = LESSON.stepper(LESSON.resolve(preset="line-through-origin"))
-    seen = False
+    """Points stay drawable; the values of (1.5) are undefined only inside the window,
+    and the frame says why."""
+    params = LESSON.resolve(preset="line-through-origin")
+    st = LESSON.stepper(params)
+    gaps = 0
     for _ in range(300):
         f = st.advance(1 / 60)
         assert all(np.all(np.isfinite(v)) for v in f.points.values())
-        assert all(math.isfinite(v) for v in f.scalars.values())
-        seen |= "origin" in f.message
-    assert seen
+        if not math.isfinite(f.scalars["x_analyzer"]):
+            gaps += 1
+            assert "origin" in f.message and not math.isfinite(f.scalars["u11"])
+        else:
+            assert all(math.isfinite(v) for v in f.scalars.values())
+    assert gaps >= 1
     assert f.scalars["error"] < 1e-6
+
+
+def test_forced_profiles():
+    """The profile choice: a forced triangle with L > 0 peaks above v0 (and says so)."""
+    params = LESSON.resolve(preset="helix-1.2", values={"profile": "triangle"})
+    r = LESSON.simulate(params)
+    v1 = math.sqrt(2 * S_HELIX * 1.0 / 2.0)  # sqrt(2 S_l v0 / (Delta0 + Delta1))
+    assert v1 == pytest.approx(2.107815, abs=1e-6)
+    assert r.metrics["profile"] == "triangle"
+    assert r.metrics["v1"] == pytest.approx(v1, abs=1e-12)
+    assert r.metrics["T"] == pytest.approx(2 * v1, abs=1e-12)
+    assert any("exceeds" in m for m in r.messages)
+    assert r.metrics["max_error"] < 1e-6
+    same = LESSON.simulate(LESSON.resolve(preset="helix-1.2", values={"profile": "trapezoid"}))
+    auto = LESSON.simulate(LESSON.resolve(preset="helix-1.2"))
+    assert np.array_equal(same.series["x"], auto.series["x"])
+
+
+def test_notes_say_what_was_done():
+    kinds = {n.kind for n in LESSON.notes(LESSON.resolve(preset="helix-triangle"))}
+    assert kinds == {"info", "reconstructed"}
+    recon = [n for n in LESSON.notes(LESSON.resolve(preset="helix-triangle")) if n.source]
+    assert recon[0].source == "(1.9)" and recon[0].evidence
+    texts = [n.text for n in LESSON.notes(LESSON.resolve(preset="line-through-origin"))]
+    assert any("(1.14) fails" in t for t in texts)
+
+
+def test_declarations():
+    assert LESSON.declaration_errors() == []
+    assert LESSON.modes == ("profile",) and LESSON.param("profile").group == "mode"
+    assert [g.name for g in LESSON.groups] == ["mode", "curve", "law"]
+    units = {s.name: s.unit for s in LESSON.series}
+    assert units["x_analyzer"] == "m" and units["speed"] == "m/s" and units["u23"] == "1/s"
 
 
 @pytest.mark.parametrize("preset", [p.name for p in LESSON.presets])

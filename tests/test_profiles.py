@@ -7,18 +7,20 @@ import math
 import numpy as np
 import pytest
 import sympy as sp
-from scipy import integrate
 
-from lessons.core.profiles import speed_profile, trapezoid_L, triangle_1_9, triangle_symbolic
+from lessons.core.profiles import (
+    check_covers,
+    check_join,
+    check_numbers,
+    check_triangle_formulas,
+    speed_profile,
+    trapezoid_L,
+    triangle_1_9,
+    triangle_symbolic,
+)
+from lessons.core.profiles import integral_of_v as area
 
 S_HELIX = math.pi * math.sqrt(2.0)
-
-
-def area(p) -> float:
-    return sum(
-        integrate.quad(lambda t: float(p.v(t)), a, b, epsabs=1e-13, epsrel=1e-13)[0]
-        for a, b in zip(p.breakpoints[:-1], p.breakpoints[1:])
-    )
 
 
 def test_trapezoid_helix_numbers():
@@ -118,3 +120,33 @@ def test_triangle_symbolic_matches_printed_1_9():
 def test_bad_inputs_raise(args):
     with pytest.raises(ValueError):
         speed_profile(*args)
+
+
+def test_forced_laws():
+    tri = speed_profile(S_HELIX, 1.0, 1.0, 1.0, "triangle")  # L = 3.44 > 0
+    assert tri.kind == "triangle" and tri.v1 == pytest.approx(math.sqrt(S_HELIX), abs=1e-14)
+    assert tri.v1 > tri.v0 and area(tri) == pytest.approx(S_HELIX, abs=1e-10)
+    assert speed_profile(S_HELIX, 1.0, 1.0, 1.0, "trapezoid") == speed_profile(S_HELIX, 1, 1, 1)
+    with pytest.raises(ValueError, match="L > 0"):
+        speed_profile(S_HELIX, 4.0, 2.0, 2.0, "trapezoid")
+    with pytest.raises(ValueError, match="Delta0 \\+ Delta1 > 0"):
+        speed_profile(S_HELIX, 1.0, 0.0, 0.0, "triangle")
+    with pytest.raises(ValueError, match="one of"):
+        speed_profile(S_HELIX, 1.0, 1.0, 1.0, "square")
+
+
+def test_piecewise_law_at_the_edges():
+    p = speed_profile(S_HELIX, 1.0, 1.0, 1.0)
+    t = np.array([-1.0, 0.0, 1.0, p.T - 1.0, p.T, p.T + 1.0])
+    assert p.v(t).tolist() == pytest.approx([0.0, 0.0, 1.0, 1.0, 0.0, 0.0], abs=1e-15)
+    assert p.s(t).tolist() == pytest.approx([0, 0, 0.5, S_HELIX - 0.5, S_HELIX, S_HELIX])
+    assert p.acceleration(t).tolist() == [0.0, 1.0, 0.0, -1.0, 0.0, 0.0]
+
+
+def test_checks_pass_and_can_fail():
+    assert check_covers(S_HELIX, 1.0, 1.0, 1.0).passed and check_join().passed
+    assert check_triangle_formulas().passed
+    p = speed_profile(S_HELIX, 1.0, 1.0, 1.0)
+    assert check_numbers(p, "trapezoid", L=3.442882938158366, T=5.442882938158366).passed
+    assert not check_numbers(p, "trapezoid", L=3.4429).passed
+    assert not check_numbers(p, "triangle", L=3.442882938158366).passed

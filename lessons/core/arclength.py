@@ -12,7 +12,11 @@ turns an inverse-square-root singularity of |r'| at either end (such as
 g(theta) = |r'(phi(theta))| dphi/dtheta.  g is approximated on panels by Chebyshev
 series at first-kind nodes (never at the panel ends), integrated exactly, and the
 panel count is doubled until the total length settles to ~1e-13.  The inverse
-s -> theta uses a safeguarded Newton iteration on the panel's polynomial.
+s -> theta uses a safeguarded Newton iteration on the panel's polynomial.  For many
+evaluations (a time law played frame by frame) the inverse phi = omega(s) is also
+tabulated once per curve (``omega``): phi and dphi/ds = 1/|r'| at dense nodes uniform in
+theta (so they crowd where the curve is slow), cubic Hermite in between (:class:`CubicHermite`;
+error ~ h^4, a few 1e-13 of the range for a smooth curve).
 """
 
 from __future__ import annotations
@@ -47,6 +51,32 @@ class ArcLengthTable:
     accuracy: float  # last change of the total length on refinement
 
 
+class CubicHermite:
+    """Piecewise cubic Hermite interpolation of ``values`` (n,) or (n, k) with ``slopes`` at
+    the non-decreasing ``nodes`` (n,); evaluated at points clamped to the nodes' range.
+
+    The cubics are stored in power form once, so that an evaluation (also at one point,
+    as a live frame needs) costs a search and one Horner scheme."""
+
+    def __init__(self, nodes: np.ndarray, values: np.ndarray, slopes: np.ndarray) -> None:
+        self.nodes = np.asarray(nodes, dtype=float)
+        y, m = np.asarray(values, dtype=float), np.asarray(slopes, dtype=float)
+        h = np.diff(self.nodes).reshape((-1,) + (1,) * (y.ndim - 1))
+        with np.errstate(all="ignore"):
+            d = np.where(h > 0, (y[1:] - y[:-1]) / h, 0.0)
+            c2 = np.where(h > 0, (3 * d - 2 * m[:-1] - m[1:]) / h, 0.0)
+            c3 = np.where(h > 0, (m[:-1] + m[1:] - 2 * d) / (h * h), 0.0)
+        self.coef = np.stack([y[:-1], m[:-1], c2, c3])  # (4, n-1[, k])
+
+    def __call__(self, x: np.ndarray) -> np.ndarray:
+        x = np.clip(np.asarray(x, dtype=float), self.nodes[0], self.nodes[-1])
+        k = np.clip(np.searchsorted(self.nodes, x, side="right") - 1, 0, len(self.nodes) - 2)
+        c0, c1, c2, c3 = self.coef[:, k]
+        u = (x - self.nodes[k]).reshape(x.shape + (1,) * (c0.ndim - x.ndim))
+        # at a node its value exactly (also when the next node is undefined)
+        return np.where(u == 0, c0, c0 + u * (c1 + u * (c2 + u * c3)))
+
+
 class ArcLengthCurve:
     """A curve r(phi), phi in [phi0, phi1], with its arc length and inverse.
 
@@ -65,6 +95,7 @@ class ArcLengthCurve:
         self.phi1 = float(phi1)
         self.table = self._build(tol)
         self.S_l = float(self.table.cum[-1])
+        self.omega = self._omega_table()
 
     # -- the substitution -----------------------------------------------------------
 
@@ -132,6 +163,24 @@ class ArcLengthCurve:
                 return cur
             prev = cur
 
+    def _omega_table(self) -> CubicHermite:
+        """phi = omega(s) (1.13) at 8 nodes per panel (at least 4097), uniform in theta, with
+        the slopes dphi/ds = 1/|r'(phi)|, at most 3 x the neighbouring secants (finite at a
+        cusp, where |r'| = 0, and the cubic stays monotone)."""
+        theta = np.linspace(0.0, np.pi, max(4096, 8 * (len(self.table.edges) - 1)) + 1)
+        s = np.maximum.accumulate(self.s_of_theta(theta))
+        s[0], s[-1] = 0.0, self.S_l
+        phi = self.phi_of_theta(theta)
+        phi[0], phi[-1] = self.phi0, self.phi1
+        with np.errstate(divide="ignore", invalid="ignore"):
+            slope = 1.0 / self.speed_phi(phi)
+            secant = np.diff(phi) / np.diff(s)
+        secant = np.where(np.isfinite(secant), secant, 0.0)
+        # Fritsch-Carlson bound: slopes <= 3 x the neighbouring secants keep the cubic
+        # monotone (and finite at a cusp, where |r'| = 0)
+        cap = 3 * np.minimum(np.append(secant, secant[-1]), np.insert(secant, 0, secant[0]))
+        return CubicHermite(s, phi, np.where(np.isfinite(slope), np.minimum(slope, cap), cap))
+
     # -- s(theta), theta(s) --------------------------------------------------------------
 
     def _locate(self, theta: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -187,28 +236,38 @@ class ArcLengthCurve:
         """(1.6): r(s) as an (N, 3) array."""
         return self.r(self.phi_of_s(s))
 
+    def unit_tangent(self, phi: np.ndarray) -> np.ndarray:
+        """r'/|r'| at ``phi``; where it is undefined (an infinite or a zero derivative, e.g.
+        at the ends of (1.4)) the limit from a nearby interior point (see below)."""
+        phi = np.atleast_1d(np.asarray(phi, dtype=float))
+        out = self._unit(phi)
+        bad = ~np.all(np.isfinite(out), axis=1)
+        if bad.any():
+            out[bad] = self.unit_tangent_theta(self.theta_of_phi(phi[bad]))
+        return out
+
     def unit_tangent_theta(self, theta: np.ndarray) -> np.ndarray:
         """r'/|r'| at phi(theta); where it is undefined (an infinite or a zero derivative,
         e.g. at the ends of (1.4)) the limit is taken from a nearby interior point."""
         theta = np.atleast_1d(np.asarray(theta, dtype=float))
-        out = self._tangent(theta)
+        out = self._unit(self.phi_of_theta(theta))
         bad = ~np.all(np.isfinite(out), axis=1)
         for eps in (1e-9, 1e-7, 1e-5, 1e-3):
             if not bad.any():
                 break
             th = theta[bad]
             nudged = np.where(th < np.pi / 2, th + eps, th - eps)
-            out[bad] = self._tangent(np.clip(nudged, eps, np.pi - eps))
+            out[bad] = self._unit(self.phi_of_theta(np.clip(nudged, eps, np.pi - eps)))
             bad = ~np.all(np.isfinite(out), axis=1)
         return out
 
-    def _tangent(self, theta: np.ndarray) -> np.ndarray:
+    def _unit(self, phi: np.ndarray) -> np.ndarray:
+        d = self.dr(phi)
         with np.errstate(all="ignore"):
-            d = np.asarray(self.dr(self.phi_of_theta(theta)), dtype=float)
-            n = np.linalg.norm(d, axis=1)
+            n = np.sqrt(np.einsum("ij,ij->i", d, d))
             out = d / n[:, None]
         out[~np.isfinite(n) | (n == 0)] = np.nan
         return out
 
 
-__all__ = ["ArcLengthCurve", "ArcLengthTable"]
+__all__ = ["ArcLengthCurve", "ArcLengthTable", "CubicHermite"]
