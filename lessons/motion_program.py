@@ -149,9 +149,9 @@ class MotionProgramLesson(Lesson):
     order = 1.1
     t_end = 6.0
     groups = (
-        Group("mode", "Speed profile"),
-        Group("curve", "The curve l (1.1)"),
-        Group("law", "Speed law v(t) (1.8), (1.9)"),
+        Group("mode", "Speed profile", change="restart"),
+        Group("curve", "The curve l (1.1)", change="restart"),
+        Group("law", "Speed law v(t) (1.8), (1.9)", change="restart"),
     )
     modes = ("profile",)
     params = (
