@@ -176,6 +176,7 @@ def _label_of(lesson: Any) -> str:
     return lesson_label(lesson)
 
 
+@pytest.mark.quick
 def test_page_loads_with_title_math_and_no_console_errors(tab: Page) -> None:
     assert tab.page.title() == "Analyzer Lab"
     assert tab.page.locator("math").count() >= 5
