@@ -8,7 +8,7 @@ own widgets only).
 
 "Follow me" does not step one copy per student: every follower's
 :class:`~app.view.SessionView` is pointed at the instructor's :class:`Session`; the
-frame loop advances that session once per tick (:class:`SharedTick`) and every
+frame loop advances that session once per tick (:class:`~app.session.SharedClock`) and every
 follower view draws the same frames.  Followers' own controls are refused while
 following (the view's ``gate`` hook), their widgets show the demo's values, their
 camera follows the instructor's.  "Release" gives every follower a fresh session
@@ -40,19 +40,16 @@ from typing import TYPE_CHECKING, Any
 
 from app.instructor import InstructorPanel, Presenter
 from app.limits import (
-    CODE_FREE_TRIES,
-    CODE_GLOBAL_BURST,
-    CODE_GLOBAL_RATE,
-    CODE_MAX_WAIT,
     INPUT_BURST,
     INPUT_RATE,
     MAX_NOTICE_LENGTH,
     TEXT_COST,
+    CodeGuard,
     TokenBucket,
     generate_code,
     normalize_code,
 )
-from app.session import LabError, Session
+from app.session import LabError, Session, SharedClock
 
 #: Follower sync / camera pushes (Hz).
 SYNC_HZ = 20.0
@@ -63,37 +60,6 @@ if TYPE_CHECKING:
     from app.server import LabServer
     from app.view import SessionView
 
-# ------------------------------------------------------------------ shared stepping
-
-
-class SharedTick:
-    """The demo's :attr:`Session.shared_clock`: the first view that ticks the demo
-    in a loop tick advances it (by the wall time since the last advance); the other
-    views of that tick get the same frames."""
-
-    def __init__(self, session: Session, lab: LabServer) -> None:
-        self.session = session
-        self.lab = lab
-        self.key = -1
-        self.frames: list[Any] = []
-        self.last = time.monotonic()
-        self.calls = 0
-        self.advances = 0
-
-    def __call__(self, wall_dt: float) -> list[Any]:
-        self.calls += 1
-        key = self.lab.stats.ticks
-        if key != self.key:
-            self.key = key
-            now = time.monotonic()
-            dt = now - self.last
-            self.last = now
-            if dt > 3.0 / self.lab.fps:  # was paused (no ticks): one frame period
-                dt = 1.0 / self.lab.fps
-            self.advances += 1
-            self.frames = self.session.advance_wall(dt)
-        return self.frames
-
 
 class Classroom:
     """Instructor sign-in, follow/release, push, notify and presenter mode for a
@@ -102,9 +68,9 @@ class Classroom:
     def __init__(self, lab: LabServer, code: str | None = None) -> None:
         self.lab = lab
         self.code = code if code else generate_code()
-        self._code_norm = normalize_code(self.code).encode()
-        if len(self._code_norm) < 4:
+        if len(normalize_code(self.code)) < 4:
             raise LabError("the instructor code must have at least 4 letters or digits")
+        self.codes = CodeGuard(self.code)
         self.lock = threading.RLock()
         self.instructors: dict[int, InstructorPanel] = {}
         self.presenters: dict[int, Presenter] = {}
@@ -114,8 +80,6 @@ class Classroom:
         self.followers: dict[int, SessionView] = {}
         self._synced: dict[int, tuple[Any, ...]] = {}
         self.camera_dirty = False
-        self.wrong: dict[int, tuple[int, float]] = {}  # client -> (wrong count, locked until)
-        self.global_wrong = TokenBucket(CODE_GLOBAL_RATE, CODE_GLOBAL_BURST)
         self.buckets: dict[int, TokenBucket] = {}
         self.pending: dict[tuple[int, str], tuple[Callable[[Any], None], Any]] = {}
         self._refused_note: dict[int, float] = {}
@@ -164,7 +128,7 @@ class Classroom:
             self.entries.pop(client_id, None)
             self.presenters.pop(client_id, None)
             self.buckets.pop(client_id, None)
-            self.wrong.pop(client_id, None)
+            self.codes.forget(client_id)
             self._refused_note.pop(client_id, None)
             self._synced.pop(client_id, None)
             for key in [k for k in self.pending if k[0] == client_id]:
@@ -214,6 +178,17 @@ class Classroom:
             color="green",
         )
 
+    def project(self, view: SessionView, on: bool) -> None:
+        """Presenter mode on a page: its instructor panel and code entry are hidden while
+        it is projected (the class sees the lesson, not the controls of the class)."""
+        cid = view.client.client_id
+        panel = self.instructors.get(cid)
+        if panel is not None:
+            panel.folder.visible = not on
+        entry = self.entries.get(cid)
+        if entry is not None:
+            entry[0].visible = not on
+
     def _grant(self, view: SessionView) -> None:
         """Make the page the instructor: its panel replaces the code entry."""
         cid = view.client.client_id
@@ -242,29 +217,10 @@ class Classroom:
 
     def check_code(self, client_id: int, text: Any) -> tuple[bool, str]:
         """Compare in constant time; refuse while this page or the server is locked out."""
-        now = time.monotonic()
-        count, until = self.wrong.get(client_id, (0, 0.0))
-        if now < until:
-            return False, f"too many wrong codes: wait {until - now:.0f} s"
-        if self.global_wrong.wait_time() > 0:
-            return (
-                False,
-                f"too many wrong codes on this server: wait {self.global_wrong.wait_time():.0f} s",
-            )
-        given = normalize_code(text).encode()
-        if given and hmac.compare_digest(given, self._code_norm):
-            self.wrong.pop(client_id, None)
-            return True, "ok"
-        self.stats["wrong_codes"] += 1
-        self.global_wrong.take()
-        count += 1
-        wait = (
-            0.0
-            if count < CODE_FREE_TRIES
-            else min(CODE_MAX_WAIT, 2.0 ** (count - CODE_FREE_TRIES + 1))
-        )
-        self.wrong[client_id] = (count, now + wait)
-        return False, "wrong code" + (f"; next try in {wait:.0f} s" if wait else "")
+        ok, message = self.codes.check(client_id, text)
+        if not ok:
+            self.stats["wrong_codes"] += 1
+        return ok, message
 
     # ------------------------------------------------------------------ input gate
 
@@ -335,7 +291,7 @@ class Classroom:
             if self.broadcaster != cid:
                 self.broadcaster = cid
                 self.demo = demo
-                demo.shared_clock = SharedTick(demo, self.lab)
+                demo.shared_clock = SharedClock(demo, lambda: self.lab.stats.ticks, self.lab.fps)
             with self.lab._views_lock:
                 views = list(self.lab.views.values())
             for v in views:
@@ -614,4 +570,4 @@ class Classroom:
         self._stop.set()
 
 
-__all__ = ["Classroom", "SharedTick"]
+__all__ = ["Classroom"]

@@ -8,11 +8,13 @@ page played (every frame since the last reset, live edits included).
 from __future__ import annotations
 
 import json
+from collections.abc import Callable
+from typing import Any
 
 import numpy as np
 
 from app.session import LabError, Session
-from lessons.core.contract import RunResult
+from lessons.core.contract import Lesson, RunResult
 from lessons.core.formula import parse_number
 
 #: Most rows of a grid export (the step is refused below t_end / MAX_GRID_ROWS).
@@ -89,3 +91,41 @@ def export_run(s: Session, kind: str, step: float | None = None) -> tuple[str, b
     if kind.endswith("csv"):
         return stem + ".csv", result.to_csv().encode()
     return stem + ".json", json.dumps(result.to_json_dict(), indent=1).encode()
+
+
+class ExportPanel:
+    """The Export tab of one page: the grid step and the download buttons."""
+
+    def __init__(
+        self,
+        gui: Any,
+        guard: Callable[[Callable[[Any], None]], Callable[[Any], None]],
+        session: Callable[[], Session],
+        client: Any,
+    ) -> None:
+        self.session = session
+        self.client = client
+        gui.add_html(
+            '<div style="font-size:0.9em">On the textbook\'s grid: t = 0, step, 2 step, ...'
+            " up to the time played, with the current values.</div>"
+        )
+        self.grid_step = gui.add_text("grid step [s]", initial_value="")
+        buttons = [("Download CSV (grid)", "csv"), ("Download JSON (grid)", "json")]
+        for label, kind in buttons:
+            gui.add_button(label).on_click(guard(lambda e, k=kind: self.export(k)))
+        gui.add_html('<div style="font-size:0.9em">Every frame played since the last reset:</div>')
+        for label, kind in (("Download CSV (frames)", "frames-csv"), ("HTML replay", "html")):
+            gui.add_button(label).on_click(guard(lambda e, k=kind: self.export(k)))
+
+    def show_default_step(self, lesson: Lesson, t_end: float) -> None:
+        """The lesson's own sampling (or t_end / 100) as the proposed step."""
+        self.grid_step.value = f"{lesson.sampling or t_end / 100.0:g}"
+
+    def export(self, kind: str) -> None:
+        """Send the run (grid or frames) as CSV/JSON, or the replay, as a download."""
+        s = self.session()
+        text = str(self.grid_step.value).strip()
+        step = parse_step(text, grid_end(s)) if text else None
+        name, data = export_run(s, kind, step)
+        self.client.send_file_download(name, data, save_immediately=True)
+        s.notify(f"exported {name} ({len(data) / 1024:.1f} kB)")

@@ -19,6 +19,12 @@ if TYPE_CHECKING:
     from app.view import SessionView
 
 
+#: Presenter mode: the panel's width (px; the scene keeps >= 60 % of a 1280 px
+#: projector) and the size of the scene's labels.
+PANEL_WIDTH = 440
+LABEL_SCALE = 1.8
+
+
 class Presenter:
     """Presenter mode of one page: large fonts, docked (collapsible) panel, the
     lesson's presets as bookmarks stepped with "◀ Previous" / "Next ▶" and with the
@@ -26,8 +32,8 @@ class Presenter:
     hotkeys; viser ignores them while a text field has focus)."""
 
     CSS = (
-        "<style>html{font-size:150%!important}:root{--mantine-scale:1.45}"
-        ".al-readout{font-size:1.4em!important}</style>"
+        "<style>html{font-size:135%!important}:root{--mantine-scale:1.3}"
+        ".al-readout{font-size:1.25em!important}</style>"
     )
 
     def __init__(self, room: Classroom, view: SessionView) -> None:
@@ -49,8 +55,14 @@ class Presenter:
                 "(also in the command palette).</div>"
             )
         self.style = gui.add_html("")
+        # projected: Previous/Next above everything (the readout moves up beside them)
+        self.top_prev = gui.add_button("◀ Previous", order=-3000.0, visible=False)
+        self.top_next = gui.add_button("Next ▶", order=-2999.0, visible=False)
+        self.top_prev.on_click(view.guard(lambda e: self.step(-1)))
+        self.top_next.on_click(view.guard(lambda e: self.step(+1)))
+        self._readout_order = view.readout.order
         self.commands: list[Any] = []
-        self.toggle.on_update(lambda e: self._on_toggle(e))
+        self.toggle.on_update(view.guard(self._on_toggle))
         self.prev_btn.on_click(view.guard(lambda e: self.step(-1)))
         self.next_btn.on_click(view.guard(lambda e: self.step(+1)))
         self.on = False
@@ -87,7 +99,7 @@ class Presenter:
                 self.commands.append(cmd)
             try:
                 gui.main_panel.dock_right()
-                gui.main_panel.set_width(560)
+                gui.main_panel.set_width(PANEL_WIDTH)
             except Exception:
                 pass
             self.folder.expand_by_default = True
@@ -96,6 +108,12 @@ class Presenter:
                 gui.main_panel.float()
             except Exception:
                 pass
+        self.top_prev.visible = on
+        self.top_next.visible = on
+        self.view.readout.order = -2998.0 if on else self._readout_order
+        self.room.project(self.view, on)
+        self.view.renderer.label_scale = LABEL_SCALE if on else 1.0
+        self.view.redraw(scene=True)
         self.update_bookmarks()
 
     def step(self, direction: int) -> None:

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import hmac
 import secrets
 import threading
 import time
@@ -63,3 +64,41 @@ class TokenBucket:
         with self.lock:
             self._refill(time.monotonic())
             return max(0.0, (cost - self.tokens) / self.rate) if self.rate > 0 else float("inf")
+
+
+class CodeGuard:
+    """The instructor code: compared in constant time; wrong codes cost a page a doubling
+    wait after :data:`CODE_FREE_TRIES`, and the server a bucket of wrong codes."""
+
+    def __init__(self, code: str) -> None:
+        self._norm = normalize_code(code).encode()
+        self.wrong: dict[int, tuple[int, float]] = {}  # client -> (wrong count, locked until)
+        self.server = TokenBucket(CODE_GLOBAL_RATE, CODE_GLOBAL_BURST)
+
+    def forget(self, client_id: int) -> None:
+        self.wrong.pop(client_id, None)
+
+    def check(self, client_id: int, text: Any) -> tuple[bool, str]:
+        """``(True, "ok")`` for the right code; else False and why (to the sender)."""
+        now = time.monotonic()
+        count, until = self.wrong.get(client_id, (0, 0.0))
+        if now < until:
+            return False, f"too many wrong codes: wait {until - now:.0f} s"
+        if self.server.wait_time() > 0:
+            return (
+                False,
+                f"too many wrong codes on this server: wait {self.server.wait_time():.0f} s",
+            )
+        given = normalize_code(text).encode()
+        if given and hmac.compare_digest(given, self._norm):
+            self.wrong.pop(client_id, None)
+            return True, "ok"
+        self.server.take()
+        count += 1
+        wait = (
+            0.0
+            if count < CODE_FREE_TRIES
+            else min(CODE_MAX_WAIT, 2.0 ** (count - CODE_FREE_TRIES + 1))
+        )
+        self.wrong[client_id] = (count, now + wait)
+        return False, "wrong code" + (f"; next try in {wait:.0f} s" if wait else "")

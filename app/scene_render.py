@@ -201,6 +201,7 @@ class SceneRenderer:
         self.meshes_for_click: list[tuple[np.ndarray, np.ndarray]] = []
         self._size = 1.0
         self._visible_cache: set[str] | None = None
+        self.label_scale = 1.0  # larger in presenter mode
 
     def visible_vectors(self) -> set[str]:
         names = list(self.spec.moving_vectors) if self.spec is not None else []
@@ -320,6 +321,7 @@ class SceneRenderer:
                         f"/lab/static/marker_label/{_safe(mk.name)}",
                         mk.label,
                         position=tuple(map(float, pts[0])),
+                        font_screen_scale=self.label_scale,
                     )
                 )
         # moving items: fresh nodes for this scene
@@ -360,7 +362,14 @@ class SceneRenderer:
             name = "xyz"[k]
             end = np.zeros(3)
             end[k] = max(float(hi[k]), 0.0) + 0.12 * size
-            add(scene_api.add_label(f"/lab/axis/{name}", name, position=tuple(map(float, end))))
+            add(
+                scene_api.add_label(
+                    f"/lab/axis/{name}",
+                    name,
+                    position=tuple(map(float, end)),
+                    font_screen_scale=1.3 * self.label_scale,
+                )
+            )
             for v in axis_ticks(float(lo[k]), float(hi[k])):
                 if v == 0.0:
                     continue
@@ -371,6 +380,7 @@ class SceneRenderer:
                         f"/lab/axis/{name}_tick_{len(self._static_handles)}",
                         f"{v:g}",
                         position=tuple(map(float, pos)),
+                        font_screen_scale=0.85 * self.label_scale,
                     )
                 )
 

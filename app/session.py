@@ -546,4 +546,34 @@ class Session:
         )
 
 
-__all__ = ["LabError", "SPEEDS", "Session", "SessionState", "lesson_label"]
+class SharedClock:
+    """A session's :attr:`Session.shared_clock` while several pages show it (the
+    classroom's demo): the first page that ticks it in a loop tick advances it (by the
+    wall time since the last advance); the other pages of that tick get the same frames."""
+
+    def __init__(self, session: Session, tick_count: Callable[[], int], fps: float) -> None:
+        self.session = session
+        self.tick_count = tick_count
+        self.fps = fps
+        self.key = -1
+        self.frames: list[Frame] = []
+        self.last = time.monotonic()
+        self.calls = 0
+        self.advances = 0
+
+    def __call__(self, wall_dt: float) -> list[Frame]:
+        self.calls += 1
+        key = self.tick_count()
+        if key != self.key:
+            self.key = key
+            now = time.monotonic()
+            dt = now - self.last
+            self.last = now
+            if dt > 3.0 / self.fps:  # was paused (no ticks): one frame period
+                dt = 1.0 / self.fps
+            self.advances += 1
+            self.frames = self.session.advance_wall(dt)
+        return self.frames
+
+
+__all__ = ["LabError", "SPEEDS", "Session", "SessionState", "SharedClock", "lesson_label"]

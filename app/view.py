@@ -30,7 +30,7 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 from app.controls import ParamControls
-from app.export import export_run, grid_end, parse_step
+from app.export import ExportPanel
 from app.math_render import derivation_to_html
 from app.persistence import save_state
 from app.plots import PlotPanel
@@ -157,8 +157,11 @@ class SessionView:
         self._shown_notice = session.notices[-1] if session.notices else None
         self.redraw()
 
-    def redraw(self) -> None:
-        """Bring everything in line with the session now (caller holds its lock)."""
+    def redraw(self, scene: bool = False) -> None:
+        """Bring everything in line with the session now (caller holds its lock);
+        ``scene``: draw the static scene again too (e.g. larger labels)."""
+        if scene:
+            self._drawn_scene_rev = -1
         self.renderer.vectors_changed()
         self._frame_dirty = True
         self.refresh(heavy=True)
@@ -228,22 +231,7 @@ class SessionView:
             self.lesson_head = gui.add_html("")
             self.derivation_html = gui.add_html("")
         with self.tab_export:
-            gui.add_html(
-                '<div style="font-size:0.9em">On the textbook\'s grid: t = 0, step, 2 step, ...'
-                " up to the time played, with the current values.</div>"
-            )
-            self.grid_step = gui.add_text("grid step [s]", initial_value="")
-            self.btn_csv = gui.add_button("Download CSV (grid)")
-            self.btn_json = gui.add_button("Download JSON (grid)")
-            gui.add_html(
-                '<div style="font-size:0.9em">Every frame played since the last reset:</div>'
-            )
-            self.btn_frames = gui.add_button("Download CSV (frames)")
-            self.btn_html = gui.add_button("Download HTML replay")
-            self.btn_csv.on_click(self.guard(lambda e: self.export("csv")))
-            self.btn_json.on_click(self.guard(lambda e: self.export("json")))
-            self.btn_frames.on_click(self.guard(lambda e: self.export("frames-csv")))
-            self.btn_html.on_click(self.guard(lambda e: self.export("html")))
+            self.exports = ExportPanel(gui, self.guard, lambda: self.session, self.client)
         with self.session.lock:
             self.refresh(heavy=True)
 
@@ -292,8 +280,7 @@ class SessionView:
             self._lesson_folders.append(folder)
             with folder:
                 self.plots.build(lesson)
-        default_step = lesson.sampling or self.session.t_end / 100.0
-        self.grid_step.value = f"{default_step:g}"
+        self.exports.show_default_step(lesson, self.session.t_end)
         esc = html.escape
         self.lesson_head.content = (
             f'<div style="font-size:0.95em"><b>{esc(lesson.problem)} · {esc(lesson.title)}</b><br>'
@@ -606,15 +593,6 @@ class SessionView:
         self._retired = []
 
     # ------------------------------------------------------------------ export
-
-    def export(self, kind: str) -> None:
-        """Send the run (grid or frames) as CSV/JSON, or the replay, as a download."""
-        s = self.session
-        text = str(self.grid_step.value).strip()
-        step = parse_step(text, grid_end(s)) if text else None
-        name, data = export_run(s, kind, step)
-        self.client.send_file_download(name, data, save_immediately=True)
-        s.notify(f"exported {name} ({len(data) / 1024:.1f} kB)")
 
 
 __all__ = ["SessionView", "ViewConfig"]

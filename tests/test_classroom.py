@@ -48,9 +48,9 @@ def fresh_room(lab: Any) -> Iterator[None]:
     """Each test starts with no demo, no lockouts."""
     yield
     lab.classroom.release()
-    lab.classroom.wrong.clear()
-    lab.classroom.global_wrong = TokenBucket(
-        lab.classroom.global_wrong.rate, lab.classroom.global_wrong.burst
+    lab.classroom.codes.wrong.clear()
+    lab.classroom.codes.server = TokenBucket(
+        lab.classroom.codes.server.rate, lab.classroom.codes.server.burst
     )
 
 
