@@ -1,0 +1,89 @@
+"""The controls part on its own: widgets built from a lesson's declarations (a real
+viser server's GUI API, no browser)."""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+from typing import Any
+
+import pytest
+
+from app.controls import ParamControls
+from lessons.catalog import get_lesson
+
+
+@pytest.fixture(scope="module")
+def gui() -> Iterator[Any]:
+    import viser
+
+    server = viser.ViserServer(host="127.0.0.1", port=0, verbose=False)
+    yield server.gui
+    server.stop()
+
+
+def _controls(gui: Any) -> ParamControls:
+    def guard(fn: Any) -> Any:
+        return fn
+
+    def noop(*args: Any) -> None:
+        return None
+
+    return ParamControls(gui, guard, noop, noop, noop, noop)
+
+
+def test_folders_follow_the_declared_modes_groups_and_titles(gui: Any) -> None:
+    lesson = get_lesson("self-study-1")
+    params = lesson.resolve(preset="C1.4-ab")
+    c = _controls(gui)
+    folders = c.build(lesson, params)
+    labels = [f.label for f in folders]
+    assert labels[0] == "Mode"  # the lesson's mode selectors first
+    declared = [g.title for g in lesson.groups if g.name != "mode"]
+    shown = [f.label for f in folders[1:]]
+    assert shown == [t for t in declared if t in shown]  # the declared order
+    assert {p.name for p in lesson.params} == set(c.widgets)
+    # only the selected task's group is shown
+    visible = {name for name, (_, folder) in c.folders.items() if folder.visible}
+    assert "c1_4" in visible and "c1_5" not in visible and "c1_1" not in visible
+    other = lesson.resolve(preset="C1.5b-cone")
+    c.sync(lesson, other, force=True)
+    visible = {name for name, (_, folder) in c.folders.items() if folder.visible}
+    assert "c1_5" in visible and "c1_4" not in visible
+
+
+def test_a_formula_of_t_turns_its_slider_off(gui: Any) -> None:
+    lesson = get_lesson("circle")
+    name = next(p.name for p in lesson.params if p.kind == "formula" and p.min is not None)
+    c = _controls(gui)
+    c.build(lesson, lesson.resolve({name: "t"}))
+    slider = c.widgets[name][0]
+    assert slider.disabled  # never stands for a formula of t
+    c.sync(lesson, lesson.resolve({name: "2"}), force=True)
+    assert not slider.disabled and slider.value == 2.0
+
+
+def test_a_refused_entry_keeps_its_text_and_shows_its_message(gui: Any) -> None:
+    lesson = get_lesson("circle")
+    params = lesson.resolve()
+    name = next(p.name for p in lesson.params if p.kind == "formula")
+    c = _controls(gui)
+    c.build(lesson, params)
+    text = c.widgets[name][-1]
+    text.value = "sin("
+    assert c.show_error(name, f"{name}: the formula does not parse")
+    c.sync(lesson, params, force=True)
+    assert text.value == "sin(" and name in c.failing()
+    c.clear_error(name)
+    c.sync(lesson, params, force=True)
+    assert text.value != "sin(" and not c.failing()
+
+
+def test_read_only_while_following(gui: Any) -> None:
+    lesson = get_lesson("circle")
+    params = lesson.resolve()
+    c = _controls(gui)
+    c.build(lesson, params)
+    c.set_read_only(True, params)
+    assert all(w.disabled for ws in c.widgets.values() for w in ws)
+    c.set_read_only(False, params)
+    assert not all(w.disabled for ws in c.widgets.values() for w in ws)
