@@ -9,17 +9,19 @@ viser whose internals were not checked:
   paced (a flooding page waits on its own socket);
 * :func:`order_callbacks`: one connection's callbacks run in the order its messages came;
 * :class:`WakeBatch`: the messages of one frame-loop tick wake viser's loop once;
-* :func:`fast_set`: one property of a handle set on the hot path.
+* :func:`fast_set`: one property of a handle set on the hot path;
+* :func:`recording_scene`: a scene API whose messages are only recorded (HTML replay).
 """
 
 from __future__ import annotations
 
+import asyncio
 import contextvars
 import tempfile
 import threading
 from collections import deque
 from collections.abc import Callable
-from concurrent.futures import Future
+from concurrent.futures import Future, ThreadPoolExecutor
 from pathlib import Path
 from typing import Any
 
@@ -263,3 +265,58 @@ def fast_set(handle: Any, name: str, value: Any) -> None:
         return
     setattr(impl.props, name, value)
     handle._queue_update(name, value)
+
+
+class _NullBuffer:
+    """Message buffer that drops everything (the recording keeps its own copy)."""
+
+    def push(self, message: Any) -> None:
+        pass
+
+    def atomic_start(self) -> None:
+        pass
+
+    def atomic_end(self) -> None:
+        pass
+
+    def remove_entity_state_from_buffer(self, entity_type: str, entity_id: str) -> None:
+        pass
+
+    def flush(self) -> None:
+        pass
+
+
+def recording_scene() -> tuple[Any, Any]:
+    """A SceneApi whose messages only reach a fresh StateSerializer."""
+    from viser import infra
+    from viser._scene_api import SceneApi
+
+    class _Conn(infra.WebsockMessageHandler):
+        def __init__(self) -> None:
+            super().__init__()
+            self._buffer = _NullBuffer()
+
+        def get_message_buffer(self) -> Any:  # type: ignore[override]
+            return self._buffer
+
+    class _Server:
+        _scene_lifecycle_lock = threading.RLock()
+        _connected_clients: dict[int, Any] = {}
+
+    class _Owner:
+        client_id = 0
+
+        def __init__(self) -> None:
+            self._websock_connection = _Conn()
+            self._viser_server = _Server()
+
+        def flush(self) -> None:
+            pass
+
+    owner = _Owner()
+    serializer = owner._websock_connection.get_message_serializer(
+        filter=lambda m: getattr(m, "include_in_scene_serialization", True)
+    )
+    loop = asyncio.new_event_loop()
+    scene = SceneApi(owner, thread_executor=ThreadPoolExecutor(max_workers=1), event_loop=loop)  # type: ignore[arg-type]
+    return scene, serializer
