@@ -18,16 +18,19 @@ from __future__ import annotations
 import numpy as np
 import sympy as sp
 
-from lessons.core.analyzer import COEFF_NAMES, AnalyzerModel, Controls, integrate
+from lessons.core.analyzer import COEFF_NAMES, AnalyzerModel, Controls
 from lessons.core.analyzer_lesson import AnalyzerLesson, Prepared
+from lessons.core.analyzer_run import integrate
 from lessons.core.contract import (
     Claim,
     ClaimResult,
     DerivationStep,
+    Group,
     Param,
     ParamError,
     Params,
     Preset,
+    RunResult,
     at_most,
 )
 from lessons.core.quadric import CONSTRUCTORS, Quadric
@@ -115,6 +118,12 @@ class QuadricLesson(AnalyzerLesson):
     summary = "Undetermined coefficients (1.47) and the ψ-substitution (1.48) both give the analyzer (1.50) with three free controls."
     order = 1.3
     t_end = 10.0
+    modes = ("surface",)
+    surface_groups = (
+        Group("mode", "Surface type"),
+        Group("shape", "Surface parameters R, a, b, c"),
+        Group("coefficients", "Coefficients a11 ... a44 (surface = coefficients)", expanded=False),
+    )
     surface_params = (
         Param(
             "surface",
@@ -122,13 +131,13 @@ class QuadricLesson(AnalyzerLesson):
             "sphere",
             "surface type",
             choices=SURFACE_CHOICES,
-            group="surface",
+            group="mode",
             help="a type with its parameters, or 'coefficients' to type a11 ... a44",
         ),
-        Param("R", "float", 1.0, "R (sphere)", min=1e-3, max=1e3, step=0.1, group="surface"),
-        Param("a", "float", 1.0, "a", min=1e-3, max=1e3, step=0.1, group="surface"),
-        Param("b", "float", 1.0, "b", min=1e-3, max=1e3, step=0.1, group="surface"),
-        Param("c", "float", 1.0, "c", min=1e-3, max=1e3, step=0.1, group="surface"),
+        Param("R", "float", 1.0, "R (sphere)", min=1e-3, max=1e3, step=0.1, group="shape"),
+        Param("a", "float", 1.0, "a", min=1e-3, max=1e3, step=0.1, group="shape"),
+        Param("b", "float", 1.0, "b", min=1e-3, max=1e3, step=0.1, group="shape"),
+        Param("c", "float", 1.0, "c", min=1e-3, max=1e3, step=0.1, group="shape"),
         *(
             Param(
                 n,
@@ -138,7 +147,7 @@ class QuadricLesson(AnalyzerLesson):
                 min=-1e4,
                 max=1e4,
                 step=0.1,
-                group="surface",
+                group="coefficients",
                 help="used when surface = coefficients",
             )
             for n in COEFF_NAMES
@@ -393,7 +402,7 @@ class QuadricLesson(AnalyzerLesson):
                     sp.Eq(sp.Symbol("dz/dφ"), Fx - Fy),
                 ],
                 "after (1.50)",
-                reconstructed="the content was lost; u1 = u2 = u3 = 1 is the natural reading (digest AMBIGUITY 7)",
+                reconstructed="the content was lost; u1 = u2 = u3 = 1 is the natural reading",
             ),
             DerivationStep(
                 "Constant controls draw plane curves",
@@ -414,17 +423,18 @@ class QuadricLesson(AnalyzerLesson):
                     ),
                 ),
                 "(1.51)",
-                reconstructed="lost; only its description survives (digest AMBIGUITY 6)",
+                reconstructed="lost; only its description survives",
             ),
         ]
 
     def extra_derivation(self, params: Params, prepared: Prepared) -> list[DerivationStep]:
         return [*self.structure_steps(self.surface(params)), *self.psi_steps()]
 
-    def extra_metrics(self, params: Params, prepared: Prepared, run) -> dict[str, float]:
-        r = run.r[:, 0, :]
-        uu = prepared.model.controls.at(run.t)
-        plane = uu[2] * r[:, 0] + uu[1] * r[:, 1] + uu[0] * r[:, 2]
+    def extra_metrics(
+        self, params: Params, prepared: Prepared, result: RunResult
+    ) -> dict[str, float | str]:
+        sr = result.series
+        plane = sr["u3"] * sr["x"] + sr["u2"] * sr["y"] + sr["u1"] * sr["z"]
         return {
             "plane_invariant_spread": float(np.ptp(plane)),
             "surface_kind": self.surface(params).classify().kind,
@@ -443,13 +453,13 @@ class QuadricLesson(AnalyzerLesson):
             Claim(
                 "rank-7-cylinder",
                 "The cylinder x²/a² + y²/b² = 1 is the exception: rank 7, five free coefficients, (1.50) gives three of them",
-                "(1.47); digest B8",
+                "(1.47); self-study C1.5 (a)",
                 self._claim_rank7,
             ),
             Claim(
                 "random-rank",
                 "20 random quadrics with rational coefficients: rank 9 every time",
-                "(1.47); digest B3",
+                "(1.47)",
                 self._claim_random,
             ),
             Claim(
