@@ -23,7 +23,7 @@ from lessons.core.integrators import apply_propagators, gauss_legendre, gl_propa
 
 #: Gauss-Legendre steps per block of nodes: (1.50) (one batched solve), (1.59) (Newton).
 BLOCK = 256
-SPEED_BLOCK = 4
+SPEED_BLOCK = 32
 #: Length (s) of one piece of a scipy ``solve_ivp`` run.
 PIECE = 10.0
 
@@ -104,22 +104,29 @@ class SpeedStepper:
         self.K = K
         return R + h * np.einsum("i,nid->nd", self.b, K)
 
-    def step_substeps(self, t: float, R: np.ndarray, h: float) -> np.ndarray:
+    def step_substeps(
+        self, t: float, R: np.ndarray, h: float, coeffs: tuple[np.ndarray, ...] | None = None
+    ) -> np.ndarray:
         """One output step of size ``h`` from ``(t, R)``, split into equal substeps where the
         curve turns fast.
 
         The turning rate of (1.59) is ``omega |A| = V |A| / |A r + c|``: near points where the
         analyzer's field is small the point turns quickly; the step is cut so that
         ``rate * substep <= max_turn`` (each substep is still a Gauss-Legendre step).
+        ``coeffs``: the step's stage coefficients, if already computed (:meth:`coefficients`).
         """
-        A, cc, Vs, _ = (x[0] for x in self.coefficients(t, h, 1, len(R)))
+        if coeffs is None:
+            coeffs = tuple(x[0] for x in self.coefficients(t, h, 1, len(R)))
+        A, cc, Vs, _ = coeffs
         n0 = np.einsum("nij,nj->ni", A[0], R) + cc[0]
         norm0 = np.sqrt((n0 * n0).sum(-1))
         rate = (
             np.abs(Vs).max() * np.sqrt((A[0] ** 2).sum(axis=(-1, -2))) / np.maximum(norm0, 1e-300)
         )
         m = int(np.ceil(float(np.max(np.where(norm0 > 0, rate, 0.0))) * h / self.max_turn - 1e-12))
-        m = min(max(m, 1), 10_000)
+        if m <= 1:
+            return self.step(R, h, coeffs)
+        m = min(m, 10_000)
         hs = h / m
         batch = self.coefficients(t, hs, m, len(R))
         comp = np.zeros_like(R)
@@ -211,8 +218,11 @@ class Trajectory:
         if self._speed is not None:
             nodes = np.empty((SPEED_BLOCK + 1, *r.shape))
             nodes[0] = r
+            batch = self._speed.coefficients(t, self.h, SPEED_BLOCK, len(r))
             for j in range(SPEED_BLOCK):
-                inc = (self._speed.step_substeps(t + j * self.h, r, self.h) - r) - self._comp
+                coeffs = tuple(x[j] for x in batch)
+                step = self._speed.step_substeps(t + j * self.h, r, self.h, coeffs)
+                inc = (step - r) - self._comp
                 nxt = r + inc
                 self._comp = (nxt - r) - inc
                 r = nodes[j + 1] = nxt
