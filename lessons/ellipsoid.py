@@ -47,7 +47,10 @@ class EllipsoidLesson(AnalyzerLesson):
     chapter = "1"
     problem = "Problem 1.6"
     source = "Textbook §1.3, Problem 1.6, eqs (1.60)-(1.63); Figs. 1.30-1.31"
-    summary = "The ellipsoid analyzer (1.63): a, b, c fix the ratios of the semi-axes, the start point their size."
+    summary = (
+        "The ellipsoid analyzer (1.63): a, b, c fix the ratios of the semi-axes, the"
+        " start point their size."
+    )
     order = 1.6
     t_end = 10.0
     sampling = 1.0  # the worked example runs 10 s (Fig. 1.31)
@@ -144,7 +147,8 @@ class EllipsoidLesson(AnalyzerLesson):
             ),
             DerivationStep(
                 "Its coefficients",
-                "Normalized so that (1.50) gives (1.63) directly (the other choice, a11 = b²c², ..., gives (1.62)).",
+                "Normalized so that (1.50) gives (1.63) directly (the other choice, a11 ="
+                " b²c², ..., gives (1.62)).",
                 [
                     sp.Eq(sp.Symbol("a11"), 1 / a**2),
                     sp.Eq(sp.Symbol("a22"), 1 / b**2),
@@ -177,8 +181,9 @@ class EllipsoidLesson(AnalyzerLesson):
             ),
             DerivationStep(
                 "The start point sets the size",
-                "G = x²/a² + y²/b² + z²/c² is a first integral; the actual semi-axes are √G0 (a, b, c). "
-                f"Here G0 = {float(np.sum(np.array([params['x0'], params['y0'], params['z0']], float) ** 2 / np.array([params['a'], params['b'], params['c']], float) ** 2)):.6g}: "
+                "G = x²/a² + y²/b² + z²/c² is a first integral; the actual semi-axes are"
+                " √G0 (a, b, c). "
+                f"Here G0 = {float(sa[0] / float(params['a'])) ** 2:.6g}: "
                 f"semi-axes {sa[0]:.6g}, {sa[1]:.6g}, {sa[2]:.6g}.",
                 [
                     sp.Eq(
@@ -244,7 +249,8 @@ class EllipsoidLesson(AnalyzerLesson):
             ),
             Claim(
                 "G-drift",
-                "G stays constant to round-off (≤ 1e-12), while scipy RK45 at default tolerances drifts it by about 9.0e-4",
+                "G stays constant to round-off (≤ 1e-12), while scipy RK45 at default"
+                " tolerances drifts it by about 9.0e-4",
                 "(1.60), (1.63); Problem 1.6 worked example",
                 self._claim_drift,
             ),

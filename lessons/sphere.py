@@ -70,7 +70,10 @@ class SphereLesson(AnalyzerLesson):
     chapter = "1"
     problem = "Problem 1.4"
     source = "Textbook §1.3, Problem 1.4, eqs (1.52)-(1.57); Examples 1.1-1.4"
-    summary = "The analyzer (1.54) turns the point about w = -(u3, u2, u1): constant controls draw circles, varying ones spirals."
+    summary = (
+        "The analyzer (1.54) turns the point about w = -(u3, u2, u1): constant"
+        " controls draw circles, varying ones spirals."
+    )
     order = 1.4
     t_end = 10.0
     sampling = 1.0  # Examples 1.1-1.3 run 10 s; their speeds are read at t = 0, 1, ..., 10
@@ -115,7 +118,8 @@ class SphereLesson(AnalyzerLesson):
                 "family_step": 0.35,
             },
             10.0,
-            "z stays constant: (1.55); several heights as in Fig. 1.26 (start points are not given in the source)",
+            "z stays constant: (1.55); several heights as in Fig. 1.26 (start points are"
+            " not given in the source)",
         ),
         Preset(
             "example-1.4-xz",
@@ -140,7 +144,6 @@ class SphereLesson(AnalyzerLesson):
     def extra_derivation(self, params: Params, prepared: Prepared) -> list[DerivationStep]:
         R = sp.Symbol("R", positive=True)
         u1, u2, u3 = sp.symbols("u1 u2 u3", real=True)
-        t = sp.Symbol("t")
         return [
             DerivationStep("The sphere", "", sp.Eq(x**2 + y**2 + z**2, R**2), "(1.52)"),
             DerivationStep(
@@ -157,7 +160,8 @@ class SphereLesson(AnalyzerLesson):
             ),
             DerivationStep(
                 "The sphere analyzer",
-                "(1.50) with (1.53): a rotation r' = w × r, w = -(u3, u2, u1); the radius is set by the start point.",
+                "(1.50) with (1.53): a rotation r' = w × r, w = -(u3, u2, u1); the radius"
+                " is set by the start point.",
                 [
                     sp.Eq(sp.Symbol("dx/dt"), u1 * y - u2 * z),
                     sp.Eq(sp.Symbol("dy/dt"), -u1 * x + u3 * z),
@@ -168,7 +172,8 @@ class SphereLesson(AnalyzerLesson):
             ),
             DerivationStep(
                 "Constant controls: plane curves",
-                "For constant u the combination u3 x + u2 y + u1 z is a first integral, so the path is a circle in that plane.",
+                "For constant u the combination u3 x + u2 y + u1 z is a first integral, so"
+                " the path is a circle in that plane.",
                 sp.Eq(sp.Symbol("d/dt") * (u3 * x + u2 * y + u1 * z), 0),
                 "Problem 1.3 text",
             ),
@@ -181,7 +186,8 @@ class SphereLesson(AnalyzerLesson):
                     - (u3 * sp.Symbol("x0") + u2 * sp.Symbol("y0") + u1 * sp.Symbol("z0")) ** 2,
                 ),
                 "Example 1.1",
-                reconstructed="derived (not printed in the source); checks the statement that the speed stays constant",
+                reconstructed="derived (not printed in the source); checks the statement"
+                " that the speed stays constant",
             ),
             DerivationStep(
                 "Planes parallel to xy (u1 = 1)",
@@ -214,7 +220,8 @@ class SphereLesson(AnalyzerLesson):
                     sp.Eq(sp.Symbol("x"), sp.Symbol("x0")),
                 ],
                 "(1.57)",
-                reconstructed="rebuilt from fragments; the printed sign of a24 is corrected (it only matters when a24 ≠ 0)",
+                reconstructed="rebuilt from fragments; the printed sign of a24 is"
+                " corrected (it only matters when a24 ≠ 0)",
             ),
         ]
 
@@ -236,7 +243,8 @@ class SphereLesson(AnalyzerLesson):
             ),
             Claim(
                 "ex1.1-circle",
-                "Example 1.1: the path is the circle in the plane x + y + z = 1, centre (1/3, 1/3, 1/3), radius √(2/3)",
+                "Example 1.1: the path is the circle in the plane x + y + z = 1, centre"
+                " (1/3, 1/3, 1/3), radius √(2/3)",
                 "Example 1.1, Fig. 1.16",
                 self._claim_ex11_circle,
             ),

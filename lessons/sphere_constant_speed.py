@@ -35,7 +35,6 @@ from lessons.core.contract import (
 from lessons.core.formula import parse_formula
 from lessons.core.quadric import Quadric
 
-
 #: Drift of x² + y² + z² of scipy's RK45 at default tolerances on u = (5, 5, 5), V = 1,
 #: 10 s from (1, 0, 0) (Fig. 1.28's setting); the Gauss-Legendre steps keep it to round-off.
 RK45_DRIFT = 2.897e-2
@@ -47,7 +46,10 @@ class SphereConstantSpeedLesson(AnalyzerLesson):
     chapter = "1"
     problem = "Problem 1.5"
     source = "Textbook §1.3, Problem 1.5, eqs (1.58)-(1.59); Figs. 1.27-1.29"
-    summary = "Argument control dφ = ω dt with ω = ±V/|field| holds the speed at V for any controls u1, u2, u3."
+    summary = (
+        "Argument control dφ = ω dt with ω = ±V/|field| holds the speed at V for any"
+        " controls u1, u2, u3."
+    )
     order = 1.5
     t_end = 10.0
     constant_speed = True
@@ -89,7 +91,8 @@ class SphereConstantSpeedLesson(AnalyzerLesson):
                 "h": 0.05,
             },
             10.0,
-            "the path of Example 1.2, now at constant speed: |v| = 1 while |v|² of Example 1.2 grows from 25 to 72",
+            "the path of Example 1.2, now at constant speed: |v| = 1 while |v|² of Example"
+            " 1.2 grows from 25 to 72",
         ),
         Preset(
             "reverse",
@@ -167,7 +170,8 @@ class SphereConstantSpeedLesson(AnalyzerLesson):
                 "With dφ = ω dt the sphere analyzer (1.54) gives v = ω·(field); squaring:",
                 sp.Eq(w**2, Vs**2 / sum(r**2 for r in rows)),
                 "(1.58)",
-                reconstructed="lost in the source; follows from V² = vx² + vy² + vz² with dφ = ω dt",
+                reconstructed="lost in the source; follows from V² = vx² + vy² + vz² with"
+                " dφ = ω dt",
             ),
             DerivationStep(
                 "The constant-speed sphere analyzer",
@@ -220,7 +224,8 @@ class SphereConstantSpeedLesson(AnalyzerLesson):
             ),
             Claim(
                 "direction",
-                "The sign of ω reverses the direction: at t = 0 the velocities of '+' and '-' are opposite",
+                "The sign of ω reverses the direction: at t = 0 the velocities of '+' and"
+                " '-' are opposite",
                 "(1.58)",
                 self._claim_direction,
             ),
