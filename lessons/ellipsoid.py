@@ -256,23 +256,16 @@ class EllipsoidLesson(AnalyzerLesson):
             ),
         ]
 
-    def _claim_end(self) -> ClaimResult:
+    def _claim_example(self, keys: tuple[str, ...], want: tuple[float, ...], tol: float):
         m = self.run("example").metrics
-        got = np.array([m["x_end"], m["y_end"], m["z_end"]])
-        return at_most(
-            5e-5,
-            float(np.max(np.abs(got - np.array(R_END)))),
-            "max |r(10) - (7.070763, -2.34397, -0.52941)| ",
-        )
+        got = np.array([m[k] for k in keys])
+        return at_most(tol, float(np.max(np.abs(got - np.array(want)))), f"max |{keys} - {want}| ")
+
+    def _claim_end(self) -> ClaimResult:
+        return self._claim_example(("x_end", "y_end", "z_end"), R_END, 5e-5)
 
     def _claim_extents(self) -> ClaimResult:
-        m = self.run("example").metrics
-        got = np.array([m["max_abs_x"], m["max_abs_y"], m["max_abs_z"]])
-        return at_most(
-            2e-3,
-            float(np.max(np.abs(got - np.array(EXTENTS)))),
-            "max |extent - (7.706131, 5, 0.997768)| ",
-        )
+        return self._claim_example(("max_abs_x", "max_abs_y", "max_abs_z"), EXTENTS, 2e-3)
 
     def _claim_semi_axes(self) -> ClaimResult:
         res = self.run("semi-axes-100-50-10", t_end=2.0)

@@ -280,35 +280,14 @@ class QuadricLesson(AnalyzerLesson):
                 "Each with its own variable first, as in the source.",
                 [
                     sp.Eq(
-                        sp.Symbol("F_x"),
-                        2
-                        * (
-                            sp.Symbol("a11") * x
-                            + sp.Symbol("a12") * y
-                            + sp.Symbol("a31") * z
-                            + sp.Symbol("a14")
-                        ),
-                    ),
-                    sp.Eq(
-                        sp.Symbol("F_y"),
-                        2
-                        * (
-                            sp.Symbol("a22") * y
-                            + sp.Symbol("a12") * x
-                            + sp.Symbol("a23") * z
-                            + sp.Symbol("a24")
-                        ),
-                    ),
-                    sp.Eq(
-                        sp.Symbol("F_z"),
-                        2
-                        * (
-                            sp.Symbol("a33") * z
-                            + sp.Symbol("a23") * y
-                            + sp.Symbol("a31") * x
-                            + sp.Symbol("a34")
-                        ),
-                    ),
+                        sp.Symbol(f"F_{v}"),
+                        2 * (sum(sp.Symbol(c) * w for c, w in terms) + sp.Symbol(linear)),
+                    )
+                    for v, terms, linear in (
+                        ("x", (("a11", x), ("a12", y), ("a31", z)), "a14"),
+                        ("y", (("a22", y), ("a12", x), ("a23", z)), "a24"),
+                        ("z", (("a33", z), ("a23", y), ("a31", x)), "a34"),
+                    )
                 ],
                 "(1.45)",
             ),

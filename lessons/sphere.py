@@ -189,39 +189,51 @@ class SphereLesson(AnalyzerLesson):
                 reconstructed="derived (not printed in the source); checks the statement"
                 " that the speed stays constant",
             ),
-            DerivationStep(
-                "Planes parallel to xy (u1 = 1)",
-                "z = z0 stays; the general form (1.55) on the sphere gives x' = y, y' = -x.",
-                [
-                    sp.Eq(sp.Symbol("dx/dt"), y),
-                    sp.Eq(sp.Symbol("dy/dt"), -x),
-                    sp.Eq(sp.Symbol("z"), sp.Symbol("z0")),
-                ],
-                "(1.55)",
-                reconstructed="rebuilt from surviving fragments (indices a11, a12, a31, z0, a14)",
-            ),
-            DerivationStep(
-                "Planes parallel to xz (u2 = 1)",
-                "y = y0 stays.",
-                [
-                    sp.Eq(sp.Symbol("dx/dt"), -z),
-                    sp.Eq(sp.Symbol("dz/dt"), x),
-                    sp.Eq(sp.Symbol("y"), sp.Symbol("y0")),
-                ],
-                "(1.56)",
-                reconstructed="lost in the source; (1.50) with u1 = u3 = 0, u2 = 1",
-            ),
-            DerivationStep(
-                "Planes parallel to yz (u3 = 1)",
-                "x = x0 stays.",
-                [
-                    sp.Eq(sp.Symbol("dy/dt"), z),
-                    sp.Eq(sp.Symbol("dz/dt"), -y),
-                    sp.Eq(sp.Symbol("x"), sp.Symbol("x0")),
-                ],
-                "(1.57)",
-                reconstructed="rebuilt from fragments; the printed sign of a24 is"
-                " corrected (it only matters when a24 ≠ 0)",
+            *(
+                DerivationStep(
+                    f"Planes parallel to {plane} ({u} = 1)",
+                    text,
+                    [
+                        sp.Eq(sp.Symbol(f"d{a}/dt"), fa),
+                        sp.Eq(sp.Symbol(f"d{b}/dt"), fb),
+                        sp.Eq(sp.Symbol(kept), sp.Symbol(f"{kept}0")),
+                    ],
+                    eq,
+                    reconstructed=why,
+                )
+                for plane, u, (a, fa), (b, fb), kept, eq, text, why in (
+                    (
+                        "xy",
+                        "u1",
+                        ("x", y),
+                        ("y", -x),
+                        "z",
+                        "(1.55)",
+                        "z = z0 stays; the general form (1.55) on the sphere gives x' = y, y' = -x.",
+                        "rebuilt from surviving fragments (indices a11, a12, a31, z0, a14)",
+                    ),
+                    (
+                        "xz",
+                        "u2",
+                        ("x", -z),
+                        ("z", x),
+                        "y",
+                        "(1.56)",
+                        "y = y0 stays.",
+                        "lost in the source; (1.50) with u1 = u3 = 0, u2 = 1",
+                    ),
+                    (
+                        "yz",
+                        "u3",
+                        ("y", z),
+                        ("z", -y),
+                        "x",
+                        "(1.57)",
+                        "x = x0 stays.",
+                        "rebuilt from fragments; the printed sign of a24 is corrected"
+                        " (it only matters when a24 ≠ 0)",
+                    ),
+                )
             ),
         ]
 

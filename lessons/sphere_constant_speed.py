@@ -40,6 +40,13 @@ from lessons.core.quadric import Quadric
 RK45_DRIFT = 2.897e-2
 
 
+def _preset(name: str, title: str, note: str, **changes: str) -> Preset:
+    """A 10 s run from (1, 0, 0) with V = 1, u = (5, 5, 5), h = 0.05 s, except ``changes``."""
+    base = {"V": "1", "direction": "+", "u1": "5", "u2": "5", "u3": "5"}
+    start = {"x0": 1, "y0": 0, "z0": 0, "h": 0.05}
+    return Preset(name, title, {**base, **changes, **start}, 10.0, note)
+
+
 class SphereConstantSpeedLesson(AnalyzerLesson):
     id = "sphere-constant-speed"
     title = "Constant speed on a sphere"
@@ -59,92 +66,38 @@ class SphereConstantSpeedLesson(AnalyzerLesson):
         Param("R", "float", 1.0, "sphere radius R", min=1e-3, max=1e3, step=0.1, group="surface"),
     )
     presets = (
-        Preset(
+        _preset(
             "fig-1.28",
             "Fig. 1.28: V = 1 with u1 = u2 = u3 = 5",
-            {
-                "V": "1",
-                "direction": "+",
-                "u1": "5",
-                "u2": "5",
-                "u3": "5",
-                "x0": 1,
-                "y0": 0,
-                "z0": 0,
-                "h": 0.05,
-            },
-            10.0,
             "the source gives V = 1 only; controls and start point are illustrative",
         ),
-        Preset(
+        _preset(
             "varying-controls",
             "V = 1 with u1 = t, u2 = u3 = 5 (the controls of Example 1.2)",
-            {
-                "V": "1",
-                "direction": "+",
-                "u1": "t",
-                "u2": "5",
-                "u3": "5",
-                "x0": 1,
-                "y0": 0,
-                "z0": 0,
-                "h": 0.05,
-            },
-            10.0,
             "the path of Example 1.2, now at constant speed: |v| = 1 while |v|² of Example"
             " 1.2 grows from 25 to 72",
+            u1="t",
         ),
-        Preset(
+        _preset(
             "reverse",
             "Direction reversed: ω < 0 (the -1 scale block of Fig. 1.27)",
-            {
-                "V": "1",
-                "direction": "-",
-                "u1": "t",
-                "u2": "5",
-                "u3": "5",
-                "x0": 1,
-                "y0": 0,
-                "z0": 0,
-                "h": 0.05,
-            },
-            10.0,
             "the same controls, the point runs the other way",
+            u1="t",
+            direction="-",
         ),
-        Preset(
+        _preset(
             "speed-profile",
             "A speed profile V(t) = 0.5 + 0.4 sin(t) (the speed setter of Fig. 1.27)",
-            {
-                "V": "0.5 + 0.4*sin(t)",
-                "direction": "+",
-                "u1": "5",
-                "u2": "5",
-                "u3": "5",
-                "x0": 1,
-                "y0": 0,
-                "z0": 0,
-                "h": 0.05,
-            },
-            10.0,
             "|v| follows the profile V(t)",
+            V="0.5 + 0.4*sin(t)",
         ),
-        Preset(
+        _preset(
             "example-1.3-zero-field",
             "Controls of Example 1.3 (u1 = sin 10t, u2 = t, u3 = 5): the field is zero at t = 0",
-            {
-                "V": "1",
-                "direction": "+",
-                "u1": "sin(10*t)",
-                "u2": "t",
-                "u3": "5",
-                "x0": 1,
-                "y0": 0,
-                "z0": 0,
-                "h": 0.05,
-            },
-            10.0,
             "at t = 0 the field (0, -sin 10t, t) vanishes at (1, 0, 0): ω is undefined at that"
             " instant only (velocity shown as 0); from t > 0 the point moves at V = 1",
+            u1="sin(10*t)",
+            u2="t",
         ),
     )
 

@@ -25,8 +25,8 @@ import numpy as np
 import sympy as sp
 
 from lessons.core.formula import Formula, t_symbol
+from lessons.core.quadric import COEFF_NAMES
 
-COEFF_NAMES = ("a11", "a22", "a33", "a12", "a23", "a31", "a14", "a24", "a34", "a44")
 x, y, z = sp.symbols("x y z", real=True)
 u1, u2, u3 = sp.symbols("u1 u2 u3", real=True)
 A_SYM = {n: sp.Symbol(n, real=True) for n in COEFF_NAMES}
