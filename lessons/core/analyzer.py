@@ -1,10 +1,11 @@
 """The general surface analyzer (1.49)/(1.50) and its constant-speed variant (1.58)-(1.59).
 
-One symbolic model serves every quadric: the field of (1.50) in convention B
-(DESIGN.md §3.1) with the quadric's coefficients ``a11..a44`` and the controls
-``u1, u2, u3`` as symbols.  It is lambdified once per process; a lesson substitutes
-its surface's numbers to *display* the equations and passes the same numbers to the
-lambdified functions to *integrate* them, so what is shown is what is run.
+One symbolic model serves every quadric: the field of (1.50) in convention B (the signs
+that reproduce the surviving (1.55), (1.57), (1.62), (1.63)) with the quadric's
+coefficients ``a11..a44`` and the controls ``u1, u2, u3`` as symbols.  It is lambdified
+once per process; a lesson substitutes its surface's numbers to *display* the equations
+and passes the same numbers to the lambdified functions to *integrate* them, so what is
+shown is what is run.
 
     dx/dphi =  u1 F_y/2 - u2 F_z/2
     dy/dphi = -u1 F_x/2 + u3 F_z/2          (1.50); F_x/2 = a11 x + a12 y + a31 z + a14 ...
