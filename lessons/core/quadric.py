@@ -185,85 +185,56 @@ class Quadric:
         )
 
     @classmethod
+    def _principal(
+        cls, title: str, signs: Vec3, a34: float, a44: float, center: Vec3, **semi: float
+    ) -> Quadric:
+        """``Σ sign_i x_i²/s_i² + 2 a34 z + a44 = 0`` with the semi-axes ``semi`` (a, b, c
+        in axis order; a zero sign has none), shifted to ``center``."""
+        s = [_positive(n, v) for n, v in semi.items()]
+        diag = [sg / s.pop(0) ** 2 if sg else 0.0 for sg in signs]
+        named = ", ".join(f"{n}={_fmt(float(v))}" for n, v in semi.items())
+        return cls._canonical(diag, (0, 0, a34), a44, center, f"{title} {named}{_at(center)}")
+
+    @classmethod
     def ellipsoid(
         cls, a: float = 3.0, b: float = 2.0, c: float = 1.0, center: Vec3 = (0, 0, 0)
     ) -> Quadric:
         """x²/a² + y²/b² + z²/c² - 1 = 0 (the form of (1.63))."""
-        a, b, c = _positive("a", a), _positive("b", b), _positive("c", c)
-        return cls._canonical(
-            (1 / a**2, 1 / b**2, 1 / c**2),
-            (0, 0, 0),
-            -1.0,
-            center,
-            f"ellipsoid a={_fmt(a)}, b={_fmt(b)}, c={_fmt(c)}{_at(center)}",
-        )
+        return cls._principal("ellipsoid", (1, 1, 1), 0.0, -1.0, center, a=a, b=b, c=c)
 
     @classmethod
     def elliptic_cylinder(cls, a: float = 1.0, b: float = 1.0, center: Vec3 = (0, 0, 0)) -> Quadric:
-        """x²/a² + y²/b² - 1 = 0, axis z."""
-        a, b = _positive("a", a), _positive("b", b)
-        return cls._canonical(
-            (1 / a**2, 1 / b**2, 0),
-            (0, 0, 0),
-            -1.0,
-            center,
-            f"elliptic cylinder a={_fmt(a)}, b={_fmt(b)}{_at(center)}",
-        )
+        """x²/a² + y²/b² - 1 = 0, axis z through ``center``."""
+        return cls._principal("elliptic cylinder", (1, 1, 0), 0.0, -1.0, center, a=a, b=b)
 
     @classmethod
     def elliptic_cone(
         cls, a: float = 1.0, b: float = 1.0, c: float = 1.0, center: Vec3 = (0, 0, 0)
     ) -> Quadric:
         """x²/a² + y²/b² - z²/c² = 0, apex at ``center``, axis z."""
-        a, b, c = _positive("a", a), _positive("b", b), _positive("c", c)
-        return cls._canonical(
-            (1 / a**2, 1 / b**2, -1 / c**2),
-            (0, 0, 0),
-            0.0,
-            center,
-            f"elliptic cone a={_fmt(a)}, b={_fmt(b)}, c={_fmt(c)}{_at(center)}",
-        )
+        return cls._principal("elliptic cone", (1, 1, -1), 0.0, 0.0, center, a=a, b=b, c=c)
 
     @classmethod
     def elliptic_paraboloid(
         cls, a: float = 1.0, b: float = 1.0, center: Vec3 = (0, 0, 0)
     ) -> Quadric:
         """z = x²/a² + y²/b², i.e. x²/a² + y²/b² - z = 0 (a34 = -1/2); vertex at ``center``."""
-        a, b = _positive("a", a), _positive("b", b)
-        return cls._canonical(
-            (1 / a**2, 1 / b**2, 0),
-            (0, 0, -0.5),
-            0.0,
-            center,
-            f"elliptic paraboloid a={_fmt(a)}, b={_fmt(b)}{_at(center)}",
-        )
+        return cls._principal("elliptic paraboloid", (1, 1, 0), -0.5, 0.0, center, a=a, b=b)
 
     @classmethod
     def hyperbolic_paraboloid(
         cls, a: float = 1.0, b: float = 1.0, center: Vec3 = (0, 0, 0)
     ) -> Quadric:
         """z = x²/a² - y²/b² (saddle), i.e. x²/a² - y²/b² - z = 0; saddle point at ``center``."""
-        a, b = _positive("a", a), _positive("b", b)
-        return cls._canonical(
-            (1 / a**2, -1 / b**2, 0),
-            (0, 0, -0.5),
-            0.0,
-            center,
-            f"hyperbolic paraboloid a={_fmt(a)}, b={_fmt(b)}{_at(center)}",
-        )
+        return cls._principal("hyperbolic paraboloid", (1, -1, 0), -0.5, 0.0, center, a=a, b=b)
 
     @classmethod
     def hyperboloid_one_sheet(
         cls, a: float = 1.0, b: float = 1.0, c: float = 1.0, center: Vec3 = (0, 0, 0)
     ) -> Quadric:
         """x²/a² + y²/b² - z²/c² - 1 = 0, axis z."""
-        a, b, c = _positive("a", a), _positive("b", b), _positive("c", c)
-        return cls._canonical(
-            (1 / a**2, 1 / b**2, -1 / c**2),
-            (0, 0, 0),
-            -1.0,
-            center,
-            f"hyperboloid of one sheet a={_fmt(a)}, b={_fmt(b)}, c={_fmt(c)}{_at(center)}",
+        return cls._principal(
+            "hyperboloid of one sheet", (1, 1, -1), 0.0, -1.0, center, a=a, b=b, c=c
         )
 
     @classmethod
@@ -271,16 +242,9 @@ class Quadric:
         cls, a: float = 1.0, b: float = 1.0, c: float = 1.0, center: Vec3 = (0, 0, 0)
     ) -> Quadric:
         """x²/a² + y²/b² - z²/c² + 1 = 0, axis z (sheets z >= c and z <= -c)."""
-        a, b, c = _positive("a", a), _positive("b", b), _positive("c", c)
-        return cls._canonical(
-            (1 / a**2, 1 / b**2, -1 / c**2),
-            (0, 0, 0),
-            1.0,
-            center,
-            f"hyperboloid of two sheets a={_fmt(a)}, b={_fmt(b)}, c={_fmt(c)}{_at(center)}",
+        return cls._principal(
+            "hyperboloid of two sheets", (1, 1, -1), 0.0, 1.0, center, a=a, b=b, c=c
         )
-
-    # degenerate types (not in CONSTRUCTORS; handy for tests and demonstrations)
 
     # ------------------------------------------------------------------ matrices
     def coeffs(self) -> dict[str, float]:
