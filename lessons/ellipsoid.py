@@ -9,7 +9,7 @@ a11 = 1/a², a22 = 1/b², a33 = 1/c², a44 = -1 turns the general analyzer (1.50
 the semi-axes: the start point picks the level set, and the actual semi-axes are
 √G0 (a, b, c) (the textbook: start (0, 50, 0) with a, b, c = 10, 5, 1 gives 100, 50, 10).
 (1.62) is (1.63) times a²b²c²: the same paths for constant controls, a different
-motion for u(t) (digest C4), so the lesson integrates (1.63) as Fig. 1.30 does.
+motion for u(t), so the lesson integrates (1.63) as Fig. 1.30 does.
 """
 
 from __future__ import annotations
@@ -17,24 +17,27 @@ from __future__ import annotations
 import numpy as np
 import sympy as sp
 
-from lessons.core.analyzer import integrate, x, y, z
+from lessons.core.analyzer import x, y, z
 from lessons.core.analyzer_lesson import AnalyzerLesson, Prepared
+from lessons.core.analyzer_run import integrate
 from lessons.core.contract import (
     Claim,
     ClaimResult,
     DerivationStep,
+    Group,
     Param,
     Params,
     Preset,
+    RunResult,
     at_most,
 )
 from lessons.core.quadric import Quadric
 
-#: r(10) of the worked example, digest §4.6 (RK45 at rtol 1e-10: (7.070763, -2.34397, -0.52941)).
+#: r(10) of the worked example (Fig. 1.31), computed at tight tolerance (RK45, rtol 1e-10).
 R_END = (7.070763, -2.34397, -0.52941)
-#: max |x|, |y|, |z| over the 10 s (digest C4, tight tolerance).
+#: max |x|, |y|, |z| over the 10 s of Fig. 1.31 (tight tolerance).
 EXTENTS = (7.706131, 5.0, 0.997768)
-#: G drift of scipy RK45 at default tolerances on the worked example (digest C4).
+#: G drift of scipy RK45 at default tolerances on the worked example.
 RK45_G_DRIFT = 9.001e-4
 
 
@@ -44,9 +47,14 @@ class EllipsoidLesson(AnalyzerLesson):
     chapter = "1"
     problem = "Problem 1.6"
     source = "Textbook §1.3, Problem 1.6, eqs (1.60)-(1.63); Figs. 1.30-1.31"
-    summary = "The ellipsoid analyzer (1.63): a, b, c fix the ratios of the semi-axes, the start point their size."
+    summary = (
+        "The ellipsoid analyzer (1.63): a, b, c fix the ratios of the semi-axes, the"
+        " start point their size."
+    )
     order = 1.6
     t_end = 10.0
+    sampling = 1.0  # the worked example runs 10 s (Fig. 1.31)
+    surface_groups = (Group("surface", "Ellipsoid: semi-axis ratios a, b, c"),)
     surface_params = (
         Param(
             "a",
@@ -139,7 +147,8 @@ class EllipsoidLesson(AnalyzerLesson):
             ),
             DerivationStep(
                 "Its coefficients",
-                "Normalized so that (1.50) gives (1.63) directly (the other choice, a11 = b²c², ..., gives (1.62)).",
+                "Normalized so that (1.50) gives (1.63) directly (the other choice, a11 ="
+                " b²c², ..., gives (1.62)).",
                 [
                     sp.Eq(sp.Symbol("a11"), 1 / a**2),
                     sp.Eq(sp.Symbol("a22"), 1 / b**2),
@@ -147,7 +156,8 @@ class EllipsoidLesson(AnalyzerLesson):
                     sp.Eq(sp.Symbol("a44"), -1),
                 ],
                 "(1.61)",
-                reconstructed="lost in the source; the normalized reading (digest AMBIGUITY 5) is what (1.63) integrates",
+                reconstructed="lost in the source; the normalized reading is what (1.63) integrates"
+                " (the other reading gives (1.62))",
             ),
             DerivationStep(
                 "The analyzer multiplied out",
@@ -171,8 +181,9 @@ class EllipsoidLesson(AnalyzerLesson):
             ),
             DerivationStep(
                 "The start point sets the size",
-                "G = x²/a² + y²/b² + z²/c² is a first integral; the actual semi-axes are √G0 (a, b, c). "
-                f"Here G0 = {float(np.sum(np.array([params['x0'], params['y0'], params['z0']], float) ** 2 / np.array([params['a'], params['b'], params['c']], float) ** 2)):.6g}: "
+                "G = x²/a² + y²/b² + z²/c² is a first integral; the actual semi-axes are"
+                " √G0 (a, b, c). "
+                f"Here G0 = {float(sa[0] / float(params['a'])) ** 2:.6g}: "
                 f"semi-axes {sa[0]:.6g}, {sa[1]:.6g}, {sa[2]:.6g}.",
                 [
                     sp.Eq(
@@ -187,10 +198,12 @@ class EllipsoidLesson(AnalyzerLesson):
             ),
         ]
 
-    def extra_metrics(self, params: Params, prepared: Prepared, run) -> dict[str, float]:
-        r = run.r[:, 0, :]
+    def extra_metrics(
+        self, params: Params, prepared: Prepared, result: RunResult
+    ) -> dict[str, float]:
+        r = np.stack([result.series[c] for c in "xyz"], axis=1)
         sa = self.semi_axes(params)
-        speed = np.linalg.norm(run.v[:, 0, :], axis=-1)
+        speed = result.series["speed"]
         return {
             "semi_axis_x": float(sa[0]),
             "semi_axis_y": float(sa[1]),
@@ -213,13 +226,13 @@ class EllipsoidLesson(AnalyzerLesson):
             Claim(
                 "end-point",
                 "Worked example: r(10) = (7.0708, -2.3440, -0.5294)",
-                "digest §4.6 (Fig. 1.31)",
+                "Problem 1.6 worked example, Fig. 1.31",
                 self._claim_end,
             ),
             Claim(
                 "extents",
                 "Worked example: max |x|, |y|, |z| over 10 s = 7.706, 5, 0.998 (inside 10, 5, 1)",
-                "digest §4.6",
+                "Problem 1.6 worked example, Fig. 1.31",
                 self._claim_extents,
             ),
             Claim(
@@ -231,34 +244,28 @@ class EllipsoidLesson(AnalyzerLesson):
             Claim(
                 "speed-range",
                 "Worked example: |v| runs from 1.0 at t = 0 up to 8.72",
-                "digest C4",
+                "Problem 1.6 worked example, Fig. 1.31",
                 self._claim_speed,
             ),
             Claim(
                 "G-drift",
-                "G stays constant to round-off (≤ 1e-12), while scipy RK45 at default tolerances drifts it by about 9.0e-4",
-                "DESIGN §4, digest C4",
+                "G stays constant to round-off (≤ 1e-12), while scipy RK45 at default"
+                " tolerances drifts it by about 9.0e-4",
+                "(1.60), (1.63); Problem 1.6 worked example",
                 self._claim_drift,
             ),
         ]
 
-    def _claim_end(self) -> ClaimResult:
+    def _claim_example(self, keys: tuple[str, ...], want: tuple[float, ...], tol: float):
         m = self.run("example").metrics
-        got = np.array([m["x_end"], m["y_end"], m["z_end"]])
-        return at_most(
-            5e-5,
-            float(np.max(np.abs(got - np.array(R_END)))),
-            "max |r(10) - (7.070763, -2.34397, -0.52941)| ",
-        )
+        got = np.array([m[k] for k in keys])
+        return at_most(tol, float(np.max(np.abs(got - np.array(want)))), f"max |{keys} - {want}| ")
+
+    def _claim_end(self) -> ClaimResult:
+        return self._claim_example(("x_end", "y_end", "z_end"), R_END, 5e-5)
 
     def _claim_extents(self) -> ClaimResult:
-        m = self.run("example").metrics
-        got = np.array([m["max_abs_x"], m["max_abs_y"], m["max_abs_z"]])
-        return at_most(
-            2e-3,
-            float(np.max(np.abs(got - np.array(EXTENTS)))),
-            "max |extent - (7.706131, 5, 0.997768)| ",
-        )
+        return self._claim_example(("max_abs_x", "max_abs_y", "max_abs_z"), EXTENTS, 2e-3)
 
     def _claim_semi_axes(self) -> ClaimResult:
         res = self.run("semi-axes-100-50-10", t_end=2.0)

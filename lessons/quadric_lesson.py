@@ -18,16 +18,19 @@ from __future__ import annotations
 import numpy as np
 import sympy as sp
 
-from lessons.core.analyzer import COEFF_NAMES, AnalyzerModel, Controls, integrate
+from lessons.core.analyzer import COEFF_NAMES, AnalyzerModel, Controls
 from lessons.core.analyzer_lesson import AnalyzerLesson, Prepared
+from lessons.core.analyzer_run import integrate
 from lessons.core.contract import (
     Claim,
     ClaimResult,
     DerivationStep,
+    Group,
     Param,
     ParamError,
     Params,
     Preset,
+    RunResult,
     at_most,
 )
 from lessons.core.quadric import CONSTRUCTORS, Quadric
@@ -112,9 +115,18 @@ class QuadricLesson(AnalyzerLesson):
     chapter = "1"
     problem = "Problem 1.3"
     source = "Textbook §1.3, Problem 1.3, eqs (1.42)-(1.51)"
-    summary = "Undetermined coefficients (1.47) and the ψ-substitution (1.48) both give the analyzer (1.50) with three free controls."
+    summary = (
+        "Undetermined coefficients (1.47) and the ψ-substitution (1.48) both give"
+        " the analyzer (1.50) with three free controls."
+    )
     order = 1.3
     t_end = 10.0
+    modes = ("surface",)
+    surface_groups = (
+        Group("mode", "Surface type"),
+        Group("shape", "Surface parameters R, a, b, c"),
+        Group("coefficients", "Coefficients a11 ... a44 (surface = coefficients)", expanded=False),
+    )
     surface_params = (
         Param(
             "surface",
@@ -122,13 +134,13 @@ class QuadricLesson(AnalyzerLesson):
             "sphere",
             "surface type",
             choices=SURFACE_CHOICES,
-            group="surface",
+            group="mode",
             help="a type with its parameters, or 'coefficients' to type a11 ... a44",
         ),
-        Param("R", "float", 1.0, "R (sphere)", min=1e-3, max=1e3, step=0.1, group="surface"),
-        Param("a", "float", 1.0, "a", min=1e-3, max=1e3, step=0.1, group="surface"),
-        Param("b", "float", 1.0, "b", min=1e-3, max=1e3, step=0.1, group="surface"),
-        Param("c", "float", 1.0, "c", min=1e-3, max=1e3, step=0.1, group="surface"),
+        Param("R", "float", 1.0, "R (sphere)", min=1e-3, max=1e3, step=0.1, group="shape"),
+        Param("a", "float", 1.0, "a", min=1e-3, max=1e3, step=0.1, group="shape"),
+        Param("b", "float", 1.0, "b", min=1e-3, max=1e3, step=0.1, group="shape"),
+        Param("c", "float", 1.0, "c", min=1e-3, max=1e3, step=0.1, group="shape"),
         *(
             Param(
                 n,
@@ -138,7 +150,7 @@ class QuadricLesson(AnalyzerLesson):
                 min=-1e4,
                 max=1e4,
                 step=0.1,
-                group="surface",
+                group="coefficients",
                 help="used when surface = coefficients",
             )
             for n in COEFF_NAMES
@@ -178,7 +190,8 @@ class QuadricLesson(AnalyzerLesson):
                 "z0": 0,
             },
             10.0,
-            "dx = F_y - F_z, dy = F_z - F_x, dz = F_x - F_y (reconstructed): one trajectory per start point",
+            "dx = F_y - F_z, dy = F_z - F_x, dz = F_x - F_y (reconstructed): one"
+            " trajectory per start point",
         ),
         Preset(
             "varying-controls",
@@ -215,13 +228,15 @@ class QuadricLesson(AnalyzerLesson):
             if all(float(params[n]) == 0 for n in COEFF_NAMES[:6]):
                 raise ParamError(
                     "a11",
-                    "the quadratic coefficients a11 ... a31 are all zero: not a second-order surface",
+                    "the quadratic coefficients a11 ... a31 are all zero: not a"
+                    " second-order surface",
                 )
             kind = self.surface(params).classify().kind
             if kind in ("empty", "all-space"):
                 raise ParamError(
                     "a44",
-                    f"these coefficients describe {kind.replace('-', ' ')}: there is no surface to move on",
+                    f"these coefficients describe {kind.replace('-', ' ')}: there is no"
+                    f" surface to move on",
                 )
 
     # -- the derivation ------------------------------------------------------------
@@ -265,35 +280,14 @@ class QuadricLesson(AnalyzerLesson):
                 "Each with its own variable first, as in the source.",
                 [
                     sp.Eq(
-                        sp.Symbol("F_x"),
-                        2
-                        * (
-                            sp.Symbol("a11") * x
-                            + sp.Symbol("a12") * y
-                            + sp.Symbol("a31") * z
-                            + sp.Symbol("a14")
-                        ),
-                    ),
-                    sp.Eq(
-                        sp.Symbol("F_y"),
-                        2
-                        * (
-                            sp.Symbol("a22") * y
-                            + sp.Symbol("a12") * x
-                            + sp.Symbol("a23") * z
-                            + sp.Symbol("a24")
-                        ),
-                    ),
-                    sp.Eq(
-                        sp.Symbol("F_z"),
-                        2
-                        * (
-                            sp.Symbol("a33") * z
-                            + sp.Symbol("a23") * y
-                            + sp.Symbol("a31") * x
-                            + sp.Symbol("a34")
-                        ),
-                    ),
+                        sp.Symbol(f"F_{v}"),
+                        2 * (sum(sp.Symbol(c) * w for c, w in terms) + sp.Symbol(linear)),
+                    )
+                    for v, terms, linear in (
+                        ("x", (("a11", x), ("a12", y), ("a31", z)), "a14"),
+                        ("y", (("a22", y), ("a12", x), ("a23", z)), "a24"),
+                        ("z", (("a33", z), ("a23", y), ("a31", x)), "a34"),
+                    )
                 ],
                 "(1.45)",
             ),
@@ -307,21 +301,27 @@ class QuadricLesson(AnalyzerLesson):
             ),
             DerivationStep(
                 "(1.47) on this surface",
-                f"{q.label or 'this quadric'}: {len(rows_here)} non-trivial equations, rank {rep.rank}, "
-                f"so {rep.nullity} coefficients can be set arbitrarily ({', '.join(map(str, free))} here).",
+                f"{q.label or 'this quadric'}: {len(rows_here)} non-trivial equations, rank"
+                f" {rep.rank}, "
+                f"so {rep.nullity} coefficients can be set arbitrarily"
+                f" ({', '.join(map(str, free))} here).",
                 rows_here or [sp.Eq(0, 0)],
                 "(1.47)",
             ),
         ]
         if rep.family_is_150:
             text = (
-                "The three (1.50) fields (u1, u2, u3) satisfy (1.47) and are independent; rank [nullspace | (1.50)] = 3 = nullity, "
-                "so (1.50) is the whole solution set: the undetermined-coefficient method and the ψ-method give the same analyzer."
+                "The three (1.50) fields (u1, u2, u3) satisfy (1.47) and are independent;"
+                " rank [nullspace | (1.50)] = 3 = nullity, "
+                "so (1.50) is the whole solution set: the undetermined-coefficient method"
+                " and the ψ-method give the same analyzer."
             )
         else:
             text = (
-                f"The nullspace has dimension {rep.nullity} but (1.50) spans {rep.rank_150} of it (combined rank {rep.rank_combined}): "
-                "the extra fields move the point along the cylinder's axis (dz/dφ in span{1, x, y, z})."
+                f"The nullspace has dimension {rep.nullity} but (1.50) spans {rep.rank_150}"
+                f" of it (combined rank {rep.rank_combined}): "
+                "the extra fields move the point along the cylinder's axis (dz/dφ in"
+                " span{1, x, y, z})."
             )
         steps.append(
             DerivationStep(
@@ -329,7 +329,8 @@ class QuadricLesson(AnalyzerLesson):
                 text,
                 [sp.Eq(sp.Symbol(f"(1.50) for u{i + 1}"), W[:, i].T) for i in range(3)],
                 "(1.50)",
-                reconstructed="derived, not in source: the rank check behind 'three coefficients can be set arbitrarily'",
+                reconstructed="derived, not in source: the rank check behind 'three"
+                " coefficients can be set arbitrarily'",
             )
         )
         return steps
@@ -368,7 +369,8 @@ class QuadricLesson(AnalyzerLesson):
                     sp.Eq(l2, Fx * p[0] + Fy * p[2] + Fz * p[4]),
                 ],
                 "(1.48)",
-                reconstructed="the λ1 line and all signs were lost; chosen so that the surviving u1, u2 and (1.62)/(1.63) come out",
+                reconstructed="the λ1 line and all signs were lost; chosen so that the"
+                " surviving u1, u2 and (1.62)/(1.63) come out",
             ),
             DerivationStep(
                 "The general analyzer",
@@ -382,18 +384,20 @@ class QuadricLesson(AnalyzerLesson):
                     sp.Eq(u3, p[3] * p[4] - p[2] * p[5]),
                 ],
                 "(1.49)",
-                reconstructed="signs rebuilt (convention B); the extracted u3 = ψ4ψ6 - ψ3ψ6 is impossible, ψ4ψ5 - ψ3ψ6 is used",
+                reconstructed="signs rebuilt (convention B); the extracted u3 = ψ4ψ6 -"
+                " ψ3ψ6 is impossible, ψ4ψ5 - ψ3ψ6 is used",
             ),
             DerivationStep(
                 "The 'gradient' special case",
-                "u1 = u2 = u3 = 1: F_x(F_y - F_z) + F_y(F_z - F_x) + F_z(F_x - F_y) ≡ 0; one trajectory per start point.",
+                "u1 = u2 = u3 = 1: F_x(F_y - F_z) + F_y(F_z - F_x) + F_z(F_x - F_y) ≡ 0;"
+                " one trajectory per start point.",
                 [
                     sp.Eq(sp.Symbol("dx/dφ"), Fy - Fz),
                     sp.Eq(sp.Symbol("dy/dφ"), Fz - Fx),
                     sp.Eq(sp.Symbol("dz/dφ"), Fx - Fy),
                 ],
                 "after (1.50)",
-                reconstructed="the content was lost; u1 = u2 = u3 = 1 is the natural reading (digest AMBIGUITY 7)",
+                reconstructed="the content was lost; u1 = u2 = u3 = 1 is the natural reading",
             ),
             DerivationStep(
                 "Constant controls draw plane curves",
@@ -406,7 +410,8 @@ class QuadricLesson(AnalyzerLesson):
             ),
             DerivationStep(
                 "More general substitutions",
-                "Any numbers l1 ≥ 2 of undetermined coefficients λj and l2 of arbitrary functions ψk may be used (l1 ≥ 2 avoids the trivial field).",
+                "Any numbers l1 ≥ 2 of undetermined coefficients λj and l2 of arbitrary"
+                " functions ψk may be used (l1 ≥ 2 avoids the trivial field).",
                 sp.Eq(
                     sp.Symbol("dx_i/dφ"),
                     sp.Sum(
@@ -414,17 +419,18 @@ class QuadricLesson(AnalyzerLesson):
                     ),
                 ),
                 "(1.51)",
-                reconstructed="lost; only its description survives (digest AMBIGUITY 6)",
+                reconstructed="lost; only its description survives",
             ),
         ]
 
     def extra_derivation(self, params: Params, prepared: Prepared) -> list[DerivationStep]:
         return [*self.structure_steps(self.surface(params)), *self.psi_steps()]
 
-    def extra_metrics(self, params: Params, prepared: Prepared, run) -> dict[str, float]:
-        r = run.r[:, 0, :]
-        uu = prepared.model.controls.at(run.t)
-        plane = uu[2] * r[:, 0] + uu[1] * r[:, 1] + uu[0] * r[:, 2]
+    def extra_metrics(
+        self, params: Params, prepared: Prepared, result: RunResult
+    ) -> dict[str, float | str]:
+        sr = result.series
+        plane = sr["u3"] * sr["x"] + sr["u2"] * sr["y"] + sr["u1"] * sr["z"]
         return {
             "plane_invariant_spread": float(np.ptp(plane)),
             "surface_kind": self.surface(params).classify().kind,
@@ -436,37 +442,42 @@ class QuadricLesson(AnalyzerLesson):
         return [
             Claim(
                 "rank-9",
-                "(1.47) has rank 9 (three free coefficients) for the sphere, ellipsoid, cone, paraboloids and hyperboloids, and its solutions are exactly (1.50)",
+                "(1.47) has rank 9 (three free coefficients) for the sphere, ellipsoid,"
+                " cone, paraboloids and hyperboloids, and its solutions are exactly (1.50)",
                 "(1.47), Problem 1.3 text",
                 self._claim_rank9,
             ),
             Claim(
                 "rank-7-cylinder",
-                "The cylinder x²/a² + y²/b² = 1 is the exception: rank 7, five free coefficients, (1.50) gives three of them",
-                "(1.47); digest B8",
+                "The cylinder x²/a² + y²/b² = 1 is the exception: rank 7, five free"
+                " coefficients, (1.50) gives three of them",
+                "(1.47); self-study C1.5 (a)",
                 self._claim_rank7,
             ),
             Claim(
                 "random-rank",
                 "20 random quadrics with rational coefficients: rank 9 every time",
-                "(1.47); digest B3",
+                "(1.47)",
                 self._claim_random,
             ),
             Claim(
                 "psi",
-                "The ψ-substitution with the chosen λ1, λ2 satisfies (1.44) identically and gives (1.49); the literal u3 = ψ4ψ6 - ψ3ψ6 does not",
+                "The ψ-substitution with the chosen λ1, λ2 satisfies (1.44) identically"
+                " and gives (1.49); the literal u3 = ψ4ψ6 - ψ3ψ6 does not",
                 "(1.48)-(1.49)",
                 self._claim_psi,
             ),
             Claim(
                 "plane-curves",
-                "Constant controls give plane curves on every surface type: u3 x + u2 y + u1 z constant to 1e-10",
+                "Constant controls give plane curves on every surface type: u3 x + u2 y +"
+                " u1 z constant to 1e-10",
                 "Problem 1.3 text",
                 self._claim_plane,
             ),
             Claim(
                 "on-surface",
-                "Time-varying controls keep F to round-off on every surface type (|F - F0| ≤ 1e-12·scale)",
+                "Time-varying controls keep F to round-off on every surface type (|F - F0|"
+                " ≤ 1e-12·scale)",
                 "(1.44), (1.50)",
                 self._claim_invariant,
             ),
@@ -491,7 +502,8 @@ class QuadricLesson(AnalyzerLesson):
         ok = rep.rank == 7 and rep.nullity == 5 and rep.rank_150 == 3 and rep.rank_combined == 5
         return ClaimResult(
             "rank 7, nullity 5, (1.50) rank 3 inside",
-            f"rank {rep.rank}, nullity {rep.nullity}, (1.50) rank {rep.rank_150}, combined {rep.rank_combined}",
+            f"rank {rep.rank}, nullity {rep.nullity}, (1.50) rank {rep.rank_150}, combined"
+            f" {rep.rank_combined}",
             ok,
         )
 

@@ -15,20 +15,24 @@ from __future__ import annotations
 import numpy as np
 import sympy as sp
 
-from lessons.core.analyzer import AnalyzerModel, Controls, integrate, x, y, z
+from lessons.core.analyzer import AnalyzerModel, Controls, x, y, z
 from lessons.core.analyzer_lesson import AnalyzerLesson, Prepared
+from lessons.core.analyzer_run import integrate
 from lessons.core.contract import (
     Claim,
     ClaimResult,
     DerivationStep,
+    Group,
     Param,
     Params,
     Preset,
+    RunResult,
     at_most,
 )
 from lessons.core.quadric import Quadric
 
-#: |v|² of Examples 1.2 and 1.3 at t = 0, 1, ..., 10 (digest §4.4, computed at tight tolerance).
+#: |v|² of Examples 1.2 and 1.3 at t = 0, 1, ..., 10 as plotted in Figs. 1.21 and 1.24
+#: (computed at tight tolerance, 3 decimals).
 V2_TABLE = {
     "example-1.2": (
         25.000,
@@ -66,9 +70,14 @@ class SphereLesson(AnalyzerLesson):
     chapter = "1"
     problem = "Problem 1.4"
     source = "Textbook §1.3, Problem 1.4, eqs (1.52)-(1.57); Examples 1.1-1.4"
-    summary = "The analyzer (1.54) turns the point about w = -(u3, u2, u1): constant controls draw circles, varying ones spirals."
+    summary = (
+        "The analyzer (1.54) turns the point about w = -(u3, u2, u1): constant"
+        " controls draw circles, varying ones spirals."
+    )
     order = 1.4
     t_end = 10.0
+    sampling = 1.0  # Examples 1.1-1.3 run 10 s; their speeds are read at t = 0, 1, ..., 10
+    surface_groups = (Group("surface", "Sphere"),)
     surface_params = (
         Param("R", "float", 1.0, "sphere radius R", min=1e-3, max=1e3, step=0.1, group="surface"),
     )
@@ -109,7 +118,8 @@ class SphereLesson(AnalyzerLesson):
                 "family_step": 0.35,
             },
             10.0,
-            "z stays constant: (1.55); several heights as in Fig. 1.26 (start points are not given in the source)",
+            "z stays constant: (1.55); several heights as in Fig. 1.26 (start points are"
+            " not given in the source)",
         ),
         Preset(
             "example-1.4-xz",
@@ -134,7 +144,6 @@ class SphereLesson(AnalyzerLesson):
     def extra_derivation(self, params: Params, prepared: Prepared) -> list[DerivationStep]:
         R = sp.Symbol("R", positive=True)
         u1, u2, u3 = sp.symbols("u1 u2 u3", real=True)
-        t = sp.Symbol("t")
         return [
             DerivationStep("The sphere", "", sp.Eq(x**2 + y**2 + z**2, R**2), "(1.52)"),
             DerivationStep(
@@ -151,7 +160,8 @@ class SphereLesson(AnalyzerLesson):
             ),
             DerivationStep(
                 "The sphere analyzer",
-                "(1.50) with (1.53): a rotation r' = w × r, w = -(u3, u2, u1); the radius is set by the start point.",
+                "(1.50) with (1.53): a rotation r' = w × r, w = -(u3, u2, u1); the radius"
+                " is set by the start point.",
                 [
                     sp.Eq(sp.Symbol("dx/dt"), u1 * y - u2 * z),
                     sp.Eq(sp.Symbol("dy/dt"), -u1 * x + u3 * z),
@@ -162,7 +172,8 @@ class SphereLesson(AnalyzerLesson):
             ),
             DerivationStep(
                 "Constant controls: plane curves",
-                "For constant u the combination u3 x + u2 y + u1 z is a first integral, so the path is a circle in that plane.",
+                "For constant u the combination u3 x + u2 y + u1 z is a first integral, so"
+                " the path is a circle in that plane.",
                 sp.Eq(sp.Symbol("d/dt") * (u3 * x + u2 * y + u1 * z), 0),
                 "Problem 1.3 text",
             ),
@@ -175,46 +186,61 @@ class SphereLesson(AnalyzerLesson):
                     - (u3 * sp.Symbol("x0") + u2 * sp.Symbol("y0") + u1 * sp.Symbol("z0")) ** 2,
                 ),
                 "Example 1.1",
-                reconstructed="derived (not printed in the source); checks the statement that the speed stays constant",
+                reconstructed="derived (not printed in the source); checks the statement"
+                " that the speed stays constant",
             ),
-            DerivationStep(
-                "Planes parallel to xy (u1 = 1)",
-                "z = z0 stays; the general form (1.55) on the sphere gives x' = y, y' = -x.",
-                [
-                    sp.Eq(sp.Symbol("dx/dt"), y),
-                    sp.Eq(sp.Symbol("dy/dt"), -x),
-                    sp.Eq(sp.Symbol("z"), sp.Symbol("z0")),
-                ],
-                "(1.55)",
-                reconstructed="rebuilt from surviving fragments (indices a11, a12, a31, z0, a14)",
-            ),
-            DerivationStep(
-                "Planes parallel to xz (u2 = 1)",
-                "y = y0 stays.",
-                [
-                    sp.Eq(sp.Symbol("dx/dt"), -z),
-                    sp.Eq(sp.Symbol("dz/dt"), x),
-                    sp.Eq(sp.Symbol("y"), sp.Symbol("y0")),
-                ],
-                "(1.56)",
-                reconstructed="lost in the source; (1.50) with u1 = u3 = 0, u2 = 1",
-            ),
-            DerivationStep(
-                "Planes parallel to yz (u3 = 1)",
-                "x = x0 stays.",
-                [
-                    sp.Eq(sp.Symbol("dy/dt"), z),
-                    sp.Eq(sp.Symbol("dz/dt"), -y),
-                    sp.Eq(sp.Symbol("x"), sp.Symbol("x0")),
-                ],
-                "(1.57)",
-                reconstructed="rebuilt from fragments; the printed sign of a24 is corrected (it only matters when a24 ≠ 0)",
+            *(
+                DerivationStep(
+                    f"Planes parallel to {plane} ({u} = 1)",
+                    text,
+                    [
+                        sp.Eq(sp.Symbol(f"d{a}/dt"), fa),
+                        sp.Eq(sp.Symbol(f"d{b}/dt"), fb),
+                        sp.Eq(sp.Symbol(kept), sp.Symbol(f"{kept}0")),
+                    ],
+                    eq,
+                    reconstructed=why,
+                )
+                for plane, u, (a, fa), (b, fb), kept, eq, text, why in (
+                    (
+                        "xy",
+                        "u1",
+                        ("x", y),
+                        ("y", -x),
+                        "z",
+                        "(1.55)",
+                        "z = z0 stays; the general form (1.55) on the sphere gives x' = y, y' = -x.",
+                        "rebuilt from surviving fragments (indices a11, a12, a31, z0, a14)",
+                    ),
+                    (
+                        "xz",
+                        "u2",
+                        ("x", -z),
+                        ("z", x),
+                        "y",
+                        "(1.56)",
+                        "y = y0 stays.",
+                        "lost in the source; (1.50) with u1 = u3 = 0, u2 = 1",
+                    ),
+                    (
+                        "yz",
+                        "u3",
+                        ("y", z),
+                        ("z", -y),
+                        "x",
+                        "(1.57)",
+                        "x = x0 stays.",
+                        "rebuilt from fragments; the printed sign of a24 is corrected"
+                        " (it only matters when a24 ≠ 0)",
+                    ),
+                )
             ),
         ]
 
-    def extra_metrics(self, params: Params, prepared: Prepared, run) -> dict[str, float]:
-        r = run.r[:, 0, :]
-        radius = np.linalg.norm(r, axis=-1)
+    def extra_metrics(
+        self, params: Params, prepared: Prepared, result: RunResult
+    ) -> dict[str, float]:
+        radius = np.sqrt(sum(result.series[c] ** 2 for c in "xyz"))
         return {"radius_min": float(radius.min()), "radius_max": float(radius.max())}
 
     # -- claims -------------------------------------------------------------------
@@ -229,7 +255,8 @@ class SphereLesson(AnalyzerLesson):
             ),
             Claim(
                 "ex1.1-circle",
-                "Example 1.1: the path is the circle in the plane x + y + z = 1, centre (1/3, 1/3, 1/3), radius √(2/3)",
+                "Example 1.1: the path is the circle in the plane x + y + z = 1, centre"
+                " (1/3, 1/3, 1/3), radius √(2/3)",
                 "Example 1.1, Fig. 1.16",
                 self._claim_ex11_circle,
             ),
@@ -254,13 +281,13 @@ class SphereLesson(AnalyzerLesson):
             Claim(
                 "ex1.2-speed-table",
                 "Example 1.2: |v|² at t = 0..10 matches the tabulated 25.000 ... 71.802 (to 1e-3)",
-                "digest §4.4 (Fig. 1.21)",
+                "Example 1.2, Fig. 1.21",
                 lambda: self._claim_table("example-1.2"),
             ),
             Claim(
                 "ex1.3-speed-table",
                 "Example 1.3: |v|² at t = 0..10 matches the tabulated 0.000 ... 119.337 (to 1e-3)",
-                "digest §4.4 (Fig. 1.24)",
+                "Example 1.3, Fig. 1.24",
                 lambda: self._claim_table("example-1.3"),
             ),
             Claim(

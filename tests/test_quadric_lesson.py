@@ -125,3 +125,15 @@ def test_claims_pass():
     for c in LESSON.claims():
         r = c.check()
         assert r.passed, (c.id, r)
+
+
+def test_groups_separate_type_shape_and_coefficients():
+    from lessons.quadric_lesson import LESSON
+
+    assert [g.name for g in LESSON.groups] == [
+        *("mode", "shape", "coefficients", "controls", "initial", "method")
+    ]
+    assert LESSON.modes == ("surface",) and LESSON.param("surface").group == "mode"
+    assert {LESSON.param(n).group for n in ("R", "a", "b", "c")} == {"shape"}
+    assert LESSON.param("a31").group == "coefficients"
+    assert not LESSON.group("coefficients").expanded and not LESSON.group("method").expanded

@@ -98,3 +98,32 @@ def test_scene_has_surface_and_point():
     assert scene.meshes and len(scene.meshes[0].faces) > 100
     assert "point" in scene.moving_points
     assert np.all(np.isfinite(np.array(scene.bounds)))
+
+
+def test_declared_series_units_and_family_members():
+    params = LESSON.resolve(preset="example-1.4-xy")
+    names = [s.name for s in LESSON.series_for(params)]
+    assert names[:12] == [
+        *("x", "y", "z", "vx", "vy", "vz", "v2", "speed", "drift", "u1", "u2", "u3")
+    ]
+    assert "z_5" in names and "drift_5" in names and "u1_2" not in names
+    res = LESSON.simulate(params, 1.0)
+    assert res.units["v2"] == "units²/s²" and res.units["speed"] == "units/s"
+    assert np.all(res.series["z_5"] == res.series["z_5"][0])
+    assert LESSON.readout == ("x", "y", "z", "speed", "v2", "drift")
+    assert LESSON.start_point == ("x0", "y0", "z0") and LESSON.family == "family"
+
+
+def test_run_grid_keeps_the_textbook_sampling():
+    """Every node of h = 0.01 s over 10 s, among them the tabulated t = 0, 1, ..., 10."""
+    res = LESSON.run("example-1.2")
+    assert LESSON.sampling == 1.0 and len(res.t) == 1001
+    assert np.allclose(res.t[::100], np.arange(11), atol=1e-12)
+    long = LESSON.run_grid(LESSON.resolve(preset="example-1.2"), 500.0)
+    assert len(long) == 2001 and np.allclose(long[::4], np.arange(501.0))
+
+
+def test_projection_is_a_note():
+    params = LESSON.resolve({"x0": 0.6, "y0": 0.8, "z0": 0.5})
+    (note,) = LESSON.notes(params)
+    assert note.kind == "info" and "projected" in note.text and note.source == "(1.42)"

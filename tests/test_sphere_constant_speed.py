@@ -33,10 +33,15 @@ def test_speed_is_V_for_a_formula_profile():
     assert np.allclose(np.sqrt(res.series["v2"]), 2 + res.t, atol=1e-9)
 
 
-def test_zero_field_holds_and_says_why():
+def test_zero_field_holds_only_at_that_instant_and_says_so():
+    params = LESSON.resolve(preset="example-1.3-zero-field")
+    notes = LESSON.notes(params)
+    assert len(notes) == 1 and "at that instant only" in notes[0].text
+    assert notes[0].source == "(1.58)-(1.59)"
     res = LESSON.run("example-1.3-zero-field", t_end=0.5)
-    assert res.series["v2"][0] == 0.0
-    assert any("held" in m for m in res.messages)
+    assert res.series["v2"][0] == 0.0 and res.series["speed"][1] == pytest.approx(1.0)
+    assert res.messages == [notes[0].text]
+    assert np.hypot(res.series["y"][1], res.series["z"][1]) > 0.04  # moved in the first step
     st = LESSON.stepper(LESSON.resolve(preset="example-1.3-zero-field"))
     f0 = st.frame()
     assert "undefined" in f0.message
@@ -66,3 +71,20 @@ def test_claims_pass():
     for c in LESSON.claims():
         r = c.check()
         assert r.passed, (c.id, r)
+
+
+def test_held_for_the_whole_run_is_said_so():
+    """u parallel to the start point's gradient and constant: the field stays zero there."""
+    params = LESSON.resolve({"u1": "0", "u2": "0", "u3": "2"}, preset="fig-1.28")
+    assert "for the whole run" in LESSON.notes(params)[0].text
+    res = LESSON.simulate(params, 1.0)
+    assert np.all(res.series["speed"] == 0.0) and res.series["x"][-1] == 1.0
+    assert res.metrics["held_samples"] == len(res.t)
+
+
+def test_groups_modes_and_readout():
+    assert [g.name for g in LESSON.groups] == ["mode", "surface", "controls", "initial", "method"]
+    assert LESSON.modes == ("direction",) and LESSON.param("direction").group == "mode"
+    assert LESSON.group("method").expanded is False
+    assert LESSON.readout == ("x", "y", "z", "speed", "v2", "drift")
+    assert LESSON.declaration_errors() == []

@@ -2,15 +2,19 @@
 general analyzer (1.50) (or its constant-speed form (1.59)) on a quadric.
 
 A concrete lesson supplies its surface (:meth:`AnalyzerLesson.surface`), its own
-parameters and presets, extra derivation steps and claims; this base gives the
-common parameters (controls, start point, family, integrator), the run, the live
-stepper, the scene and the plots.
+parameters, groups and presets, extra derivation steps, metrics and claims; this base
+gives the common parameters (controls, start point, family, integrator), the
+observation (one function for runs and live frames), the notes, the run, the live
+stepper, the scene and the plots.  Runs and live steppers read one
+:class:`~lessons.core.analyzer_run.Trajectory`, so they agree at every time.
 """
 
 from __future__ import annotations
 
 from abc import abstractmethod
+from collections.abc import Mapping
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 import sympy as sp
@@ -18,153 +22,93 @@ import sympy as sp
 from lessons.core.analyzer import (
     COEFF_NAMES,
     AnalyzerModel,
-    AnalyzerRun,
     Controls,
-    SpeedStepper,
     U,
     field_expr,
-    integrate,
     quadric_expr,
 )
+from lessons.core.analyzer_params import (
+    ANALYZER_PLOTS,
+    ANALYZER_SERIES,
+    CONTROL_PARAMS,
+    CONTROLS,
+    DIRECTION,
+    INITIAL,
+    METHOD_PARAMS,
+    SPEED_CONTROLS,
+    SPEED_PARAMS,
+    START_PARAMS,
+)
+from lessons.core.analyzer_run import Trajectory
 from lessons.core.block_diagram import BlockDiagram, block_diagram, diagram_step
 from lessons.core.contract import (
+    METHOD,
     DerivationStep,
     Frame,
+    Group,
     Lesson,
     MarkerItem,
     MeshItem,
+    Note,
     Param,
     ParamError,
     Params,
-    PlotSpec,
     RunResult,
     SceneSpec,
     Stepper,
 )
 from lessons.core.formula import Formula
-from lessons.core.integrators import apply_propagators, gl_linear, gl_propagators
 from lessons.core.quadric import Quadric
-
-METHODS = ("gauss-legendre-3", "gauss-legendre-2", "RK45", "DOP853")
-
-CONTROL_PARAMS: tuple[Param, ...] = (
-    Param(
-        "u1",
-        "formula",
-        "5",
-        "u1(t)",
-        min=-20,
-        max=20,
-        step=0.1,
-        group="controls",
-        help="control u1: a number or a formula of t",
-    ),
-    Param("u2", "formula", "5", "u2(t)", min=-20, max=20, step=0.1, group="controls"),
-    Param("u3", "formula", "5", "u3(t)", min=-20, max=20, step=0.1, group="controls"),
-)
-SPEED_PARAMS: tuple[Param, ...] = (
-    Param(
-        "V",
-        "formula",
-        "1",
-        "V(t)",
-        unit="units/s",
-        min=0,
-        max=20,
-        step=0.1,
-        group="controls",
-        help="speed along the curve (1.58)",
-    ),
-    Param(
-        "direction",
-        "choice",
-        "+",
-        "direction (sign of omega)",
-        choices=("+", "-"),
-        group="controls",
-    ),
-)
-START_PARAMS: tuple[Param, ...] = (
-    Param("x0", "float", 1.0, "x0", min=-1e4, max=1e4, step=0.05, group="initial"),
-    Param("y0", "float", 0.0, "y0", min=-1e4, max=1e4, step=0.05, group="initial"),
-    Param("z0", "float", 0.0, "z0", min=-1e4, max=1e4, step=0.05, group="initial"),
-    Param(
-        "family",
-        "int",
-        1,
-        "curves in the family",
-        min=1,
-        max=24,
-        step=1,
-        group="initial",
-        help="several start points at once (Figs. 1.12, 1.26)",
-    ),
-    Param(
-        "family_axis",
-        "choice",
-        "z",
-        "family spread along",
-        choices=("x", "y", "z"),
-        group="initial",
-    ),
-    Param(
-        "family_step", "float", 0.3, "family spacing", min=-1e3, max=1e3, step=0.05, group="initial"
-    ),
-)
-METHOD_PARAMS: tuple[Param, ...] = (
-    Param(
-        "integrator",
-        "choice",
-        "gauss-legendre-3",
-        "integrator",
-        choices=METHODS,
-        group="method",
-        help="Gauss-Legendre keeps F to round-off; RK45/DOP853 are scipy's solve_ivp",
-    ),
-    Param(
-        "h",
-        "float",
-        1e-2,
-        "step h",
-        unit="s",
-        min=1e-5,
-        max=0.1,
-        step=1e-3,
-        group="method",
-        help="Gauss-Legendre step; order 6 (3 stages): 0.01 s keeps the textbook examples to ~1e-9",
-    ),
-    Param("rtol", "float", 1e-3, "solve_ivp rtol", min=1e-14, max=1e-1, group="method"),
-    Param("atol", "float", 1e-6, "solve_ivp atol", min=1e-16, max=1e-1, group="method"),
-)
-
-ANALYZER_PLOTS = (
-    PlotSpec("velocity components", ("vx", "vy", "vz")),
-    PlotSpec("squared speed |v|^2", ("v2",)),
-    PlotSpec("invariant drift |F - F0| / scale", ("drift",)),
-)
 
 
 @dataclass
 class Prepared:
-    """A lesson's parameters turned into a model and start points (with notes for the user)."""
+    """A lesson's parameters turned into a model and start points, with the notes on what
+    was done with the values; ``F0`` is F at the start points, ``scale`` the size of F's
+    terms there (the drift is measured against it)."""
 
     quadric: Quadric
     model: AnalyzerModel
     r0: np.ndarray  # (N, 3)
-    messages: list[str] = field(default_factory=list)
+    notes: list[Note] = field(default_factory=list)
+    F0: np.ndarray = field(default_factory=lambda: np.zeros(1))
+    scale: float = 1.0
+
+
+def state(r: np.ndarray, F0: np.ndarray) -> dict[str, np.ndarray]:
+    """An analyzer lesson's state at times ``(m,)``: positions ``r (m, N, 3)`` and the
+    values ``F0 (m, N)`` the drift is measured from."""
+    r = np.asarray(r, dtype=float)
+    return {"r": r, "F0": np.broadcast_to(F0, r.shape[:2])}
 
 
 class AnalyzerLesson(Lesson):
-    """Base of the analyzer lessons; subclasses set ``surface_params`` and implement :meth:`surface`."""
+    """Base of the analyzer lessons; subclasses set ``surface_params`` (in their
+    ``surface_groups``) and implement :meth:`surface`."""
 
     constant_speed: bool = False
     surface_params: tuple[Param, ...] = ()
+    surface_groups: tuple[Group, ...] = (Group("surface", "Surface"),)
     plots = ANALYZER_PLOTS
+    series = ANALYZER_SERIES
+    readout = ("x", "y", "z", "speed", "v2", "drift")
+    start_point = ("x0", "y0", "z0")
+    family = "family"
 
     def __init_subclass__(cls, **kw: object) -> None:
         super().__init_subclass__(**kw)
         speed = SPEED_PARAMS if cls.constant_speed else ()
-        cls.params = (*cls.surface_params, *CONTROL_PARAMS, *speed, *START_PARAMS, *METHOD_PARAMS)
+        cls.params = (*speed, *cls.surface_params, *CONTROL_PARAMS, *START_PARAMS, *METHOD_PARAMS)
+        cls.groups = (
+            *((DIRECTION,) if cls.constant_speed else ()),
+            *cls.surface_groups,
+            SPEED_CONTROLS if cls.constant_speed else CONTROLS,
+            INITIAL,
+            METHOD,
+        )
+        if cls.constant_speed:
+            cls.modes = ("direction", *cls.modes)
+        cls._cache: dict[tuple, Prepared] = {}
 
     # -- the model --------------------------------------------------------------
 
@@ -192,38 +136,91 @@ class AnalyzerLesson(Lesson):
         return pts
 
     def prepare(self, params: Params) -> Prepared:
-        """Surface, model and start points; start points off the surface are projected (noted)."""
+        """Surface, model and start points (cached per parameter values); start points off
+        the surface are projected onto it, and the notes say so."""
+        key = tuple(sorted((k, repr(v)) for k, v in params.raw().items()))
+        hit = self._cache.get(key)
+        if hit is None:
+            hit = self._prepare(params)
+            if len(self._cache) > 64:
+                self._cache.clear()
+            self._cache[key] = hit
+        return hit
+
+    def _prepare(self, params: Params) -> Prepared:
         quadric = self.surface(params)
         pts = self.start_points(params)
-        messages: list[str] = []
+        notes: list[Note] = []
         if self.keep_level(params):
             models = [quadric.level_through(p) for p in pts]
             coeffs = {n: np.array([getattr(q, n) for q in models]) for n in COEFF_NAMES}
             q0 = models[0]
         else:
             q0 = quadric
-            scale = quadric.scale
             for i, p in enumerate(pts):
-                if abs(float(quadric.F(p))) > 1e-9 * scale:
+                if abs(float(quadric.F(p))) > 1e-9 * quadric.scale:
                     try:
-                        newp = quadric.project(p)
+                        pts[i] = quadric.project(p)
                     except ValueError as exc:
                         raise ParamError(
-                            "x0",
-                            f"start point {tuple(np.round(p, 6))} cannot be put on the surface: {exc}",
+                            "x0", f"start point {_fmt(p)} cannot be put on the surface: {exc}"
                         ) from None
-                    messages.append(
-                        f"start point {_fmt(p)} is off the surface (F = {float(quadric.F(p)):.3g}); projected to {_fmt(newp)}"
+                    notes.append(
+                        Note(
+                            "info",
+                            f"start point {_fmt(p)} is off the surface"
+                            f" (F = {float(quadric.F(p)):.3g}); projected to {_fmt(pts[i])}",
+                            "(1.42)",
+                        )
                     )
-                    pts[i] = newp
             coeffs = {n: np.full(len(pts), float(getattr(quadric, n))) for n in COEFF_NAMES}
         model = AnalyzerModel(coeffs, self.controls(params))
         g = model.half_gradient(pts)
         if np.any(np.linalg.norm(g, axis=-1) <= 1e-12 * max(1.0, quadric.scale)):
-            messages.append(
-                "the gradient of F is zero at the start point (a singular point of the surface): the analyzer field vanishes and the point cannot move"
+            notes.append(
+                Note(
+                    "warning",
+                    "the gradient of F is zero at the start point (a singular point of the"
+                    " surface): the analyzer field vanishes and the point cannot move",
+                    "(1.45), (1.50)",
+                )
             )
-        return Prepared(q0, model, pts, messages)
+        elif self.constant_speed:
+            notes += self._hold_notes(model, pts)
+        F0 = model.F(pts)
+        scale = float(max(q0.scale, np.max(model.F_scale(pts[None]))))
+        return Prepared(q0, model, pts, notes, F0, scale)
+
+    def _hold_notes(self, model: AnalyzerModel, r0: np.ndarray) -> list[Note]:
+        """Where the constant-speed analyzer's field vanishes at a start point: from t = 0
+        for as long as it stays zero there (probed over the lesson's run time)."""
+        probe = np.linspace(0.0, self.t_end, 2001)
+        R = np.broadcast_to(r0, (len(probe), *r0.shape))
+        A, c = model.linear_coeffs(probe, len(r0))
+        norm = np.linalg.norm(np.einsum("mnij,mnj->mni", A, R) + c, axis=-1)
+        umax = np.abs(model.controls.at(probe)).max(axis=0)[:, None]
+        held = model.holds(norm, model.hold_size(R), umax)
+        notes = []
+        for k in np.flatnonzero(held[0]):
+            moving = np.flatnonzero(~held[:, k])
+            head = (
+                f"The field of (1.50) vanishes at the start point {_fmt(r0[k])} at t = 0"
+                " (grad F is parallel to (u3, u2, u1)): ω = ±V/|field| (1.58) divides by zero"
+            )
+            if not len(moving):
+                text = f"{head} for the whole run, so the point holds there."
+            elif moving[0] == 1:
+                text = (
+                    f"{head} at that instant only, so the velocity shown at t = 0 is 0;"
+                    " from t > 0 the field is non-zero and the point moves at speed V."
+                )
+            else:
+                text = (
+                    f"{head} until t ≈ {probe[moving[0]]:.3g} s: the point holds while it"
+                    " does, then moves at speed V."
+                )
+            notes.append(Note("info", text, "(1.58)-(1.59)"))
+        return notes
 
     def validate(self, params: Params) -> None:
         controls = self.controls(params)
@@ -232,7 +229,105 @@ class AnalyzerLesson(Lesson):
         except ValueError as exc:
             raise ParamError("u1", str(exc)) from None
 
-    # -- the page ---------------------------------------------------------------
+    def notes(self, params: Params) -> list[Note]:
+        return list(self.prepare(params).notes)
+
+    # -- observation and runs -------------------------------------------------------
+
+    def observe(self, params: Params, t: np.ndarray, state: Any) -> Mapping[str, Any]:
+        prepared = self.prepare(params)
+        model = prepared.model
+        R = np.asarray(state["r"], dtype=float)
+        v = model.velocities(t, R)
+        v2 = (v**2).sum(-1)
+        drift = (model.F(R) - state["F0"]) / prepared.scale
+        uu = model.controls.at(t)
+        out: dict[str, np.ndarray] = {"u1": uu[0], "u2": uu[1], "u3": uu[2]}
+        for k in range(R.shape[1]):
+            suffix = "" if k == 0 else f"_{k + 1}"
+            for j, c in enumerate("xyz"):
+                out[c + suffix] = R[:, k, j]
+                out["v" + c + suffix] = v[:, k, j]
+            out["v2" + suffix] = v2[:, k]
+            out["speed" + suffix] = np.sqrt(v2[:, k])
+            out["drift" + suffix] = drift[:, k]
+        return out
+
+    def trajectory(
+        self, params: Params, prepared: Prepared, t0: float = 0.0, r0: np.ndarray | None = None
+    ) -> Trajectory:
+        """The lesson's trajectory from ``(t0, r0)`` (the start points by default)."""
+        return Trajectory(
+            prepared.model,
+            prepared.r0 if r0 is None else r0,
+            t0,
+            str(params["integrator"]),
+            float(params["h"]),
+            float(params["rtol"]),
+            float(params["atol"]),
+        )
+
+    def run_grid(self, params: Params, t_end: float) -> np.ndarray:
+        """The nodes ``k h`` up to ``t_end`` (at most ~2000 samples, keeping the multiples
+        of the source's sampling step), and ``t_end``."""
+        h = float(params["h"])
+        n = int(np.floor(t_end / h + 1e-9))
+        stride = max(1, n // 2000)
+        if self.sampling:
+            m = int(round(self.sampling / h))
+            if m > 0 and abs(m * h - self.sampling) <= 1e-9 * self.sampling:
+                while m % stride:
+                    stride -= 1
+        t = np.arange(0, n + 1, stride) * h
+        if t_end - t[-1] > 1e-9 * max(1.0, t_end):
+            t = np.append(t, t_end)
+        return t
+
+    def simulate(self, params: Params, t_end: float | None = None) -> RunResult:
+        t_end = self.t_end if t_end is None else float(t_end)
+        prepared = self.prepare(params)
+        traj = self.trajectory(params, prepared)
+        t = self.run_grid(params, t_end)
+        R = traj.at(t)
+        messages = [n.text for n in prepared.notes]
+        res = self.result(params, t, state(R, prepared.F0), messages=messages)
+        members = [k for k in res.series if k.split("_")[0] == "speed"]
+        speed = np.stack([res.series[k] for k in members], axis=1)
+        v2 = speed**2
+        held = np.zeros(speed.shape, dtype=bool)
+        if self.constant_speed:
+            held = (speed == 0.0) & (np.abs(prepared.model.controls.speed(t)) > 0)[:, None]
+            # a point held from the start is explained by the notes; this is one that moved
+            away = np.any(R != prepared.r0[None], axis=-1)
+            later = (held & away).any(axis=1)
+            if later.any():
+                res.messages.append(
+                    f"the field vanished along the path (first at t = {t[later][0]:.4g} s):"
+                    " ω = V/|field| (1.58) is undefined there and the velocity is 0 at"
+                    f" {int(later.sum())} samples"
+                )
+        drift = np.abs(np.stack([res.series[k.replace("speed", "drift")] for k in members], axis=1))
+        res.metrics = {
+            "t_end": t_end,
+            "method": traj.method,
+            "invariant_drift_max": float(drift.max() * prepared.scale),
+            "invariant_drift_rel": float(drift.max()),
+            "v2_min": float(v2.min()),
+            "v2_max": float(v2.max()),
+            "F0": float(prepared.F0[0]),
+            "held_samples": int(held.sum()),
+            "nfev": traj.nfev,
+            **self.extra_metrics(params, prepared, res),
+        }
+        return res
+
+    def extra_metrics(
+        self, params: Params, prepared: Prepared, result: RunResult
+    ) -> dict[str, float | str]:
+        return {}
+
+    def stepper(self, params: Params) -> Stepper:
+        return AnalyzerStepper(self, params)
 
     def general_derivation(self, params: Params, prepared: Prepared) -> list[DerivationStep]:
         """Steps shared by every analyzer lesson: (1.42), (1.45), (1.49), (1.50) on this surface."""
@@ -258,7 +353,8 @@ class AnalyzerLesson(Lesson):
                 "Three free controls u1, u2, u3; convention B, the common factor 2 of the gradient dropped.",
                 _general_field_equations(),
                 "(1.49)-(1.50)",
-                reconstructed="the signs and the row layout were lost in the source; rebuilt so that the surviving (1.55), (1.57), (1.62), (1.63) come out exactly (convention B)",
+                reconstructed="the signs and the row layout were lost in the source; rebuilt so that"
+                " the surviving (1.55), (1.57), (1.62), (1.63) come out exactly (convention B)",
             ),
             DerivationStep(
                 "On this surface",
@@ -279,7 +375,8 @@ class AnalyzerLesson(Lesson):
             DerivationStep(
                 "Argument control for constant speed",
                 "Put dφ = ω(t) dt and choose ω so that the speed is V; the sign of ω picks the direction. "
-                "Where the field vanishes the formula divides by zero: the point holds and the lab says why.",
+                "Where the field vanishes the formula divides by zero: the point holds only"
+                " while the field stays zero, and the lab says so.",
                 sp.Eq(
                     w, sp.Symbol("±V") / sp.sqrt(sum(fi**2 for fi in field_expr(quadric_expr())))
                 ),
@@ -329,63 +426,7 @@ class AnalyzerLesson(Lesson):
     def extra_derivation(self, params: Params, prepared: Prepared) -> list[DerivationStep]:
         return []
 
-    def run_analyzer(
-        self, params: Params, t_end: float, samples: int | None = 2001
-    ) -> tuple[Prepared, AnalyzerRun]:
-        prepared = self.prepare(params)
-        run = integrate(
-            prepared.model,
-            prepared.r0,
-            t_end,
-            h=float(params["h"]),
-            method=str(params["integrator"]),
-            samples=samples,
-            rtol=float(params["rtol"]),
-            atol=float(params["atol"]),
-        )
-        return prepared, run
-
-    def simulate(self, params: Params, t_end: float | None = None) -> RunResult:
-        t_end = self.t_end if t_end is None else float(t_end)
-        prepared, run = self.run_analyzer(params, t_end)
-        scale = float(max(prepared.quadric.scale, np.max(prepared.model.F_scale(run.r))))
-        v2 = (run.v**2).sum(-1)
-        series: dict[str, np.ndarray] = {}
-        for k in range(run.r.shape[1]):
-            suffix = "" if k == 0 else f"_{k + 1}"
-            for j, c in enumerate("xyz"):
-                series[c + suffix] = run.r[:, k, j]
-            for j, c in enumerate("xyz"):
-                series["v" + c + suffix] = run.v[:, k, j]
-            series["v2" + suffix] = v2[:, k]
-        series["drift"] = run.drift.max(axis=1) / scale
-        messages = list(prepared.messages)
-        if run.held.any():
-            first = float(run.t[np.argmax(run.held.any(axis=1))])
-            messages.append(
-                f"the field vanished (|grad F x w| ~ 0) from t = {first:.4g}: omega = V/|field| is undefined there, the point held"
-            )
-        metrics = {
-            "t_end": t_end,
-            "method": run.method,
-            "invariant_drift_max": float(run.drift.max()),
-            "invariant_drift_rel": float(run.drift.max() / scale),
-            "v2_min": float(v2.min()),
-            "v2_max": float(v2.max()),
-            "F0": float(run.F0[0]),
-            "held_samples": int(run.held.sum()),
-            "nfev": run.nfev,
-        }
-        metrics.update(self.extra_metrics(params, prepared, run))
-        return RunResult(self.id, None, params.raw(), run.t, series, metrics, messages)
-
-    def extra_metrics(
-        self, params: Params, prepared: Prepared, run: AnalyzerRun
-    ) -> dict[str, float]:
-        return {}
-
-    def stepper(self, params: Params) -> Stepper:
-        return AnalyzerStepper(self, params)
+    # -- the page ---------------------------------------------------------------
 
     def scene(self, params: Params) -> SceneSpec:
         prepared = self.prepare(params)
@@ -443,136 +484,69 @@ def _control_exprs(params: Params) -> tuple[sp.Expr, sp.Expr, sp.Expr]:
     return tuple(out)  # type: ignore[return-value]
 
 
-_STEP_MAPS: dict[tuple, tuple[np.ndarray, np.ndarray]] = {}
-
-
-def _model_key(model: AnalyzerModel) -> tuple:
-    """What a constant step map depends on besides h: the surface and the control values."""
-    return (
-        tuple(np.asarray(model.coeffs[n], dtype=float).tobytes() for n in COEFF_NAMES),
-        tuple(float(v) for v in model.controls.at(np.zeros(1))[:, 0]),
-    )
-
-
-def _constant_step_map(
-    model: AnalyzerModel, n_points: int, h: float, stages: int, model_key: tuple | None = None
-) -> tuple[np.ndarray, np.ndarray]:
-    """The Gauss-Legendre step map of a time-independent analyzer (cached, bounded)."""
-    key = (
-        model_key if model_key is not None else _model_key(model),
-        n_points,
-        round(h, 15),
-        stages,
-    )
-    hit = _STEP_MAPS.get(key)
-    if hit is None:
-        hit = gl_propagators(lambda ts: model.linear_coeffs(ts, n_points), 0.0, h, 1, stages)
-        if len(_STEP_MAPS) > 512:
-            _STEP_MAPS.clear()
-        _STEP_MAPS[key] = hit
-    return hit
-
-
 class AnalyzerStepper(Stepper):
-    """Live run of an analyzer lesson: fixed GL steps of size h, parameters live."""
+    """Live run of an analyzer lesson: reads the lesson's trajectory at the frame times.
+
+    New controls, surface or speed take effect from the current state (a new trajectory
+    starts there); a changed start point or family applies on :meth:`reset`.
+    """
 
     def __init__(self, lesson: AnalyzerLesson, params: Params) -> None:
         self.lesson = lesson
-        self._t = 0.0
-        self.set_params(params)
-        self.R = self.prepared.r0.copy()
+        self.params = params
+        self.prepared = lesson.prepare(params)
+        self._start(0.0, self.prepared.r0, self.prepared.F0)
+
+    def _start(self, t: float, R: np.ndarray, F0: np.ndarray) -> None:
+        self._t, self.R, self.F0 = t, np.array(R, dtype=float), F0
+        self.traj = self.lesson.trajectory(self.params, self.prepared, t, self.R)
 
     @property
     def t(self) -> float:
         return self._t
 
     def set_params(self, params: Params) -> None:
-        """New controls/surface/speed take effect from the current state; a changed start
-        point or family only applies on :meth:`reset`."""
         prepared = self.lesson.prepare(params)
-        old = getattr(self, "prepared", None)
-        self.params = params
-        self.prepared = prepared
-        self.h = float(params["h"])
-        self.stages = 2 if params["integrator"] == "gauss-legendre-2" else 3
-        if old is not None and hasattr(self, "R"):
-            if len(self.R) != len(prepared.r0):
-                self.R = prepared.r0.copy()
-            else:
-                # keep the state; if the surface changed, put the point back on it
-                q = prepared.quadric
-                if not self.lesson.keep_level(params) and np.any(
-                    np.abs(q.F(self.R)) > 1e-9 * q.scale
-                ):
-                    self.R = np.array([q.project(p) for p in self.R])
-        self.F0 = prepared.model.F(self.R if hasattr(self, "R") else prepared.r0)
-        model = prepared.model
-        self._constant = model.controls.V is None and model.controls.constant()
-        self._model_key = _model_key(model) if self._constant else None
+        R = self.R
+        if len(R) != len(prepared.r0):
+            R = prepared.r0
+        elif not self.lesson.keep_level(params):
+            # keep the state; if the surface changed, put the point back on it
+            q = prepared.quadric
+            if np.any(np.abs(q.F(R)) > 1e-9 * q.scale):
+                R = np.array([q.project(p) for p in R])
+        self.params, self.prepared = params, prepared
+        self._start(self._t, R, prepared.model.F(R))
 
     def reset(self) -> Frame:
-        self._t = 0.0
-        self.R = self.prepared.r0.copy()
-        self.F0 = self.prepared.model.F(self.R)
+        self._start(0.0, self.prepared.r0, self.prepared.F0)
         return self.frame()
 
     def advance(self, dt: float) -> Frame:
-        if not np.isfinite(dt) or dt <= 0:
-            return self.frame()
-        model = self.prepared.model
-        n = max(1, int(np.ceil(dt / self.h - 1e-9)))
-        h = dt / n
-        if self._constant:
-            # time-independent field: every step has the same map; build it once (shared by
-            # every session running the same surface and controls)
-            D, phi = _constant_step_map(model, len(self.R), h, self.stages, self._model_key)
-            self.R = apply_propagators(
-                np.broadcast_to(D, (n, *D.shape[1:])),
-                np.broadcast_to(phi, (n, *phi.shape[1:])),
-                self.R,
-            )[-1]
-        elif model.controls.V is None:
-            _, states = gl_linear(
-                lambda ts: model.linear_coeffs(ts, len(self.R)),
-                self.R,
-                self._t,
-                self._t + n * h,
-                h,
-                self.stages,
-            )
-            self.R = states[-1]
-        else:
-            stepper = SpeedStepper(model, self.stages)
-            _, states, _ = stepper.integrate(self.R, self._t, self._t + n * h, h)
-            self.R = states[-1]
-        self._t += n * h
+        if np.isfinite(dt) and dt > 0:
+            self._t += dt
+            self.R = self.traj.at(self._t)[0]
         return self.frame()
 
     def frame(self) -> Frame:
         model = self.prepared.model
-        v = model.velocity(self._t, self.R)
-        g = model.half_gradient(self.R)
-        q = self.prepared.quadric
-        drift = float(np.max(np.abs(model.F(self.R) - self.F0))) / q.scale
+        R = self.R
+        v = model.velocity(self._t, R)
         message = ""
-        if model.controls.V is not None and np.any(np.linalg.norm(v, axis=-1) == 0):
-            message = "the field vanishes here (|grad F x w| = 0): omega = V/|field| is undefined, the point holds until the controls change"
-        elif np.any(np.linalg.norm(v, axis=-1) == 0):
-            message = "the analyzer field is zero here: the point does not move"
-        uu = model.controls.at(np.asarray(self._t))
+        if np.any(np.linalg.norm(v, axis=-1) == 0):
+            message = (
+                "the field vanishes here (grad F is parallel to (u3, u2, u1)): ω = V/|field|"
+                " (1.58) is undefined, the velocity is 0 at this instant"
+                if model.controls.V is not None
+                else "the analyzer field is zero here: the point does not move"
+            )
         return Frame(
             t=self._t,
-            points={"point": self.R.copy()},
-            vectors={"velocity": (self.R.copy(), v), "gradient": (self.R.copy(), g)},
-            scalars={
-                "vx": float(v[0, 0]),
-                "vy": float(v[0, 1]),
-                "vz": float(v[0, 2]),
-                "v2": float((v[0] ** 2).sum()),
-                "drift": drift,
-                "u1": float(uu[0]),
-                "u2": float(uu[1]),
-                "u3": float(uu[2]),
+            points={"point": R.copy()},
+            vectors={
+                "velocity": (R.copy(), v),
+                "gradient": (R.copy(), model.half_gradient(R)),
             },
+            scalars=self.lesson.frame_scalars(self.params, self._t, state(R[None], self.F0)),
             message=message,
         )

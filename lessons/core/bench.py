@@ -15,7 +15,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from lessons.core.analyzer import AnalyzerModel, Controls, integrate
+from lessons.core.analyzer import AnalyzerModel, Controls
+from lessons.core.analyzer_run import integrate
 from lessons.core.formula import parse_formula
 from lessons.core.quadric import Quadric
 
@@ -118,9 +119,13 @@ def run_benchmark(t_end: float = 100.0, quick: bool = False) -> list[BenchRow]:
 
 
 def format_table(rows: list[BenchRow]) -> str:
-    head = "| problem | method | max drift/scale | max error along curve | wall s | RHS evals (GL affine: steps) | note |\n|---|---|---|---|---|---|---|"
+    head = (
+        "| problem | method | max drift/scale | max error along curve | wall s"
+        " | RHS evals (GL affine: steps) | note |\n|---|---|---|---|---|---|---|"
+    )
     body = [
-        f"| {r.problem} | {r.method} | {r.drift:.2e} | {r.error:.2e} | {r.seconds:.3f} | {r.nfev or '-'} | {r.note} |"
+        f"| {r.problem} | {r.method} | {r.drift:.2e} | {r.error:.2e} | {r.seconds:.3f}"
+        f" | {r.nfev or '-'} | {r.note} |"
         for r in rows
     ]
     return "\n".join([head, *body])

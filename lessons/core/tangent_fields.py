@@ -18,16 +18,15 @@ from dataclasses import dataclass
 
 import sympy as sp
 
+from lessons.core.analyzer import A_SYM, quadric_expr, x, y, z
 from lessons.core.quadric import COEFF_NAMES, Quadric, sym_number
 
-x, y, z = sp.symbols("x y z", real=True)
 B = sp.symbols("b0 b1 b2 b3", real=True)
 C = sp.symbols("c0 c1 c2 c3", real=True)
 D = sp.symbols("d0 d1 d2 d3", real=True)
 UNKNOWNS: tuple[sp.Symbol, ...] = (*B, *C, *D)
 #: Row order of (1.47) in the source, top to bottom.
 MONOMIALS: tuple[sp.Expr, ...] = (x**2, y**2, z**2, x * y, z * x, y * z, x, y, z, sp.Integer(1))
-A_SYM = {n: sp.Symbol(n, real=True) for n in COEFF_NAMES}
 
 
 def structure_143() -> tuple[sp.Expr, sp.Expr, sp.Expr]:
@@ -38,24 +37,9 @@ def structure_143() -> tuple[sp.Expr, sp.Expr, sp.Expr]:
     )
 
 
-def quadric_sym(a: Mapping[str, sp.Expr]) -> sp.Expr:
-    return (
-        a["a11"] * x**2
-        + a["a22"] * y**2
-        + a["a33"] * z**2
-        + 2 * a["a12"] * x * y
-        + 2 * a["a23"] * y * z
-        + 2 * a["a31"] * z * x
-        + 2 * a["a14"] * x
-        + 2 * a["a24"] * y
-        + 2 * a["a34"] * z
-        + a["a44"]
-    )
-
-
 def system_147(a: Mapping[str, sp.Expr] = A_SYM) -> sp.Matrix:
     """The 10 x 12 coefficient matrix of (1.47) (rows in the source's monomial order)."""
-    F = quadric_sym(a)
+    F = quadric_expr(a)
     f = structure_143()
     ident = sp.expand(
         sum(sp.diff(F, v) * fi for v, fi in zip((x, y, z), f)) / 2

@@ -1,0 +1,323 @@
+"""The analyzer's trajectory r(t): one fixed step sequence from the start, shared by runs
+and live steppers.
+
+A :class:`Trajectory` integrates one analyzer (1.50) or its constant-speed form (1.59)
+from ``(t0, r0)``.  Gauss-Legendre runs take fixed steps on the grid ``t0 + k h`` (the
+nodes are computed in blocks of steps; for (1.50) each block's step maps in one batched
+solve, for (1.59) by :class:`SpeedStepper`); scipy's solvers run in pieces of
+:data:`PIECE` seconds and are read through their dense output.  Between two nodes the
+state is one shortened step from the earlier node.  So every time has one value however
+the run is sampled: ``simulate`` on its grid and the live stepper frame by frame read the
+same trajectory.  :func:`integrate` samples one for the claims and the benchmark.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.integrate import solve_ivp
+
+from lessons.core.analyzer import AnalyzerModel
+from lessons.core.integrators import apply_propagators, gauss_legendre, gl_propagators
+
+#: Gauss-Legendre steps per block of nodes: (1.50) (one batched solve), (1.59) (Newton).
+BLOCK = 256
+SPEED_BLOCK = 32
+#: Length (s) of one piece of a scipy ``solve_ivp`` run.
+PIECE = 10.0
+
+
+class SpeedStepper:
+    """Gauss-Legendre steps of the constant-speed analyzer (1.59), vectorized over points.
+
+    The field is ``omega (A(t) r + c(t))`` with ``A, c`` from the lambdified (1.50) and
+    ``omega = sigma V / |A r + c|`` (1.58); the stages are solved by simplified Newton to
+    round-off (warm-started from the previous step), so F is kept to round-off.  A stage
+    where ``|A r + c|`` vanishes (:meth:`AnalyzerModel.holds`) has slope zero: the point
+    holds only while the field is zero (the Gauss nodes lie inside the step, so a field
+    that vanishes only at the step's start, as Example 1.3's at t = 0, does not stop it).
+    """
+
+    #: Largest turn of the velocity per substep (rad), see :meth:`step_substeps`.
+    max_turn = 0.03
+
+    def __init__(self, model: AnalyzerModel, stages: int = 3, max_iter: int = 30) -> None:
+        self.model = model
+        self.a, self.b, self.c = gauss_legendre(stages)
+        self.s = stages
+        self.max_iter = max_iter
+        self.evaluations = 0
+        self.K: np.ndarray | None = None
+
+    def coefficients(self, t: float, h: float, n_steps: int, N: int) -> tuple[np.ndarray, ...]:
+        """Batched A, c, sigma V and max|u| at the stage times of ``n_steps`` steps."""
+        ts = (t + h * (np.arange(n_steps)[:, None] + self.c[None, :])).ravel()
+        A, cc = self.model.linear_coeffs(ts, N)
+        s = self.s
+        Vs = self.model.controls.sign * self.model.controls.speed(ts)
+        umax = np.abs(self.model.controls.at(ts)).max(axis=0)
+        return (
+            A.reshape(n_steps, s, N, 3, 3),
+            cc.reshape(n_steps, s, N, 3),
+            Vs.reshape(n_steps, s),
+            umax.reshape(n_steps, s),
+        )
+
+    def step(self, R: np.ndarray, h: float, coeffs: tuple[np.ndarray, ...]) -> np.ndarray:
+        """One step of size ``h`` from ``R (N, 3)`` with the stage coefficients ``coeffs``."""
+        s, a = self.s, self.a
+        N = len(R)
+        A, cc, Vs, umax = coeffs
+        mid = s // 2
+        # simplified Newton matrix from the middle stage at R: J = omega (I - nn^T) A
+        nm = np.einsum("nij,nj->ni", A[mid], R) + cc[mid]
+        norm_m = np.sqrt((nm * nm).sum(-1))
+        moving = norm_m > 0
+        safe = np.where(moving, norm_m, 1.0)
+        nh = nm / safe[:, None]
+        P = np.eye(3) - nh[:, :, None] * nh[:, None, :]
+        J = (np.where(moving, Vs[mid], 0.0) / safe)[:, None, None] * (P @ A[mid])
+        M = np.eye(3 * s) - h * (a[None, :, None, :, None] * J[:, None, :, None, :]).reshape(
+            N, 3 * s, 3 * s
+        )
+        Minv = np.linalg.inv(M)
+        if self.K is not None and self.K.shape == (N, s, 3):
+            K = self.K.copy()
+        else:
+            K = np.repeat((nm * (Vs[mid] / safe)[:, None])[:, None, :], s, axis=1)
+        At = A.transpose(1, 0, 2, 3)  # (N, s, 3, 3)
+        ct = cc.transpose(1, 0, 2)
+        ha = h * a
+        size = self.model.hold_size(R)[:, None]  # the field's size barely changes in a step
+        for _ in range(self.max_iter):
+            Y = R[:, None, :] + ha @ K  # (N, s, 3)
+            n = (At @ Y[..., None])[..., 0] + ct
+            norm = np.sqrt((n * n).sum(-1))
+            held = self.model.holds(norm, size, umax[None, :])
+            f = n * np.where(held, 0.0, Vs[None, :] / np.where(norm > 0, norm, 1.0))[..., None]
+            self.evaluations += s
+            dK = -(Minv @ (K - f).reshape(N, 3 * s, 1)).reshape(N, s, 3)
+            K += dK
+            if np.abs(dK).max() <= 2e-16 * (np.abs(K).max() + 1e-300):
+                break
+        self.K = K
+        return R + h * np.einsum("i,nid->nd", self.b, K)
+
+    def step_substeps(
+        self, t: float, R: np.ndarray, h: float, coeffs: tuple[np.ndarray, ...] | None = None
+    ) -> np.ndarray:
+        """One output step of size ``h`` from ``(t, R)``, split into equal substeps where the
+        curve turns fast.
+
+        The turning rate of (1.59) is ``omega |A| = V |A| / |A r + c|``: near points where the
+        analyzer's field is small the point turns quickly; the step is cut so that
+        ``rate * substep <= max_turn`` (each substep is still a Gauss-Legendre step).
+        ``coeffs``: the step's stage coefficients, if already computed (:meth:`coefficients`).
+        """
+        if coeffs is None:
+            coeffs = tuple(x[0] for x in self.coefficients(t, h, 1, len(R)))
+        A, cc, Vs, _ = coeffs
+        n0 = np.einsum("nij,nj->ni", A[0], R) + cc[0]
+        norm0 = np.sqrt((n0 * n0).sum(-1))
+        rate = (
+            np.abs(Vs).max() * np.sqrt((A[0] ** 2).sum(axis=(-1, -2))) / np.maximum(norm0, 1e-300)
+        )
+        m = int(np.ceil(float(np.max(np.where(norm0 > 0, rate, 0.0))) * h / self.max_turn - 1e-12))
+        if m <= 1:
+            return self.step(R, h, coeffs)
+        m = min(m, 10_000)
+        hs = h / m
+        batch = self.coefficients(t, hs, m, len(R))
+        comp = np.zeros_like(R)
+        for j in range(m):
+            inc = (self.step(R, hs, tuple(x[j] for x in batch)) - R) - comp
+            nxt = R + inc
+            comp = (nxt - R) - inc
+            R = nxt
+        return R
+
+
+class Trajectory:
+    """r(t) of one analyzer from ``(t0, r0 (N, 3))``, read forward in time by :meth:`at`.
+
+    ``method``: ``gauss-legendre-2``/``-3`` (fixed step ``h``, F kept to round-off) or a
+    ``solve_ivp`` method (``RK45``, ``DOP853``, ...) with ``rtol``/``atol``.
+    """
+
+    def __init__(
+        self,
+        model: AnalyzerModel,
+        r0: np.ndarray,
+        t0: float = 0.0,
+        method: str = "gauss-legendre-3",
+        h: float = 1e-2,
+        rtol: float = 1e-3,
+        atol: float = 1e-6,
+    ) -> None:
+        self.model = model
+        self.t0 = float(t0)
+        self.r0 = np.atleast_2d(np.asarray(r0, dtype=float)).copy()
+        self.method = method
+        self.h = float(h)
+        self.rtol, self.atol = rtol, atol
+        self.nfev = 0
+        N = len(self.r0)
+        self._coeffs = lambda ts: model.linear_coeffs(ts, N)
+        self._speed: SpeedStepper | None = None
+        self._map: tuple[np.ndarray, np.ndarray] | None = None
+        if method.startswith("gauss-legendre"):
+            self.stages = int(method.rsplit("-", 1)[1])
+            if model.controls.V is not None:
+                self._speed = SpeedStepper(model, self.stages)
+            elif model.controls.constant():
+                # time-independent field: every full step has the same map
+                self._map = gl_propagators(self._coeffs, self.t0, self.h, 1, self.stages)
+        # nodes k0 .. k0 + len(nodes) - 1 of the current block (GL), or the current piece
+        self._k0 = 0
+        self._nodes = self.r0[None].copy()
+        self._comp = np.zeros_like(self.r0)
+        self._piece = -1
+        self._sol = None
+
+    @property
+    def gauss_legendre(self) -> bool:
+        return self.method.startswith("gauss-legendre")
+
+    def at(self, times: np.ndarray) -> np.ndarray:
+        """The states ``(m, N, 3)`` at the non-decreasing ``times`` (none before the last
+        block read)."""
+        times = np.atleast_1d(np.asarray(times, dtype=float))
+        out = np.empty((len(times), *self.r0.shape))
+        for i, t in enumerate(times):
+            out[i] = self._state(float(t)) if self.gauss_legendre else self._dense(float(t))
+        return out
+
+    # -- Gauss-Legendre ------------------------------------------------------------------
+
+    def _state(self, t: float) -> np.ndarray:
+        k = max(0, int(np.floor((t - self.t0) / self.h + 1e-9)))
+        node = self._node(k)
+        tk = self.t0 + k * self.h
+        rest = t - tk
+        if rest <= 1e-12 * max(1.0, abs(t)):
+            return node
+        return self._short_step(tk, node, rest)
+
+    def _node(self, k: int) -> np.ndarray:
+        if k < self._k0:
+            raise ValueError(f"trajectory read backwards (step {k} < {self._k0})")
+        while k >= self._k0 + len(self._nodes):
+            self._next_block()
+        return self._nodes[k - self._k0]
+
+    def _next_block(self) -> None:
+        k0 = self._k0 + len(self._nodes) - 1
+        t = self.t0 + k0 * self.h
+        r = self._nodes[-1]
+        if self._speed is not None:
+            nodes = np.empty((SPEED_BLOCK + 1, *r.shape))
+            nodes[0] = r
+            batch = self._speed.coefficients(t, self.h, SPEED_BLOCK, len(r))
+            for j in range(SPEED_BLOCK):
+                coeffs = tuple(x[j] for x in batch)
+                step = self._speed.step_substeps(t + j * self.h, r, self.h, coeffs)
+                inc = (step - r) - self._comp
+                nxt = r + inc
+                self._comp = (nxt - r) - inc
+                r = nodes[j + 1] = nxt
+            self.nfev = self._speed.evaluations
+        else:
+            if self._map is not None:
+                D, phi = (np.broadcast_to(m, (BLOCK, *m.shape[1:])) for m in self._map)
+            else:
+                D, phi = gl_propagators(self._coeffs, t, self.h, BLOCK, self.stages)
+            nodes, self._comp = apply_propagators(D, phi, r, self._comp)
+        self._k0, self._nodes = k0, nodes
+
+    def _short_step(self, tk: float, r: np.ndarray, rest: float) -> np.ndarray:
+        """One Gauss-Legendre step of length ``rest < h`` from the node ``(tk, r)``."""
+        if self._speed is not None:
+            warm = self._speed.K
+            out = self._speed.step_substeps(tk, r, rest)
+            self._speed.K = warm  # the next full step starts as if this one was not taken
+            return out
+        D, phi = gl_propagators(self._coeffs, tk, rest, 1, self.stages)
+        return r + (D[0] @ r[:, :, None])[:, :, 0] + phi[0]
+
+    # -- scipy ---------------------------------------------------------------------------
+
+    def _dense(self, t: float) -> np.ndarray:
+        j = max(0, int(np.floor((t - self.t0) / PIECE)))
+        if j < self._piece:
+            raise ValueError("trajectory read backwards")
+        while self._piece < j:
+            start = self.t0 + (self._piece + 1) * PIECE
+            r = self.r0 if self._sol is None else self._sol(start).reshape(self.r0.shape)
+            shape = self.r0.shape
+
+            def rhs(tt: float, yy: np.ndarray) -> np.ndarray:
+                return self.model.velocity(tt, yy.reshape(shape)).ravel()
+
+            sol = solve_ivp(
+                rhs,
+                (start, start + PIECE),
+                r.ravel(),
+                method=self.method,
+                rtol=self.rtol,
+                atol=self.atol,
+                dense_output=True,
+            )
+            if not sol.success:
+                raise RuntimeError(f"solve_ivp ({self.method}) failed: {sol.message}")
+            self.nfev += int(sol.nfev)
+            self._sol, self._piece = sol.sol, self._piece + 1
+        return self._sol(t).reshape(self.r0.shape)
+
+
+@dataclass
+class AnalyzerRun:
+    """A sampled analyzer run: ``t``, positions ``r (m, N, 3)``, velocities, invariant."""
+
+    t: np.ndarray
+    r: np.ndarray
+    v: np.ndarray
+    F: np.ndarray  # (m, N)
+    F0: np.ndarray  # (N,)
+    held: np.ndarray  # (m, N) bool: constant-speed analyzer held (field ~ 0)
+    method: str
+    nfev: int = 0
+
+    @property
+    def drift(self) -> np.ndarray:
+        return np.abs(self.F - self.F0[None, :])
+
+
+def integrate(
+    model: AnalyzerModel,
+    r0: np.ndarray,
+    t_end: float,
+    h: float = 1e-3,
+    method: str = "gauss-legendre-3",
+    samples: int | None = None,
+    rtol: float = 1e-3,
+    atol: float = 1e-6,
+) -> AnalyzerRun:
+    """Run the analyzer from ``r0 (N, 3)`` over ``[0, t_end]`` (see :class:`Trajectory`).
+
+    Sampled at ``samples`` evenly spaced times, or by default at every Gauss-Legendre node
+    (every ``h`` for scipy's solvers) and at ``t_end``.
+    """
+    traj = Trajectory(model, r0, 0.0, method, h, rtol, atol)
+    if samples is not None:
+        t = np.linspace(0.0, t_end, max(int(samples), 2))
+    else:
+        t = np.arange(int(np.floor(t_end / h + 1e-9)) + 1) * h
+        if t_end - t[-1] > 1e-9 * max(1.0, t_end):
+            t = np.append(t, t_end)
+    r = traj.at(t)
+    v = model.velocities(t, r)
+    held = np.zeros(r.shape[:2], dtype=bool)
+    if model.controls.V is not None:
+        held = np.linalg.norm(v, axis=-1) == 0.0
+    return AnalyzerRun(t, r, v, model.F(r), model.F(traj.r0), held, method, traj.nfev)

@@ -1,0 +1,117 @@
+"""The analyzer's trajectory: one step sequence however it is read, F kept to round-off,
+the constant-speed analyzer holding only while its field is zero."""
+
+import numpy as np
+import pytest
+
+from lessons.core.analyzer import COEFF_NAMES, AnalyzerModel, Controls
+from lessons.core.analyzer_run import Trajectory, integrate
+from lessons.core.formula import parse_formula
+from lessons.core.quadric import Quadric
+from tests.test_analyzer import SURFACES
+
+
+def family_model(V):
+    qs = [SURFACES[n][0] for n in SURFACES]
+    coeffs = {n: np.array([getattr(q, n) for q in qs]) for n in COEFF_NAMES}
+    f = parse_formula
+    controls = Controls(f("0.6 + 0.3*sin(t)"), f("0.2*cos(2*t)"), f("0.4"), V=V)
+    r0 = np.array([SURFACES[n][1] for n in SURFACES])
+    scales = np.array([q.scale for q in qs])
+    return AnalyzerModel(coeffs, controls), r0, scales
+
+
+@pytest.mark.parametrize(
+    "V", [None, parse_formula("1 + 0.5*sin(t)")], ids=["analyzer", "constant-speed"]
+)
+def test_invariant_round_off_over_1e5_steps_every_type(V):
+    model, r0, scales = family_model(V)
+    assert np.all(np.abs(model.F(r0)) < 1e-12)
+    h = 1e-4 if V is None else 2e-4
+    run = integrate(model, r0, 1e5 * h, h=h, samples=501)
+    assert run.r.shape[1] == len(SURFACES)
+    # relative to the size of F's terms where the point went (a hyperbolic paraboloid's
+    # trajectories run far out): round-off of F itself is ~1e-16 of that
+    rel = run.drift.max(axis=0) / np.maximum(scales, model.F_scale(run.r))
+    assert np.all(rel <= 1e-12), dict(zip(SURFACES, rel))
+    moved = np.linalg.norm(run.r[-1] - run.r[0], axis=-1)
+    assert np.all(moved > 1e-3)
+
+
+def test_speed_parallel_controls_hold():
+    """u parallel to the gradient in constant-speed mode: grad F x w = 0, hold."""
+    model = AnalyzerModel.of(
+        Quadric.sphere(1.0).coeffs(), Controls(0.0, 0.0, 2.0, V=1.0)
+    )  # w ~ (u3,u2,u1) = (2,0,0)
+    run = integrate(model, [1.0, 0.0, 0.0], 0.5, h=1e-2)
+    assert run.held.all() and np.allclose(run.r, [1.0, 0.0, 0.0])
+
+
+def test_reference_solver_drifts_where_gl_does_not():
+    model, r0, scales = family_model(None)
+    gl = integrate(model, r0, 50.0, h=1e-2, samples=501)
+    rk = integrate(model, r0, 50.0, method="RK45", samples=501)
+    gl_rel = gl.drift.max(axis=0) / np.maximum(scales, model.F_scale(gl.r))
+    rk_rel = rk.drift.max(axis=0) / np.maximum(scales, model.F_scale(rk.r))
+    assert gl_rel.max() < 1e-13
+    assert rk_rel.max() > 1e-7
+
+
+def test_example_1_3_constant_speed_leaves_at_once():
+    """The field of Ex. 1.3 vanishes at (1, 0, 0) only at t = 0: the Gauss nodes lie inside
+    the first step, so the point leaves at once (arc length t at speed V = 1)."""
+    f = parse_formula
+    model = AnalyzerModel.of(
+        Quadric.sphere(1.0).coeffs(), Controls(f("sin(10*t)"), f("t"), f("5"), V=1.0)
+    )
+    run = integrate(model, [1.0, 0.0, 0.0], 0.2, h=0.05)
+    speed = np.linalg.norm(run.v[:, 0], axis=-1)
+    assert run.held[0, 0] and not run.held[1:].any()
+    assert np.abs(speed[1:] - 1.0).max() < 1e-9
+    assert np.linalg.norm(run.r[1, 0] - run.r[0, 0]) == pytest.approx(0.05, rel=0.02)
+
+
+@pytest.mark.parametrize(
+    "controls",
+    [
+        Controls(5.0, 5.0, 5.0),
+        Controls(parse_formula("t"), 5.0, 5.0),
+        Controls(parse_formula("t"), 5.0, 5.0, V=1.0),
+    ],
+    ids=["constant", "varying", "constant-speed"],
+)
+def test_trajectory_read_frame_by_frame_equals_read_at_once(controls):
+    model = AnalyzerModel.of(Quadric.sphere(1.0).coeffs(), controls)
+    grid = np.arange(0, 201) * 0.01
+    at_once = Trajectory(model, [1.0, 0.0, 0.0], h=0.01).at(grid)
+    live = Trajectory(model, [1.0, 0.0, 0.0], h=0.01)
+    t, k = 0.0, 0
+    while k < len(grid):
+        t = min(t + 1 / 36, grid[k])
+        state = live.at(t)[0]
+        if t == grid[k]:
+            assert np.abs(state - at_once[k]).max() <= 1e-13
+            k += 1
+
+
+def test_between_nodes_a_shortened_step_keeps_the_order():
+    """Off the node grid the state is one shortened step: as accurate as the nodes."""
+    model = AnalyzerModel.of(Quadric.sphere(1.0).coeffs(), Controls(parse_formula("t"), 5.0, 5.0))
+    fine = integrate(model, [1.0, 0.0, 0.0], 1.0, h=1e-3, samples=8)
+    coarse = integrate(model, [1.0, 0.0, 0.0], 1.0, h=2e-2, samples=8)
+    assert np.abs(coarse.r - fine.r).max() < 1e-8
+
+
+def test_scipy_methods_read_dense_output_in_pieces():
+    model = AnalyzerModel.of(Quadric.sphere(1.0).coeffs(), Controls(5.0, 5.0, 5.0))
+    run = integrate(model, [1.0, 0.0, 0.0], 12.0, h=0.05, method="DOP853", rtol=1e-8, atol=1e-10)
+    assert run.t[-1] == 12.0 and run.nfev > 0
+    assert np.abs((run.v**2).sum(-1) - 50.0).max() < 1e-5
+
+
+def test_reading_backwards_is_refused():
+    model = AnalyzerModel.of(Quadric.sphere(1.0).coeffs(), Controls(5.0, 5.0, 5.0))
+    traj = Trajectory(model, [1.0, 0.0, 0.0], h=0.01)
+    traj.at(5.0)
+    with pytest.raises(ValueError, match="backwards"):
+        traj.at(0.5)
