@@ -29,6 +29,7 @@ class GridFlow:
     ) -> None:
         self.coeffs, self.t0, self.h, self.stages = coeffs, float(t0), float(h), stages
         self.states = np.asarray(r0, dtype=float)[None].copy()
+        self._comp: np.ndarray | None = None  # compensated-summation carry
 
     def _extend(self, upto: int) -> None:
         blocks = [self.states]
@@ -37,7 +38,8 @@ class GridFlow:
             D, phi = gl_propagators(
                 self.coeffs, self.t0 + k * self.h, self.h, self.BLOCK, self.stages
             )
-            seq = apply_propagators(D, phi, last)[1:]
+            seq, self._comp = apply_propagators(D, phi, last, self._comp)
+            seq = seq[1:]
             blocks.append(seq)
             last, k = seq[-1], k + self.BLOCK
         self.states = np.concatenate(blocks)

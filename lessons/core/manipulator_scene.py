@@ -13,10 +13,10 @@ import math
 
 import numpy as np
 
+from lessons.core.bodies import IDENTITY_Q, box, quat_z
 from lessons.core.contract import CurveItem, MarkerItem, MeshItem, Params
 from lessons.core.manipulator_tasks import family
 from lessons.core.manipulators import Model
-from lessons.core.bodies import IDENTITY_Q, box, quat_z
 
 BLUE, ORANGE, GREEN = (120, 160, 220), (220, 120, 60), (120, 200, 120)
 GUIDE = (80, 80, 80)

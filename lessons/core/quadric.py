@@ -32,7 +32,7 @@ import sympy as sp
 
 from lessons.core.quadric_mesh import _mesh_quadric
 from lessons.core.quadric_projection import _nearest_point, _project_affine
-from lessons.core.quadric_types import Classification, _classify3, _orth_complement, _reduce
+from lessons.core.quadric_types import Classification, _classify3
 
 COEFF_NAMES: tuple[str, ...] = (
     "a11",
@@ -514,8 +514,6 @@ CONSTRUCTORS: dict[str, SurfaceType] = {
 }
 
 
-#: The public names, and the reduction helpers the plane-conic module
-#: (:mod:`lessons.core.conic`) imports from here.
 __all__ = [
     "CONSTRUCTORS",
     "COEFF_NAMES",
@@ -524,7 +522,5 @@ __all__ = [
     "SurfaceType",
     "sym_number",
     "_nearest_point",
-    "_orth_complement",
     "_project_affine",
-    "_reduce",
 ]
