@@ -64,9 +64,9 @@ class CircleLesson(PlanarLesson):
     t_end = 10.0
     groups = (
         MODE,
-        Group("controls", "Control u(t) (1.40)"),
+        Group("controls", "Control u(t) (1.40)", change="live"),
         INITIAL,
-        Group("family", "Family (Fig. 1.12)"),
+        Group("family", "Family (Fig. 1.12)", change="restart"),
         DIGITAL,
     )
     modes = ("radius_mode", "digital")

@@ -78,12 +78,12 @@ class ConstrainedDynamics(Lesson):
     t_end = 20.0
     sampling = 0.025
     groups = (
-        Group("mode", "Example and stabilization"),
+        Group("mode", "Example and stabilization", change="restart"),
         Group("pendulum", "Pendulum"),
         Group("skate", "Knife edge"),
-        Group("initial", "Start state"),
+        Group("initial", "Start state", change="restart"),
         Group("baumgarte", "Baumgarte stabilization"),
-        Group("method", "Integrator", expanded=False),
+        Group("method", "Integrator", expanded=False, change="live"),
     )
     modes = ("example", "stabilization")
     series = SERIES

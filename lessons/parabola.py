@@ -63,9 +63,9 @@ class ParabolaLesson(PlanarLesson):
     groups = (
         MODE,
         Group("curve", "Parabola (1.33)"),
-        Group("controls", "Control ω (1.31)"),
+        Group("controls", "Control ω (1.31)", change="live"),
         INITIAL,
-        Group("family", "Family (Figs. 1.8-1.10)"),
+        Group("family", "Family (Figs. 1.8-1.10)", change="restart"),
         DIGITAL,
     )
     modes = ("digital",)

@@ -123,7 +123,7 @@ class QuadricLesson(AnalyzerLesson):
     t_end = 10.0
     modes = ("surface",)
     surface_groups = (
-        Group("mode", "Surface type"),
+        Group("mode", "Surface type", change="restart"),
         Group("shape", "Surface parameters R, a, b, c"),
         Group("coefficients", "Coefficients a11 ... a44 (surface = coefficients)", expanded=False),
     )

@@ -11,10 +11,10 @@ from lessons.core.contract import Group, Param, PlotSpec, Series
 METHODS = ("gauss-legendre-3", "gauss-legendre-2", "RK45", "DOP853")
 
 #: The groups of every analyzer lesson (a lesson adds its surface groups before them).
-DIRECTION = Group("mode", "Direction of motion")
-CONTROLS = Group("controls", "Controls u1(t), u2(t), u3(t)")
-SPEED_CONTROLS = Group("controls", "Controls u1(t), u2(t), u3(t) and speed V(t)")
-INITIAL = Group("initial", "Start point and family of curves")
+DIRECTION = Group("mode", "Direction of motion", change="live")
+CONTROLS = Group("controls", "Controls u1(t), u2(t), u3(t)", change="live")
+SPEED_CONTROLS = Group("controls", "Controls u1(t), u2(t), u3(t) and speed V(t)", change="live")
+INITIAL = Group("initial", "Start point and family of curves", change="restart")
 
 CONTROL_PARAMS: tuple[Param, ...] = (
     Param(

@@ -45,10 +45,10 @@ from lessons.core.steppers import (
 T_ = dynamicsymbols._t  # the time of the sympy models
 Array = np.ndarray
 
-MODE = Group("mode", "Mode")
+MODE = Group("mode", "Mode", change="restart")
 FORCES = Group("forces", "Forces and moments")
 PROGRAM = Group("program", "Motion law (inverse problem)")
-START = Group("initial", "Start state (forward problem)")
+START = Group("initial", "Start state (forward problem)", change="restart")
 
 PROBLEM = Param(
     "problem",
