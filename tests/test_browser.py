@@ -294,24 +294,36 @@ def test_two_contexts_are_independent(lab: Any, browser: Any) -> None:
         b.close()
 
 
-def test_csv_export_downloads_the_run(tab: Page) -> None:
-    tab.load(_label_of(tab.session.lesson), "example-1.1")
+def test_csv_exports_on_the_textbook_grid_and_of_the_frames(tab: Page) -> None:
+    """Example 1.2 played to t_end: the grid CSV has |v|² at t = 0, 1, ..., 10 as the
+    textbook tabulates it; the frames CSV has every played frame; both carry the lesson's
+    declared series."""
+    from lessons.sphere import V2_TABLE
+
+    tab.load(_label_of(tab.session.lesson), "example-1.2")
+    tab.select("Speed", "8x")
     tab.button("Play")
-    wait_until(lambda: tab.session.frame.t > 0.5, 10, "playback")
-    tab.button("Pause")
+    wait_until(lambda: tab.session.frame.t >= 10.0 - 1e-9, 20, "the run to t_end")
     tab.tab("Export")
-    with tab.page.expect_download(timeout=15000) as info:
-        tab.page.get_by_role("button", name="Download CSV").click()
-    path = ARTIFACTS / "export.csv"
+    with tab.page.expect_download(timeout=20000) as info:
+        tab.page.get_by_role("button", name="Download CSV (grid)").click()
+    path = ARTIFACTS / "export-grid.csv"
     info.value.save_as(path)
+    assert info.value.suggested_filename == "analyzer-lab-sphere-example-1.2.csv"
     lines = path.read_text().splitlines()
-    assert lines[0].startswith("t,x,y,z")
-    rows = [list(map(float, ln.split(","))) for ln in lines[1:]]
-    assert len(rows) == len(tab.session.log) >= 10
-    assert rows[-1][0] == pytest.approx(tab.session.frame.t)
     header = lines[0].split(",")
+    assert header[:4] == ["t", "x", "y", "z"]
+    rows = [list(map(float, ln.split(","))) for ln in lines[1:]]
+    assert [r[0] for r in rows] == pytest.approx(list(range(11)))
     v2 = [r[header.index("v2")] for r in rows]
-    assert np.allclose(v2, 50.0)
+    assert np.max(np.abs(np.array(v2) - np.array(V2_TABLE["example-1.2"]))) <= 5e-4
+    with tab.page.expect_download(timeout=20000) as info:
+        tab.page.get_by_role("button", name="Download CSV (frames)").click()
+    frames = ARTIFACTS / "export-frames.csv"
+    info.value.save_as(frames)
+    flines = frames.read_text().splitlines()
+    assert flines[0].split(",") == header
+    assert len(flines) - 1 == len(tab.session.log) >= 10
 
 
 def test_reload_restores_lesson_and_parameters(tab: Page) -> None:
