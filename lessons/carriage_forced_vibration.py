@@ -1,9 +1,12 @@
 """Forced vibration of the air-bearing carriage along one axis.
 
 Textbook §2.3, Problem 2.7, eqs (2.78)-(2.92): m q'' + b q' + c q = F0 sin(w0 t), the
-transient plus steady response in closed form (:class:`lessons.core.vibration.ForcedOscillator`),
-amplitude and phase against the forcing frequency, resonance.  The source gives no
-numbers for m, b, c, F0, w0: the defaults are illustrative, said so in the preset notes.
+transient plus steady response in closed form
+(:class:`lessons.core.vibration.ForcedOscillator`), amplitude and phase against the
+forcing frequency, resonance.  The derivation steps are in
+:mod:`lessons.core.carriage_derivation`, the claim checks in
+:mod:`lessons.core.carriage_claims`.  The source gives no numbers for m, b, c, F0, w0:
+the defaults are illustrative, said so in the preset notes.
 """
 
 from __future__ import annotations
@@ -12,14 +15,24 @@ import math
 from typing import Any
 
 import numpy as np
-import sympy as sp
 import trimesh
-from scipy.integrate import solve_ivp
 
 from lessons.core.bodies import mesh_item
+from lessons.core.carriage_claims import (
+    check_amp_phase,
+    check_closed_vs_ivp,
+    check_form_292,
+    check_homogeneous,
+    check_lagrange_forced,
+    check_MN,
+    check_numbers,
+    check_peak,
+    check_quadrant,
+    check_regimes,
+)
+from lessons.core.carriage_derivation import forced_vibration_steps
 from lessons.core.contract import (
     Claim,
-    ClaimResult,
     CurveItem,
     DerivationStep,
     Frame,
@@ -36,16 +49,11 @@ from lessons.core.contract import (
     SceneSpec,
     Series,
     Stepper,
-    at_most,
-    close,
 )
 from lessons.core.dense_solution import ClosedFormRun, RunStepper
-from lessons.core.vibration import ForcedOscillator, forced_lagrange, frequency_response
+from lessons.core.vibration import ForcedOscillator, frequency_response
 
 TWO_PI = 2.0 * math.pi
-
-
-# ====================================================================== Problem 2.7
 
 
 def oscillator_from_params(p: Params) -> ForcedOscillator:
@@ -65,11 +73,15 @@ class CarriageForcedVibration(Lesson):
     order = 2.7
     t_end = 20.0
     sampling = 0.01
+    # omega = 5 rad/s (0.8 Hz): twice real time shows 1.6 periods per second, 20 s in 10 s
+    time_scale = 2.0
+    # the closed form restarts from the current state after any change of m, b, c, F0,
+    # omega0: they act at once (the characteristic in the scene follows); q(0), q'(0) restart
     groups = (
         Group("carriage", "Carriage"),
         Group("bearing", "Air bearing"),
-        Group("forcing", "Forcing"),
-        Group("initial", "Start state"),
+        Group("forcing", "Forcing", change="live"),
+        Group("initial", "Start state", change="restart"),
     )
     series = (
         Series("q", "m", "coordinate of the carriage (2.92)"),
@@ -108,7 +120,8 @@ class CarriageForcedVibration(Lesson):
             "Illustrative carriage axis, omega0 = 4 < omega = 5",
             {},
             20.0,
-            "The source gives no numbers; these are the illustrative values of the verification (m=2, b=0.8, c=50, F0=3, omega0=4).",
+            "The source gives no numbers; these are the illustrative values of the verification "
+            "(m=2, b=0.8, c=50, F0=3, omega0=4).",
         ),
         Preset(
             "above-resonance",
@@ -160,21 +173,25 @@ class CarriageForcedVibration(Lesson):
         out = []
         if o.f == 0:
             out.append(
-                f"b = 0: undamped oscillation at omega = {o.omega:.4g} rad/s; the free part never decays."
+                f"b = 0: undamped oscillation at omega = {o.omega:.4g} rad/s; "
+                "the free part never decays."
             )
         elif o.regime == "underdamped":
             out.append(
-                f"f = {o.f:.4g} < omega = {o.omega:.4g}: decaying oscillation (2.80) with omega1 = {o.omega1:.4g} rad/s."
+                f"f = {o.f:.4g} < omega = {o.omega:.4g}: decaying oscillation (2.80) "
+                f"with omega1 = {o.omega1:.4g} rad/s."
             )
         elif o.regime == "critical":
             out.append("f = omega: critically damped; (2.80) is replaced by (C1 + C2 t) e^{-ft}.")
         else:
             out.append(
-                f"f = {o.f:.4g} > omega = {o.omega:.4g}: aperiodic transient; (2.80) does not apply (the source's 'f > omega' is read as f < omega)."
+                f"f = {o.f:.4g} > omega = {o.omega:.4g}: aperiodic transient; (2.80) does not "
+                "apply (the source's 'f > omega' is read as f < omega)."
             )
         if o.secular:
             out.append(
-                "Undamped resonance: the amplitude grows without bound, q* = -tau t cos(omega0 t)/(2 omega0)."
+                "Undamped resonance: the amplitude grows without bound, "
+                "q* = -tau t cos(omega0 t)/(2 omega0)."
             )
         return out
 
@@ -331,120 +348,8 @@ class CarriageForcedVibration(Lesson):
         )
 
     def derivation(self, params: Params) -> list[DerivationStep]:
-        S = forced_lagrange()
-        t, q = S.t, S.q
-        f, om, tau, w0 = S.f, S.omega, S.tau, S.w0
-        M, N, A, ph0, om1, A0, ph1 = sp.symbols("M N A varphi_0 omega_1 A_0 varphi_1")
-        qd, qdd = sp.diff(q, t), sp.diff(q, t, 2)
         o = oscillator_from_params(params)
-        w, Aw, phw = self.afc_curve(params, 9)
-        picks = sorted(
-            set(
-                [*w[::2].tolist(), o.w0, o.omega]
-                + ([o.peak_frequency] if math.isfinite(o.peak_frequency) else [])
-            )
-        )
-        Ap, php = frequency_response(o.m, o.b, o.c, o.F0, np.array(picks))
-        rows = " \\\\ ".join(
-            f"{wi:.4g} & {ai:.5g} & {math.degrees(pi):.4g}" for wi, ai, pi in zip(picks, Ap, php)
-        )
-        return [
-            DerivationStep(
-                "Lagrange equation with resistance and a periodic force",
-                "L = E - W, E = m q'^2/2, W = c q^2/2; generalized force -b q' + F0 sin(omega0 t) (sympy LagrangesMethod).",
-                S.lagrange,
-                "(2.78)",
-                reconstructed="the second printed form has '-P q''; the resistance coefficient is b",
-            ),
-            DerivationStep(
-                "Normalized form",
-                "f = b/(2m) (a damping factor, not a frequency), omega^2 = c/m, tau = F0/m.",
-                sp.Eq(qdd + 2 * f * qd + om**2 * q, tau * sp.sin(w0 * t)),
-                "(2.79)",
-            ),
-            DerivationStep(
-                "Free part",
-                "Decaying oscillation; valid for f < omega (underdamped).",
-                [
-                    sp.Eq(sp.Symbol("q_0"), A * sp.exp(-f * t) * sp.sin(om1 * t + ph0)),
-                    sp.Eq(om1, sp.sqrt(om**2 - f**2)),
-                ],
-                "(2.80)",
-                reconstructed="the source says 'small resistance (f > omega) ... aperiodic'; the formula needs f < omega and oscillates",
-            ),
-            DerivationStep(
-                "Other damping regimes",
-                "Not in the source: f = omega gives (C1 + C2 t) e^{-ft}; f > omega two real exponents.",
-                r"q_0=C_1e^{(-f+\sqrt{f^2-\omega^2})t}+C_2e^{(-f-\sqrt{f^2-\omega^2})t}",
-                "note to (2.80)",
-            ),
-            DerivationStep(
-                "Particular solution",
-                "",
-                sp.Eq(sp.Symbol("q^*"), M * sp.cos(w0 * t) + N * sp.sin(w0 * t)),
-                "(2.81)-(2.82)",
-            ),
-            DerivationStep(
-                "Coefficients of cos and sin vanish",
-                "Substituted into (2.79) (the source says (2.81)).",
-                [
-                    sp.Eq(-M * w0**2 + 2 * f * N * w0 + om**2 * M, 0),
-                    sp.Eq(-N * w0**2 - 2 * f * M * w0 + om**2 * N - tau, 0),
-                ],
-                "(2.83)-(2.84)",
-                reconstructed="(2.84) partly lost in extraction; rebuilt from (2.83)",
-            ),
-            DerivationStep("Ratio", "", sp.Eq(N, (w0**2 - om**2) / (2 * f * w0) * M), "(2.85)"),
-            DerivationStep(
-                "M and N",
-                "",
-                [sp.Eq(M, S.M), sp.Eq(N, S.N)],
-                "(2.86)-(2.87)",
-                reconstructed="lost in extraction; solved from (2.84) with sympy",
-            ),
-            DerivationStep(
-                "Amplitude",
-                "M = A0 sin phi1, N = A0 cos phi1.",
-                sp.Eq(A0, tau / sp.sqrt((om**2 - w0**2) ** 2 + 4 * f**2 * w0**2)),
-                "(2.88)",
-            ),
-            DerivationStep(
-                "Phase",
-                "tan phi1 = M/N; the quadrant is taken from the signs of M and N: phi1 = atan2(M, N), in (-pi, 0].",
-                sp.Eq(sp.tan(ph1), -2 * f * w0 / (om**2 - w0**2)),
-                "(2.89)-(2.90)",
-                reconstructed="(2.89) is a garbled intermediate that reduces to (2.90)",
-            ),
-            DerivationStep(
-                "Steady response", "", sp.Eq(sp.Symbol("q^*"), A0 * sp.sin(w0 * t + ph1)), "(2.91)"
-            ),
-            DerivationStep(
-                "Complete response",
-                "A and phi0 from q(0), q'(0): A sin phi0 = q(0) - M, A cos phi0 = (q'(0) - N omega0 + f (q(0) - M))/omega1.",
-                sp.Eq(
-                    q,
-                    A * sp.exp(-f * t) * sp.sin(om1 * t + ph0)
-                    + tau / sp.sqrt((om**2 - w0**2) ** 2 + 4 * f**2 * w0**2) * sp.sin(w0 * t + ph1),
-                ),
-                "(2.92)",
-                reconstructed="the subscripts of A and phi0 are garbled (A_1, phi_2); the same integration constants",
-            ),
-            DerivationStep(
-                "Resonance",
-                "Not in the source: A0(omega0) peaks at omega0 = sqrt(omega^2 - 2 f^2) when omega^2 > 2 f^2, with A0 = tau/(2 f omega1).",
-                sp.Eq(sp.Symbol("omega_peak"), sp.sqrt(om**2 - 2 * f**2)),
-                "from (2.88)",
-            ),
-            DerivationStep(
-                "Frequency response of these parameters",
-                f"f = {o.f:.5g} 1/s, omega = {o.omega:.5g} rad/s, tau = {o.tau:.5g} m/s^2, regime: {o.regime}; "
-                f"at omega0 = {o.w0:.5g}: A0 = {o.A0:.6g} m, phi1 = {o.phi1:.6g} rad.",
-                r"\begin{array}{ccc}\omega_0\ (\mathrm{rad/s})&A_0\ (\mathrm{m})&\varphi_1\ (^\circ)\\ \hline "
-                + rows
-                + r"\end{array}",
-                "(2.88), (2.90)",
-            ),
-        ]
+        return forced_vibration_steps(o, self.afc_curve(params, 9)[0])
 
     def claims(self) -> list[Claim]:
         return [
@@ -452,212 +357,69 @@ class CarriageForcedVibration(Lesson):
                 "lagrange-2-78",
                 "LagrangesMethod gives m q'' + c q = -b q' + F0 sin(omega0 t).",
                 "(2.78)",
-                _check_lagrange_forced,
+                check_lagrange_forced,
             ),
             Claim(
                 "particular-M-N",
-                "M, N solving (2.84) are (2.86)/(2.87); they satisfy (2.85); the particular solution (2.81) leaves residual 0.",
+                "M, N solving (2.84) are (2.86)/(2.87); they satisfy (2.85); the particular "
+                "solution (2.81) leaves residual 0.",
                 "(2.81)-(2.87)",
-                _check_MN,
+                check_MN,
             ),
             Claim(
                 "amplitude-phase",
-                "A0 = sqrt(M^2 + N^2) is (2.88); M/N is (2.90); A0 sin(omega0 t + phi1) = M cos + N sin (2.91).",
+                "A0 = sqrt(M^2 + N^2) is (2.88); M/N is (2.90); "
+                "A0 sin(omega0 t + phi1) = M cos + N sin (2.91).",
                 "(2.88)-(2.91)",
-                _check_amp_phase,
+                check_amp_phase,
             ),
             Claim(
                 "homogeneous-2-80",
-                "A e^{-ft} sin(omega1 t + phi0) solves the free equation, with omega1 = sqrt(omega^2 - f^2) real only for f < omega.",
+                "A e^{-ft} sin(omega1 t + phi0) solves the free equation, with "
+                "omega1 = sqrt(omega^2 - f^2) real only for f < omega.",
                 "(2.80)",
-                _check_homogeneous,
+                check_homogeneous,
             ),
             Claim(
                 "illustrative-numbers",
                 "m=2, b=0.8, c=50, F0=3, omega0=4: A0 = 0.164094 m, phi1 = -0.175940 rad.",
                 "(2.88), (2.90)",
-                _check_numbers,
+                check_numbers,
             ),
             Claim(
                 "phase-quadrant",
                 "For omega0 = 7 > omega = 5, atan2(M, N) reproduces q*, plain atan(M/N) does not.",
                 "(2.90)-(2.91)",
-                _check_quadrant,
+                check_quadrant,
             ),
             Claim(
                 "closed-vs-ivp",
-                "The closed form (2.92) (and its critical/aperiodic/undamped-resonance forms) equals solve_ivp (DOP853, rtol 1e-12) to 1e-8.",
+                "The closed form (2.92) (and its critical/aperiodic/undamped-resonance forms) "
+                "equals solve_ivp (DOP853, rtol 1e-12) to 1e-8.",
                 "(2.92)",
-                _check_closed_vs_ivp,
+                check_closed_vs_ivp,
             ),
             Claim(
                 "form-2-92",
                 "(2.92) written with A, phi0 equals the response from q(0), q'(0) to 1e-12.",
                 "(2.92)",
-                _check_form_292,
+                check_form_292,
             ),
             Claim(
                 "regimes",
-                "f < omega: decaying oscillation (many zero crossings); f > omega: aperiodic (at most one zero crossing).",
+                "f < omega: decaying oscillation (many zero crossings); f > omega: aperiodic "
+                "(at most one zero crossing).",
                 "(2.80)",
-                _check_regimes,
+                check_regimes,
             ),
             Claim(
                 "resonance-peak",
-                "A0(omega0) is largest at sqrt(omega^2 - 2 f^2) = 4.99199 rad/s with A0 = tau/(2 f omega1) = 0.750601 m "
-                "(illustrative values).",
+                "A0(omega0) is largest at sqrt(omega^2 - 2 f^2) = 4.99199 rad/s with "
+                "A0 = tau/(2 f omega1) = 0.750601 m (illustrative values).",
                 "(2.88)",
-                _check_peak,
+                check_peak,
             ),
         ]
-
-
-# -- claim checks, Problem 2.7 ---------------------------------------------------------
-
-
-def _check_lagrange_forced() -> ClaimResult:
-    S = forced_lagrange()
-    t, q = S.t, S.q
-    expected = S.m * sp.diff(q, t, 2) + S.c * q - (-S.b * sp.diff(q, t) + S.F0 * sp.sin(S.w0 * t))
-    d = sp.simplify(S.lagrange.lhs - expected)
-    return ClaimResult("difference 0", str(d), d == 0)
-
-
-def _check_MN() -> ClaimResult:
-    S = forced_lagrange()
-    f, om, tau, w0, t = S.f, S.omega, S.tau, S.w0, S.t
-    M, N = S.M, S.N
-    M_src = -2 * f * w0 * tau / ((om**2 - w0**2) ** 2 + 4 * f**2 * w0**2)
-    N_src = tau * (om**2 - w0**2) / ((om**2 - w0**2) ** 2 + 4 * f**2 * w0**2)
-    qs = M * sp.cos(w0 * t) + N * sp.sin(w0 * t)
-    residual = sp.simplify(
-        sp.diff(qs, t, 2) + 2 * f * sp.diff(qs, t) + om**2 * qs - tau * sp.sin(w0 * t)
-    )
-    d = [
-        sp.simplify(M - M_src),
-        sp.simplify(N - N_src),
-        sp.simplify(N - (w0**2 - om**2) / (2 * f * w0) * M),
-        residual,
-    ]
-    return ClaimResult("all 0", str(d), all(x == 0 for x in d))
-
-
-def _check_amp_phase() -> ClaimResult:
-    S = forced_lagrange()
-    f, om, tau, w0 = S.f, S.omega, S.tau, S.w0
-    d1 = sp.simplify(
-        S.M**2 + S.N**2 - tau**2 / ((om**2 - w0**2) ** 2 + 4 * f**2 * w0**2)
-    )  # A0^2, both sides positive
-    d2 = sp.simplify(S.M / S.N - (-2 * f * w0 / (om**2 - w0**2)))
-    o = ForcedOscillator(2.0, 0.8, 50.0, 3.0, 4.0)
-    tt = np.linspace(0, 10, 101)
-    M, N = o.MN
-    d3 = float(
-        np.max(
-            np.abs(
-                o.A0 * np.sin(o.w0 * tt + o.phi1) - (M * np.cos(o.w0 * tt) + N * np.sin(o.w0 * tt))
-            )
-        )
-    )
-    return ClaimResult("0, 0, < 1e-14", f"{d1}, {d2}, {d3:.2e}", d1 == 0 and d2 == 0 and d3 < 1e-14)
-
-
-def _check_homogeneous() -> ClaimResult:
-    t = sp.Symbol("t", real=True)
-    A, ph0 = sp.symbols("A varphi_0", real=True)
-    f, om = sp.symbols("f omega", positive=True)
-    om1 = sp.sqrt(om**2 - f**2)
-    q0 = A * sp.exp(-f * t) * sp.sin(om1 * t + ph0)
-    residual = sp.simplify(sp.diff(q0, t, 2) + 2 * f * sp.diff(q0, t) + om**2 * q0)
-    real_when = (
-        ForcedOscillator(1, 2 * 1.0, 4.0, 0, 0).regime,
-        ForcedOscillator(1, 2 * 3.0, 4.0, 0, 0).regime,
-    )
-    ok = residual == 0 and real_when == ("underdamped", "overdamped")
-    return ClaimResult(
-        "residual 0; f=1<omega=2 oscillates, f=3>omega=2 does not", f"{residual}; {real_when}", ok
-    )
-
-
-def _check_numbers() -> ClaimResult:
-    o = ForcedOscillator(2.0, 0.8, 50.0, 3.0, 4.0)
-    a, p = close(0.164094, o.A0, atol=5e-7), close(-0.175940, o.phi1, atol=5e-7)
-    return ClaimResult(
-        f"A0 {a.expected}; phi1 {p.expected}", f"A0 {a.got}; phi1 {p.got}", a.passed and p.passed
-    )
-
-
-def _check_quadrant() -> ClaimResult:
-    o = ForcedOscillator(2.0, 0.8, 50.0, 3.0, 7.0)
-    M, N = o.MN
-    t = np.linspace(0, 5, 501)
-    qs = M * np.cos(7 * t) + N * np.sin(7 * t)
-    e2 = float(np.max(np.abs(o.A0 * np.sin(7 * t + math.atan2(M, N)) - qs)))
-    e1 = float(np.max(np.abs(o.A0 * np.sin(7 * t + math.atan(M / N)) - qs)))
-    return ClaimResult(
-        "atan2 error < 1e-14, atan error > 1e-2",
-        f"atan2 {e2:.2e}, atan {e1:.2e}",
-        e2 < 1e-14 and e1 > 1e-2,
-    )
-
-
-def _ivp_error(o: ForcedOscillator, q0: float, v0: float, t_end: float) -> float:
-    t = np.linspace(0.0, t_end, 1001)
-    q, _ = o.response(t, q0, v0)
-    sol = solve_ivp(
-        o.rhs, (0.0, t_end), [q0, v0], method="DOP853", rtol=1e-12, atol=1e-14, t_eval=t
-    )
-    return float(np.max(np.abs(sol.y[0] - q)))
-
-
-def _check_closed_vs_ivp() -> ClaimResult:
-    cases = [
-        (2, 0.8, 50, 3, 4, 0.05, 0),
-        (2, 0.8, 50, 3, 7, 0.05, 0.3),
-        (2, 20, 50, 3, 4, 0.05, 0),
-        (2, 40, 50, 3, 4, 0.05, -0.2),
-        (2, 0, 50, 3, 5, 0.0, 0.0),
-        (2, 0, 0, 3, 2, 0.1, 0.1),
-    ]
-    worst = max(_ivp_error(ForcedOscillator(*c[:5]), c[5], c[6], 20.0) for c in cases)
-    return at_most(1e-8, worst, "max |q_closed - q_ivp| (m) ")
-
-
-def _check_form_292() -> ClaimResult:
-    o = ForcedOscillator(2.0, 0.8, 50.0, 3.0, 4.0)
-    t = np.linspace(0, 20, 2001)
-    err = float(np.max(np.abs(o.response_292(t, 0.05, 0.0) - o.response(t, 0.05, 0.0)[0])))
-    return at_most(1e-12, err, "max difference (m) ")
-
-
-def _check_regimes() -> ClaimResult:
-    t = np.linspace(0, 20, 20001)
-    under, _ = ForcedOscillator(2, 0.8, 50, 0, 0).homogeneous(t, 0.05, 0.0)
-    over, _ = ForcedOscillator(2, 40, 50, 0, 0).homogeneous(t, 0.05, -1.0)
-    zc = lambda y: int(np.count_nonzero(np.diff(np.sign(y[np.abs(y) > 1e-14])) != 0))  # noqa: E731
-    return ClaimResult(
-        "f<omega: > 10 crossings; f>omega: <= 1",
-        f"{zc(under)}; {zc(over)}",
-        zc(under) > 10 and zc(over) <= 1,
-    )
-
-
-def _check_peak() -> ClaimResult:
-    o = ForcedOscillator(2.0, 0.8, 50.0, 3.0, 4.0)
-    w = np.linspace(4.9, 5.1, 200001)
-    A, _ = frequency_response(2.0, 0.8, 50.0, 3.0, w)
-    w_num, A_num = float(w[np.argmax(A)]), float(np.max(A))
-    ok = (
-        abs(w_num - o.peak_frequency) < 2e-6
-        and abs(o.peak_frequency - 4.99199) < 5e-6
-        and abs(A_num - o.peak_amplitude) < 1e-9
-        and abs(o.peak_amplitude - 0.750601) < 5e-7
-    )
-    return ClaimResult(
-        "peak at 4.99199 rad/s, A0 0.750601 m",
-        f"numeric peak at {w_num:.6f}, A0 {A_num:.7f}; formula {o.peak_frequency:.6f}, {o.peak_amplitude:.7f}",
-        ok,
-    )
 
 
 LESSON = CarriageForcedVibration()

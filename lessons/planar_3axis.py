@@ -88,6 +88,44 @@ def planar3_symbols() -> dict[str, Any]:
     )
 
 
+def planar3_model(q: list[Any], xB: Any, yB: Any) -> LagrangeModel:
+    """The Lagrange model of the mechanism in the coordinates ``q`` with module B at
+    (``xB``, ``yB``): T (2.14)-(2.15) (the table term rebuilt), the module forces at A and
+    B and the table moment M_phi (the virtual work of (2.16)).  B is either (2.12) of
+    q = (x_A, y_A, phi) (this page) or two coordinates of its own (the loops opened,
+    :mod:`lessons.constrained_dynamics`)."""
+    s = planar3_symbols()
+    xA, yA, phi = s["xA"], s["yA"], s["phi"]
+    N = ReferenceFrame("N")
+    Tab = ReferenceFrame("Tab")
+    Tab.set_ang_vel(N, -phi.diff(T_) * N.z)  # A->B turns by -phi (clockwise): (2.12)
+    PA, PB = Point("A"), Point("B")
+    PA.set_vel(N, xA.diff(T_) * N.x + yA.diff(T_) * N.y)
+    PB.set_vel(N, xB.diff(T_) * N.x + yB.diff(T_) * N.y)
+    vA2 = xA.diff(T_) ** 2 + yA.diff(T_) ** 2
+    T = (
+        s["mA"] * vA2 / 2
+        + s["mB"] * (xB.diff(T_) ** 2 + yB.diff(T_) ** 2) / 2
+        + s["mAB"] * vA2 / 2
+        + s["J"] * phi.diff(T_) ** 2 / 2
+    )  # (2.15)
+    forces = [
+        (PA, s["FAx"] * N.x + s["FAy"] * N.y),
+        (PB, s["FBx"] * N.x + s["FBy"] * N.y),
+        (Tab, -s["Mphi"] * N.z),
+    ]
+    return LagrangeModel.build(
+        q,
+        T,
+        sp.S.Zero,
+        T_,
+        [s["mA"], s["mB"], s["mAB"], s["J"], s["AB"]],
+        [s["FAx"], s["FAy"], s["FBx"], s["FBy"], s["Mphi"]],
+        forcelist=forces,
+        frame=N,
+    )
+
+
 class Planar3Axis(PositionerLesson):
     """Problem 2.4 as the consistent 3-DOF model q = (x_A, y_A, phi): (2.12)-(2.16) with
     the reconstructed T (2.15) and (2.12) substituted."""
@@ -196,36 +234,8 @@ class Planar3Axis(PositionerLesson):
 
     def build_model(self, key: str) -> LagrangeModel:
         s = planar3_symbols()
-        xA, yA, phi, AB = s["xA"], s["yA"], s["phi"], s["AB"]
-        xB, yB = planar3_kinematics(xA, yA, phi, AB)  # (2.12)
-        N = ReferenceFrame("N")
-        Tab = ReferenceFrame("Tab")
-        Tab.set_ang_vel(N, -phi.diff(T_) * N.z)  # A->B turns by -phi (clockwise): (2.12)
-        PA, PB = Point("A"), Point("B")
-        PA.set_vel(N, xA.diff(T_) * N.x + yA.diff(T_) * N.y)
-        PB.set_vel(N, xB.diff(T_) * N.x + yB.diff(T_) * N.y)
-        vA2 = xA.diff(T_) ** 2 + yA.diff(T_) ** 2
-        T = (
-            s["mA"] * vA2 / 2
-            + s["mB"] * (xB.diff(T_) ** 2 + yB.diff(T_) ** 2) / 2
-            + s["mAB"] * vA2 / 2
-            + s["J"] * phi.diff(T_) ** 2 / 2
-        )  # (2.15)
-        forces = [
-            (PA, s["FAx"] * N.x + s["FAy"] * N.y),
-            (PB, s["FBx"] * N.x + s["FBy"] * N.y),
-            (Tab, -s["Mphi"] * N.z),
-        ]
-        return LagrangeModel.build(
-            [xA, yA, phi],
-            T,
-            sp.S.Zero,
-            T_,
-            [s["mA"], s["mB"], s["mAB"], s["J"], AB],
-            [s["FAx"], s["FAy"], s["FBx"], s["FBy"], s["Mphi"]],
-            forcelist=forces,
-            frame=N,
-        )
+        xB, yB = planar3_kinematics(s["xA"], s["yA"], s["phi"], s["AB"])  # (2.12)
+        return planar3_model([s["xA"], s["yA"], s["phi"]], xB, yB)
 
     def three_dof_equations(self) -> list[sp.Expr]:
         """The consistent 3-DOF equations written out by hand (left - right), Problem 2.4."""

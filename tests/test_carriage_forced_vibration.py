@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from lessons.carriage_forced_vibration import CarriageForcedVibration
+from lessons.carriage_forced_vibration import CarriageForcedVibration, oscillator_from_params
 from lessons.catalog import get_lesson
 
 FORCED = CarriageForcedVibration()
@@ -23,6 +23,13 @@ def test_every_claim_passes() -> None:
 
 def test_groups() -> None:
     assert [g.title for g in FORCED.groups] == ["Carriage", "Air bearing", "Forcing", "Start state"]
+    changes = {g.name: g.change for g in FORCED.groups}
+    assert changes == {
+        "carriage": "scene",
+        "bearing": "scene",
+        "forcing": "live",
+        "initial": "restart",
+    }
     assert FORCED.param("F0").group == "forcing" and FORCED.param("b").group == "bearing"
 
 
@@ -72,3 +79,27 @@ def test_forced_stepper_matches_simulate() -> None:
     assert st.reset().scalars["q"] == pytest.approx(params["q0"], abs=1e-15)
     assert "carriage" in f2.poses and "spring" in f2.vectors
     assert any(n.kind == "corrected" for n in FORCED.notes(params))
+
+
+def test_live_forcing_change_continues_from_the_state() -> None:
+    """A changed forcing acts at once: the run goes on from the current (q, q') with the
+    closed form (2.92) of the new values."""
+    params = FORCED.resolve()
+    st = FORCED.stepper(params)
+    for _ in range(36):
+        f1 = st.advance(1 / 36)
+    new = FORCED.resolve({"w0": 6.0, "F0": 1.0})
+    st.set_params(new)
+    q1, v1 = f1.scalars["q"], f1.scalars["v"]
+    f2 = st.advance(0.5)
+    o = oscillator_from_params(new)
+    q_want, _ = o.response(np.array([1.5]), q1, v1, 1.0)
+    assert f2.scalars["q"] == pytest.approx(float(q_want[0]), abs=1e-12)
+    assert f2.scalars["F_drive"] == pytest.approx(np.sin(6.0 * 1.5), abs=1e-12)
+
+
+def test_time_scale_shows_about_one_or_two_periods_per_second() -> None:
+    params = FORCED.resolve()
+    per_wall_second = oscillator_from_params(params).omega / (2 * np.pi) * FORCED.time_scale
+    assert 1.0 <= per_wall_second <= 3.0
+    assert FORCED.t_end / FORCED.time_scale == pytest.approx(10.0)

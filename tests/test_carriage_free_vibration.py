@@ -7,10 +7,19 @@ import math
 import numpy as np
 import pytest
 
-from lessons.carriage_free_vibration import CarriageFreeVibration, carriage_from_params
+from lessons.carriage_free_vibration import (
+    CarriageFreeVibration,
+    carriage_from_params,
+    geometry_from_params,
+)
 from lessons.catalog import get_lesson
 from lessons.core.contract import DerivationStep, ParamError
-from lessons.core.vibration import closed_form_frequencies, eigen_frequencies
+from lessons.core.vibration import (
+    MODE_KEYS,
+    closed_form_frequencies,
+    eigen_frequencies,
+    mode_shape,
+)
 
 FREE = CarriageFreeVibration()
 
@@ -78,6 +87,9 @@ def test_free_stepper_advances_lesson_time_exactly() -> None:
 
 def test_free_groups_notes_and_english_labels() -> None:
     assert [g.title for g in FREE.groups] == ["Mode", "Carriage", "Air bearing", "Start state"]
+    # the mode and the start state pick the initial state; carriage and bearing the modes
+    assert {g.change for g in FREE.groups} == {"restart"}
+    assert FREE.modes == ("mode",) and FREE.param("mode").group == "mode"
     assert FREE.param("m").group == "carriage" and FREE.param("Cz").group == "bearing"
     kinds = {n.kind for n in FREE.notes(FREE.resolve())}
     assert {"info", "corrected"} <= kinds
@@ -96,3 +108,37 @@ def test_default_frequencies_agree_with_eigh() -> None:
     cf = np.sort(list(closed_form_frequencies(p).values()))
     w, _ = eigen_frequencies(p)
     assert np.max(np.abs(cf - w) / w) <= 1e-9
+
+
+@pytest.mark.parametrize("mode", MODE_KEYS)
+def test_stepper_starts_from_the_chosen_mode_shape(mode: str) -> None:
+    """A changed mode restarts the session: the new stepper starts from the new shape,
+    scaled so that the largest corner moves by ``amplitude``, at rest."""
+    params = FREE.resolve({"mode": mode})
+    scalars = FREE.stepper(params).frame().scalars
+    state = np.array([scalars[c] for c in ("x", "y", "z", "phi_x", "phi_y", "phi_z")])
+    shape = mode_shape(carriage_from_params(params), mode)
+    d = geometry_from_params(params).max_corner_displacement(shape)
+    assert state == pytest.approx(shape * params["amplitude"] / d, abs=1e-15)
+    assert geometry_from_params(params).max_corner_displacement(state) == pytest.approx(
+        params["amplitude"], rel=1e-12
+    )
+    assert [scalars[f"v{c}"] for c in "xyz"] == [0.0, 0.0, 0.0]
+
+
+def test_set_params_then_reset_starts_the_new_mode() -> None:
+    st = FREE.stepper(FREE.resolve({"mode": "z"}))
+    st.advance(0.003)
+    new = FREE.resolve({"mode": "phi_z"})
+    st.set_params(new)  # state kept (what a "scene" change would do) ...
+    assert st.frame().scalars["phi_z"] == 0.0 and st.frame().scalars["z"] != 0.0
+    fr = st.reset()  # ... the session restarts a mode change: the new mode's shape
+    assert fr.t == 0.0 and fr.scalars["z"] == 0.0 and fr.scalars["phi_z"] != 0.0
+
+
+def test_time_scale_shows_a_few_periods_per_second() -> None:
+    for preset in FREE.presets:
+        f_hz = eigen_frequencies(carriage_from_params(FREE.resolve(preset=preset.name)))[0]
+        per_wall_second = f_hz / (2 * math.pi) * FREE.time_scale
+        assert 0.3 <= per_wall_second.min() and per_wall_second.max() <= 5.0
+    assert FREE.t_end / FREE.time_scale == pytest.approx(10.0)

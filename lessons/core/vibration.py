@@ -1,7 +1,8 @@
 """Vibrations of the air-bearing carriage: textbook chapter 2, Problems 2.6 and 2.7.
 
-Numerics and symbolic models shared by :mod:`lessons.carriage_vibrations` and the
-self-study lesson:
+Numerics and symbolic models shared by :mod:`lessons.carriage_free_vibration`,
+:mod:`lessons.carriage_forced_vibration` and their derivations and claim checks
+(:mod:`lessons.core.carriage_derivation`, :mod:`lessons.core.carriage_claims`):
 
 * the 6-DOF carriage (2.38)-(2.44) as ``M q'' + K q = 0`` with
   ``q = (x, y, z, phi_x, phi_y, phi_z)``, its closed-form frequencies (2.50), (2.54),
@@ -53,16 +54,6 @@ class Carriage:
         K[0, 4] = K[4, 0] = self.Cx * self.h  # x <-> phi_y, (2.43)
         K[1, 3] = K[3, 1] = self.Cy * self.h  # y <-> phi_x, (2.44)
         return M, K
-
-    def potential(self, q: np.ndarray) -> float:
-        """W of (2.40)."""
-        _, K = self.matrices()
-        return 0.5 * float(q @ K @ q)
-
-    def kinetic(self, v: np.ndarray) -> float:
-        """E of (2.39)."""
-        M, _ = self.matrices()
-        return 0.5 * float(v @ M @ v)
 
 
 def box_inertia(
@@ -142,6 +133,24 @@ def eigen_frequencies(p: Carriage) -> tuple[np.ndarray, np.ndarray]:
     M, K = p.matrices()
     lam, vecs = scipy.linalg.eigh(K, M)
     return np.sqrt(np.clip(lam, 0.0, None)), vecs
+
+
+@dataclass(frozen=True)
+class FrequencyTable:
+    """The six frequencies of one carriage: closed forms next to the full model."""
+
+    carriage: Carriage
+    closed_form: dict[str, float]  # rad/s, keyed by MODE_KEYS
+    eig: np.ndarray  # rad/s, ascending, from scipy.linalg.eigh
+    max_rel_err: float  # largest relative difference of the sorted closed forms to eig
+
+
+def frequency_table(p: Carriage) -> FrequencyTable:
+    """Closed-form (2.50), (2.54), (2.66)-(2.72) and eigenvalue frequencies of ``p``."""
+    cf = closed_form_frequencies(p)
+    w_eig, _ = eigen_frequencies(p)
+    rel = float(np.max(np.abs(np.sort(np.array(list(cf.values()))) - w_eig) / w_eig))
+    return FrequencyTable(p, cf, w_eig, rel)
 
 
 def mode_shape(p: Carriage, key: str) -> np.ndarray:
