@@ -1,4 +1,4 @@
-"""``analyzer-lab``: the command line (``serve``, ``lessons``, ``run``, ``check``, ``bench``).
+"""``analyzer-lab``: the command line (``serve``, ``lessons``, ``run``, ``check``).
 
 Headless commands import no view code; ``serve`` imports the viser app lazily.
 """
@@ -125,14 +125,6 @@ def cmd_check(args: argparse.Namespace) -> int:
     return 1 if failed else 0
 
 
-def cmd_bench(args: argparse.Namespace) -> int:
-    from lessons.core.bench import format_table, run_benchmark
-
-    rows = run_benchmark(t_end=args.t_end, quick=args.quick)
-    print(format_table(rows))
-    return 0
-
-
 def cmd_serve(args: argparse.Namespace) -> int:
     from app.server import serve
 
@@ -194,10 +186,6 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("--json", action="store_true")
     s.set_defaults(func=cmd_check)
 
-    s = sub.add_parser("bench", help="integrator benchmark against scipy's solve_ivp")
-    s.add_argument("--t-end", type=float, default=100.0)
-    s.add_argument("--quick", action="store_true", help="a shorter run")
-    s.set_defaults(func=cmd_bench)
     return p
 
 

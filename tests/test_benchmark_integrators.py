@@ -1,6 +1,6 @@
 """The integrator benchmark's table: same problems, all methods, sensible ordering."""
 
-from lessons.core.bench import format_table, run_benchmark
+from benchmarks.integrators import format_table, run_benchmark
 
 
 def test_quick_benchmark_rows_and_orders():

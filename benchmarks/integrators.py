@@ -1,5 +1,7 @@
 """Integrator benchmark: the default Gauss–Legendre integrator against scipy's ``solve_ivp``.
 
+    python -m benchmarks.integrators [--t-end 100] [--quick]
+
 For the same problems in one run: invariant drift max|F - F0| / scale, error along the
 curve against a tight reference (max |r - r_ref| / max(1, |r_ref|) over samples every 0.1 s), wall time,
 right-hand-side evaluations (for the affine analyzer: steps, each one batched linear
@@ -129,3 +131,20 @@ def format_table(rows: list[BenchRow]) -> str:
         for r in rows
     ]
     return "\n".join([head, *body])
+
+
+def main(argv: list[str] | None = None) -> int:
+    import argparse
+
+    ap = argparse.ArgumentParser(
+        prog="python -m benchmarks.integrators", description=__doc__.split("\n\n")[0]
+    )
+    ap.add_argument("--t-end", type=float, default=100.0)
+    ap.add_argument("--quick", action="store_true", help="a shorter run")
+    args = ap.parse_args(argv)
+    print(format_table(run_benchmark(t_end=args.t_end, quick=args.quick)))
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
