@@ -1,4 +1,4 @@
-"""Principle of building a motion program: textbook §1.1, eqs (1.1)-(1.15) (= article 001, (1)-(15)).
+"""Principle of building a motion program: textbook §1.1, eqs (1.1)-(1.15) (= the motion-program journal article, (1)-(15)).
 
 A space curve l is typed as x = f1(phi), y = f2(phi), z = f3(phi), phi in [phi0, phi1]
 (1.1).  It is reparametrized by arc length (1.12), (1.13), (1.6), then by time with the
@@ -140,7 +140,7 @@ class MotionProgramLesson(Lesson):
     title = "Building a motion program along a space curve"
     chapter = "1"
     problem = "§1.1"
-    source = "Textbook §1.1, eqs (1.1)-(1.15); article 001, eqs (1)-(15)"
+    source = "Textbook §1.1, eqs (1.1)-(1.15); the motion-program journal article, eqs (1)-(15)"
     summary = (
         "A curve given by any parameter phi is reparametrized by arc length, then by time with a "
         "trapezoid or triangle speed law; the rank-one controls u_ij = Xdot_i X_j / D make the "
@@ -371,7 +371,7 @@ class MotionProgramLesson(Lesson):
             ("The differential analyzer", "A linear system of the 3rd order whose coefficients"
              " u_ij(t) are the controls; its phase curve must start at r(phi0), describe l and"
              " only l, and never exceed v(t).", sp.Eq(Xv.diff(t), U * Xv), "(1.5)",
-             "lost in extraction; rebuilt from the text, article 001 and (1.15)"),
+             "lost in extraction; rebuilt from the text, the journal article and (1.15)"),
             ("Arc length", f"For this curve |r'(phi)|^2 is shown below; S_l = s(phi1) ="
              f" {cm.arc.S_l:.12g}. Numerically: the substitution phi = phi0 + (phi1 - phi0)"
              " sin^2(theta/2) removes end-point singularities such as that of (1.4).",

@@ -1,6 +1,6 @@
 """A motion program along a space curve and the linear analyzer that reproduces it.
 
-Textbook §1.1 (article 001).  The curve l (1.1) (:mod:`lessons.core.space_curve`) is
+Textbook §1.1 (and the motion-program journal article).  The curve l (1.1) (:mod:`lessons.core.space_curve`) is
 run by arc length s(t) (1.7) of a speed law v(t) (:mod:`lessons.core.profiles`): the
 time law X(t) = r(omega(s(t))) (1.10), (1.11), with the velocity Xdot = r'/|r'| v(t)
 (no numerical differentiation).  The controls (1.15) u_ij = Xdot_i X_j / D,
