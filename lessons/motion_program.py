@@ -1,4 +1,5 @@
-"""Principle of building a motion program: textbook §1.1, eqs (1.1)-(1.15) (= the motion-program journal article, (1)-(15)).
+"""Principle of building a motion program: textbook §1.1, eqs (1.1)-(1.15)
+(= the motion-program journal article, (1)-(15)).
 
 A space curve l is typed as x = f1(phi), y = f2(phi), z = f3(phi), phi in [phi0, phi1]
 (1.1).  It is reparametrized by arc length (1.12), (1.13), (1.6), then by time with the
