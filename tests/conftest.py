@@ -12,7 +12,13 @@ from __future__ import annotations
 
 import pytest
 
-LIVE_FILES = {"test_browser.py", "test_classroom_browser.py", "test_classroom.py", "test_server.py"}
+LIVE_FILES = {
+    "test_browser.py",
+    "test_browser_lessons.py",
+    "test_classroom_browser.py",
+    "test_classroom.py",
+    "test_server.py",
+}
 
 
 def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:

@@ -404,7 +404,15 @@ class Lesson(ABC):
                 }
                 for p in self.params
             ],
-            "groups": [{"name": g.name, "title": g.title, "change": g.change} for g in self.groups],
+            "groups": [
+                {
+                    "name": g.name,
+                    "title": g.title,
+                    "change": g.change,
+                    "when": [g.when[0], list(g.when[1])] if g.when else None,
+                }
+                for g in self.groups
+            ],
             "modes": list(self.modes),
             "start_point": list(self.start_point) if self.start_point else None,
             "family": self.family,

@@ -1,0 +1,167 @@
+"""Every lesson and every preset in a real browser, at a laptop's 1400x900 and a
+projector's 1280x720: the camera frames the scene, nothing in the panel overflows, no
+TeX reaches the page, the readout shows the lesson's declared quantities, and an edited
+value makes the panel say "custom".  Screenshots of every lesson go to tests/artifacts/.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Iterator
+from typing import Any
+
+import numpy as np
+import pytest
+
+from tests.test_browser import ARTIFACTS, CHROMIUM, LAUNCH_ARGS, Page, _require_browser, wait_until
+
+pytestmark = [pytest.mark.browser, pytest.mark.timeout(600)]
+
+SIZES = {"laptop": (1400, 900), "projector": (1280, 720)}
+#: The scene's projected box covers this share of the canvas's shorter side.
+COVER = (0.15, 0.85)
+
+OVERFLOW_JS = """() => {
+  const bad = [];
+  for (const el of document.querySelectorAll('.al-step, .al-eq, .al-figure, .al-readout')) {
+    if (el.offsetParent !== null && el.scrollWidth > el.clientWidth + 1) {
+      bad.push(el.className + ': ' + el.scrollWidth + ' > ' + el.clientWidth);
+    }
+  }
+  return bad;
+}"""
+
+
+def _quat_matrix(wxyz: np.ndarray) -> np.ndarray:
+    w, x, y, z = wxyz / np.linalg.norm(wxyz)
+    return np.array(
+        [
+            [1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
+            [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
+            [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)],
+        ]
+    )
+
+
+def coverage(camera: Any, bounds: Any) -> float:
+    """The scene box's projected extent over the canvas's shorter side, from the camera
+    the page reports (viser's camera frame: x right, y down, z forward)."""
+    lo, hi = (np.asarray(b, dtype=float) for b in bounds)
+    corners = np.array(
+        [[a, b, c] for a in (lo[0], hi[0]) for b in (lo[1], hi[1]) for c in (lo[2], hi[2])]
+    )
+    R = _quat_matrix(np.asarray(camera.wxyz, dtype=float))
+    p = (corners - np.asarray(camera.position, dtype=float)) @ R  # world -> camera
+    assert np.all(p[:, 2] > 0), "the scene is behind the camera"
+    W, H = float(camera.image_width), float(camera.image_height)
+    f = (H / 2) / math.tan(float(camera.fov) / 2)
+    u, v = f * p[:, 0] / p[:, 2], f * p[:, 1] / p[:, 2]
+    return float(max(np.ptp(u), np.ptp(v)) / min(W, H))
+
+
+def _cases() -> list[tuple[str, str]]:
+    from lessons.catalog import all_lessons
+
+    return [(lesson.id, p.name) for lesson in all_lessons() for p in lesson.presets]
+
+
+@pytest.fixture(scope="module")
+def lab() -> Iterator[Any]:
+    _require_browser()
+    from app.server import LabServer
+
+    server = LabServer(host="127.0.0.1", port=0, lesson="sphere")
+    yield server
+    server.stop()
+
+
+@pytest.fixture(scope="module")
+def browser(lab: Any) -> Iterator[Any]:
+    from playwright.sync_api import sync_playwright
+
+    ARTIFACTS.mkdir(exist_ok=True)
+    with sync_playwright() as p:
+        b = p.chromium.launch(executable_path=CHROMIUM, args=LAUNCH_ARGS)
+        yield b
+        b.close()
+
+
+@pytest.fixture(scope="module", params=list(SIZES))
+def sized(request: Any, lab: Any, browser: Any) -> Iterator[tuple[str, Page]]:
+    w, h = SIZES[request.param]
+    context = browser.new_context(viewport={"width": w, "height": h}, accept_downloads=True)
+    p = Page(lab, browser, context)
+    yield request.param, p
+    p.close()
+
+
+def _choose(tab: Page, lesson_id: str, preset: str) -> None:
+    from app.session import lesson_label
+    from lessons.catalog import get_lesson
+
+    if tab.session.lesson.id != lesson_id:
+        tab.input_for("Lesson").click()
+        label = lesson_label(get_lesson(lesson_id))
+        tab.page.get_by_role("option", name=label, exact=True).click()
+        wait_until(lambda: tab.session.lesson.id == lesson_id, 10, f"lesson {lesson_id}")
+    if tab.session.preset != preset or tab.session.edits():
+        tab.input_for("Preset").click()
+        tab.page.get_by_role("option", name=preset, exact=True).click()
+        wait_until(lambda: tab.session.preset == preset and not tab.session.edits(), 10, preset)
+
+
+def _framed(tab: Page) -> float:
+    """Wait until the page reports the camera the view framed; return its coverage."""
+    view = tab.view
+    want = view.session.camera_revision
+
+    def ready() -> float | None:
+        cam = tab.view.client.camera
+        if view._drawn_camera_rev != want:
+            return None
+        try:
+            return coverage(cam, tab.session.scene.bounds)
+        except AssertionError:
+            return None
+
+    # the page reports its camera after applying the framing (a few frames)
+    first = wait_until(ready, 10, "the framed camera")
+    time.sleep(0.4)
+    return ready() or first
+
+
+@pytest.mark.parametrize("lesson_id, preset", _cases())
+def test_every_preset_is_framed_fits_and_reads(
+    sized: tuple[str, Page], lesson_id: str, preset: str
+) -> None:
+    size, tab = sized
+    tab.errors.clear()
+    _choose(tab, lesson_id, preset)
+    cover = _framed(tab)
+    assert COVER[0] <= cover <= COVER[1], f"the scene covers {cover:.0%} of the canvas"
+    tab.tab("Lesson")
+    wait_until(lambda: tab.page.locator(".al-step").count() > 0, 15, "the derivation")
+    overflow = tab.page.evaluate(OVERFLOW_JS)
+    assert overflow == [], overflow
+    text = tab.page.locator("body").inner_text()
+    for tex in ("\\", "varphi", "{"):
+        assert tex not in text, f"raw TeX {tex!r} shown"
+    readout = tab.page.locator(".al-readout").first.inner_text()
+    for name in tab.session.lesson.readout:
+        if name in tab.session.frame.scalars:
+            assert name in readout, f"readout lacks {name}"
+    if preset == tab.session.lesson.presets[0].name:
+        tab.shot(f"{size}-{lesson_id}")
+    assert tab.errors == [], tab.errors
+
+
+def test_an_edit_makes_the_panel_say_custom(sized: tuple[str, Page]) -> None:
+    _, tab = sized
+    _choose(tab, "sphere", "example-1.1")
+    tab.tab("Controls")
+    tab.fill("u1(t) =", "4")
+    wait_until(lambda: tab.session.edits(), 5, "the edit")
+    note = tab.page.locator(".al-preset-note").first
+    wait_until(lambda: "custom (from example-1.1)" in note.inner_text(), 5, "custom")
+    assert "u1" in note.inner_text()

@@ -1,0 +1,116 @@
+"""The lesson contract itself: declarations checked, one observation, results that say
+where a series is not defined."""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+import pytest
+
+from lessons.core.contract import (
+    MODE,
+    Group,
+    Lesson,
+    ObservationError,
+    Param,
+    Params,
+    Series,
+    Stepper,
+)
+
+
+class Decay(Lesson):
+    """x' = -k x from x0 (a small lesson of its own, for the contract's machinery)."""
+
+    id = "decay"
+    groups = (MODE, Group("rate", "Rate", change="live", when=("shape", ("exp",))))
+    modes = ("shape",)
+    family = "family"
+    params = (
+        Param("shape", "choice", "exp", choices=("exp", "sqrt"), group="mode"),
+        Param("k", "float", 1.0, min=0.0, max=10.0, group="rate"),
+        Param("family", "int", 1, min=1, max=3, group="mode"),
+    )
+    series = (
+        Series("x", "m", "the decaying quantity", member=True),
+        Series("k_used", "1/s", "the rate"),
+    )
+    readout = ("x",)
+    sampling = 0.5
+
+    def observe(self, params: Params, t: np.ndarray, state: Any) -> dict[str, Any]:
+        out: dict[str, Any] = {"k_used": np.full(len(t), params["k"])}
+        for m in range(int(params["family"])):
+            name = "x" if m == 0 else f"x_{m + 1}"
+            out[name] = np.sqrt(1.0 - t) if params["shape"] == "sqrt" else np.exp(-t) * (m + 1)
+        return out
+
+    def simulate(self, params: Params, t_end: float | None = None):  # type: ignore[override]
+        t = self.sample_grid(t_end or 2.0)
+        return self.result(params, t, None)
+
+    def derivation(self, params: Params) -> list:  # type: ignore[override]
+        return []
+
+    def stepper(self, params: Params) -> Stepper:  # type: ignore[override]
+        raise NotImplementedError
+
+    def scene(self, params: Params):  # type: ignore[override]
+        raise NotImplementedError
+
+    def claims(self) -> list:  # type: ignore[override]
+        return []
+
+
+def test_declarations_are_checked() -> None:
+    assert Decay().declaration_errors() == []
+
+    class Broken(Decay):
+        groups = (MODE,)
+        readout = ("nothing",)
+
+    errors = Broken().declaration_errors()
+    assert any("group 'rate' is not declared" in e for e in errors)
+    assert any("readout 'nothing'" in e for e in errors)
+
+
+def test_family_members_get_their_own_columns_and_units() -> None:
+    lesson = Decay()
+    params = lesson.resolve({"family": 3})
+    names = [s.name for s in lesson.series_for(params)]
+    assert names == ["x", "k_used", "x_2", "x_3"]
+    result = lesson.simulate(params, 2.0)
+    assert list(result.series) == names
+    assert result.units == {"x": "m", "k_used": "1/s", "x_2": "m", "x_3": "m"}
+    assert list(result.t) == [0.0, 0.5, 1.0, 1.5, 2.0]  # the lesson's sampling
+    assert result.series["x_3"][0] == pytest.approx(3.0)
+    assert result.to_json_dict()["units"]["x_2"] == "m"
+
+
+def test_a_series_that_is_not_defined_is_reported_not_silent() -> None:
+    lesson = Decay()
+    result = lesson.simulate(lesson.resolve({"shape": "sqrt"}), 2.0)
+    assert np.isnan(result.series["x"][-1])
+    assert any(m.startswith("x is not defined from t = 1.5") for m in result.messages)
+
+
+def test_an_observation_that_differs_from_the_declarations_is_refused() -> None:
+    class Sloppy(Decay):
+        def observe(self, params: Params, t: np.ndarray, state: Any) -> dict[str, Any]:
+            return {"x": np.zeros(len(t)), "extra": np.zeros(len(t))}
+
+    with pytest.raises(ObservationError, match="missing \\['k_used'\\], undeclared \\['extra'\\]"):
+        Sloppy().simulate(Sloppy().resolve(), 1.0)
+
+
+def test_groups_apply_to_their_mode_values() -> None:
+    lesson = Decay()
+    rate = lesson.group("rate")
+    assert rate.applies(lesson.resolve()) and not rate.applies(lesson.resolve({"shape": "sqrt"}))
+    assert lesson.describe()["groups"][1] == {
+        "name": "rate",
+        "title": "Rate",
+        "change": "live",
+        "when": ["shape", ["exp"]],
+    }
