@@ -1,0 +1,85 @@
+"""The export part on its own (no browser): tables on the textbook's grid, the frames
+played, file names after what was run, and the HTML replay's caption and size cap."""
+
+from __future__ import annotations
+
+import csv
+import io
+
+import numpy as np
+import pytest
+
+from app.export import export_run, grid_run, parse_step
+from app.session import LabError, Session
+from lessons.catalog import all_lessons
+from lessons.sphere import V2_TABLE
+
+
+def _session(lesson: str, preset: str) -> Session:
+    s = Session(all_lessons(), lesson)
+    s.apply_preset(preset)
+    return s
+
+
+def _rows(data: bytes) -> list[dict[str, float]]:
+    return [{k: float(v) for k, v in r.items()} for r in csv.DictReader(io.StringIO(data.decode()))]
+
+
+def test_example_1_2_squared_speed_on_the_textbook_grid() -> None:
+    s = _session("sphere", "example-1.2")  # not played: the grid runs to t_end = 10
+    name, data = export_run(s, "csv")
+    assert name == "analyzer-lab-sphere-example-1.2.csv"
+    rows = _rows(data)
+    assert [r["t"] for r in rows] == list(range(11))
+    got = np.array([r["v2"] for r in rows])
+    assert np.max(np.abs(got - np.array(V2_TABLE["example-1.2"]))) <= 5e-4
+
+
+def test_the_grid_equals_the_headless_run() -> None:
+    s = _session("servo-errors", "circle")
+    grid = grid_run(s, 0.05)
+    lesson = s.lesson
+    run = lesson.simulate(s.params, float(grid.t[-1]))
+    assert list(grid.series) == list(run.series) and grid.units == run.units
+    for k, tk in enumerate(grid.t):
+        j = int(np.argmin(np.abs(run.t - tk)))
+        if abs(run.t[j] - tk) < 1e-12:
+            for n in run.series:
+                assert grid.series[n][k] == pytest.approx(run.series[n][j], rel=1e-9, abs=1e-12)
+
+
+def test_step_limits_name_the_field() -> None:
+    assert parse_step("pi/10", 10.0) == pytest.approx(np.pi / 10)
+    with pytest.raises(LabError, match="grid step: must be positive"):
+        parse_step("0", 10.0)
+    with pytest.raises(LabError, match="grid step: .* more than 20001 rows"):
+        parse_step("1e-5", 10.0)
+    with pytest.raises(LabError, match="grid step: syntax error"):
+        parse_step("import os", 10.0)
+
+
+def test_an_edited_run_is_named_custom_and_frames_keep_every_frame() -> None:
+    s = _session("sphere", "example-1.1")
+    s.set_value("u1", "4")
+    s.play()
+    for _ in range(20):
+        s.tick(1 / 36)
+    name, data = export_run(s, "frames-csv")
+    assert name == "analyzer-lab-sphere-example-1.1-custom-frames.csv"
+    assert len(_rows(data)) == len(s.log)
+    assert s.edits() == {"u1": ("5", "4")}
+
+
+def test_replay_is_titled_captioned_and_capped() -> None:
+    s = _session("sphere", "example-1.4-xy")  # a family of curves
+    s.set_value("family", 24)
+    s.set_speed(8)
+    s.play()
+    for _ in range(400):
+        s.tick(1 / 36)
+    name, data = export_run(s, "html")
+    page = data.decode()
+    assert name.endswith("-replay.html")
+    assert "<title>Analyzer Lab replay: Problem 1.4 Curve on a sphere</title>" in page
+    assert 'id="al-caption"' in page and "family" in page and "<svg" in page
+    assert len(data) < 25e6
