@@ -13,18 +13,17 @@ one session to another (:meth:`Session.state` / :meth:`Session.apply_state`).
 
 from __future__ import annotations
 
-import json
 import math
 import threading
 import time
 from collections import deque
 from collections.abc import Callable, Mapping, Sequence
-from dataclasses import asdict, dataclass, field
 from typing import Any
 
 import numpy as np
 
 from app.runlog import RunLog, lesson_scene, raw_value, scenes_equal
+from app.state import LabError, SessionState
 from lessons.core.contract import (
     Frame,
     Lesson,
@@ -46,61 +45,8 @@ TIME_QUANTUM = 1.0 / 600.0  # lesson seconds: the grain of a played tick
 MAX_SUBSTEPS = 8
 #: Seconds after a "live" change before the scene is redrawn (debounced).
 SCENE_DEBOUNCE = 0.3
-#: Size limit of a saved state (bytes of JSON) accepted from a browser.
-MAX_STATE_BYTES = 20000
-
-
-class LabError(ValueError):
-    """A refused request; ``str(err)`` is one line for the user."""
-
-
-@dataclass
-class SessionState:
-    """What a student set: enough to rebuild the session (JSON-friendly)."""
-
-    lesson: str
-    preset: str | None = None
-    values: dict[str, Any] = field(default_factory=dict)
-    speed: float = 1.0
-    pause_at_end: bool = True
-    visible_vectors: list[str] | None = None
-
-    def to_json(self) -> str:
-        return json.dumps(asdict(self), allow_nan=False, default=str)
-
-    @classmethod
-    def from_json(cls, text: str) -> SessionState:
-        """Parse a saved state; raise :class:`LabError` on anything malformed."""
-        if not isinstance(text, str) or len(text) > MAX_STATE_BYTES:
-            raise LabError("saved state is missing or too large")
-        try:
-            data = json.loads(text)
-        except (ValueError, RecursionError) as exc:
-            raise LabError(f"saved state is not valid JSON: {exc}") from None
-        if not isinstance(data, dict) or not isinstance(data.get("lesson"), str):
-            raise LabError("saved state has no lesson")
-        values = data.get("values") or {}
-        if not isinstance(values, dict) or not all(isinstance(k, str) for k in values):
-            raise LabError("saved state: values must be an object")
-        clean: dict[str, Any] = {}
-        for k, v in values.items():
-            if isinstance(v, (str, int, float, bool)) and not (isinstance(v, str) and len(v) > 400):
-                clean[k] = v
-        preset = data.get("preset")
-        speed = data.get("speed", 1.0)
-        vectors = data.get("visible_vectors")
-        return cls(
-            lesson=data["lesson"][:80],
-            preset=preset[:80] if isinstance(preset, str) else None,
-            values=clean,
-            speed=float(speed)
-            if isinstance(speed, (int, float)) and not isinstance(speed, bool)
-            else 1.0,
-            pause_at_end=bool(data.get("pause_at_end", True)),
-            visible_vectors=[str(v)[:40] for v in vectors][:20]
-            if isinstance(vectors, list)
-            else None,
-        )
+#: "Go to t" reaches at most this many times the lesson's t_end.
+MAX_GO_TO = 10
 
 
 def lesson_label(lesson: Lesson) -> str:
@@ -438,15 +384,42 @@ class Session:
         return self._advance(k * quantum)
 
     def step(self) -> list[Frame]:
-        """One single step (paused): ``STEP_DT`` seconds times the speed (and the
-        lesson's time scale)."""
+        """One single step (paused): the lesson's sampling step (the source's table of
+        t = 0, 1, 2, ...), else ``STEP_DT`` seconds times the speed and time scale."""
         self.playing = False
         if self.pause_at_end and self.stepper.t >= self.t_end - 1e-9:
             self.notify(
                 f"t_end = {self.t_end:g} s reached; reset or untick 'pause at t_end'", "info"
             )
             return []
-        return self._advance(STEP_DT * self.speed * self.lesson.time_scale)
+        step = self.lesson.sampling or STEP_DT * self.speed * self.lesson.time_scale
+        target = (math.floor(self.stepper.t / step + 1e-9) + 1) * step  # on the grid
+        return self.go_to(target)
+
+    def go_to(self, t: float) -> list[Frame]:
+        """Pause and show the run at lesson time ``t`` (from the start if ``t`` is
+        earlier than now); the frames on the way are recorded as when played."""
+        if not (isinstance(t, (int, float)) and math.isfinite(t)) or t < 0:
+            raise LabError(f"go to t: must be a time >= 0 s, got {t!r}")
+        limit = MAX_GO_TO * max(self.t_end, 1e-9)
+        if t > limit:
+            raise LabError(f"go to t: {t:g} s is beyond {limit:g} s ({MAX_GO_TO} x t_end)")
+        self.playing = False
+        if t < self.stepper.t - 1e-12:
+            self.reset()
+        frames: list[Frame] = []
+        piece = SUBSTEP_DT * self.lesson.time_scale
+        while t - self.stepper.t > 1e-12 * max(1.0, t):
+            try:
+                frame = self.stepper.advance(min(piece, t - self.stepper.t))
+            except (ValueError, ArithmeticError, FloatingPointError) as exc:
+                self.notify(f"the integration stopped: {exc}", "error")
+                break
+            frames.append(frame)
+            self.log.add(frame)
+        if frames:
+            self.frame = frames[-1]
+        return frames
 
     # -- state ----------------------------------------------------------------------
 

@@ -36,7 +36,8 @@ from app.persistence import save_state
 from app.plots import PlotPanel
 from app.readout import preset_note_html, readout_html, speed_label, status_html
 from app.scene_render import SceneRenderer
-from app.session import SPEEDS, LabError, Session, lesson_label
+from app.session import LabError, Session, lesson_label
+from app.transport import MAX_DRAWN_FRAMES, Transport
 from app.viser_boundary import fast_set
 from lessons.core.contract import Param, ParamError
 from lessons.core.formula import Formula
@@ -214,12 +215,8 @@ class SessionView:
         )
         self.preset_dd.on_update(self.guard(self._on_preset))
         self.preset_note = gui.add_html("")
-        self.transport = gui.add_button_group("Run", ("Play", "Pause", "Step", "Reset"))
-        self.transport.on_click(self.guard(self._on_transport))
-        self.speed_dd = gui.add_dropdown(
-            "Speed", tuple(speed_label(x) for x in SPEEDS), initial_value=speed_label(s.speed)
-        )
-        self.speed_dd.on_update(self.guard(self._on_speed))
+        self.clock = Transport(gui, self.guard, lambda: self.session, self._played)
+        self.transport, self.speed_dd = self.clock.buttons, self.clock.speed
         self.readout = gui.add_html(readout_html(self.session))
         self.status = gui.add_html(status_html(self.session))
         self.tabs = gui.add_tab_group()
@@ -330,29 +327,15 @@ class SessionView:
             self.session.notify(f"preset {name}: {self.session.lesson.preset(name).title}")
         self.after_state_change()
 
-    def _on_transport(self, event: Any) -> None:
-        what = event.target.value
+    def _played(self, frames: list[Any], reframe: bool) -> None:
+        """Frames the transport made outside the loop (a step, a jump, a reset)."""
         s = self.session
-        if what == "Play":
-            s.play()
-        elif what == "Pause":
-            s.pause()
-        elif what == "Step":
-            frames = s.step()
-            self.renderer.push_frames(frames, s.playing, self.frame_count)
-        elif what == "Reset":
-            s.pause()
-            s.reset()
+        if reframe:
             s.camera_revision += 1  # the student asked for the start: frame the scene too
-        else:
-            raise LabError(f"unknown transport command {str(what)[:40]!r}")
+        if frames:
+            self.renderer.push_frames(frames[-MAX_DRAWN_FRAMES:], s.playing, self.frame_count)
+            self.plots.add(s.frame)
         self._frame_dirty = True
-
-    def _on_speed(self, event: Any) -> None:
-        text = str(event.target.value)
-        if not text.endswith("x"):
-            raise LabError(f"unknown speed {text[:20]!r}")
-        self.session.set_speed(text[:-1])
         self._save_state()
 
     def _on_pause_at_end(self, event: Any) -> None:

@@ -128,10 +128,21 @@ def test_other_sessions_unaffected() -> None:
     assert a.frame.t == 0.0 and b.frame.t > 0
 
 
-def test_speed_and_step(session: Session) -> None:
+def test_speed_and_step_by_the_textbook_sampling(session: Session) -> None:
     session.set_speed(8)
-    frames = session.step()
-    assert session.frame.t == pytest.approx(8 / 30) and 1 <= len(frames) <= session.max_substeps
+    frames = session.step()  # the sphere's table is sampled at t = 0, 1, 2, ...
+    assert session.frame.t == pytest.approx(1.0) and len(frames) >= 1
+    session.go_to(0.4)
+    session.step()  # to the next grid time, not by a whole step
+    assert session.frame.t == pytest.approx(1.0)
+    frames = session.go_to(3.25)
+    assert session.frame.t == pytest.approx(3.25) and not session.playing
+    assert session.frame.scalars["v2"] == pytest.approx(50.0, rel=1e-9)
+    session.go_to(0.5)  # earlier: from the start again
+    assert session.frame.t == pytest.approx(0.5)
+    for bad in (-1.0, float("nan"), 1e9):
+        with pytest.raises(LabError, match="go to t"):
+            session.go_to(bad)
     for bad in (3, "fast", float("nan"), None):
         with pytest.raises(LabError):
             session.set_speed(bad)
