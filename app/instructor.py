@@ -48,8 +48,6 @@ class Presenter:
                 hint="large fonts for a projector; presets become bookmarks",
             )
             self.bookmarks = gui.add_html("")
-            self.prev_btn = gui.add_button("◀ Previous")
-            self.next_btn = gui.add_button("Next ▶")
             gui.add_html(
                 '<div style="font-size:0.8em;color:#555">Keys: PageDown / N = next, PageUp / P = previous '
                 "(also in the command palette).</div>"
@@ -63,8 +61,6 @@ class Presenter:
         self._readout_order = view.readout.order
         self.commands: list[Any] = []
         self.toggle.on_update(view.guard(self._on_toggle))
-        self.prev_btn.on_click(view.guard(lambda e: self.step(-1)))
-        self.next_btn.on_click(view.guard(lambda e: self.step(+1)))
         self.on = False
         self.update_bookmarks()
 

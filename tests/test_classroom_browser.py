@@ -127,13 +127,11 @@ def test_follow_me_and_release_with_two_students(lab: Any, browser: Any) -> None
                 10,
                 "u3 shown to the student",
             )
-        # a following student's own edit is refused and does not touch the demo
-        s2.fill("u3(t) =", "1")
-        time.sleep(0.4)
-        assert inst.session.raw_values()["u3"] == "4"
-        wait_until(
-            lambda: s2.input_for("u3(t) =").input_value() == "4", 10, "the student's field resynced"
-        )
+        # a following student sees a persistent banner and read-only controls
+        for s in (s1, s2):
+            assert "Following the instructor" in s.page.locator(".al-following").inner_text()
+            assert s.input_for("u3(t) =").is_disabled()
+        assert inst.page.locator(".al-following").count() == 0
         inst.shot("classroom-instructor")
         # release: each student has an own session again, starting from the demo
         t_demo = inst.session.frame.t
@@ -143,6 +141,8 @@ def test_follow_me_and_release_with_two_students(lab: Any, browser: Any) -> None
             assert s.session.lesson.id == "ellipsoid" and s.session.preset == preset
             assert s.session.raw_values()["u3"] == "4" and s.session.frame.t >= t_demo - 1e-6
         assert s1.session is not s2.session
+        wait_until(lambda: not s1.input_for("u3(t) =").is_disabled(), 10, "controls back")
+        wait_until(lambda: s1.page.locator(".al-following").count() == 0, 5, "banner gone")
         s1.fill("u3(t) =", "2")
         wait_until(lambda: s1.session.raw_values()["u3"] == "2", 5, "the student's own edit")
         assert inst.session.raw_values()["u3"] == "4" and s2.session.raw_values()["u3"] == "4"
