@@ -267,7 +267,7 @@ SOURCE_STYLE = "color:#555;font-size:0.85em;margin-left:6px"
 
 
 #: Average width of a rendered math glyph in em (a deliberate over-estimate: fit first).
-GLYPH_EM = 0.62
+GLYPH_EM = 0.72
 
 
 def math_width(mathml: str) -> float:
@@ -307,7 +307,7 @@ def _fit_font(mathml: str) -> str:
     """A font size that fits the formula into its container's width (CSS container
     units), never above the surrounding size and never below 45 % of it."""
     em = math_width(mathml) * GLYPH_EM
-    return f"clamp(0.45em, {100.0 / em:.2f}cqi, 1em)"
+    return f"clamp(0.4em, {96.0 / em:.2f}cqi, 1em)"
 
 
 def _fit_svg(svg: str) -> str:

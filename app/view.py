@@ -174,7 +174,7 @@ class SessionView:
         read-only (or end both)."""
         self.following = on
         self.banner.content = (
-            '<div class="al-following" style="background:#1c4f8a;color:#fff;padding:4px 8px;'
+            '<div class="al-following-banner" style="background:#1c4f8a;color:#fff;padding:4px 8px;'
             'border-radius:4px;font-weight:600">Following the instructor: the controls are'
             " read-only until the demo ends.</div>"
             if on

@@ -129,9 +129,9 @@ def test_follow_me_and_release_with_two_students(lab: Any, browser: Any) -> None
             )
         # a following student sees a persistent banner and read-only controls
         for s in (s1, s2):
-            assert "Following the instructor" in s.page.locator(".al-following").inner_text()
+            assert "Following the instructor" in s.page.locator(".al-following-banner").inner_text()
             assert s.input_for("u3(t) =").is_disabled()
-        assert inst.page.locator(".al-following").count() == 0
+        assert inst.page.locator(".al-following-banner").count() == 0
         inst.shot("classroom-instructor")
         # release: each student has an own session again, starting from the demo
         t_demo = inst.session.frame.t
@@ -142,7 +142,7 @@ def test_follow_me_and_release_with_two_students(lab: Any, browser: Any) -> None
             assert s.session.raw_values()["u3"] == "4" and s.session.frame.t >= t_demo - 1e-6
         assert s1.session is not s2.session
         wait_until(lambda: not s1.input_for("u3(t) =").is_disabled(), 10, "controls back")
-        wait_until(lambda: s1.page.locator(".al-following").count() == 0, 5, "banner gone")
+        wait_until(lambda: s1.page.locator(".al-following-banner").count() == 0, 5, "banner gone")
         s1.fill("u3(t) =", "2")
         wait_until(lambda: s1.session.raw_values()["u3"] == "2", 5, "the student's own edit")
         assert inst.session.raw_values()["u3"] == "4" and s2.session.raw_values()["u3"] == "4"
