@@ -345,9 +345,9 @@ def step_to_html(step: DerivationStep, index: int | None = None) -> str:
     for item in _as_list(step.math):
         mathml = expr_to_mathml(item)
         parts.append(
-            '<div class="al-eq" style="container-type:inline-size;width:100%;overflow:hidden">'
-            f'<div style="font-size:{_fit_font(mathml)};line-height:normal;margin:4px 0">'
-            f"{mathml}</div></div>"
+            '<div style="container-type:inline-size;width:100%">'
+            f'<div class="al-eq" style="font-size:{_fit_font(mathml)};line-height:normal;'
+            f'margin:4px 0;overflow-x:auto;overflow-y:hidden">{mathml}</div></div>'
         )
     if step.svg:
         parts.append(f'<div class="al-figure" style="width:100%">{_fit_svg(step.svg)}</div>')

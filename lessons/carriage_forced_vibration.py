@@ -142,7 +142,7 @@ class CarriageForcedVibration(Lesson):
             "Critical damping f = omega (b = 2 sqrt(m c))",
             {"b": 20.0},
             10.0,
-            "(2.80) does not apply; q0 = (C1 + C2 t) e^{-ft}.",
+            "(2.80) does not apply; q0 = (C1 + C2 t) e^(-f t).",
         ),
         Preset(
             "overdamped",
@@ -182,7 +182,7 @@ class CarriageForcedVibration(Lesson):
                 f"with omega1 = {o.omega1:.4g} rad/s."
             )
         elif o.regime == "critical":
-            out.append("f = omega: critically damped; (2.80) is replaced by (C1 + C2 t) e^{-ft}.")
+            out.append("f = omega: critically damped; (2.80) is replaced by (C1 + C2 t) e^(-f t).")
         else:
             out.append(
                 f"f = {o.f:.4g} > omega = {o.omega:.4g}: aperiodic transient; (2.80) does not "
@@ -375,7 +375,7 @@ class CarriageForcedVibration(Lesson):
             ),
             Claim(
                 "homogeneous-2-80",
-                "A e^{-ft} sin(omega1 t + phi0) solves the free equation, with "
+                "A e^(-f t) sin(omega1 t + phi0) solves the free equation, with "
                 "omega1 = sqrt(omega^2 - f^2) real only for f < omega.",
                 "(2.80)",
                 check_homogeneous,

@@ -321,7 +321,7 @@ class QuadricLesson(AnalyzerLesson):
                 f"The nullspace has dimension {rep.nullity} but (1.50) spans {rep.rank_150}"
                 f" of it (combined rank {rep.rank_combined}): "
                 "the extra fields move the point along the cylinder's axis (dz/dφ in"
-                " span{1, x, y, z})."
+                " the span of 1, x, y, z)."
             )
         steps.append(
             DerivationStep(

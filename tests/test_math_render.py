@@ -141,3 +141,29 @@ def test_figures_scale_to_the_panel_width() -> None:
     head = out[out.index("<svg") : out.index(">", out.index("<svg"))]
     assert 'width="100%"' in head and 'viewBox="0 0 660 300"' in head
     assert 'width="660"' not in head
+
+
+def test_no_lesson_shows_raw_tex() -> None:
+    """Every preset's derivation, rendered: no backslash or TeX name in the shown text,
+    and no brace outside a formula (inside one a brace is a set or a case split)."""
+    import html as html_lib
+    import re
+
+    from lessons.catalog import all_lessons
+
+    for lesson in all_lessons():
+        seen: set[str] = set()
+        for preset in lesson.presets:
+            out = derivation_to_html(lesson.derivation(lesson.resolve(preset=preset.name)))
+            if out in seen:
+                continue
+            seen.add(out)
+            maths = re.findall(r"<math.*?</math>", out, flags=re.S)
+            prose = re.sub(r"<math.*?</math>", " ", out, flags=re.S)
+            prose_text = html_lib.unescape(re.sub(r"<[^>]+>", " ", prose))
+            math_text = html_lib.unescape(re.sub(r"<[^>]+>", " ", " ".join(maths)))
+            where = f"{lesson.id}:{preset.name}"
+            for tex in ("\\", "varphi", "{", "}"):
+                assert tex not in prose_text, (where, tex, prose_text[:200])
+            for tex in ("\\", "varphi"):
+                assert tex not in math_text, (where, tex)

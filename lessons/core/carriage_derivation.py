@@ -346,7 +346,7 @@ def forced_vibration_steps(o: ForcedOscillator, w_grid: np.ndarray) -> list[Deri
         ),
         DerivationStep(
             "Other damping regimes",
-            "Not in the source: f = omega gives (C1 + C2 t) e^{-ft}; f > omega two real exponents.",
+            "Not in the source: f = omega gives (C1 + C2 t) e^(-f t); f > omega two real exponents.",
             r"q_0=C_1e^{(-f+\sqrt{f^2-\omega^2})t}+C_2e^{(-f-\sqrt{f^2-\omega^2})t}",
             "note to (2.80)",
         ),

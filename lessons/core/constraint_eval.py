@@ -159,7 +159,7 @@ def algorithm_steps() -> list[DerivationStep]:
             "One multiplier per constraint: lambda = [lambda_1 ... lambda_v2]^T; H has v2 rows "
             "(one per constraint) and n columns.",
             r"\delta q^{T}\left(-A\ddot q+B+B^{*}+H^{T}\lambda\right)=0,\quad"
-            r"\lambda=\left[\lambda_1\;\cdots\;\lambda_{v_2}\right]^{T},\quad"
+            r"\lambda=\left[\lambda_1\;\cdots\;\lambda_{v_2}\right]^{T},\quad "
             r"H=\left[f_1'^{T}\cdots f_{v_1}'^{T}\;a_{v_1+1}^{T}\cdots a_{v_2}^{T}\right]^{T}"
             r"\in\mathbb{R}^{v_2\times n}",
             "(2.24)",

@@ -446,7 +446,7 @@ class ForcedOscillator:
         return qh + qp, vh + vp
 
     def response_292(self, t: np.ndarray, q0: float, v0: float) -> np.ndarray:
-        """(2.92) literally: A e^{-ft} sin(omega1 t + phi0) + A0 sin(w0 t + phi1) (f < omega)."""
+        """(2.92) literally: A e^(-f t) sin(omega1 t + phi0) + A0 sin(w0 t + phi1) (f < omega)."""
         A, ph0 = self.amplitude_phase_constants(q0, v0)
         return A * np.exp(-self.f * t) * np.sin(self.omega1 * t + ph0) + self.A0 * np.sin(
             self.w0 * t + self.phi1
