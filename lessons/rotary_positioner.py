@@ -29,7 +29,6 @@ from lessons.core.contract import (
     Preset,
     SceneSpec,
     Series,
-    at_most,
     close,
 )
 from lessons.core.formula import t_symbol
@@ -270,15 +269,6 @@ class RotaryPositioner(PositionerLesson):
             J = 1.0 * 0.04 + 0.5 * 0.09 + 2.0 * 0.01
             return close(0.08 / J * 25 / 2, float(r.series["phi"][-1]), rtol=1e-8)
 
-        def round_trip() -> ClaimResult:
-            err, fmax = self.round_trip_error({"M_dv": "0.2*sin(t)", "M_c": "0.01"})
-            return at_most(1e-4 * fmax, err, "max |M_dv recovered - M_dv| ")
-
-        def inv_fwd() -> ClaimResult:
-            return at_most(
-                1e-8, self.inverse_forward_error({}), "max |phi forward - phi law| (rad) "
-            )
-
         return [
             Claim(
                 "eq-2.3-2.4",
@@ -302,13 +292,15 @@ class RotaryPositioner(PositionerLesson):
                 "round-trip-forward-inverse",
                 "Forward then inverse recovers M_dv = 0.2 sin t (within 1e-4 of its peak)",
                 "(2.4)",
-                round_trip,
+                self.forward_inverse_check(
+                    {"M_dv": "0.2*sin(t)", "M_c": "0.01"}, "max |M_dv recovered - M_dv| "
+                ),
             ),
             Claim(
                 "round-trip-inverse-forward",
                 "Inverse then forward reproduces the law phi(t) to 1e-8 rad",
                 "(2.4)",
-                inv_fwd,
+                self.inverse_forward_check({}, "max |phi forward - phi law| (rad) "),
             ),
         ]
 
