@@ -20,7 +20,6 @@ from lessons.core.contract import (
     ClaimResult,
     DerivationStep,
     Frame,
-    Note,
     Param,
     Params,
     PlotSpec,
@@ -100,17 +99,12 @@ class LinearPositioner(PositionerLesson):
         PlotSpec("Forces", ("F_dv", "R_sopr", "N_x"), "N"),
     )
 
-    def notes(self, params: Params) -> list[Note]:
-        if params["problem"] == "inverse":
-            return [
-                Note(
-                    "info",
-                    "Inverse problem: R_sopr and N_x stay as given; F_dv is the force the law"
-                    " x(t) needs, (2.2).",
-                    "(2.2)",
-                )
-            ]
-        return [Note("info", "Forward problem: the motion law x(t) is not used.", "(2.2)")]
+    problem_notes = (
+        "Inverse problem: R_sopr and N_x stay as given; F_dv is the force the law x(t)"
+        " needs, (2.2).",
+        "Forward problem: the motion law x(t) is not used.",
+        "(2.2)",
+    )
 
     def build_model(self, key: str) -> LagrangeModel:
         x = dynamicsymbols("x")

@@ -21,7 +21,6 @@ from lessons.core.contract import (
     ClaimResult,
     DerivationStep,
     Frame,
-    Note,
     Param,
     ParamError,
     Params,
@@ -129,17 +128,11 @@ class RotaryPositioner(PositionerLesson):
         J = sum(float(params[f"m{i}"]) * float(params[f"h{i}"]) ** 2 for i in (1, 2, 3))
         return {"J_z": np.full(q.shape[1], J)}
 
-    def notes(self, params: Params) -> list[Note]:
-        if params["problem"] == "inverse":
-            return [
-                Note(
-                    "info",
-                    "Inverse problem: M_c stays as given; M_dv is the moment the law phi(t)"
-                    " needs, (2.3).",
-                    "(2.3)",
-                )
-            ]
-        return [Note("info", "Forward problem: the motion law phi(t) is not used.", "(2.3)")]
+    problem_notes = (
+        "Inverse problem: M_c stays as given; M_dv is the moment the law phi(t) needs, (2.3).",
+        "Forward problem: the motion law phi(t) is not used.",
+        "(2.3)",
+    )
 
     def build_model(self, key: str) -> LagrangeModel:
         phi = dynamicsymbols("phi")

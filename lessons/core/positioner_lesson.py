@@ -26,6 +26,7 @@ from lessons.core.contract import (
     Frame,
     Group,
     Lesson,
+    Note,
     Param,
     Params,
     RunResult,
@@ -274,6 +275,14 @@ class PositionerLesson(DynamicsLesson):
     physical: tuple[str, ...] = ()  # model parameter names, in the model's order
     t_end = 10.0
     sampling = 0.01
+    #: ``(inverse, forward, source)``: the note :meth:`notes` gives for each problem
+    problem_notes: tuple[str, str, str] | None = None
+
+    def notes(self, params: Params) -> list[Note]:
+        if self.problem_notes is None:
+            return []
+        inverse, forward, source = self.problem_notes
+        return [Note("info", inverse if params["problem"] == "inverse" else forward, source)]
 
     # -- model ------------------------------------------------------------------
 
