@@ -20,13 +20,11 @@ from lessons.core.contract import (
     ClaimResult,
     DerivationStep,
     Frame,
-    Note,
     Param,
     Params,
     PlotSpec,
     Preset,
     SceneSpec,
-    at_most,
     close,
 )
 from lessons.core.formula import t_symbol
@@ -101,17 +99,12 @@ class LinearPositioner(PositionerLesson):
         PlotSpec("Forces", ("F_dv", "R_sopr", "N_x"), "N"),
     )
 
-    def notes(self, params: Params) -> list[Note]:
-        if params["problem"] == "inverse":
-            return [
-                Note(
-                    "info",
-                    "Inverse problem: R_sopr and N_x stay as given; F_dv is the force the law"
-                    " x(t) needs, (2.2).",
-                    "(2.2)",
-                )
-            ]
-        return [Note("info", "Forward problem: the motion law x(t) is not used.", "(2.2)")]
+    problem_notes = (
+        "Inverse problem: R_sopr and N_x stay as given; F_dv is the force the law x(t)"
+        " needs, (2.2).",
+        "Forward problem: the motion law x(t) is not used.",
+        "(2.2)",
+    )
 
     def build_model(self, key: str) -> LagrangeModel:
         x = dynamicsymbols("x")
@@ -227,15 +220,6 @@ class LinearPositioner(PositionerLesson):
             m = self.model(self.resolve())
             return is_zero(m.eom()[0] - self.textbook_eq())
 
-        def round_trip() -> ClaimResult:
-            err, fmax = self.round_trip_error({"M": 5.0, "F_dv": "2 + sin(3*t)", "R_sopr": "0.5"})
-            return at_most(1e-4 * fmax, err, "max |F_dv recovered - F_dv| ")
-
-        def inv_fwd() -> ClaimResult:
-            return at_most(
-                1e-8, self.inverse_forward_error({"M": 5.0}), "max |x forward - x law| (m) "
-            )
-
         def constant_force() -> ClaimResult:
             r = self.run("forward-constant-force")
             return close(1.5 / 5.0 * 10.0**2 / 2, float(r.series["x"][-1]), rtol=1e-8)
@@ -266,13 +250,16 @@ class LinearPositioner(PositionerLesson):
                     "1e-4 of its peak)"
                 ),
                 "(2.2)",
-                round_trip,
+                self.forward_inverse_check(
+                    {"M": 5.0, "F_dv": "2 + sin(3*t)", "R_sopr": "0.5"},
+                    "max |F_dv recovered - F_dv| ",
+                ),
             ),
             Claim(
                 "round-trip-inverse-forward",
                 "Inverse then forward reproduces the law x = 0.1(1 - cos(pi t/2)) to 1e-8 m",
                 "(2.2)",
-                inv_fwd,
+                self.inverse_forward_check({"M": 5.0}, "max |x forward - x law| (m) "),
             ),
         ]
 

@@ -21,7 +21,6 @@ from lessons.core.contract import (
     ClaimResult,
     DerivationStep,
     Frame,
-    Note,
     Param,
     ParamError,
     Params,
@@ -29,7 +28,6 @@ from lessons.core.contract import (
     Preset,
     SceneSpec,
     Series,
-    at_most,
     close,
 )
 from lessons.core.formula import t_symbol
@@ -130,17 +128,11 @@ class RotaryPositioner(PositionerLesson):
         J = sum(float(params[f"m{i}"]) * float(params[f"h{i}"]) ** 2 for i in (1, 2, 3))
         return {"J_z": np.full(q.shape[1], J)}
 
-    def notes(self, params: Params) -> list[Note]:
-        if params["problem"] == "inverse":
-            return [
-                Note(
-                    "info",
-                    "Inverse problem: M_c stays as given; M_dv is the moment the law phi(t)"
-                    " needs, (2.3).",
-                    "(2.3)",
-                )
-            ]
-        return [Note("info", "Forward problem: the motion law phi(t) is not used.", "(2.3)")]
+    problem_notes = (
+        "Inverse problem: M_c stays as given; M_dv is the moment the law phi(t) needs, (2.3).",
+        "Forward problem: the motion law phi(t) is not used.",
+        "(2.3)",
+    )
 
     def build_model(self, key: str) -> LagrangeModel:
         phi = dynamicsymbols("phi")
@@ -270,15 +262,6 @@ class RotaryPositioner(PositionerLesson):
             J = 1.0 * 0.04 + 0.5 * 0.09 + 2.0 * 0.01
             return close(0.08 / J * 25 / 2, float(r.series["phi"][-1]), rtol=1e-8)
 
-        def round_trip() -> ClaimResult:
-            err, fmax = self.round_trip_error({"M_dv": "0.2*sin(t)", "M_c": "0.01"})
-            return at_most(1e-4 * fmax, err, "max |M_dv recovered - M_dv| ")
-
-        def inv_fwd() -> ClaimResult:
-            return at_most(
-                1e-8, self.inverse_forward_error({}), "max |phi forward - phi law| (rad) "
-            )
-
         return [
             Claim(
                 "eq-2.3-2.4",
@@ -302,13 +285,15 @@ class RotaryPositioner(PositionerLesson):
                 "round-trip-forward-inverse",
                 "Forward then inverse recovers M_dv = 0.2 sin t (within 1e-4 of its peak)",
                 "(2.4)",
-                round_trip,
+                self.forward_inverse_check(
+                    {"M_dv": "0.2*sin(t)", "M_c": "0.01"}, "max |M_dv recovered - M_dv| "
+                ),
             ),
             Claim(
                 "round-trip-inverse-forward",
                 "Inverse then forward reproduces the law phi(t) to 1e-8 rad",
                 "(2.4)",
-                inv_fwd,
+                self.inverse_forward_check({}, "max |phi forward - phi law| (rad) "),
             ),
         ]
 

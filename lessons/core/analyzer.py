@@ -26,7 +26,7 @@ import numpy as np
 import sympy as sp
 
 from lessons.core.formula import Formula, t_symbol
-from lessons.core.quadric import COEFF_NAMES
+from lessons.core.quadric import COEFF_NAMES, quadric_polynomial
 
 x, y, z = sp.symbols("x y z", real=True)
 u1, u2, u3 = sp.symbols("u1 u2 u3", real=True)
@@ -40,18 +40,7 @@ HOLD_TOL = 1e-9
 
 def quadric_expr(a: Mapping[str, Any] = A_SYM) -> sp.Expr:
     """F of (1.42) with coefficients ``a`` (symbols by default)."""
-    return (
-        a["a11"] * x**2
-        + a["a22"] * y**2
-        + a["a33"] * z**2
-        + 2 * a["a12"] * x * y
-        + 2 * a["a23"] * y * z
-        + 2 * a["a31"] * z * x
-        + 2 * a["a14"] * x
-        + 2 * a["a24"] * y
-        + 2 * a["a34"] * z
-        + a["a44"]
-    )
+    return quadric_polynomial(a, x, y, z)
 
 
 def half_gradient_expr(F: sp.Expr) -> tuple[sp.Expr, sp.Expr, sp.Expr]:

@@ -26,11 +26,13 @@ from lessons.core.contract import (
     Frame,
     Group,
     Lesson,
+    Note,
     Param,
     Params,
     RunResult,
     Series,
     Stepper,
+    at_most,
 )
 from lessons.core.formula import Formula, FormulaError, t_symbol
 from lessons.core.lagrange import LagrangeModel, formula_derivatives, recover_inputs
@@ -273,6 +275,14 @@ class PositionerLesson(DynamicsLesson):
     physical: tuple[str, ...] = ()  # model parameter names, in the model's order
     t_end = 10.0
     sampling = 0.01
+    #: ``(inverse, forward, source)``: the note :meth:`notes` gives for each problem
+    problem_notes: tuple[str, str, str] | None = None
+
+    def notes(self, params: Params) -> list[Note]:
+        if self.problem_notes is None:
+            return []
+        inverse, forward, source = self.problem_notes
+        return [Note("info", inverse if params["problem"] == "inverse" else forward, source)]
 
     # -- model ------------------------------------------------------------------
 
@@ -403,6 +413,21 @@ class PositionerLesson(DynamicsLesson):
         raise NotImplementedError
 
     # -- claims support ---------------------------------------------------------------
+
+    def forward_inverse_check(self, values: dict[str, Any], what: str) -> Callable[[], ClaimResult]:
+        """Claim check: forward then inverse recovers the unknown inputs within 1e-4 of
+        their peak (:meth:`round_trip_error`)."""
+
+        def check() -> ClaimResult:
+            err, fmax = self.round_trip_error(values)
+            return at_most(1e-4 * fmax, err, what)
+
+        return check
+
+    def inverse_forward_check(self, values: dict[str, Any], what: str) -> Callable[[], ClaimResult]:
+        """Claim check: inverse then forward reproduces the motion law to 1e-8
+        (:meth:`inverse_forward_error`)."""
+        return lambda: at_most(1e-8, self.inverse_forward_error(values), what)
 
     def round_trip_error(self, values: dict[str, Any], t_end: float = 5.0) -> tuple[float, float]:
         """Forward run with the given forces, then the inverse problem on the sampled

@@ -21,7 +21,7 @@ inside a box (:mod:`lessons.core.quadric_mesh`).
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from fractions import Fraction
 from functools import cached_property
@@ -83,6 +83,22 @@ def sym_number(v: float) -> sp.Expr:
     if abs(float(fr) - v) <= 1e-12 * abs(v):
         return sp.Rational(fr.numerator, fr.denominator)
     return sp.Float(v)
+
+
+def quadric_polynomial(k: Mapping[str, Any], x: Any, y: Any, z: Any) -> Any:
+    """F of (1.42) written out term by term with coefficients ``k`` (by name) at x, y, z."""
+    return (
+        k["a11"] * x**2
+        + k["a22"] * y**2
+        + k["a33"] * z**2
+        + 2 * k["a12"] * x * y
+        + 2 * k["a23"] * y * z
+        + 2 * k["a31"] * z * x
+        + 2 * k["a14"] * x
+        + 2 * k["a24"] * y
+        + 2 * k["a34"] * z
+        + k["a44"]
+    )
 
 
 @dataclass(frozen=True)
@@ -310,18 +326,7 @@ class Quadric:
         y = y if y is not None else sp.Symbol("y", real=True)
         z = z if z is not None else sp.Symbol("z", real=True)
         k = {n: sym_number(getattr(self, n)) for n in COEFF_NAMES}
-        return (
-            k["a11"] * x**2
-            + k["a22"] * y**2
-            + k["a33"] * z**2
-            + 2 * k["a12"] * x * y
-            + 2 * k["a23"] * y * z
-            + 2 * k["a31"] * z * x
-            + 2 * k["a14"] * x
-            + 2 * k["a24"] * y
-            + 2 * k["a34"] * z
-            + k["a44"]
-        )
+        return quadric_polynomial(k, x, y, z)
 
     # ------------------------------------------------------------------ transforms
     def level_through(self, point: Vec3) -> Quadric:
