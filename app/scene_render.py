@@ -396,7 +396,9 @@ class SceneRenderer:
         sized to the scene (a machine in millimetres, a unit sphere)."""
         center = (lo + hi) / 2
         radius = max(0.5 * float(np.linalg.norm(hi - lo)), 1e-6)
-        direction = np.array([1.0, 0.75, 0.6])
+        # a plane lesson is seen from above (slightly tilted), a space scene obliquely
+        planar = self.spec is not None and self.spec.planar
+        direction = np.array([0.12, -0.35, 1.0]) if planar else np.array([1.0, 0.75, 0.6])
         direction /= np.linalg.norm(direction)
         try:
             cam = self.client.camera

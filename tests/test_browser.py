@@ -28,6 +28,11 @@ LAUNCH_ARGS = [
     "--no-first-run",
 ]
 ARTIFACTS = Path(__file__).parent / "artifacts"
+#: Closes the page's notifications (e.g. viser's software-WebGL notice).
+DISMISS_JS = """() => {
+  for (const b of document.querySelectorAll('.mantine-Notification-closeButton, '
+      + '[class*=Notification] button[aria-label], [class*=Notification] button')) b.click();
+}"""
 
 
 def _require_browser() -> None:
@@ -150,6 +155,10 @@ class Page:
         return "\n".join(t for t in errs.all_inner_texts() if t.strip())
 
     def shot(self, name: str) -> bytes:
+        """A screenshot without the browser's software-rendering notice (a machine
+        without a GPU shows it; a student's laptop does not)."""
+        self.page.evaluate(DISMISS_JS)
+        time.sleep(0.3)
         return self.page.screenshot(path=str(ARTIFACTS / f"{name}.png"))
 
     def load(self, lesson_label: str, preset: str) -> None:
