@@ -191,20 +191,29 @@ class AnalyzerModel:
         return (qn * rn**2 + bn * rn + np.abs(np.asarray(c["a44"], dtype=float))).max(axis=0)
 
     def linear_coeffs(self, t: np.ndarray, n_points: int) -> tuple[np.ndarray, np.ndarray]:
-        """``A (m, N, 3, 3)`` and ``c (m, N, 3)`` of the affine field at times ``t (m,)``."""
-        uu = self.controls.at(t)  # (3, m)
-        m = len(t)
-        args = [u[:, None] for u in uu] + [
-            np.broadcast_to(np.asarray(a, dtype=float), (n_points,))[None, :] for a in self._c()
-        ]
-        A_rows, c0 = _linear()(*args)
-        A = np.empty((m, n_points, 3, 3))
-        for i in range(3):
-            A[:, :, i, :] = np.stack(
-                np.broadcast_arrays(*A_rows[i], np.empty((m, n_points)))[:3], axis=-1
-            )
-        cvec = np.stack(np.broadcast_arrays(*c0, np.empty((m, n_points)))[:3], axis=-1)
-        return A, cvec
+        """``A (m, N, 3, 3)`` and ``c (m, N, 3)`` of the affine field at times ``t (m,)``.
+
+        (1.50) is linear in the controls: ``A = sum_k u_k(t) A_k`` and ``c = sum_k u_k(t)
+        c_k`` with ``A_k``, ``c_k`` of the surface alone, built once per family size."""
+        uu = self.controls.at(np.asarray(t, dtype=float))  # (3, m)
+        Ak, ck = self._unit_fields(n_points)
+        return np.einsum("km,knij->mnij", uu, Ak), np.einsum("km,kni->mni", uu, ck)
+
+    def _unit_fields(self, n_points: int) -> tuple[np.ndarray, np.ndarray]:
+        """``A_k (3, N, 3, 3)`` and ``c_k (3, N, 3)``: the field of the unit control u_k."""
+        cache = self.__dict__.setdefault("_unit_cache", {})
+        if n_points not in cache:
+            A = np.empty((3, n_points, 3, 3))
+            c = np.empty((3, n_points, 3))
+            coeffs = [np.broadcast_to(np.asarray(a, dtype=float), (n_points,)) for a in self._c()]
+            for k in range(3):
+                unit = [np.full(n_points, float(k == j)) for j in range(3)]
+                A_rows, c0 = _linear()(*unit, *coeffs)
+                for i in range(3):
+                    A[k, :, i, :] = np.stack(np.broadcast_arrays(*A_rows[i], unit[0])[:3], -1)
+                c[k] = np.stack(np.broadcast_arrays(*c0, unit[0])[:3], axis=-1)
+            cache[n_points] = (A, c)
+        return cache[n_points]
 
     def velocities(self, t: np.ndarray, R: np.ndarray) -> np.ndarray:
         """The field at samples ``t (m,)``, ``R (m, N, 3)``: (1.50), or (1.59) where
