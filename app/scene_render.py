@@ -36,6 +36,7 @@ class Trail:
         self.values: list[float | None] = []
         self.color_by: tuple[float, float] | None = None
         self.counter = 0
+        self._newest_full = False  # the newest chunk holds ``chunk`` segments: start another
         self.dirty = False
 
     def clear(self) -> None:
@@ -44,6 +45,7 @@ class Trail:
         self.current = []
         self.values = []
         self.dirty = False
+        self._newest_full = False
 
     @staticmethod
     def _remove(handle: Any) -> None:
@@ -85,7 +87,7 @@ class Trail:
             return
         segs = self._segments()
         colors = self._colors(segs)
-        if not self.handles or getattr(self.handles[-1], "_al_full", False):
+        if not self.handles or self._newest_full:
             self.counter += 1
             h = self.scene.add_line_segments(
                 f"{self.name}/c{self.counter}",
@@ -95,6 +97,7 @@ class Trail:
                 thickness_units="screen",
             )
             self.handles.append(h)
+            self._newest_full = False
             while len(self.handles) > self.max_chunks:
                 self._remove(self.handles.popleft())
         else:
@@ -102,7 +105,7 @@ class Trail:
             if np.ndim(colors) == 3:
                 fast_set(self.handles[-1], "colors", np.asarray(colors, dtype=np.uint8))
         if len(self.current) >= self.chunk + 1:
-            self.handles[-1]._al_full = True
+            self._newest_full = True
             self.current = [self.current[-1]]
             self.values = [self.values[-1]]
 

@@ -26,7 +26,7 @@ from app.persistence import restore_state
 from app.runlog import LRUCache, lesson_scene, params_key
 from app.session import LabError, Session
 from app.view import SessionView, ViewConfig
-from app.viser_boundary import PAGE_TITLE, WakeBatch, make_viser_server
+from app.viser_boundary import PAGE_TITLE, WakeBatch, event_loop, make_viser_server
 from lessons.core.contract import Lesson
 
 #: Frames per second of the live view: a little above 30 so that every page still gets
@@ -108,7 +108,7 @@ class LabServer:
         self.server.on_client_connect(self._on_connect)
         self.server.on_client_disconnect(self._on_disconnect)
         self._loop_done = threading.Event()
-        loop = getattr(self.server._websock_server, "_background_event_loop", None)
+        loop = event_loop(self.server)
         if loop is None:
             self.server.stop()
             raise LabError("the web server's event loop is not available: cannot run frames")

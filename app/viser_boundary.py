@@ -10,7 +10,8 @@ viser whose internals were not checked:
 * :func:`order_callbacks`: one connection's callbacks run in the order its messages came;
 * :class:`WakeBatch`: the messages of one frame-loop tick wake viser's loop once;
 * :func:`fast_set`: one property of a handle set on the hot path;
-* :func:`recording_scene`: a scene API whose messages are only recorded (HTML replay).
+* :func:`recording_scene`: a scene API whose messages are only recorded (HTML replay);
+* :func:`event_loop`: the server's own event loop (the frame loop runs in it).
 """
 
 from __future__ import annotations
@@ -320,3 +321,8 @@ def recording_scene() -> tuple[Any, Any]:
     loop = asyncio.new_event_loop()
     scene = SceneApi(owner, thread_executor=ThreadPoolExecutor(max_workers=1), event_loop=loop)  # type: ignore[arg-type]
     return scene, serializer
+
+
+def event_loop(server: Any) -> asyncio.AbstractEventLoop | None:
+    """The event loop viser's websocket server runs in (``None`` if not reachable)."""
+    return getattr(server._websock_server, "_background_event_loop", None)
