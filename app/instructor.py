@@ -33,7 +33,7 @@ class Presenter:
 
     CSS = (
         "<style>html{font-size:135%!important}:root{--mantine-scale:1.3}"
-        ".al-readout{font-size:1.25em!important}</style>"
+        ".al-readout{font-size:1.0em!important}</style>"
     )
 
     def __init__(self, room: Classroom, view: SessionView) -> None:

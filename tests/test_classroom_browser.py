@@ -191,3 +191,68 @@ def test_presenter_mode_bookmarks(lab: Any, browser: Any) -> None:
         assert p.errors == [], p.errors
     finally:
         p.close()
+
+
+def _sign_in(p: Page) -> None:
+    _open_folder(p, "Instructor")
+    p.fill("Instructor code", CODE)
+    time.sleep(0.15)
+    p.button("Become instructor")
+    p.page.get_by_role("button", name="Follow me", exact=True).wait_for(timeout=10000)
+
+
+def test_the_instructor_role_survives_a_reload_of_the_same_page(lab: Any, browser: Any) -> None:
+    p = Page(lab, browser)
+    other = Page(lab, browser)
+    try:
+        _sign_in(p)
+        before = set(lab.views)
+        p.page.reload()
+        p.label("Lesson").wait_for(timeout=30000)
+        new = wait_until(lambda: set(lab.views) - before, 20, "the reloaded page's session")
+        p.view = lab.views[max(new)]
+        wait_until(lambda: lab.classroom.is_instructor(p.view.client.client_id), 10, "role back")
+        p.page.get_by_role("button", name="Follow me", exact=True).wait_for(timeout=10000)
+        # the token lives in that page's own storage: another page does not get the role
+        assert not lab.classroom.is_instructor(other.view.client.client_id)
+    finally:
+        p.close()
+        other.close()
+
+
+@pytest.mark.parametrize("size", [(1280, 720), (1920, 1080)], ids=["720p", "1080p"])
+def test_presenter_mode_gives_the_scene_the_projector(
+    lab: Any, browser: Any, size: tuple[int, int]
+) -> None:
+    w, h = size
+    p = Page(lab, browser, browser.new_context(viewport={"width": w, "height": h}))
+    try:
+        _sign_in(p)
+        _open_folder(p, "Presenter")
+        p.page.get_by_text("Presenter mode", exact=True).click()
+        nxt = p.page.get_by_role("button", name="Next ▶", exact=True)
+        nxt.wait_for(timeout=10000)
+        # the panel leaves the scene at least 60 % of the width
+        panel = p.page.locator("text=Analyzer Lab").first.locator(
+            "xpath=ancestor::div[contains(@class,'Paper') or contains(@class,'paper')][1]"
+        )
+        box = panel.bounding_box() if panel.count() else None
+        width = box["width"] if box else 440.0
+        assert width <= 0.4 * w, (width, w)
+        # Previous/Next and the readout at the top, above the lesson picker
+        top_next = nxt.bounding_box()["y"]
+        readout = p.page.locator(".al-readout").first.bounding_box()["y"]
+        lesson = p.label("Lesson").bounding_box()["y"]
+        assert top_next < lesson and readout < lesson
+        # the instructor panel is not projected to the class
+        wait_until(
+            lambda: p.page.get_by_role("button", name="Follow me", exact=True).count() == 0,
+            5,
+            "instructor panel hidden",
+        )
+        p.shot(f"presenter-{w}x{h}")
+        nxt.click()
+        wait_until(lambda: p.session.preset == p.session.lesson.presets[0].name, 5, "bookmark")
+        assert p.errors == [], p.errors
+    finally:
+        p.close()
