@@ -127,3 +127,11 @@ def test_projection_is_a_note():
     params = LESSON.resolve({"x0": 0.6, "y0": 0.8, "z0": 0.5})
     (note,) = LESSON.notes(params)
     assert note.kind == "info" and "projected" in note.text and note.source == "(1.42)"
+
+
+def test_a_bad_control_is_refused_naming_itself() -> None:
+    from lessons.core.contract import ParamError
+
+    for name in ("u1", "u2", "u3"):
+        with pytest.raises(ParamError, match=f"^{name}: '1/\\(t-3\\)' is not finite at t = 3"):
+            LESSON.resolve({name: "1/(t-3)"})

@@ -110,13 +110,6 @@ class Controls:
         t = np.asarray(t, dtype=float)
         return _as_formula_values(self.V if self.V is not None else 0.0, t)
 
-    def check_finite(self, t_end: float) -> None:
-        probe = np.linspace(0.0, max(t_end, 1e-9), 2001)
-        for name in ("u1", "u2", "u3", "V"):
-            f = getattr(self, name)
-            if isinstance(f, Formula):
-                f.check_finite(probe)
-
 
 @dataclass
 class AnalyzerModel:

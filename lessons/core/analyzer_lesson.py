@@ -223,11 +223,15 @@ class AnalyzerLesson(Lesson):
         return notes
 
     def validate(self, params: Params) -> None:
-        controls = self.controls(params)
-        try:
-            controls.check_finite(self.t_end * 10)
-        except ValueError as exc:
-            raise ParamError("u1", str(exc)) from None
+        """Each control (and V) finite over ten runs' length; a refusal names its field."""
+        probe = np.linspace(0.0, max(self.t_end * 10, 1e-9), 2001)
+        for name in ("u1", "u2", "u3", "V"):
+            value = params.get(name)
+            if isinstance(value, Formula):
+                try:
+                    value.check_finite(probe)
+                except ValueError as exc:
+                    raise ParamError(name, str(exc)) from None
 
     def notes(self, params: Params) -> list[Note]:
         return list(self.prepare(params).notes)
