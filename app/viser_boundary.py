@@ -170,14 +170,28 @@ def harden_websocket() -> None:
         _HARDENED = True
 
 
+#: Keys typed into a field (arrows on a focused slider, letters in a formula) stay in that
+#: field: they do not reach the page's camera controls, which listen further up.
+KEYS_STAY_IN_FIELDS = """<script>
+document.addEventListener("keydown", function (e) {
+  var t = e.target;
+  if (t && t.closest && t.closest('input, textarea, select, [role="slider"]')) {
+    e.stopImmediatePropagation();
+  }
+}, false);
+</script>"""
+
+
 def _client_root() -> Path:
-    """viser's client page with our title, in a private temporary directory."""
+    """viser's client page with our title (and :data:`KEYS_STAY_IN_FIELDS`), in a private
+    temporary directory."""
     import viser
 
     src = Path(viser.__file__).resolve().parent / "client" / "build" / "index.html"
     text = src.read_text(encoding="utf-8")
     text = text.replace("<title>Viser</title>", f"<title>{PAGE_TITLE}</title>", 1)
     text = text.replace('content="Viser client"', f'content="{PAGE_TITLE}"', 1)
+    text = text.replace("</head>", KEYS_STAY_IN_FIELDS + "</head>", 1)
     root = Path(tempfile.mkdtemp(prefix="analyzer-lab-page-"))
     (root / "index.html").write_text(text, encoding="utf-8")
     return root

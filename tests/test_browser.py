@@ -398,3 +398,18 @@ def test_every_lesson_and_preset_plays(shared_tab: Page, lesson_id: str, preset:
     assert "internal error" not in tab.status()
     errors = list(tab.errors)
     assert errors == [], errors
+
+
+def test_arrow_keys_on_a_focused_slider_move_the_slider_not_the_camera(tab: Page) -> None:
+    tab.load(_label_of(tab.session.lesson), "example-1.1")
+    tab.tab("Controls")
+    time.sleep(0.5)
+    before = np.array(tab.view.client.camera.position, dtype=float)
+    tab.page.get_by_role("slider").first.focus()
+    for _ in range(5):
+        tab.page.keyboard.press("ArrowRight")
+        time.sleep(0.1)
+    wait_until(lambda: tab.session.raw_values()["u1"] != "5", 5, "the slider moved")
+    time.sleep(0.5)
+    after = np.array(tab.view.client.camera.position, dtype=float)
+    assert np.allclose(before, after), (before, after)
