@@ -205,6 +205,8 @@ class SceneRenderer:
         self._size = 1.0
         self._visible_cache: set[str] | None = None
         self.label_scale = 1.0  # larger in presenter mode
+        #: where the camera was put by the last framing: (position, look_at)
+        self.framed: tuple[np.ndarray, np.ndarray] | None = None
 
     def visible_vectors(self) -> set[str]:
         names = list(self.spec.moving_vectors) if self.spec is not None else []
@@ -416,6 +418,7 @@ class SceneRenderer:
             # viser moves look_at along with position: set the position first
             cam.position = tuple(map(float, center + direction * dist))
             cam.look_at = tuple(map(float, center))
+            self.framed = (center + direction * dist, center)
         except Exception:
             traceback.print_exc()
 

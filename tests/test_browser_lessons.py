@@ -9,7 +9,6 @@ value makes the panel say "custom".  Screenshots of every lesson go to tests/art
 from __future__ import annotations
 
 import math
-import time
 from collections.abc import Iterator
 from typing import Any
 
@@ -128,21 +127,31 @@ def _choose(tab: Page, lesson_id: str, preset: str) -> None:
 def _framed(tab: Page) -> float:
     """Wait until the page reports the camera the view framed; return its coverage."""
     view = tab.view
-    want = view.session.camera_revision
+    with view.session.lock:  # the preset's load has finished: its camera revision is set
+        want = view.session.camera_revision
 
     def ready() -> float | None:
-        cam = tab.view.client.camera
-        if view._drawn_camera_rev != want:
+        framed = view.renderer.framed
+        if view._drawn_camera_rev != want or framed is None:
             return None
+        cam = view.client.camera
+        position = np.asarray(cam.position, dtype=float)
+        scale = float(np.linalg.norm(framed[0] - framed[1]))
+        look_at = np.asarray(cam.look_at, dtype=float)
+        forward = _quat_matrix(np.asarray(cam.wxyz, dtype=float))[:, 2]
+        aim = (framed[1] - framed[0]) / scale
+        if not (
+            np.allclose(position, framed[0], rtol=0.0, atol=1e-4 * scale)
+            and np.allclose(look_at, framed[1], rtol=0.0, atol=1e-4 * scale)
+            and float(forward @ aim) > 1 - 1e-4
+        ):
+            return None  # the page has not reported the framed camera yet
         try:
             return coverage(cam, tab.session.scene.bounds)
         except AssertionError:
             return None
 
-    # the page reports its camera after applying the framing (a few frames)
-    first = wait_until(ready, 10, "the framed camera")
-    time.sleep(0.4)
-    return ready() or first
+    return wait_until(ready, 15, "the framed camera")
 
 
 @pytest.mark.parametrize("lesson_id, preset", _cases())
@@ -153,7 +162,12 @@ def test_every_preset_is_framed_fits_and_reads(
     tab.errors.clear()
     _choose(tab, lesson_id, preset)
     cover = _framed(tab)
-    assert COVER[0] <= cover <= COVER[1], f"the scene covers {cover:.0%} of the canvas"
+    cam = tab.view.client.camera
+    assert COVER[0] <= cover <= COVER[1], (
+        f"the scene covers {cover:.0%} of the canvas; bounds {tab.session.scene.bounds}, "
+        f"framed {tab.view.renderer.framed}, camera {cam.position} -> {cam.look_at}, "
+        f"fov {cam.fov}, image {cam.image_width}x{cam.image_height}"
+    )
     tab.tab("Lesson")
     wait_until(lambda: tab.page.locator(".al-step").count() > 0, 15, "the derivation")
     overflow = tab.page.evaluate(OVERFLOW_JS)
