@@ -325,6 +325,16 @@ def _fit_svg(svg: str) -> str:
     return f'<svg{attrs} width="100%" preserveAspectRatio="xMidYMid meet">' + clean[m.end() :]
 
 
+def _tag_of(note: str | None) -> tuple[str, str]:
+    """("corrected", why) for a misprint put right, ("reconstructed", why) for a formula
+    rebuilt from the text; ("", "") for a formula as printed."""
+    if not note:
+        return "", ""
+    if note.lower().startswith("corrected"):
+        return "corrected", note.split(":", 1)[1].strip() if ":" in note else note
+    return "reconstructed", note
+
+
 def step_to_html(step: DerivationStep, index: int | None = None) -> str:
     """One derivation step: heading (title, source equation number, "reconstructed" tag),
     prose, then each statement as a display ``<math>``."""
@@ -334,10 +344,10 @@ def step_to_html(step: DerivationStep, index: int | None = None) -> str:
     parts.append(f"<div><b>{esc(head + step.title)}</b>")
     if step.source:
         parts.append(f'<span class="al-source" style="{SOURCE_STYLE}">{esc(step.source)}</span>')
-    if step.reconstructed:
+    tag, why = _tag_of(step.reconstructed)
+    if tag:
         parts.append(
-            f' <span class="al-reconstructed" style="{RECON_STYLE}"'
-            f' title="{esc(step.reconstructed)}">reconstructed</span>'
+            f' <span class="al-{tag}" style="{RECON_STYLE}" title="{esc(why)}">{tag}</span>'
         )
     parts.append("</div>")
     if step.text:
@@ -351,10 +361,8 @@ def step_to_html(step: DerivationStep, index: int | None = None) -> str:
         )
     if step.svg:
         parts.append(f'<div class="al-figure" style="width:100%">{_fit_svg(step.svg)}</div>')
-    if step.reconstructed:
-        parts.append(
-            f'<div style="font-size:0.8em;color:#7a5600">reconstructed: {esc(step.reconstructed)}</div>'
-        )
+    if tag:
+        parts.append(f'<div style="font-size:0.8em;color:#7a5600">{tag}: {esc(why)}</div>')
     parts.append("</div>")
     return "".join(parts)
 

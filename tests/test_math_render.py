@@ -167,3 +167,12 @@ def test_no_lesson_shows_raw_tex() -> None:
                 assert tex not in prose_text, (where, tex, prose_text[:200])
             for tex in ("\\", "varphi"):
                 assert tex not in math_text, (where, tex)
+
+
+def test_a_corrected_misprint_is_tagged_corrected() -> None:
+    from app.math_render import step_to_html
+
+    out = step_to_html(DerivationStep("(2.19)", reconstructed="corrected: (2.18) names g_i"))
+    assert ">corrected</span>" in out and "corrected: (2.18) names g_i" in out
+    out = step_to_html(DerivationStep("(1.53)", reconstructed="lost in the source"))
+    assert ">reconstructed</span>" in out and "reconstructed: lost in the source" in out
