@@ -65,8 +65,9 @@ class PlotBuffer:
     def scale(self) -> int:
         """The power of ten the values are shown in (0 for ordinary sizes): a drift of
         1e-16 is plotted in units of 1e-16 so that its ticks read."""
-        finite = [abs(x) for v in self.values.values() for x in v if math.isfinite(x)]
-        top = max(finite, default=0.0)
+        values = np.abs(np.asarray([x for v in self.values.values() for x in v], dtype=float))
+        finite = values[np.isfinite(values)]
+        top = float(finite.max()) if finite.size else 0.0
         if top == 0.0 or 1e-3 <= top < 1e5:
             return 0
         return int(math.floor(math.log10(top)))
