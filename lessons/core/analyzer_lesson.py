@@ -77,7 +77,8 @@ class Prepared:
 
 def state(r: np.ndarray, F0: np.ndarray) -> dict[str, np.ndarray]:
     """An analyzer lesson's state at times ``(m,)``: positions ``r (m, N, 3)`` and the
-    values ``F0 (m, N)`` the drift is measured from."""
+    values ``F0 (m, N)`` the drift is measured from (a frame adds the velocities ``v``
+    it has already computed)."""
     r = np.asarray(r, dtype=float)
     return {"r": r, "F0": np.broadcast_to(F0, r.shape[:2])}
 
@@ -242,7 +243,7 @@ class AnalyzerLesson(Lesson):
         prepared = self.prepare(params)
         model = prepared.model
         R = np.asarray(state["r"], dtype=float)
-        v = model.velocities(t, R)
+        v = state["v"] if "v" in state else model.velocities(t, R)
         v2 = (v**2).sum(-1)
         drift = (model.F(R) - state["F0"]) / prepared.scale
         uu = model.controls.at(t)
@@ -535,7 +536,9 @@ class AnalyzerStepper(Stepper):
     def frame(self) -> Frame:
         model = self.prepared.model
         R = self.R
-        v = model.velocity(self._t, R)
+        live = state(R[None], self.F0)
+        live["v"] = model.velocities(np.array([self._t]), live["r"])
+        v = live["v"][0]
         message = ""
         if np.any(np.linalg.norm(v, axis=-1) == 0):
             message = (
@@ -551,6 +554,6 @@ class AnalyzerStepper(Stepper):
                 "velocity": (R.copy(), v),
                 "gradient": (R.copy(), model.half_gradient(R)),
             },
-            scalars=self.lesson.frame_scalars(self.params, self._t, state(R[None], self.F0)),
+            scalars=self.lesson.frame_scalars(self.params, self._t, live),
             message=message,
         )

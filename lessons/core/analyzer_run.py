@@ -26,6 +26,10 @@ BLOCK = 256
 SPEED_BLOCK = 32
 #: Length (s) of one piece of a scipy ``solve_ivp`` run.
 PIECE = 10.0
+#: Shortened steps of a time-independent field: their lengths are rounded to h / SHORT_GRAIN
+#: and at most SHORT_MAPS step maps are kept (see :meth:`Trajectory._short_map`).
+SHORT_GRAIN = 2**40
+SHORT_MAPS = 256
 
 
 class SpeedStepper:
@@ -166,6 +170,7 @@ class Trajectory:
         self._coeffs = lambda ts: model.linear_coeffs(ts, N)
         self._speed: SpeedStepper | None = None
         self._map: tuple[np.ndarray, np.ndarray] | None = None
+        self._short_maps: dict[int, tuple[np.ndarray, np.ndarray]] = {}
         if method.startswith("gauss-legendre"):
             self.stages = int(method.rsplit("-", 1)[1])
             if model.controls.V is not None:
@@ -242,8 +247,25 @@ class Trajectory:
             out = self._speed.step_substeps(tk, r, rest)
             self._speed.K = warm  # the next full step starts as if this one was not taken
             return out
-        D, phi = gl_propagators(self._coeffs, tk, rest, 1, self.stages)
+        if self._map is not None:
+            D, phi = self._short_map(rest)
+        else:
+            D, phi = gl_propagators(self._coeffs, tk, rest, 1, self.stages)
         return r + (D[0] @ r[:, :, None])[:, :, 0] + phi[0]
+
+    def _short_map(self, rest: float) -> tuple[np.ndarray, np.ndarray]:
+        """The step map of a shortened step of a time-independent field (1.50), kept per
+        length: played frames fall on a few offsets from the nodes (the session's time
+        quanta), so a frame reads a kept map.  ``rest`` is rounded to ``h / 2**40`` first,
+        so that a time has one value however often it is read."""
+        key = round(rest / self.h * SHORT_GRAIN)
+        hit = self._short_maps.get(key)
+        if hit is None:
+            if len(self._short_maps) >= SHORT_MAPS:
+                self._short_maps.clear()
+            hit = gl_propagators(self._coeffs, self.t0, key * self.h / SHORT_GRAIN, 1, self.stages)
+            self._short_maps[key] = hit
+        return hit
 
     # -- scipy ---------------------------------------------------------------------------
 
