@@ -68,9 +68,7 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--lesson", nargs="*", default=None)
     args = ap.parse_args(argv)
     ids = args.lesson or [x.id for x in all_lessons()]
-    print(
-        "| lesson | preset | ms per frame | stepper only | 50 x 36 fps |\n|---|---|---|---|---|"
-    )
+    print("| lesson | preset | ms per frame | stepper only | 50 x 36 fps |\n|---|---|---|---|---|")
     for lesson_id in ids:
         preset, ms, inner = frame_cost(lesson_id, args.frames)
         print(f"| {lesson_id} | {preset} | {ms:.3f} | {inner:.3f} | {ms * 50 * 36 / 10:.0f}% |")
