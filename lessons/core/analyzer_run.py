@@ -53,6 +53,8 @@ class SpeedStepper:
         self.max_iter = max_iter
         self.evaluations = 0
         self.K: np.ndarray | None = None
+        #: stage slopes and length of the last substep of :meth:`step_substeps`
+        self.last: tuple[np.ndarray, float] | None = None
 
     def coefficients(self, t: float, h: float, n_steps: int, N: int) -> tuple[np.ndarray, ...]:
         """Batched A, c, sigma V and max|u| at the stage times of ``n_steps`` steps."""
@@ -68,8 +70,36 @@ class SpeedStepper:
             umax.reshape(n_steps, s),
         )
 
-    def step(self, R: np.ndarray, h: float, coeffs: tuple[np.ndarray, ...]) -> np.ndarray:
-        """One step of size ``h`` from ``R (N, 3)`` with the stage coefficients ``coeffs``."""
+    def extrapolation(self, ratio: float) -> np.ndarray:
+        """``E (s, s)``: the stage slopes of a step of ``ratio`` times the length of the
+        step before it, predicted from that step's slopes ``K`` as ``E @ K`` (its
+        collocation polynomial's derivative, of degree s - 1, at the new stage times)."""
+        cache = self.__dict__.setdefault("_extrapolations", {})
+        E = cache.get(ratio)
+        if E is None:
+            if len(cache) >= 64:
+                cache.clear()
+            x = 1.0 + self.c * ratio
+            E = np.ones((self.s, self.s))
+            for j in range(self.s):
+                for k in range(self.s):
+                    if k != j:
+                        E[:, j] *= (x - self.c[k]) / (self.c[j] - self.c[k])
+            cache[ratio] = E
+        return E
+
+    def step(
+        self,
+        R: np.ndarray,
+        h: float,
+        coeffs: tuple[np.ndarray, ...],
+        before: tuple[np.ndarray, float] | None = None,
+    ) -> np.ndarray:
+        """One step of size ``h`` from ``R (N, 3)`` with the stage coefficients ``coeffs``.
+
+        ``before``: the stage slopes and length of the step that ended at ``R``; the
+        stages then start from its extrapolated collocation polynomial (otherwise from
+        the last step's slopes).  Either way they are solved to round-off."""
         s, a = self.s, self.a
         N = len(R)
         A, cc, Vs, umax = coeffs
@@ -86,7 +116,9 @@ class SpeedStepper:
             N, 3 * s, 3 * s
         )
         Minv = np.linalg.inv(M)
-        if self.K is not None and self.K.shape == (N, s, 3):
+        if before is not None and before[0].shape == (N, s, 3):
+            K = np.einsum("ij,njd->nid", self.extrapolation(h / before[1]), before[0])
+        elif self.K is not None and self.K.shape == (N, s, 3):
             K = self.K.copy()
         else:
             K = np.repeat((nm * (Vs[mid] / safe)[:, None])[:, None, :], s, axis=1)
@@ -109,7 +141,12 @@ class SpeedStepper:
         return R + h * np.einsum("i,nid->nd", self.b, K)
 
     def step_substeps(
-        self, t: float, R: np.ndarray, h: float, coeffs: tuple[np.ndarray, ...] | None = None
+        self,
+        t: float,
+        R: np.ndarray,
+        h: float,
+        coeffs: tuple[np.ndarray, ...] | None = None,
+        before: tuple[np.ndarray, float] | None = None,
     ) -> np.ndarray:
         """One output step of size ``h`` from ``(t, R)``, split into equal substeps where the
         curve turns fast.
@@ -117,7 +154,9 @@ class SpeedStepper:
         The turning rate of (1.59) is ``omega |A| = V |A| / |A r + c|``: near points where the
         analyzer's field is small the point turns quickly; the step is cut so that
         ``rate * substep <= max_turn`` (each substep is still a Gauss-Legendre step).
-        ``coeffs``: the step's stage coefficients, if already computed (:meth:`coefficients`).
+        ``coeffs``: the step's stage coefficients, if already computed (:meth:`coefficients`);
+        ``before``: the slopes and length of the (sub)step that ended at ``R`` (see
+        :meth:`step`).  Afterwards :attr:`last` holds those of this step's last substep.
         """
         if coeffs is None:
             coeffs = tuple(x[0] for x in self.coefficients(t, h, 1, len(R)))
@@ -129,16 +168,20 @@ class SpeedStepper:
         )
         m = int(np.ceil(float(np.max(np.where(norm0 > 0, rate, 0.0))) * h / self.max_turn - 1e-12))
         if m <= 1:
-            return self.step(R, h, coeffs)
+            out = self.step(R, h, coeffs, before)
+            self.last = (self.K, h)
+            return out
         m = min(m, 10_000)
         hs = h / m
         batch = self.coefficients(t, hs, m, len(R))
         comp = np.zeros_like(R)
         for j in range(m):
-            inc = (self.step(R, hs, tuple(x[j] for x in batch)) - R) - comp
+            inc = (self.step(R, hs, tuple(x[j] for x in batch), before) - R) - comp
+            before = (self.K, hs)
             nxt = R + inc
             comp = (nxt - R) - inc
             R = nxt
+        self.last = before
         return R
 
 
@@ -184,6 +227,8 @@ class Trajectory:
         self._comp = np.zeros_like(self.r0)
         self._piece = -1
         self._sol = None
+        #: (1.59): per node of the block, the slopes and length of the substep ending there
+        self._incoming: list[tuple[np.ndarray, float] | None] = [None]
 
     @property
     def gauss_legendre(self) -> bool:
@@ -224,13 +269,16 @@ class Trajectory:
             nodes = np.empty((SPEED_BLOCK + 1, *r.shape))
             nodes[0] = r
             batch = self._speed.coefficients(t, self.h, SPEED_BLOCK, len(r))
+            incoming = [self._incoming[-1]]
             for j in range(SPEED_BLOCK):
                 coeffs = tuple(x[j] for x in batch)
-                step = self._speed.step_substeps(t + j * self.h, r, self.h, coeffs)
+                step = self._speed.step_substeps(t + j * self.h, r, self.h, coeffs, incoming[-1])
+                incoming.append(self._speed.last)
                 inc = (step - r) - self._comp
                 nxt = r + inc
                 self._comp = (nxt - r) - inc
                 r = nodes[j + 1] = nxt
+            self._incoming = incoming
             self.nfev = self._speed.evaluations
         else:
             if self._map is not None:
@@ -243,9 +291,11 @@ class Trajectory:
     def _short_step(self, tk: float, r: np.ndarray, rest: float) -> np.ndarray:
         """One Gauss-Legendre step of length ``rest < h`` from the node ``(tk, r)``."""
         if self._speed is not None:
-            warm = self._speed.K
-            out = self._speed.step_substeps(tk, r, rest)
-            self._speed.K = warm  # the next full step starts as if this one was not taken
+            warm = self._speed.K, self._speed.last
+            # from the slopes of the step that ended at the node: a few iterations
+            before = self._incoming[int(round((tk - self.t0) / self.h)) - self._k0]
+            out = self._speed.step_substeps(tk, r, rest, None, before)
+            self._speed.K, self._speed.last = warm  # as if this step was not taken
             return out
         if self._map is not None:
             D, phi = self._short_map(rest)
