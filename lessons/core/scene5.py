@@ -199,7 +199,7 @@ class ProgramStepper(Stepper):
         if abs(t / FRAME_GRAIN - j) > 1e-6 or j < 0:
             return prog.playhead(t)
         b, i = divmod(j, TABLE_BLOCK)
-        if self._table is None or self._table[0] != (prog, b):
+        if self._table is None or self._table[0][0] is not prog or self._table[0][1] != b:
             head = prog.playhead((b * TABLE_BLOCK + np.arange(TABLE_BLOCK)) * FRAME_GRAIN)
             self._table = ((prog, b), head, head.values)
         _, head, values = self._table
