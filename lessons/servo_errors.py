@@ -50,6 +50,8 @@ from lessons.core.servo_setup import SETTLE, channels, natural_t_end, setup_for
 #: parameters whose change restarts the live run (they fix the start of the program)
 #: longest frame (s) carried from the previous state by a step map (longer: solved anew)
 MAP_STEP = 0.5
+#: frame lengths are rounded to 1 / MAP_GRAIN s to find their kept step map
+MAP_GRAIN = 2.0**40
 RESTART = ("curve", "x0", "y0", "xc", "yc", "a", "b", "xdot0", "ydot0")
 START = Group("initial", "Start of the program", change="restart")
 CHANNELS = Group("channels", "Servo channels", change="live")
@@ -451,13 +453,19 @@ class ServoStepper(Stepper):
 
     def _state(self) -> np.ndarray:
         """The state at the current time: exp(M (t - t_a)) z_a at the anchor, then the
-        previous frame's state carried by the kept step map exp(M dt) of the frame's
-        length (one small product a frame; a few ulps a step in a decaying system)."""
+        previous frame's state carried by the kept step map exp(M d) of the frame's length
+        rounded to ``d = k 2**-40 s``, plus ``(dt - d) M z`` for the rest (below 1e-12 s:
+        its second-order error is far below round-off), so that the few frame lengths of
+        a played run share their maps whatever the clock's round-off."""
         last = self._last
         if last is not None and last[0] == self._t:
             return last[1]
-        if last is not None and 0.0 < self._t - last[0] <= MAP_STEP:
-            Z = last[1] @ self._setup.system.step_map(self._t - last[0]).T
+        dt = self._t - last[0] if last is not None else 0.0
+        if last is not None and 0.0 < dt <= MAP_STEP:
+            system = self._setup.system
+            d = round(dt * MAP_GRAIN) / MAP_GRAIN
+            Z = last[1] @ system.step_map(d).T
+            Z = Z + (dt - d) * (Z @ system.M.T)
         else:
             Z = self._setup.system.states([self._t], self._z_a, self._t_a)
         self._last = (self._t, Z)
