@@ -236,7 +236,8 @@ class AnalyzerModel:
             qn = self.__dict__["_qn"] = max(
                 float(np.max(np.abs(self.coeffs[n]))) for n in COEFF_NAMES[:6]
             )
-        return np.linalg.norm(self.half_gradient(R), axis=-1) + qn * np.linalg.norm(R, axis=-1)
+        g = self.half_gradient(R)
+        return np.sqrt((g * g).sum(-1)) + qn * np.sqrt((R * R).sum(-1))
 
     @staticmethod
     def holds(norm: np.ndarray, size: np.ndarray, umax: np.ndarray) -> np.ndarray:

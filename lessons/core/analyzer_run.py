@@ -18,7 +18,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.integrate import solve_ivp
 
-from lessons.core.analyzer import AnalyzerModel
+from lessons.core.analyzer import HOLD_TOL, AnalyzerModel
 from lessons.core.integrators import apply_propagators, gauss_legendre, gl_propagators
 
 #: Gauss-Legendre steps per block of nodes: (1.50) (one batched solve), (1.59) (Newton).
@@ -50,6 +50,7 @@ class SpeedStepper:
         self.model = model
         self.a, self.b, self.c = gauss_legendre(stages)
         self.s = stages
+        self._eye3, self._eye3s = np.eye(3), np.eye(3 * stages)
         self.max_iter = max_iter
         self.evaluations = 0
         self.K: np.ndarray | None = None
@@ -110,9 +111,9 @@ class SpeedStepper:
         moving = norm_m > 0
         safe = np.where(moving, norm_m, 1.0)
         nh = nm / safe[:, None]
-        P = np.eye(3) - nh[:, :, None] * nh[:, None, :]
+        P = self._eye3 - nh[:, :, None] * nh[:, None, :]
         J = (np.where(moving, Vs[mid], 0.0) / safe)[:, None, None] * (P @ A[mid])
-        M = np.eye(3 * s) - h * (a[None, :, None, :, None] * J[:, None, :, None, :]).reshape(
+        M = self._eye3s - h * (a[None, :, None, :, None] * J[:, None, :, None, :]).reshape(
             N, 3 * s, 3 * s
         )
         Minv = np.linalg.inv(M)
@@ -126,12 +127,18 @@ class SpeedStepper:
         ct = cc.transpose(1, 0, 2)
         ha = h * a
         size = self.model.hold_size(R)[:, None]  # the field's size barely changes in a step
+        # AnalyzerModel.holds, its bound computed once for the step
+        bound = HOLD_TOL * (umax[None, :] + 1e-300) * (size + 1e-300)
         for _ in range(self.max_iter):
             Y = R[:, None, :] + ha @ K  # (N, s, 3)
             n = (At @ Y[..., None])[..., 0] + ct
             norm = np.sqrt((n * n).sum(-1))
-            held = self.model.holds(norm, size, umax[None, :])
-            f = n * np.where(held, 0.0, Vs[None, :] / np.where(norm > 0, norm, 1.0))[..., None]
+            f = (
+                n
+                * np.where(norm <= bound, 0.0, Vs[None, :] / np.where(norm > 0, norm, 1.0))[
+                    ..., None
+                ]
+            )
             self.evaluations += s
             dK = -(Minv @ (K - f).reshape(N, 3 * s, 1)).reshape(N, s, 3)
             K += dK
