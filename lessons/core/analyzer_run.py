@@ -71,22 +71,24 @@ class SpeedStepper:
             umax.reshape(n_steps, s),
         )
 
-    def extrapolation(self, ratio: float) -> np.ndarray:
+    def extrapolation(self, ratio: float, offset: float = 1.0) -> np.ndarray:
         """``E (s, s)``: the stage slopes of a step of ``ratio`` times the length of the
         step before it, predicted from that step's slopes ``K`` as ``E @ K`` (its
-        collocation polynomial's derivative, of degree s - 1, at the new stage times)."""
+        collocation polynomial's derivative, of degree s - 1, at the new stage times).
+        ``offset = 0``: the new step starts where that step starts (a shorter step inside
+        it: interpolation)."""
         cache = self.__dict__.setdefault("_extrapolations", {})
-        E = cache.get(ratio)
+        E = cache.get((ratio, offset))
         if E is None:
             if len(cache) >= 64:
                 cache.clear()
-            x = 1.0 + self.c * ratio
+            x = offset + self.c * ratio
             E = np.ones((self.s, self.s))
             for j in range(self.s):
                 for k in range(self.s):
                     if k != j:
                         E[:, j] *= (x - self.c[k]) / (self.c[j] - self.c[k])
-            cache[ratio] = E
+            cache[(ratio, offset)] = E
         return E
 
     def step(
@@ -95,12 +97,16 @@ class SpeedStepper:
         h: float,
         coeffs: tuple[np.ndarray, ...],
         before: tuple[np.ndarray, float] | None = None,
+        covering: tuple[np.ndarray, float] | None = None,
     ) -> np.ndarray:
         """One step of size ``h`` from ``R (N, 3)`` with the stage coefficients ``coeffs``.
 
         ``before``: the stage slopes and length of the step that ended at ``R``; the
-        stages then start from its extrapolated collocation polynomial (otherwise from
-        the last step's slopes).  Either way they are solved to round-off."""
+        stages then start from its extrapolated collocation polynomial; ``covering``: those
+        of a longer step from ``R`` (its polynomial inside); otherwise from the last step's
+        slopes.  Either way they are solved to round-off: the iteration stops when the
+        correction, or the sum of the corrections its rate of convergence leaves to come,
+        is below 2e-16 of the slopes."""
         s, a = self.s, self.a
         N = len(R)
         A, cc, Vs, umax = coeffs
@@ -117,7 +123,9 @@ class SpeedStepper:
             N, 3 * s, 3 * s
         )
         Minv = np.linalg.inv(M)
-        if before is not None and before[0].shape == (N, s, 3):
+        if covering is not None and covering[0].shape == (N, s, 3):
+            K = np.einsum("ij,njd->nid", self.extrapolation(h / covering[1], 0.0), covering[0])
+        elif before is not None and before[0].shape == (N, s, 3):
             K = np.einsum("ij,njd->nid", self.extrapolation(h / before[1]), before[0])
         elif self.K is not None and self.K.shape == (N, s, 3):
             K = self.K.copy()
@@ -129,6 +137,7 @@ class SpeedStepper:
         size = self.model.hold_size(R)[:, None]  # the field's size barely changes in a step
         # AnalyzerModel.holds, its bound computed once for the step
         bound = HOLD_TOL * (umax[None, :] + 1e-300) * (size + 1e-300)
+        previous = np.inf
         for _ in range(self.max_iter):
             Y = R[:, None, :] + ha @ K  # (N, s, 3)
             n = (At @ Y[..., None])[..., 0] + ct
@@ -142,8 +151,11 @@ class SpeedStepper:
             self.evaluations += s
             dK = -(Minv @ (K - f).reshape(N, 3 * s, 1)).reshape(N, s, 3)
             K += dK
-            if np.abs(dK).max() <= 2e-16 * (np.abs(K).max() + 1e-300):
+            step, tol = float(np.abs(dK).max()), 2e-16 * (float(np.abs(K).max()) + 1e-300)
+            rate = step / previous  # after the first correction: its rate of convergence
+            if step <= tol or (0.0 < rate < 0.5 and rate / (1.0 - rate) * step <= tol):
                 break
+            previous = step
         self.K = K
         return R + h * np.einsum("i,nid->nd", self.b, K)
 
@@ -154,6 +166,7 @@ class SpeedStepper:
         h: float,
         coeffs: tuple[np.ndarray, ...] | None = None,
         before: tuple[np.ndarray, float] | None = None,
+        covering: tuple[np.ndarray, float] | None = None,
     ) -> np.ndarray:
         """One output step of size ``h`` from ``(t, R)``, split into equal substeps where the
         curve turns fast.
@@ -162,8 +175,9 @@ class SpeedStepper:
         analyzer's field is small the point turns quickly; the step is cut so that
         ``rate * substep <= max_turn`` (each substep is still a Gauss-Legendre step).
         ``coeffs``: the step's stage coefficients, if already computed (:meth:`coefficients`);
-        ``before``: the slopes and length of the (sub)step that ended at ``R`` (see
-        :meth:`step`).  Afterwards :attr:`last` holds those of this step's last substep.
+        ``before``/``covering``: the slopes and length of the (sub)step that ended at ``R``
+        or of a longer one from ``R`` (see :meth:`step`).  Afterwards :attr:`last` holds
+        those of this step's last substep.
         """
         if coeffs is None:
             coeffs = tuple(x[0] for x in self.coefficients(t, h, 1, len(R)))
@@ -175,7 +189,7 @@ class SpeedStepper:
         )
         m = int(np.ceil(float(np.max(np.where(norm0 > 0, rate, 0.0))) * h / self.max_turn - 1e-12))
         if m <= 1:
-            out = self.step(R, h, coeffs, before)
+            out = self.step(R, h, coeffs, before, covering)
             self.last = (self.K, h)
             return out
         m = min(m, 10_000)
@@ -183,8 +197,8 @@ class SpeedStepper:
         batch = self.coefficients(t, hs, m, len(R))
         comp = np.zeros_like(R)
         for j in range(m):
-            inc = (self.step(R, hs, tuple(x[j] for x in batch), before) - R) - comp
-            before = (self.K, hs)
+            inc = (self.step(R, hs, tuple(x[j] for x in batch), before, covering) - R) - comp
+            before, covering = (self.K, hs), None
             nxt = R + inc
             comp = (nxt - R) - inc
             R = nxt
@@ -300,8 +314,12 @@ class Trajectory:
         if self._speed is not None:
             warm = self._speed.K, self._speed.last
             # from the slopes of the step that ended at the node: a few iterations
-            before = self._incoming[int(round((tk - self.t0) / self.h)) - self._k0]
-            out = self._speed.step_substeps(tk, r, rest, None, before)
+            j = int(round((tk - self.t0) / self.h)) - self._k0
+            before = self._incoming[j]
+            # the step from the node, if taken whole (its block is computed ahead)
+            nxt = self._incoming[j + 1] if j + 1 < len(self._incoming) else None
+            covering = nxt if nxt is not None and nxt[1] == self.h else None
+            out = self._speed.step_substeps(tk, r, rest, None, before, covering)
             self._speed.K, self._speed.last = warm  # as if this step was not taken
             return out
         if self._map is not None:
