@@ -338,5 +338,7 @@ def test_draft_from_state_round_trips() -> None:
     assert a.unlocked == ("u",) and a.answers["correct"] == {"u": "2"}
     assert grade(a, {"u": "2"}).passed
     assert not grade(a, {"u": "1"}).passed
+    with pytest.raises(AssignmentError, match=r"unlocked\[1\]: 'warp' is not a parameter"):
+        draft("circle", {}, ["u", "warp"], ["x"], assignment_id="x", title="x", task="x")
     with pytest.raises(AssignmentError, match="not a series"):
         draft("circle", {}, ["u"], ["warp"], assignment_id="x", title="x", task="x")

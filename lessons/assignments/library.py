@@ -76,6 +76,12 @@ def draft(
     from lessons.catalog import get_lesson
 
     lesson = get_lesson(lesson_id)
+    known = {p.name for p in lesson.params}
+    for i, name in enumerate(unlocked):
+        if name not in known:
+            raise AssignmentError(
+                "draft", f"unlocked[{i}]", f"{name[:40]!r} is not a parameter of {lesson.id}"
+            )
     params = lesson.resolve(dict(values), preset)
     te = float(t_end if t_end is not None else lesson.preset_t_end(preset))
     run = lesson.simulate(params, te)
