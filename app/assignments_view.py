@@ -170,6 +170,19 @@ def detach(room: Classroom, client_id: int) -> None:
     board.roster.forget_page(client_id)
 
 
+def released(room: Classroom, view: SessionView) -> None:
+    """Classroom hook: a follower has its own session again (caller holds its lock): an
+    assignment pushed during the demo opens now; an open one keeps its locks."""
+    panel = board_of(room).students.get(view.client.client_id)
+    if panel is None:
+        return
+    if panel.pending is not None and panel.pending in panel.board.assignments:
+        panel.open(panel.pending, pushed=True)
+    elif panel.active is not None:
+        view.controls.set_locked(panel.locked(), view.session.params)
+        panel._pickers_disabled(True)
+
+
 def grant(room: Classroom, view: SessionView) -> None:
     """Classroom hook: the page became the instructor."""
     board = board_of(room)

@@ -356,6 +356,7 @@ class Classroom:
             with demo.lock, own.lock:
                 view.show_session(own)
                 view.set_following(False)
+                assignments_view.released(self, view)  # assignments hook
             try:
                 view.client.add_notification(
                     "Released",

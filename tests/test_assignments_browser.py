@@ -203,3 +203,28 @@ def test_assignment_view_screenshots(lab: Any, browser: Any, size: tuple[int, in
         assert p.errors == [], p.errors
     finally:
         p.close()
+
+
+def test_a_follower_gets_the_pushed_assignment_on_release(lab: Any, browser: Any) -> None:
+    inst, s1 = Page(lab, browser), Page(lab, browser)
+    try:
+        _sign_in(inst)
+        inst.button("Follow me")
+        wait_until(lambda: s1.session is inst.session, 10, "following")
+        inst.select("Assignment for all", "circle-radius-2")
+        inst.button("Push assignment to all")
+        wait_until(lambda: _panel(lab, s1).pending == "circle-radius-2", 10, "pending")
+        assert _panel(lab, s1).active is None and inst.session.lesson.id == "sphere"
+        inst.button("Release")
+        wait_until(lambda: s1.session is not inst.session, 10, "released")
+        wait_until(lambda: _panel(lab, s1).active is not None, 10, "opened on release")
+        assert s1.session.lesson.id == "circle" and inst.session.lesson.id == "sphere"
+        s1.tab("Controls")
+        wait_until(lambda: s1.input_for("u(t) =").is_disabled(), 10, "u locked")
+        assert not s1.input_for("x0").is_disabled()
+        assert s1.input_for("Lesson").is_disabled()
+        for p in (inst, s1):
+            assert p.errors == [], p.errors
+    finally:
+        for p in (inst, s1):
+            p.close()
