@@ -97,14 +97,12 @@ class AssignmentBoard:
         self.lock = threading.RLock()
         ids = {l.id for l in room.lab.lessons}
         found: dict[str, Assignment] = {}
-        for a in ready_assignments():
-            found[a.id] = a
         folder = os.environ.get(ENV_FOLDER)
-        if folder:
+        for load in (ready_assignments, lambda: load_folder(folder) if folder else []):
             try:
-                for a in load_folder(folder):
+                for a in load():
                     found[a.id] = a
-            except AssignmentError as exc:
+            except AssignmentError as exc:  # a page must open even without them
                 print(f"analyzer-lab: assignments ignored: {exc}", file=sys.stderr)
         self.assignments = {k: a for k, a in found.items() if a.lesson in ids}
         self.pushed: str | None = None

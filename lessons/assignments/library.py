@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import sys
 from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
@@ -18,8 +19,11 @@ from lessons.assignments.spec import (
     parse_assignment,
 )
 
-#: The ready assignments shipped with the lab (one or more per lesson).
-READY_DIR = Path(__file__).resolve().parents[2] / "assets" / "assignments"
+#: The ready assignments shipped with the lab (one or more per lesson): the source tree's
+#: ``assets/assignments``, or where an installed wheel puts them.
+_SOURCE_READY = Path(__file__).resolve().parents[2] / "assets" / "assignments"
+_INSTALLED_READY = Path(sys.prefix) / "share" / "analyzer-lab" / "assignments"
+READY_DIR = _SOURCE_READY if _SOURCE_READY.is_dir() else _INSTALLED_READY
 MAX_FILES = 500
 
 
