@@ -367,7 +367,8 @@ class TeacherPanel:
                 gui.add_html(
                     _box(
                         "The current lesson and values become the assignment; its goal: the"
-                        " chosen series end where they end now and stay as small as now."
+                        " chosen series end where they end now and stay as small as now, the"
+                        " chosen metrics (e.g. A0, T, deviation_max_um) stay at their values."
                     )
                 )
                 self.a_id = gui.add_text("Id", initial_value="my-assignment")
@@ -375,6 +376,7 @@ class TeacherPanel:
                 self.a_task = gui.add_text("Task", initial_value="", multiline=True)
                 self.a_unlocked = gui.add_text("Unlocked", initial_value="")
                 self.a_series = gui.add_text("Series to check", initial_value="")
+                self.a_metrics = gui.add_text("Metrics to check", initial_value="")
                 self.a_btn = gui.add_button("Download assignment")
                 self.a_error = gui.add_html("")
         self.push_btn.on_click(self._cb(self._push))
@@ -446,6 +448,7 @@ class TeacherPanel:
                 task=str(self.a_task.value).strip() or f"Reproduce this run of {lesson.title}.",
                 preset=preset,
                 t_end=s.t_end,
+                metrics=names(self.a_metrics.value),
             )
         except (AssignmentError, LabError, ValueError) as exc:
             self.a_error.content = error_html(str(exc))

@@ -338,6 +338,22 @@ def test_draft_from_state_round_trips() -> None:
     assert a.unlocked == ("u",) and a.answers["correct"] == {"u": "2"}
     assert grade(a, {"u": "2"}).passed
     assert not grade(a, {"u": "1"}).passed
+    data = draft(
+        "carriage-forced-vibration",
+        {"w0": 4.992},
+        ["w0"],
+        [],
+        metrics=["A0"],
+        assignment_id="res",
+        title="Resonance",
+        task="Find it",
+    )
+    a = parse_assignment(data, "draft.json")
+    assert grade(a, {"w0": 4.992}).passed
+    failed = grade(a, {"w0": 4.0}).failed
+    assert [c.id for c in failed] == ["a0-min"] and failed[0].miss > 0.5
+    with pytest.raises(AssignmentError, match="not a numeric metric"):
+        draft("circle", {}, ["u"], [], metrics=["nope"], assignment_id="x", title="x", task="x")
     with pytest.raises(AssignmentError, match=r"unlocked\[1\]: 'warp' is not a parameter"):
         draft("circle", {}, ["u", "warp"], ["x"], assignment_id="x", title="x", task="x")
     with pytest.raises(AssignmentError, match="not a series"):

@@ -173,12 +173,14 @@ def test_instructor_authors_an_assignment_from_the_state(lab: Any, browser: Any)
         assert "unlocked[1]" in err.inner_text() and "warp" in err.inner_text()
         inst.fill("Unlocked", "u1, u2, u3")
         inst.fill("Series to check", "speed")
+        inst.fill("Metrics to check", "v2_max")
         inst.fill("Id", "class-sphere")
         with inst.page.expect_download(timeout=15000) as dl:
             inst.button("Download assignment")
         data = json.loads(open(dl.value.path(), encoding="utf-8").read())
         a = parse_assignment(data, "downloaded")
         assert a.id == "class-sphere" and a.lesson == "sphere" and a.unlocked == ("u1", "u2", "u3")
+        assert {"speed-end", "speed-size", "v2-max-max", "v2-max-min"} == {c.id for c in a.checks}
         assert grade(a, a.answers["correct"]).passed
         assert inst.errors == [], inst.errors
     finally:

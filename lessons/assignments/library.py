@@ -69,6 +69,7 @@ def draft(
     hint: str = "",
     reference: str = "",
     margin: float = 0.05,
+    metrics: Sequence[str] = (),
 ) -> dict[str, Any]:
     """An assignment (as JSON data) authored from a lesson state.
 
@@ -119,6 +120,23 @@ def draft(
                 "reduce": "max-abs",
                 "bound": float(f"{size * (1 + margin) + 1e-12:.4g}"),
             }
+        )
+    for name in metrics:
+        value = run.metrics.get(name)
+        if isinstance(value, bool) or not isinstance(value, (int, float, np.number)):
+            raise AssignmentError(
+                "draft", "metrics", f"{name[:40]!r} is not a numeric metric of {lesson.id}"
+            )
+        value = float(value)
+        if not np.isfinite(value):
+            raise AssignmentError("draft", "metrics", f"{name} is not finite in this run")
+        slack = margin * max(abs(value), 1e-9)
+        slug = name.lower().replace("_", "-")
+        checks.append(
+            {"id": f"{slug}-max", "kind": "at-most", "metric": name, "bound": value + slack}
+        )
+        checks.append(
+            {"id": f"{slug}-min", "kind": "at-least", "metric": name, "bound": value - slack}
         )
     raw = params.raw()
     start = {k: _plain(v) for k, v in raw.items() if k not in unlocked}
