@@ -47,9 +47,11 @@ from lessons.core.table6dof import (
     INDUCTORS,
     PHYSICAL,
     POSE,
+    InverseTable,
     axis_displacements,
-    constraint_residual,
+    constraint_residuals,
     inverse_dynamics,
+    inverse_observed,
     plane_through_joints,
     pose_table,
     program_state,
@@ -252,22 +254,33 @@ class Table6DOF(DynamicsLesson):
     def start(self, params: Params, t0: float, y: Array | None) -> Solution:
         p, ev = self.pvec(params), self.program(params)
         if params["problem"] == "inverse":
-
-            def states(t: Array) -> Array:
-                out = np.full((len(t), 36), np.nan)
-                pose = ev(t)
-                for k in range(len(t)):
-                    q, qd, qdd, ok = program_state(*(a[:, k] for a in pose), p)
-                    if ok:
-                        out[k] = np.concatenate([q, qd, qdd])
-                return out
-
-            return ClosedForm(states)
+            return ClosedForm(self.inverse_table(params).states)
         if y is None:
             q0, qd0, _, _ = program_state(*ev(0.0), p)
             y = np.concatenate([q0, qd0])
         rhs = table_model().system.rhs(p, self.forces_of(params), BAUMGARTE, BAUMGARTE)
         return DenseSolution(rhs, t0, y, rtol=1e-7, atol=1e-9)
+
+    def inverse_table(self, params: Params) -> InverseTable:
+        """The inverse problem's table for played frames (one per parameter set)."""
+        return self.cached(
+            "inverse_table",
+            params,
+            lambda: InverseTable(
+                self.program(params),
+                self.pvec(params),
+                lambda t, s: self.observe(params, t, s),
+                self.series_names(params),
+            ),
+        )
+
+    def frame_scalars(self, params: Params, t: float, state: Any) -> dict[str, float]:
+        """The inverse problem's played frames read their scalars from its table."""
+        if params["problem"] == "inverse" and np.shape(state)[0] == 1:
+            row = self.inverse_table(params).scalars(float(t), np.asarray(state)[0])
+            if row is not None:
+                return row
+        return super().frame_scalars(params, t, state)
 
     def observe(self, params: Params, t: Array, state: Any) -> dict[str, Array]:
         state = np.asarray(state, dtype=float)
@@ -276,13 +289,14 @@ class Table6DOF(DynamicsLesson):
         ok = np.all(np.isfinite(state), axis=1)
         F = np.full((len(t), 6), np.nan)
         resid = np.full(len(t), np.nan)
-        u = self.forces_of(params) if params["problem"] == "forward" else None
-        for k in np.nonzero(ok)[0]:
-            if u is None:
-                F[k] = inverse_dynamics(q[k], qd[k], state[k, 24:], p)[0]
-            else:
+        if params["problem"] == "inverse":
+            F, resid = inverse_observed(state, p)
+        else:
+            u = self.forces_of(params)
+            for k in np.nonzero(ok)[0]:
                 F[k] = u(float(t[k]), q[k], qd[k])
-            resid[k] = constraint_residual(q[k], p)
+            if ok.any():
+                resid[ok] = constraint_residuals(q[ok], p)
         prog = self.program(params)(t)[0]
         out = {n: q[:, k] for k, n in enumerate(COORDS)}
         out.update({f"{n}_dot": qd[:, k] for k, n in enumerate(COORDS)})
@@ -328,9 +342,11 @@ class Table6DOF(DynamicsLesson):
     # -- live -----------------------------------------------------------------------
 
     def pose_frame(self, params: Params, fr: Frame, state: Array) -> None:
-        F = np.nan_to_num(np.array([fr.scalars[f] for f in FORCES]))
+        F = np.array([fr.scalars[f] for f in FORCES])
+        F = F if np.isfinite(F).all() else np.nan_to_num(F)
         scale = 0.1 / max(float(params["M_c"]) * max(float(params["g"]), 1.0) / 3.0, 1e-9)
-        pose_table(fr, np.nan_to_num(state[:12]), scale * F, float(params["r_t"]))
+        q = state[:12] if np.isfinite(state[:12]).all() else np.nan_to_num(state[:12])
+        pose_table(fr, q, scale * F, float(params["r_t"]))
 
     def scene(self, params: Params) -> SceneSpec:
         return table_scene(float(params["l"]), float(params["r_t"]))

@@ -23,6 +23,11 @@ from lessons.core.lagrange import LagrangeModel, plain_symbols
 Array = np.ndarray
 
 
+def args_of(cs: ConstrainedSystem) -> tuple[Any, ...]:
+    """The arguments of the numeric functions: ``(q, q', t, params, inputs)``."""
+    return (cs.q, cs.qd, cs.t, cs.params, cs.inputs)
+
+
 @dataclass
 class ConstrainedSystem:
     """The algorithm of §2.2 for ``A(q,t) q'' = B(q,q',t) + H^T lambda``.
@@ -135,9 +140,48 @@ class ConstrainedSystem:
         return int(self.H.rows)
 
     def _lambdify(self) -> None:
-        args = (self.q, self.qd, self.t, self.params, self.inputs)
+        args = args_of(self)
         for name in ("A", "B", "f_hol", "H", "psi", "Phi"):
             self._num[name] = sp.lambdify(args, getattr(self, name), modules="numpy", cse=True)
+
+    def parts_many(
+        self,
+        t: float,
+        q: Array,
+        qd: Array,
+        p: Array,
+        u: Array,
+        names: Sequence[str] = ("A", "B", "f", "H", "psi", "Phi"),
+    ) -> dict[str, Array]:
+        """:meth:`parts` at ``N`` states at once: ``q``, ``qd`` are ``(N, n)``; each part
+        gets a leading axis of length ``N`` (one vectorized evaluation of its entries)."""
+        q, qd = np.asarray(q, dtype=float), np.asarray(qd, dtype=float)
+        N = q.shape[0]
+        n, v2 = self.n, self.v2
+        a = (list(q.T), list(qd.T), t, p, u)
+        shapes = {
+            "A": (n, n),
+            "B": (n,),
+            "f": (self.n_hol,),
+            "H": (v2, n),
+            "psi": (v2,),
+            "Phi": (v2,),
+        }
+        out: dict[str, Array] = {}
+        for k in names:
+            name = "f_hol" if k == "f" else k
+            fn = self._num.get(name + "[]")
+            if fn is None:
+                entries = list(getattr(self, name))
+                fn = self._num[name + "[]"] = sp.lambdify(
+                    args_of(self), entries, modules="numpy", cse=True
+                )
+            vals = fn(*a)
+            flat = np.empty((N, len(vals)))
+            for j, v in enumerate(vals):
+                flat[:, j] = v
+            out[k] = flat.reshape((N, *shapes[k]))
+        return out
 
     def _eval(self, name: str, shape: tuple[int, int], *args: Any) -> Array:
         return np.asarray(self._num[name](*args), dtype=float).reshape(shape)
