@@ -51,6 +51,7 @@ class ConstrainedSystem:
     Phi: sp.Matrix
     n_hol: int
     _num: dict[str, Callable[..., Any]] = field(default_factory=dict, repr=False)
+    _many: dict[str, Any] = field(default_factory=dict, repr=False)
 
     @classmethod
     def build(
@@ -170,18 +171,33 @@ class ConstrainedSystem:
         out: dict[str, Array] = {}
         for k in names:
             name = "f_hol" if k == "f" else k
-            fn = self._num.get(name + "[]")
-            if fn is None:
-                entries = list(getattr(self, name))
-                fn = self._num[name + "[]"] = sp.lambdify(
-                    args_of(self), entries, modules="numpy", cse=True
-                )
-            vals = fn(*a)
-            flat = np.empty((N, len(vals)))
-            for j, v in enumerate(vals):
-                flat[:, j] = v
+            fns = self._many.get(name)
+            if fns is None:
+                fns = self._many[name] = self._lambdify_many(getattr(self, name))
+            varying, fixed, per_state, once = fns
+            flat = np.empty((N, int(np.prod(shapes[k]))))
+            if len(varying):
+                flat[:, varying] = np.stack(per_state(*a), axis=1)
+            if len(fixed):
+                flat[:, fixed] = once(*a)
             out[k] = flat.reshape((N, *shapes[k]))
         return out
+
+    def _lambdify_many(
+        self, m: sp.Matrix
+    ) -> tuple[Array, Array, Callable[..., Any], Callable[..., Any]]:
+        """The entries of ``m`` that vary with the state (``q``, ``q'``) and those that do
+        not, each as one numeric function of all arguments returning a list."""
+        entries = list(m)
+        state = set(self.q) | set(self.qd)
+        varying = [i for i, e in enumerate(entries) if e.free_symbols & state]
+        fixed = [i for i in range(len(entries)) if i not in set(varying)]
+        args = args_of(self)
+
+        def fn(idx: list[int]) -> Callable[..., Any]:
+            return sp.lambdify(args, [entries[i] for i in idx], modules="numpy", cse=True)
+
+        return np.array(varying, dtype=int), np.array(fixed, dtype=int), fn(varying), fn(fixed)
 
     def _eval(self, name: str, shape: tuple[int, int], *args: Any) -> Array:
         return np.asarray(self._num[name](*args), dtype=float).reshape(shape)
