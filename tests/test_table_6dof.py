@@ -5,10 +5,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from lessons.core.contract import ParamError
+from lessons.core.contract import Frame, ParamError
 from lessons.core.table6dof import (
-    FRAME_GRAIN,
-    TABLE_BLOCK,
+    FORCES,
     constraint_residual,
     constraint_residuals,
     inverse_dynamics,
@@ -16,9 +15,12 @@ from lessons.core.table6dof import (
     inverse_kinematics,
     inverse_kinematics_many,
     inverse_states,
+    pose_table,
     program_state,
     program_states,
+    table_joints,
 )
+from lessons.core.table6dof_frames import FRAME_GRAIN, TABLE_BLOCK, pose_row, pose_rows
 from lessons.table_6dof import Table6DOF
 
 
@@ -121,3 +123,35 @@ def test_inverse_table_serves_frames_and_rebuilds_per_block_and_parameters() -> 
     assert abs(f2.scalars["F_Ax"] - frames[0].scalars["F_Ax"]) > 1e-6 * abs(
         frames[0].scalars["F_Ax"]
     )
+
+
+def test_table_frames_draw_as_the_direct_pose() -> None:
+    lesson = Table6DOF()
+    params = lesson.resolve(preset="inverse-program")
+    st = lesson.stepper(params)
+    for _ in range(5):
+        fr = st.advance(17 * FRAME_GRAIN)
+        state = lesson.inverse_table(params).states(np.array([fr.t]))[0]
+        direct = Frame(t=fr.t, scalars=fr.scalars)
+        F = np.array([fr.scalars[f] for f in FORCES])
+        pose_table(direct, state[:12], lesson.arrow_scale(params) * F, float(params["r_t"]))
+        assert list(direct.poses) == list(fr.poses) and list(direct.vectors) == list(fr.vectors)
+        for name, (pos, quat) in direct.poses.items():
+            assert np.allclose(pos, fr.poses[name][0], rtol=1e-12, atol=1e-15)
+            assert np.allclose(quat, fr.poses[name][1], rtol=1e-12, atol=1e-15)
+        for name, (at, vec) in direct.vectors.items():
+            assert at.shape == fr.vectors[name][0].shape and np.allclose(at, fr.vectors[name][0])
+            assert vec.shape == fr.vectors[name][1].shape and np.allclose(vec, fr.vectors[name][1])
+        assert np.array_equal(direct.points["D"], fr.points["D"])
+    # a leg pointing straight down and a zero-length leg get the direct pose's quaternions
+    q = np.zeros((2, 12))
+    q[0, 2] = -0.2  # the table below the inductor plane: every leg points straight down
+    q[:, 6:] = table_joints(q[0, :6], 0.1)[:, :2].ravel()  # inductors under the joints
+    rows = pose_rows(q, np.zeros((2, 6)), 0.1)
+    for i in range(2):
+        a = Frame(t=0.0)
+        pose_table(a, q[i], np.zeros(6), 0.1)
+        b = Frame(t=0.0)
+        pose_row(b, rows, i)
+        for name in a.poses:
+            assert np.allclose(a.poses[name][1], b.poses[name][1], atol=1e-12), name

@@ -338,62 +338,6 @@ def inverse_observed(states: Array, p: Array) -> tuple[Array, Array]:
     return F, resid
 
 
-#: lesson seconds between the times a played frame can fall on (the session's time quanta)
-FRAME_GRAIN = 1.0 / 600.0
-#: grain times evaluated at once for played frames (see :class:`InverseTable`)
-TABLE_BLOCK = 2048
-
-
-class InverseTable:
-    """The inverse problem for played frames.  A time on the grain of played frames
-    (multiples of :data:`FRAME_GRAIN`) is read from a block of :data:`TABLE_BLOCK` grain
-    times, states and the lesson's observation (``observe(t, states)``, the scalars
-    ``names``) evaluated in one vectorized call when a frame first reaches it; any other
-    time is evaluated directly.  One table per parameter set."""
-
-    def __init__(
-        self,
-        ev: Callable[[Array], tuple[Array, Array, Array]],
-        p: Array,
-        observe: Callable[[Array, Array], dict[str, Array]],
-        names: tuple[str, ...],
-    ) -> None:
-        self.ev, self.p, self.observe, self.names = ev, p, observe, names
-        #: (block, states (TABLE_BLOCK, 36), scalars (TABLE_BLOCK, len(names)))
-        self.block: tuple[int, Array, Array] | None = None
-        self.builds = 0  # blocks evaluated so far
-
-    def _row(self, t: float) -> int | None:
-        """Index of ``t`` in the (current or new) block, None off the grain."""
-        j = round(t / FRAME_GRAIN)
-        if j < 0 or abs(t / FRAME_GRAIN - j) > 1e-9:
-            return None
-        b, i = divmod(j, TABLE_BLOCK)
-        if self.block is None or self.block[0] != b:
-            tt = (b * TABLE_BLOCK + np.arange(TABLE_BLOCK)) * FRAME_GRAIN
-            S = inverse_states(self.ev, self.p, tt)
-            obs = self.observe(tt, S)
-            self.block = (b, S, np.column_stack([obs[n] for n in self.names]))
-            self.builds += 1
-        return i
-
-    def states(self, t: Array) -> Array:
-        """States at the times ``t`` (``(len(t), 36)``)."""
-        if len(t) == 1:
-            i = self._row(float(t[0]))
-            if i is not None and self.block is not None:
-                return self.block[1][i : i + 1].copy()
-        return inverse_states(self.ev, self.p, t)
-
-    def scalars(self, t: float, state: Array) -> dict[str, float] | None:
-        """The observation of ``state`` at ``t`` from the table, or None when ``t`` is off
-        the grain or ``state`` is not the table's state at ``t``."""
-        i = self._row(t)
-        if i is None or self.block is None or not np.array_equal(self.block[1][i], state):
-            return None
-        return dict(zip(self.names, self.block[2][i].tolist()))
-
-
 def inverse_dynamics(q: Array, qd: Array, qdd: Array, p: Array) -> tuple[Array, Array]:
     """Inductor forces ``F`` and multipliers ``lambda`` for a motion:
     ``A q'' - B(F = 0) = H^T lambda + S F`` with ``S = dB/dF`` (virtual work of the forces)."""
@@ -497,10 +441,7 @@ def plane_through_joints(pose: Array, r_t: float) -> tuple[float, float]:
 __all__ = [
     "COORDS",
     "FORCES",
-    "FRAME_GRAIN",
     "INDUCTORS",
-    "InverseTable",
-    "TABLE_BLOCK",
     "PHYSICAL",
     "POSE",
     "TableModel",
