@@ -38,6 +38,8 @@ import weakref
 from collections.abc import Callable
 from typing import TYPE_CHECKING, Any
 
+from app.bus import Bus, LocalBus
+from app.classlink import REMOTE, ClassLink
 from app.instructor import InstructorPanel, Presenter
 from app.limits import (
     INPUT_BURST,
@@ -65,7 +67,7 @@ class Classroom:
     """Instructor sign-in, follow/release, push, notify and presenter mode for a
     :class:`~app.server.LabServer` (``lab.classroom``)."""
 
-    def __init__(self, lab: LabServer, code: str | None = None) -> None:
+    def __init__(self, lab: LabServer, code: str | None = None, bus: Bus | None = None) -> None:
         self.lab = lab
         self.code = code if code else generate_code()
         if len(normalize_code(self.code)) < 4:
@@ -92,6 +94,8 @@ class Classroom:
             "replayed": 0,
             "wrong_codes": 0,
         }
+        #: the other servers of the class (an in-process bus by default)
+        self.link = ClassLink(self, bus if bus is not None else LocalBus(self.code))
         self._stop = threading.Event()
         self._thread = threading.Thread(
             target=self._run, name="analyzer-lab-classroom", daemon=True
@@ -141,11 +145,21 @@ class Classroom:
     def is_instructor(self, client_id: int) -> bool:
         return client_id in self.instructors
 
-    def counts(self) -> tuple[int, int]:
+    def local_counts(self) -> tuple[int, int]:
+        """(students, following) on this server."""
         with self.lab._views_lock:
             ids = list(self.lab.views)
         students = sum(1 for c in ids if c not in self.instructors)
         return students, len(self.followers)
+
+    def counts(self) -> tuple[int, int]:
+        """(students, following) on every server of the class."""
+        students, following = self.local_counts()
+        more_students, more_following, _ = self.link.remote_totals()
+        return students + more_students, following + more_following
+
+    def lab_lessons(self) -> dict[str, Any]:
+        return {l.id: l for l in self.lab.lessons}
 
     # ------------------------------------------------------------------ the code
 
@@ -292,17 +306,22 @@ class Classroom:
                 self.broadcaster = cid
                 self.demo = demo
                 demo.shared_clock = SharedClock(demo, lambda: self.lab.stats.ticks, self.lab.fps)
-            with self.lab._views_lock:
-                views = list(self.lab.views.values())
-            for v in views:
-                if (
-                    v.client.client_id not in self.instructors
-                    and v.client.client_id not in self.followers
-                ):
-                    self._follow(v)
+                self.link.broadcast_started()
+            self.follow_everyone()
             panel = self.instructors.get(cid)
             if panel is not None and panel.camera is not None:
                 self.camera_dirty = True
+
+    def follow_everyone(self) -> None:
+        """Every page of this server that is not an instructor follows the demo."""
+        with self.lab._views_lock:
+            views = list(self.lab.views.values())
+        for v in views:
+            if (
+                v.client.client_id not in self.instructors
+                and v.client.client_id not in self.followers
+            ):
+                self._follow(v)
 
     def _follow(self, view: SessionView) -> None:
         demo = self.demo
@@ -332,13 +351,15 @@ class Classroom:
         if presenter is not None:
             presenter.update_bookmarks()
 
-    def release(self) -> None:
+    def release(self, note: str = "") -> None:
         """Every follower gets its own session back, continuing from the demo."""
         with self.lock:
             demo = self.demo
             followers = list(self.followers.values())
             self.followers.clear()
             self._synced.clear()
+            if self.broadcaster not in (None, REMOTE):
+                self.link.broadcast_released()
             self.broadcaster = None
             self.demo = None
             if demo is not None:
@@ -355,7 +376,8 @@ class Classroom:
             try:
                 view.client.add_notification(
                     "Released",
-                    "your own session continues from where the demo was",
+                    (note + ": " if note else "")
+                    + "your own session continues from where the demo was",
                     auto_close_seconds=4.0,
                     color="green",
                 )
@@ -387,8 +409,11 @@ class Classroom:
         self.all_sessions.add(own)
         return own
 
-    def push_preset(self, lesson_id: str, preset: str) -> None:
-        """Every student (followers see it through the demo) gets lesson + preset."""
+    def push_preset(self, lesson_id: str, preset: str, relay: bool = True) -> None:
+        """Every student (followers see it through the demo) gets lesson + preset;
+        ``relay``: the other servers of the class too."""
+        if relay:
+            self.link.bus.publish("push", {"lesson": lesson_id, "preset": preset})
         with self.lab._views_lock:
             views = list(self.lab.views.values())
         for v in views:
@@ -410,7 +435,9 @@ class Classroom:
             if p is not None:
                 p.update_bookmarks()
 
-    def notify_all(self, text: str) -> None:
+    def notify_all(self, text: str, relay: bool = True) -> None:
+        if relay:
+            self.link.bus.publish("notice", {"text": text[:MAX_NOTICE_LENGTH]})
         with self.lab._views_lock:
             views = list(self.lab.views.values())
         for v in views:
@@ -503,6 +530,8 @@ class Classroom:
             return
         panel = self.instructors.get(self.broadcaster)
         camera = panel.fresh_camera() if panel is not None else None
+        if self.broadcaster == REMOTE:
+            camera = self.link.remote_camera
         if camera is None:
             return
         self.camera_dirty = False
@@ -528,6 +557,7 @@ class Classroom:
             k += 1
             try:
                 with self.lock:
+                    self.link.tick()
                     self._sync_followers()
                     self._push_camera()
                 self._replay_pending()
@@ -568,6 +598,7 @@ class Classroom:
 
     def stop(self) -> None:
         self._stop.set()
+        self.link.close()
 
 
 __all__ = ["Classroom"]

@@ -243,9 +243,12 @@ class InstructorPanel:
             if self.room.broadcaster == self.view.client.client_id
             else "exploring on their own"
         )
+        servers = self.room.link.remote_totals()[2]
+        where = f" on {servers + 1} servers" if servers else ""
         content = (
-            f'<div class="al-class-counts" style="font-size:0.9em"><b>{students}</b> student(s) connected, '
+            f'<div class="al-class-counts" style="font-size:0.9em"><b>{students}</b> student(s) connected{where}, '
             f'<b class="al-following">{following}</b> following; mode: {mode}</div>'
+            + self.room.link.panel_note()
         )
         if self.counts.content != content:
             self.counts.content = content

@@ -17,6 +17,9 @@ LIVE_FILES = {
     "test_browser_lessons.py",
     "test_classroom_browser.py",
     "test_classroom.py",
+    "test_classlink.py",
+    "test_classlink_browser.py",
+    "test_frontdoor.py",
     "test_server.py",
 }
 
