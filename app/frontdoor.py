@@ -8,7 +8,8 @@ that worker and opens its websocket there (viser's client connects to the addres
 the page came from), so the front door carries no frames.
 
 Load is the page count each worker publishes on the bus every second plus the pages
-the front door sent it since that report.  A worker that exits loses only its own
+the front door sent it in the last few seconds (a page may not have connected yet when
+its worker reported).  A worker that exits loses only its own
 pages: the front door stops sending pages to it and starts it again on the same port.
 ``GET /frontdoor/status`` answers the workers' figures as JSON.
 """
@@ -36,6 +37,8 @@ STATUS_PATH = "/frontdoor/status"
 RESTART_DELAY = 1.0
 #: A worker's page report older than this is not trusted (only the front door's own count).
 REPORT_TIMEOUT = 5.0
+#: Seconds a page sent to a worker counts as its load on top of the worker's report.
+PENDING = 3.0
 _HOST_RE = re.compile(r"^[A-Za-z0-9.\-]+$|^\[[0-9A-Fa-f:.]+\]$")
 _URL_RE = re.compile(r"Analyzer Lab: http://[^ ]*:(\d+)/")
 
@@ -57,7 +60,7 @@ class Worker:
     ready: bool = False
     pages: int = 0
     reported: float = 0.0
-    sent_since: int = 0  # pages sent to it since its last report
+    recent: list[float] = field(default_factory=list)  # when pages were sent to it
     sent: int = 0
     restarts: int = 0
     died_at: float = 0.0
@@ -67,8 +70,9 @@ class Worker:
     def alive(self) -> bool:
         return self.proc is not None and self.proc.poll() is None and self.ready
 
-    def load(self) -> int:
-        return self.pages + self.sent_since
+    def load(self, now: float) -> int:
+        self.recent = [t for t in self.recent if now - t < PENDING]
+        return self.pages + len(self.recent)
 
     def figures(self) -> dict[str, Any]:
         return {
@@ -126,7 +130,7 @@ class FrontDoor:
             args += ["--lesson", self.lesson]
         if self.fps:
             args += ["--fps", str(self.fps)]
-        w.ready, w.pages, w.sent_since, w.reported = False, 0, 0, 0.0
+        w.ready, w.pages, w.recent, w.reported = False, 0, [], 0.0
         w.proc = subprocess.Popen(
             args, env=env, stdout=subprocess.PIPE, stderr=None, text=True, bufsize=1
         )
@@ -155,7 +159,7 @@ class FrontDoor:
         with self.lock:
             for w in self.workers:
                 if w.name == msg.sender:
-                    w.pages, w.sent_since, w.reported = pages, 0, time.monotonic()
+                    w.pages, w.reported = pages, time.monotonic()
 
     def _monitor(self) -> None:
         while not self._stop.wait(0.25):
@@ -178,7 +182,7 @@ class FrontDoor:
                     w.restarts += 1
                     self._spawn(w)
                 if w.reported and now - w.reported > REPORT_TIMEOUT:
-                    w.reported = 0.0  # stale: count only what the front door sent
+                    w.reported, w.pages = 0.0, 0  # stale: count only what the front door sent
 
     def pick(self) -> Worker | None:
         """The least-loaded running worker (ties: in turn)."""
@@ -187,10 +191,10 @@ class FrontDoor:
             if not live:
                 return None
             self._rr += 1
-            n = len(live)
-            best = min(range(n), key=lambda k: (live[k].load(), (k - self._rr) % n))
+            n, now = len(live), time.monotonic()
+            best = min(range(n), key=lambda k: (live[k].load(now), (k - self._rr) % n))
             w = live[best]
-            w.sent_since += 1
+            w.recent.append(now)
             w.sent += 1
             return w
 
