@@ -30,7 +30,7 @@ from typing import TYPE_CHECKING, Any
 
 from app.bus import Bus, Message
 from app.limits import MAX_NOTICE_LENGTH
-from app.session import MAX_GO_TO, SPEEDS, LabError, Session, SessionState, SharedClock
+from app.session import SPEEDS, LabError, Session, SessionState, SharedClock
 from lessons.core.contract import ParamError
 
 if TYPE_CHECKING:
@@ -48,6 +48,8 @@ COUNT_TIMEOUT = 5.0
 #: Wall seconds of drift between a mirror and its demo before the mirror is re-seeked.
 DRIFT = 0.3
 MAX_COORD = 1e4
+#: Longest demo time accepted (s of lesson time; a demo may play far past t_end).
+MAX_TIME = 1e6
 
 
 def _vec3(v: Any) -> tuple[float, float, float]:
@@ -81,7 +83,7 @@ class ClassLink:
         self._sent_at = 0.0
         self._count_at = 0.0
         self.status_lock = threading.Lock()
-        self.stats = {"demos_applied": 0, "refused": 0, "reseeks": 0}
+        self.stats = {"demos_applied": 0, "refused": 0, "rebuilds": 0, "reseeks": 0, "holds": 0}
         bus.listen(self.inbox.append)
         bus.on_status(self._on_status)
 
@@ -253,12 +255,11 @@ class ClassLink:
         playing, t, started = body.get("playing"), body.get("t"), body.get("started")
         if not isinstance(playing, bool):
             raise LabError("demo: play state must be true or false")
-        t_end = lesson.preset_t_end(state.preset)
         if (
             isinstance(t, bool)
             or not isinstance(t, (int, float))
             or not math.isfinite(t)
-            or not 0 <= t <= MAX_GO_TO * max(t_end, 1e-9)
+            or not 0 <= t <= MAX_TIME
         ):
             raise LabError("demo: the time is not within the run")
         if isinstance(started, bool) or not isinstance(started, (int, float)):
@@ -287,14 +288,22 @@ class ClassLink:
             room.all_sessions.add(mirror)
             mirror.notices.clear()
         with mirror.lock:
+            hold = False
             if mirror.state() != state or mirror is not self.mirror:
+                self.stats["rebuilds"] += 1
                 mirror.apply_state(state)
                 mirror.notices.clear()
                 self._seek(mirror, t)
-            elif abs(mirror.frame.t - t) > DRIFT * mirror.speed * mirror.lesson.time_scale:
-                self.stats["reseeks"] += 1
-                self._seek(mirror, t)
-            mirror.playing = playing
+            else:
+                drift = mirror.frame.t - t
+                tol = DRIFT * mirror.speed * mirror.lesson.time_scale
+                if drift < -tol or (drift > tol and t <= 2 * mirror.t_end):
+                    self.stats["reseeks"] += 1
+                    self._seek(mirror, t)
+                elif drift > tol:  # ahead, far into the run: wait for the demo
+                    self.stats["holds"] += 1
+                    hold = True
+            mirror.playing = playing and not hold
         self.mirror, self.mirror_from, self.mirror_started = mirror, sender, started
         self.mirror_seen = time.monotonic()
         self.stats["demos_applied"] += 1
@@ -311,11 +320,12 @@ class ClassLink:
 
     @staticmethod
     def _seek(mirror: Session, t: float) -> None:
+        """Put the mirror at the demo's time (from the start if it is ahead)."""
         try:
-            if t > 0:
+            if abs(t - mirror.frame.t) > 1e-9:
                 mirror.go_to(t)
-        except LabError:
-            mirror.reset()
+        except LabError:  # beyond what "go to t" replays: the mirror goes on from its time
+            pass
 
     def close(self) -> None:
         self.bus.close()

@@ -46,6 +46,7 @@ class ProtoClient:
         self.url = url if url.startswith("ws") else url.replace("http", "ws", 1)
         self.gui: dict[str, str] = {}  # label -> uuid (the newest element with that label)
         self.values: dict[str, Any] = {}  # uuid -> value the server set
+        self.stamps: dict[str, float] = {}  # uuid -> when the server last set its value
         self.html: dict[str, str] = {}  # uuid -> content of html elements
         self.notifications: list[str] = []
         self.seen: dict[str, int] = {}  # message type -> count
@@ -95,6 +96,7 @@ class ProtoClient:
                             upd = m.get("updates", {})
                             if "value" in upd:
                                 self.values[m.get("uuid")] = upd["value"]
+                                self.stamps[m.get("uuid")] = time.monotonic()
                             if "content" in upd:
                                 self.html[m.get("uuid")] = upd["content"]
                         elif (

@@ -271,3 +271,60 @@ def test_serve_reports_an_unreachable_bus_at_start() -> None:
         assert proc.poll() is None
     finally:
         stop_process(proc)
+
+
+def test_two_servers_in_one_process_share_the_in_process_bus() -> None:
+    """The embedded default: a demo crosses a LocalBus hub; the mirror is rebuilt only
+    when the demo's state changes (not at every heartbeat) and follows its time."""
+    from app.bus import LocalBus
+    from app.classlink import REMOTE
+    from app.server import LabServer
+    from app.session import Session
+    from lessons.catalog import get_lesson
+
+    hub: list[LocalBus] = []
+    lessons = [get_lesson("sphere"), get_lesson("ellipsoid")]
+    a, b = (
+        LabServer(
+            port=0,
+            lessons=lessons,
+            instructor_code=CODE,
+            bus=LocalBus(CODE, name, hub),
+            warm_up=False,
+        )
+        for name in ("a", "b")
+    )
+    try:
+        demo = Session(a.lessons, "sphere")
+        demo.apply_preset("example-1.2")
+        demo.pause_at_end = False
+        demo.play()
+        with a.classroom.lock:
+            a.classroom.broadcaster, a.classroom.demo = 7, demo  # a page's id on server a
+            a.classroom.link.broadcast_started()
+        for _ in range(20):
+            with demo.lock:
+                demo.advance_wall(0.1)
+            time.sleep(0.1)
+        link = b.classroom.link
+        assert b.classroom.broadcaster == REMOTE and link.mirror is b.classroom.demo
+        assert link.stats["rebuilds"] == 1 and link.stats["demos_applied"] >= 3
+        mirror = link.mirror
+        assert mirror is not None and mirror.preset == "example-1.2"
+        assert abs(mirror.frame.t - demo.frame.t) < 0.8
+        with demo.lock:
+            demo.set_values({"u1": "3"})
+        deadline = time.monotonic() + 5
+        while mirror.raw_values().get("u1") != "3":
+            assert time.monotonic() < deadline, "the change did not cross"
+            time.sleep(0.05)
+        assert link.stats["rebuilds"] == 2
+        with a.classroom.lock:
+            a.classroom.release()
+        deadline = time.monotonic() + 5
+        while b.classroom.broadcaster is not None:
+            assert time.monotonic() < deadline, "the release did not cross"
+            time.sleep(0.05)
+    finally:
+        a.stop()
+        b.stop()
