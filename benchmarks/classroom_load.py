@@ -50,6 +50,7 @@ class ProtoClient:
         self.html: dict[str, str] = {}  # uuid -> content of html elements
         self.notifications: list[str] = []
         self.seen: dict[str, int] = {}  # message type -> count
+        self.last: dict[str, dict[str, Any]] = {}  # message type -> the newest of that type
         self.point_updates = 0
         self.frames = 0
         self.bytes = 0
@@ -89,6 +90,7 @@ class ProtoClient:
                     for m in decode_frame(raw, dec):
                         t = m.get("type", "")
                         self.seen[t] = self.seen.get(t, 0) + 1
+                        self.last[t] = m
                         if t == "SceneNodeUpdateMessage":
                             if m.get("name") == POINT_NODE and "points" in m.get("updates", {}):
                                 point = True

@@ -94,6 +94,36 @@ def test_a_follower_on_another_worker_follows_the_instructor(pair: Pair) -> None
         await inst.set("u1(t) =", "3", 0.1)
         await until(lambda: _value(remote, "u1(t) =") == "3", 10, "u1 on the remote follower")
         await until(lambda: _value(local, "u1(t) =") == "3", 10, "u1 on the local follower")
+        # the instructor's camera reaches the remote follower
+        from viser import _messages
+
+        await inst.send(
+            _messages.ViewerCameraMessage(
+                wxyz=(1.0, 0.0, 0.0, 0.0),
+                position=(5.0, -4.0, 2.0),
+                fov=1.0,
+                near=0.01,
+                far=100.0,
+                image_height=720,
+                image_width=1280,
+                look_at=(0.5, 0.0, 0.0),
+                up_direction=(0.0, 0.0, 1.0),
+            )
+        )
+
+        def camera_at(c: ProtoClient) -> Any:
+            m = c.last.get("SetCameraPositionMessage")
+            return m is not None and [round(float(x), 3) for x in m["position"]] == [5, -4, 2]
+
+        await until(lambda: camera_at(remote) and camera_at(local), 10, "the camera on w2")
+        # the play state: the instructor pauses, the remote follower's point stops
+        await inst.set("Run", "Pause", 0.5)
+        remote.point_updates = 0
+        remote.measuring = True
+        await asyncio.sleep(1.5)
+        remote.measuring = False
+        assert remote.point_updates <= 2, remote.point_updates
+        await inst.set("Run", "Play", 0.1)
         # its controls are refused while following
         await remote.set("u1(t) =", "9", 0.5)
         assert _value(remote, "u1(t) =") == "3"
