@@ -84,8 +84,14 @@ class ClassLink:
         self._count_at = 0.0
         self.status_lock = threading.Lock()
         self.stats = {"demos_applied": 0, "refused": 0, "rebuilds": 0, "reseeks": 0, "holds": 0}
-        bus.listen(self.inbox.append)
+        bus.listen(self._arrived)
         bus.on_status(self._on_status)
+
+    def _arrived(self, msg: Message) -> None:
+        self.inbox.append(msg)
+        wake = getattr(self.room, "wake", None)
+        if wake is not None:
+            wake.set()
 
     # ------------------------------------------------------------------ status
 

@@ -97,6 +97,7 @@ class Classroom:
         #: the other servers of the class (an in-process bus by default)
         self.link = ClassLink(self, bus if bus is not None else LocalBus(self.code))
         self._stop = threading.Event()
+        self.wake = threading.Event()  # set by the bus: apply at once, not at the next period
         self._thread = threading.Thread(
             target=self._run, name="analyzer-lab-classroom", daemon=True
         )
@@ -468,7 +469,8 @@ class Classroom:
         """Bring every follower in line with the demo after a change.  All followers
         are done under ONE acquisition of the demo's lock, and their derivation is
         rendered once, here (the frame loop skips a view whose lock is taken: many
-        short holds of the one shared lock would make it skip followers often)."""
+        short holds of the one shared lock would make it skip followers often).  The
+        widgets go out first; the derivation (tens of ms when new) follows."""
         demo = self.demo
         if demo is None:
             return
@@ -480,11 +482,7 @@ class Classroom:
         ]
         if not stale:
             return
-        derivation = (
-            self._derivation_of(demo)
-            if any((self._synced.get(cid) or (None,) * 6)[:6] != sig[:6] for cid, _ in stale)
-            else None
-        )
+        redrawn = []
         changed_bookmarks = []
         with demo.lock:
             for cid, view in stale:
@@ -497,13 +495,21 @@ class Classroom:
                         panel.fresh_camera()  # a new lesson: the followers' views frame it themselves
                 if old is None or old[:6] != sig[:6]:
                     view.redraw()
-                    if derivation is not None:
-                        view.set_derivation(derivation)
-                        view.derivation_due = None
+                    view.derivation_due = None  # rendered once below, for every follower
+                    redrawn.append(view)
                 view.mark_dirty()
                 self._synced[cid] = sig
                 if old is None or old[1:3] != sig[1:3]:
                     changed_bookmarks.append(cid)
+        derivation = self._derivation_of(demo) if redrawn else None
+        if redrawn:
+            with demo.lock:
+                for view in redrawn:
+                    if view.session is demo and not view.closed:
+                        if derivation is None:
+                            view.derivation_due = time.monotonic()  # the server's slow loop
+                        else:
+                            view.set_derivation(derivation)
         for cid in changed_bookmarks:
             p = self.presenters.get(cid)
             if p is not None:
@@ -553,7 +559,11 @@ class Classroom:
             self.lab._report_every / self.lab.fps if getattr(self.lab, "_report_every", 0) else 0.0
         )
         last_report = time.monotonic()
-        while not self._stop.wait(period):
+        while not self._stop.is_set():
+            self.wake.wait(period)
+            self.wake.clear()
+            if self._stop.is_set():
+                break
             k += 1
             try:
                 with self.lock:
@@ -598,6 +608,7 @@ class Classroom:
 
     def stop(self) -> None:
         self._stop.set()
+        self.wake.set()
         self.link.close()
 
 

@@ -255,11 +255,11 @@ def test_a_bus_that_is_down_is_reported_and_reconnects(tmp_path: Path) -> None:
             inst = await ProtoClient(f"ws://127.0.0.1:{port}/").start()
             await inst.wait_for("Run")  # serves its own pages meanwhile
             await inst.become_instructor(CODE)
-            await until(lambda: "al-bus-down" in _counts(inst), 10, "down on the panel")
+            await until(lambda: "al-bus-down" in _counts(inst), 20, "down on the panel")
             assert "[bus] redis://127.0.0.1" in log_path.read_text()
             redis_server.start()
             await until(lambda: "[bus] connected" in log_path.read_text(), 20, "reconnected")
-            await until(lambda: "al-bus-down" not in _counts(inst), 10, "panel clear")
+            await until(lambda: "al-bus-down" not in _counts(inst), 20, "panel clear")
             redis_server.stop()  # drops while serving
             await until(lambda: "al-bus-down" in _counts(inst), 20, "the drop on the panel")
             await inst.set("Run", "Play", 0.1)
