@@ -163,9 +163,9 @@ class ClassLink:
         self.started = time.time()
         self.publish_demo(force=True)
 
-    def broadcast_released(self) -> None:
+    def broadcast_released(self, everywhere: bool = False) -> None:
         self._sent_sig = None
-        self.bus.publish("release", {})
+        self.bus.publish("release", {"all": bool(everywhere)})
 
     def publish_counts(self) -> None:
         students, following = self.room.local_counts()
@@ -214,7 +214,10 @@ class ClassLink:
         elif msg.kind == "demo":
             self._apply_demo(msg.sender, body)
         elif msg.kind == "release":
-            if self.mirror_from == msg.sender and self.room.broadcaster == REMOTE:
+            everywhere = body.get("all") is True
+            if self.room.broadcaster is not None and (
+                everywhere or (self.mirror_from == msg.sender and self.room.broadcaster == REMOTE)
+            ):
                 self.mirror_from = None
                 self.room.release()
         elif msg.kind == "push":

@@ -352,15 +352,16 @@ class Classroom:
         if presenter is not None:
             presenter.update_bookmarks()
 
-    def release(self, note: str = "") -> None:
-        """Every follower gets its own session back, continuing from the demo."""
+    def release(self, note: str = "", everywhere: bool = False) -> None:
+        """Every follower gets its own session back, continuing from the demo;
+        ``everywhere``: an instructor's "Release" (every server of the class)."""
         with self.lock:
             demo = self.demo
             followers = list(self.followers.values())
             self.followers.clear()
             self._synced.clear()
-            if self.broadcaster not in (None, REMOTE):
-                self.link.broadcast_released()
+            if everywhere or self.broadcaster not in (None, REMOTE):
+                self.link.broadcast_released(everywhere)
             self.broadcaster = None
             self.demo = None
             if demo is not None:

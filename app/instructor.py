@@ -167,7 +167,7 @@ class InstructorPanel:
             self.message = gui.add_text("Message", initial_value="")
             self.notify_btn = gui.add_button("Notify all")
         self.follow_btn.on_click(self._cb(lambda: room.start_follow(view)))
-        self.release_btn.on_click(self._cb(room.release))
+        self.release_btn.on_click(self._cb(lambda: room.release(everywhere=True)))
         self.push_btn.on_click(self._cb(self._push))
         self.notify_btn.on_click(self._cb(self._notify))
         self.camera: tuple[Any, ...] | None = None

@@ -355,6 +355,20 @@ def test_two_servers_in_one_process_share_the_in_process_bus() -> None:
         while b.classroom.broadcaster is not None:
             assert time.monotonic() < deadline, "the release did not cross"
             time.sleep(0.05)
+        # an instructor's "Release" on any server releases the demo of another server too
+        with a.classroom.lock:
+            a.classroom.broadcaster, a.classroom.demo = 7, demo
+            a.classroom.link.broadcast_started()
+        deadline = time.monotonic() + 5
+        while b.classroom.broadcaster != REMOTE:
+            assert time.monotonic() < deadline, "the second demo did not cross"
+            time.sleep(0.05)
+        with b.classroom.lock:
+            b.classroom.release(everywhere=True)
+        deadline = time.monotonic() + 5
+        while a.classroom.broadcaster is not None:
+            assert time.monotonic() < deadline, "the release everywhere did not reach a"
+            time.sleep(0.05)
     finally:
         a.stop()
         b.stop()
