@@ -93,6 +93,9 @@ class ClassLink:
         if wake is not None:
             wake.set()
 
+    def lessons(self) -> dict[str, Any]:
+        return {l.id: l for l in self.room.lab.lessons}
+
     # ------------------------------------------------------------------ status
 
     def _on_status(self, up: bool, reason: str) -> None:
@@ -222,7 +225,7 @@ class ClassLink:
                 self.room.release()
         elif msg.kind == "push":
             lesson_id, preset = body.get("lesson"), body.get("preset")
-            lesson = self.room.lab_lessons().get(lesson_id) if isinstance(lesson_id, str) else None
+            lesson = self.lessons().get(lesson_id) if isinstance(lesson_id, str) else None
             if lesson is None:
                 raise LabError("push: unknown lesson")
             if preset not in {p.name for p in lesson.presets}:
@@ -244,7 +247,7 @@ class ClassLink:
         state = SessionState.from_json(json.dumps(raw))
         if set(raw.get("values") or {}) != set(state.values):
             raise LabError("demo: a value is not a short number, text or switch")
-        lesson = self.room.lab_lessons().get(state.lesson)
+        lesson = self.lessons().get(state.lesson)
         if lesson is None:
             raise LabError(f"demo: unknown lesson {state.lesson[:60]!r}")
         if state.preset is not None and state.preset not in {p.name for p in lesson.presets}:

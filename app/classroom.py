@@ -159,9 +159,6 @@ class Classroom:
         more_students, more_following, _ = self.link.remote_totals()
         return students + more_students, following + more_following
 
-    def lab_lessons(self) -> dict[str, Any]:
-        return {l.id: l for l in self.lab.lessons}
-
     # ------------------------------------------------------------------ the code
 
     def _on_code(self, view: SessionView, event: Any) -> None:

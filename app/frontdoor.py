@@ -293,6 +293,10 @@ class FrontDoor:
         self.bus.close()
 
 
+def _interrupt(signum: int, frame: Any) -> None:
+    raise KeyboardInterrupt
+
+
 def serve_workers(
     host: str,
     port: int,
@@ -312,7 +316,7 @@ def serve_workers(
     except OSError as exc:
         print(f"analyzer-lab: error: cannot listen on {host}:{port}: {exc}", file=sys.stderr)
         return 2
-    signal.signal(signal.SIGTERM, lambda *_: (_ for _ in ()).throw(KeyboardInterrupt()))
+    signal.signal(signal.SIGTERM, _interrupt)  # stop the workers on a plain kill too
     t0 = time.perf_counter()
     try:
         ok = door.start()
