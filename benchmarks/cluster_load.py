@@ -113,6 +113,8 @@ class CPU:
         import psutil
 
         self.procs = [psutil.Process(door_pid)] + [psutil.Process(p) for p in worker_pids]
+        self.procs.append(psutil.Process())  # the clients (this process)
+        self.clients = 0.0
         self.machine = psutil.cpu_percent
 
     def start(self) -> None:
@@ -122,14 +124,15 @@ class CPU:
 
     def read(self) -> tuple[float, list[float], float]:
         values = [p.cpu_percent(None) for p in self.procs]
-        return values[0], values[1:], self.machine(None)
+        self.clients = values[-1]
+        return values[0], values[1:-1], self.machine(None)
 
 
-def _cpu_text(door: float, workers: list[float], machine: float) -> str:
+def _cpu_text(door: float, workers: list[float], machine: float, clients: float = 0.0) -> str:
     each = ", ".join(f"{c:.0f}%" for c in workers)
     return (
         f"server CPU per worker {each}; front door {door:.0f}%; total {sum(workers) + door:.0f}% "
-        f"(machine, all cores: {machine:.0f}%)"
+        f"(clients {clients:.0f}%; machine, all cores: {machine:.0f}%)"
     )
 
 
@@ -164,7 +167,7 @@ async def pages_scenario(port: int, n: int, seconds: float, cpu: CPU) -> str:
     u = ok or [0.0]
     return (
         f"pages: {n} pages (per worker port: {dict(spread)}): updates/s per page mean "
-        f"{statistics.mean(u):.1f}, min {min(u):.1f}; {_cpu_text(door, workers, machine)}; "
+        f"{statistics.mean(u):.1f}, min {min(u):.1f}; {_cpu_text(door, workers, machine, cpu.clients)}; "
         f"errors {len(errors)}" + (f" ({errors[0]})" if errors else "")
     )
 
@@ -235,7 +238,7 @@ async def classroom_scenario(port: int, n: int, seconds: float, cpu: CPU) -> str
         f"updates/s per follower mean {statistics.mean(u):.1f}, min {min(u):.1f}; lag from the "
         f"instructor's change to every follower's page over {k} changes: median "
         f"{statistics.median(lags_ms):.0f} ms, worst {max(lags_ms):.0f} ms ({per}); "
-        f"missed {missed}; {_cpu_text(door, workers, machine)}; errors {len(errors)}"
+        f"missed {missed}; {_cpu_text(door, workers, machine, cpu.clients)}; errors {len(errors)}"
     )
 
 
