@@ -83,7 +83,14 @@ class ClassLink:
         self._sent_at = 0.0
         self._count_at = 0.0
         self.status_lock = threading.Lock()
-        self.stats = {"demos_applied": 0, "refused": 0, "rebuilds": 0, "reseeks": 0, "holds": 0}
+        self.stats = {
+            "demos_applied": 0,
+            "refused": 0,
+            "rebuilds": 0,
+            "live_changes": 0,
+            "reseeks": 0,
+            "holds": 0,
+        }
         bus.listen(self._arrived)
         bus.on_status(self._on_status)
 
@@ -301,6 +308,8 @@ class ClassLink:
             mirror.notices.clear()
         with mirror.lock:
             hold = False
+            if mirror is self.mirror and mirror.state() != state:
+                self._change(mirror, state)
             if mirror.state() != state or mirror is not self.mirror:
                 self.stats["rebuilds"] += 1
                 mirror.apply_state(state)
@@ -329,6 +338,29 @@ class ClassLink:
             room.demo = mirror
             mirror.shared_clock = SharedClock(mirror, lambda: room.lab.stats.ticks, room.lab.fps)
             room.follow_everyone()
+
+    def _change(self, mirror: Session, state: SessionState) -> None:
+        """Same lesson and preset: change what changed as the instructor's session did
+        (a live value keeps the run going; no replay from the start)."""
+        cur = mirror.state()
+        if (cur.lesson, cur.preset, set(cur.values)) != (
+            state.lesson,
+            state.preset,
+            set(state.values),
+        ):
+            return
+        changes = {k: v for k, v in state.values.items() if cur.values.get(k) != v}
+        try:
+            if changes:
+                mirror.set_values(changes)
+                self.stats["live_changes"] += 1
+            if cur.speed != state.speed:
+                mirror.set_speed(state.speed)
+        except (ParamError, LabError):
+            return  # rebuilt from the state instead
+        mirror.pause_at_end = state.pause_at_end
+        vectors = state.visible_vectors
+        mirror.visible_vectors = set(vectors) if vectors is not None else None
 
     @staticmethod
     def _seek(mirror: Session, t: float) -> None:

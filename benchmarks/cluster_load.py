@@ -122,6 +122,16 @@ class CPU:
             p.cpu_percent(None)
         self.machine(None)
 
+    def settle(self, limit: float = 12.0, timeout: float = 90.0) -> float:
+        """Wait until every worker has finished warming up (CPU under ``limit``% for 1 s)."""
+        t0 = time.monotonic()
+        while time.monotonic() - t0 < timeout:
+            self.start()
+            time.sleep(1.0)
+            if max(p.cpu_percent(None) for p in self.procs[1:-1]) < limit:
+                break
+        return time.monotonic() - t0
+
     def read(self) -> tuple[float, list[float], float]:
         values = [p.cpu_percent(None) for p in self.procs]
         self.clients = values[-1]
@@ -267,6 +277,7 @@ def main(argv: list[str] | None = None) -> int:
             flush=True,
         )
         cpu = CPU(door.pid, pids)
+        print(f"workers warmed up in {cpu.settle():.0f} s", flush=True)
         for name in args.scenarios:
             if name == "pages":
                 print(asyncio.run(pages_scenario(port, args.pages, args.seconds, cpu)), flush=True)
