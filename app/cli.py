@@ -1,4 +1,5 @@
-"""``analyzer-lab``: the command line (``serve``, ``lessons``, ``run``, ``check``).
+"""``analyzer-lab``: the command line (``serve``, ``lessons``, ``run``, ``check``,
+``assignments``, ``grade``).
 
 Headless commands import no view code; ``serve`` imports the viser app lazily.
 """
@@ -126,7 +127,12 @@ def cmd_check(args: argparse.Namespace) -> int:
 
 
 def cmd_serve(args: argparse.Namespace) -> int:
-    workers = getattr(args, "workers", 1)
+    from app.assignments_cli import use_folder_for_serve
+
+    problem = use_folder_for_serve(getattr(args, "assignments", None))
+    if problem:
+        return _fail(problem)
+    workers = getattr(args, "workers", 1)  # the workers inherit the assignments folder
     bus = getattr(args, "bus", None)
     if not 1 <= workers <= 64:
         return _fail(f"--workers must be in 1..64, got {workers}")
@@ -215,6 +221,7 @@ def build_parser() -> argparse.ArgumentParser:
         default=None,
         help="this server's name on the bus (default: random; unique within a class)",
     )
+    s.add_argument("--assignments", metavar="DIR", help="also offer the assignment files in DIR")
     s.set_defaults(func=cmd_serve)
 
     s = sub.add_parser("lessons", help="list the lessons")
@@ -237,6 +244,9 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("--json", action="store_true")
     s.set_defaults(func=cmd_check)
 
+    from app.assignments_cli import add_parsers
+
+    add_parsers(sub)
     return p
 
 
