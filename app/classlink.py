@@ -23,7 +23,6 @@ import html
 import math
 import secrets
 import sys
-import threading
 import time
 from collections import deque
 from typing import TYPE_CHECKING, Any
@@ -82,7 +81,6 @@ class ClassLink:
         self._sent_sig: tuple[Any, ...] | None = None
         self._sent_at = 0.0
         self._count_at = 0.0
-        self.status_lock = threading.Lock()
         self.stats = {
             "demos_applied": 0,
             "refused": 0,
