@@ -39,6 +39,8 @@ from collections.abc import Callable
 from typing import TYPE_CHECKING, Any
 
 from app import assignments_view
+from app.bus import Bus, LocalBus
+from app.classlink import REMOTE, ClassLink
 from app.instructor import InstructorPanel, Presenter
 from app.limits import (
     INPUT_BURST,
@@ -66,7 +68,7 @@ class Classroom:
     """Instructor sign-in, follow/release, push, notify and presenter mode for a
     :class:`~app.server.LabServer` (``lab.classroom``)."""
 
-    def __init__(self, lab: LabServer, code: str | None = None) -> None:
+    def __init__(self, lab: LabServer, code: str | None = None, bus: Bus | None = None) -> None:
         self.lab = lab
         self.code = code if code else generate_code()
         if len(normalize_code(self.code)) < 4:
@@ -93,7 +95,10 @@ class Classroom:
             "replayed": 0,
             "wrong_codes": 0,
         }
+        #: the other servers of the class (an in-process bus by default)
+        self.link = ClassLink(self, bus if bus is not None else LocalBus(self.code))
         self._stop = threading.Event()
+        self.wake = threading.Event()  # set by the bus: apply at once, not at the next period
         self._thread = threading.Thread(
             target=self._run, name="analyzer-lab-classroom", daemon=True
         )
@@ -144,11 +149,18 @@ class Classroom:
     def is_instructor(self, client_id: int) -> bool:
         return client_id in self.instructors
 
-    def counts(self) -> tuple[int, int]:
+    def local_counts(self) -> tuple[int, int]:
+        """(students, following) on this server."""
         with self.lab._views_lock:
             ids = list(self.lab.views)
         students = sum(1 for c in ids if c not in self.instructors)
         return students, len(self.followers)
+
+    def counts(self) -> tuple[int, int]:
+        """(students, following) on every server of the class."""
+        students, following = self.local_counts()
+        more_students, more_following, _ = self.link.remote_totals()
+        return students + more_students, following + more_following
 
     # ------------------------------------------------------------------ the code
 
@@ -296,17 +308,22 @@ class Classroom:
                 self.broadcaster = cid
                 self.demo = demo
                 demo.shared_clock = SharedClock(demo, lambda: self.lab.stats.ticks, self.lab.fps)
-            with self.lab._views_lock:
-                views = list(self.lab.views.values())
-            for v in views:
-                if (
-                    v.client.client_id not in self.instructors
-                    and v.client.client_id not in self.followers
-                ):
-                    self._follow(v)
+                self.link.broadcast_started()
+            self.follow_everyone()
             panel = self.instructors.get(cid)
             if panel is not None and panel.camera is not None:
                 self.camera_dirty = True
+
+    def follow_everyone(self) -> None:
+        """Every page of this server that is not an instructor follows the demo."""
+        with self.lab._views_lock:
+            views = list(self.lab.views.values())
+        for v in views:
+            if (
+                v.client.client_id not in self.instructors
+                and v.client.client_id not in self.followers
+            ):
+                self._follow(v)
 
     def _follow(self, view: SessionView) -> None:
         demo = self.demo
@@ -336,13 +353,16 @@ class Classroom:
         if presenter is not None:
             presenter.update_bookmarks()
 
-    def release(self) -> None:
-        """Every follower gets its own session back, continuing from the demo."""
+    def release(self, note: str = "", everywhere: bool = False) -> None:
+        """Every follower gets its own session back, continuing from the demo;
+        ``everywhere``: an instructor's "Release" (every server of the class)."""
         with self.lock:
             demo = self.demo
             followers = list(self.followers.values())
             self.followers.clear()
             self._synced.clear()
+            if everywhere or self.broadcaster not in (None, REMOTE):
+                self.link.broadcast_released(everywhere)
             self.broadcaster = None
             self.demo = None
             if demo is not None:
@@ -360,7 +380,8 @@ class Classroom:
             try:
                 view.client.add_notification(
                     "Released",
-                    "your own session continues from where the demo was",
+                    (note + ": " if note else "")
+                    + "your own session continues from where the demo was",
                     auto_close_seconds=4.0,
                     color="green",
                 )
@@ -392,8 +413,11 @@ class Classroom:
         self.all_sessions.add(own)
         return own
 
-    def push_preset(self, lesson_id: str, preset: str) -> None:
-        """Every student (followers see it through the demo) gets lesson + preset."""
+    def push_preset(self, lesson_id: str, preset: str, relay: bool = True) -> None:
+        """Every student (followers see it through the demo) gets lesson + preset;
+        ``relay``: the other servers of the class too."""
+        if relay:
+            self.link.bus.publish("push", {"lesson": lesson_id, "preset": preset})
         with self.lab._views_lock:
             views = list(self.lab.views.values())
         for v in views:
@@ -415,7 +439,9 @@ class Classroom:
             if p is not None:
                 p.update_bookmarks()
 
-    def notify_all(self, text: str) -> None:
+    def notify_all(self, text: str, relay: bool = True) -> None:
+        if relay:
+            self.link.bus.publish("notice", {"text": text[:MAX_NOTICE_LENGTH]})
         with self.lab._views_lock:
             views = list(self.lab.views.values())
         for v in views:
@@ -446,7 +472,8 @@ class Classroom:
         """Bring every follower in line with the demo after a change.  All followers
         are done under ONE acquisition of the demo's lock, and their derivation is
         rendered once, here (the frame loop skips a view whose lock is taken: many
-        short holds of the one shared lock would make it skip followers often)."""
+        short holds of the one shared lock would make it skip followers often).  The
+        widgets go out first; the derivation (tens of ms when new) follows."""
         demo = self.demo
         if demo is None:
             return
@@ -458,11 +485,7 @@ class Classroom:
         ]
         if not stale:
             return
-        derivation = (
-            self._derivation_of(demo)
-            if any((self._synced.get(cid) or (None,) * 6)[:6] != sig[:6] for cid, _ in stale)
-            else None
-        )
+        redrawn = []
         changed_bookmarks = []
         with demo.lock:
             for cid, view in stale:
@@ -475,13 +498,21 @@ class Classroom:
                         panel.fresh_camera()  # a new lesson: the followers' views frame it themselves
                 if old is None or old[:6] != sig[:6]:
                     view.redraw()
-                    if derivation is not None:
-                        view.set_derivation(derivation)
-                        view.derivation_due = None
+                    view.derivation_due = None  # rendered once below, for every follower
+                    redrawn.append(view)
                 view.mark_dirty()
                 self._synced[cid] = sig
                 if old is None or old[1:3] != sig[1:3]:
                     changed_bookmarks.append(cid)
+        derivation = self._derivation_of(demo) if redrawn else None
+        if redrawn:
+            with demo.lock:
+                for view in redrawn:
+                    if view.session is demo and not view.closed:
+                        if derivation is None:
+                            view.derivation_due = time.monotonic()  # the server's slow loop
+                        else:
+                            view.set_derivation(derivation)
         for cid in changed_bookmarks:
             p = self.presenters.get(cid)
             if p is not None:
@@ -508,6 +539,8 @@ class Classroom:
             return
         panel = self.instructors.get(self.broadcaster)
         camera = panel.fresh_camera() if panel is not None else None
+        if self.broadcaster == REMOTE:
+            camera = self.link.remote_camera
         if camera is None:
             return
         self.camera_dirty = False
@@ -529,10 +562,15 @@ class Classroom:
             self.lab._report_every / self.lab.fps if getattr(self.lab, "_report_every", 0) else 0.0
         )
         last_report = time.monotonic()
-        while not self._stop.wait(period):
+        while not self._stop.is_set():
+            self.wake.wait(period)
+            self.wake.clear()
+            if self._stop.is_set():
+                break
             k += 1
             try:
                 with self.lock:
+                    self.link.tick()
                     self._sync_followers()
                     self._push_camera()
                 self._replay_pending()
@@ -573,6 +611,8 @@ class Classroom:
 
     def stop(self) -> None:
         self._stop.set()
+        self.wake.set()
+        self.link.close()
 
 
 __all__ = ["Classroom"]

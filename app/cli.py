@@ -128,11 +128,40 @@ def cmd_check(args: argparse.Namespace) -> int:
 
 def cmd_serve(args: argparse.Namespace) -> int:
     from app.assignments_cli import use_folder_for_serve
-    from app.server import serve
 
     problem = use_folder_for_serve(getattr(args, "assignments", None))
     if problem:
         return _fail(problem)
+    workers = getattr(args, "workers", 1)  # the workers inherit the assignments folder
+    bus = getattr(args, "bus", None)
+    if not 1 <= workers <= 64:
+        return _fail(f"--workers must be in 1..64, got {workers}")
+    if bus is not None and bus != "local":
+        from app.bus import BusError, parse_redis_url
+
+        try:
+            parse_redis_url(bus)
+        except BusError as exc:
+            return _fail(str(exc))
+    if workers > 1:
+        if bus is None or bus == "local":
+            return _fail(
+                "several workers share the classroom through Redis: add --bus redis://HOST:PORT "
+                "(Debian: apt-get install redis-server, then --bus redis://127.0.0.1:6379)"
+            )
+        from app.frontdoor import serve_workers
+
+        return serve_workers(
+            args.host,
+            args.port,
+            workers,
+            bus,
+            args.instructor_code,
+            args.lesson,
+            args.fps,
+            not args.no_browser,
+        )
+    from app.server import serve
 
     return serve(
         host=args.host,
@@ -141,6 +170,8 @@ def cmd_serve(args: argparse.Namespace) -> int:
         instructor_code=getattr(args, "instructor_code", None),
         open_browser=not args.no_browser,
         fps=getattr(args, "fps", 36.0),
+        bus_url=bus,
+        worker_name=getattr(args, "worker_name", None),
     )  # fps: classroom hook
 
 
@@ -169,6 +200,26 @@ def build_parser() -> argparse.ArgumentParser:
         type=float,
         default=36.0,
         help="frames per second of the live view (default 36: every page gets 30 updates/s or more)",
+    )
+    s.add_argument(
+        "--workers",
+        type=int,
+        default=1,
+        help="worker processes (default 1: this process serves every page); N > 1 starts N "
+        "workers on the next ports and a front door on --port that sends each page to the "
+        "least-loaded one (needs --bus redis://...)",
+    )
+    s.add_argument(
+        "--bus",
+        default=None,
+        metavar="URL",
+        help="the class bus shared by the servers of a class: 'local' (default, in-process) "
+        "or redis://HOST:PORT",
+    )
+    s.add_argument(
+        "--worker-name",
+        default=None,
+        help="this server's name on the bus (default: random; unique within a class)",
     )
     s.add_argument("--assignments", metavar="DIR", help="also offer the assignment files in DIR")
     s.set_defaults(func=cmd_serve)

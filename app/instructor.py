@@ -167,7 +167,7 @@ class InstructorPanel:
             self.message = gui.add_text("Message", initial_value="")
             self.notify_btn = gui.add_button("Notify all")
         self.follow_btn.on_click(self._cb(lambda: room.start_follow(view)))
-        self.release_btn.on_click(self._cb(room.release))
+        self.release_btn.on_click(self._cb(lambda: room.release(everywhere=True)))
         self.push_btn.on_click(self._cb(self._push))
         self.notify_btn.on_click(self._cb(self._notify))
         self.camera: tuple[Any, ...] | None = None
@@ -243,9 +243,12 @@ class InstructorPanel:
             if self.room.broadcaster == self.view.client.client_id
             else "exploring on their own"
         )
+        servers = self.room.link.remote_totals()[2]
+        where = f" on {servers + 1} servers" if servers else ""
         content = (
-            f'<div class="al-class-counts" style="font-size:0.9em"><b>{students}</b> student(s) connected, '
+            f'<div class="al-class-counts" style="font-size:0.9em"><b>{students}</b> student(s) connected{where}, '
             f'<b class="al-following">{following}</b> following; mode: {mode}</div>'
+            + self.room.link.panel_note()
         )
         if self.counts.content != content:
             self.counts.content = content

@@ -62,6 +62,7 @@ class LabServer:
         config: ViewConfig | None = None,
         warm_up: bool = True,
         instructor_code: str | None = None,
+        bus: Any = None,
     ) -> None:
         self.fps = float(fps)
         self.restore = restore
@@ -104,7 +105,7 @@ class LabServer:
         self._report_draws = 0.0
         from app.classroom import Classroom  # classroom hook
 
-        self.classroom = Classroom(self, instructor_code)
+        self.classroom = Classroom(self, instructor_code, bus)
         self.server.on_client_connect(self._on_connect)
         self.server.on_client_disconnect(self._on_disconnect)
         self._loop_done = threading.Event()
@@ -344,8 +345,11 @@ def serve(
     instructor_code: str | None = None,
     open_browser: bool = True,
     fps: float = DEFAULT_FPS,
+    bus_url: str | None = None,
+    worker_name: str | None = None,
 ) -> int:
-    """Run the lab until interrupted; returns the exit code."""
+    """Run the lab until interrupted; returns the exit code.  ``bus_url``: the class bus
+    shared with other servers (``redis://HOST:PORT``; default in-process)."""
     if not (0 <= int(port) <= 65535):
         print(f"analyzer-lab: error: port must be in 0..65535, got {port}", file=sys.stderr)
         return 2
@@ -353,10 +357,17 @@ def serve(
         print(f"analyzer-lab: error: --fps must be in 1..120, got {fps}", file=sys.stderr)
         return 2
     t0 = time.perf_counter()
+    from app.bus import BusError, make_bus
+    from app.limits import generate_code
+
+    code = instructor_code or os.environ.get("ANALYZER_LAB_INSTRUCTOR_CODE") or generate_code()
     try:
-        lab = LabServer(
-            host=host, port=port, lesson=lesson, fps=fps, instructor_code=instructor_code
-        )
+        bus = make_bus(bus_url, code, worker_name)
+    except BusError as exc:
+        print(f"analyzer-lab: error: {exc}", file=sys.stderr)
+        return 2
+    try:
+        lab = LabServer(host=host, port=port, lesson=lesson, fps=fps, instructor_code=code, bus=bus)
     except LabError as exc:
         print(f"analyzer-lab: error: {exc}", file=sys.stderr)
         return 2
@@ -375,6 +386,7 @@ def serve(
         f"Instructor code: {lab.classroom.code}  (type it in a page's Instructor folder)",
         flush=True,
     )  # classroom hook
+    _report_bus(bus)
     if host in ("0.0.0.0", "::", ""):
         print(
             "analyzer-lab: note: bound to every interface: anyone on your network can open the lab",
@@ -384,14 +396,34 @@ def serve(
         import webbrowser
 
         threading.Thread(target=lambda: webbrowser.open(lab.url), daemon=True).start()
+    parent = os.environ.get("ANALYZER_LAB_FRONT_DOOR_PID", "")
     try:
         while True:
-            time.sleep(3600)
+            time.sleep(1.0)
+            if parent and str(os.getppid()) != parent:  # a worker outlives no front door
+                print("analyzer-lab: the front door stopped; stopping", flush=True)
+                break
     except KeyboardInterrupt:
         print("analyzer-lab: stopping", flush=True)
     finally:
         lab.stop()
     return 0
+
+
+def _report_bus(bus: Any) -> None:
+    """Say at start whether the class bus is there (a Redis bus connects meanwhile)."""
+    wait = getattr(bus, "wait_connected", None)
+    if wait is None:
+        return
+    wait(3.0)
+    if bus.up:
+        print(f"Class bus: {bus.url} (connected; this server is {bus.name})", flush=True)
+    else:
+        print(
+            f"analyzer-lab: warning: the class bus {bus.url} is unreachable ({bus.reason}): "
+            "serving this server's own pages; reconnecting in the background",
+            flush=True,
+        )
 
 
 __all__ = ["LabServer", "PAGE_TITLE", "serve"]

@@ -46,9 +46,11 @@ class ProtoClient:
         self.url = url if url.startswith("ws") else url.replace("http", "ws", 1)
         self.gui: dict[str, str] = {}  # label -> uuid (the newest element with that label)
         self.values: dict[str, Any] = {}  # uuid -> value the server set
+        self.stamps: dict[str, float] = {}  # uuid -> when the server last set its value
         self.html: dict[str, str] = {}  # uuid -> content of html elements
         self.notifications: list[str] = []
         self.seen: dict[str, int] = {}  # message type -> count
+        self.last: dict[str, dict[str, Any]] = {}  # message type -> the newest of that type
         self.point_updates = 0
         self.frames = 0
         self.bytes = 0
@@ -88,6 +90,7 @@ class ProtoClient:
                     for m in decode_frame(raw, dec):
                         t = m.get("type", "")
                         self.seen[t] = self.seen.get(t, 0) + 1
+                        self.last[t] = m
                         if t == "SceneNodeUpdateMessage":
                             if m.get("name") == POINT_NODE and "points" in m.get("updates", {}):
                                 point = True
@@ -95,6 +98,7 @@ class ProtoClient:
                             upd = m.get("updates", {})
                             if "value" in upd:
                                 self.values[m.get("uuid")] = upd["value"]
+                                self.stamps[m.get("uuid")] = time.monotonic()
                             if "content" in upd:
                                 self.html[m.get("uuid")] = upd["content"]
                         elif (

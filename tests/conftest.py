@@ -18,6 +18,9 @@ LIVE_FILES = {
     "test_assignments_browser.py",
     "test_classroom_browser.py",
     "test_classroom.py",
+    "test_classlink.py",
+    "test_classlink_browser.py",
+    "test_frontdoor.py",
     "test_server.py",
 }
 
