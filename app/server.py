@@ -6,12 +6,15 @@ and a :class:`~app.view.SessionView` for every tab that connects (restoring the
 state the tab saved before a reload) and frees them when the tab closes.
 
 ONE loop thread steps every session at a fixed rate (``fps``) and pushes the
-frames; a second, slow thread renders derivations and deferred scene updates
-outside the session locks, so a slider drag never stalls the animation.
+frames; a second, slow thread computes deferred scene updates outside the session
+locks, so a slider drag never stalls the animation, and starts each page's derivation
+in a child process with time and size limits (:mod:`app.derivation_jobs`), so a slow
+derivation never delays another page's.
 """
 
 from __future__ import annotations
 
+import html
 import math
 import os
 import sys
@@ -22,6 +25,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
+from app.derivation_jobs import DerivationJobs, build
 from app.persistence import restore_state
 from app.runlog import LRUCache, lesson_scene, params_key
 from app.session import LabError, Session
@@ -115,6 +119,10 @@ class LabServer:
         import asyncio
 
         asyncio.run_coroutine_threadsafe(self._async_loop(), loop)
+        self.derivations = DerivationJobs()
+        self._deriving: dict[
+            int, tuple[SessionView, int, Any]
+        ] = {}  # id(view) -> (view, revision, key)
         self._slow_thread = threading.Thread(
             target=self._slow_loop, name="analyzer-lab-slow", daemon=True
         )
@@ -261,15 +269,20 @@ class LabServer:
             with self._views_lock:
                 views = list(self.views.values())
             now = time.monotonic()
+            for owner in [k for k, v in self._deriving.items() if v[0].closed]:
+                self._deriving.pop(owner, None)
+                self.derivations.cancel(owner)
             for view in views:
                 try:
                     self._slow_work(view, now)
+                    self._derivation_work(view, now)
                 except Exception:
                     traceback.print_exc()
             views = view = None  # type: ignore[assignment]  # classroom hook: no stale reference
+        self.derivations.stop()
+        self._deriving.clear()
 
     def _slow_work(self, view: SessionView, now: float) -> None:
-        from app.math_render import derivation_to_html
 
         session = view.session
         if session.scene_due is not None and now >= session.scene_due:
@@ -286,25 +299,53 @@ class LabServer:
                     session.scene_due = None
                     if spec is not None:
                         session.accept_scene(spec)
-        if view.derivation_due is not None and now >= view.derivation_due and not view.closed:
-            with session.lock:
-                lesson, params, rev = session.lesson, session.params, session.revision
-            try:
-                content = DERIVATION_CACHE.get_or_make(
-                    params_key(lesson, params),
-                    lambda: derivation_to_html(lesson.derivation(params)),
-                )
-            except Exception as exc:
-                import html
 
-                content = f'<div class="al-error">The derivation could not be built: {html.escape(str(exc))}</div>'
+    def _derivation_work(self, view: SessionView, now: float) -> None:
+        """Show a finished derivation, or start the page's next one (cached, in a child
+        process, or here for a lesson outside the catalog)."""
+        session = view.session
+        owner = id(view)
+        running = self._deriving.get(owner)
+        if running is not None:
+            content = self.derivations.poll(owner)
+            if content is None:
+                return
+            del self._deriving[owner]
+            _, rev, key = running
+            DERIVATION_CACHE.put(key, content)
             with session.lock:
                 if session.revision == rev and not view.closed:
                     view.derivation_due = None
                     view.set_derivation(content)
+            return
+        if view.derivation_due is None or now < view.derivation_due or view.closed:
+            return
+        with session.lock:
+            lesson, params, rev = session.lesson, session.params, session.revision
+            values = session.raw_values()
+        key = params_key(lesson, params)
+        content = DERIVATION_CACHE.get(key)
+        if content is None and DerivationJobs.can_run(lesson):
+            if not self.derivations.full():
+                self.derivations.start(owner, lesson.id, values)
+                self._deriving[owner] = (view, rev, key)
+            return
+        if content is None:
+            try:
+                content = DERIVATION_CACHE.get_or_make(key, lambda: build(lesson, values))
+            except Exception as exc:
+                content = f'<div class="al-error">The derivation could not be built: {html.escape(str(exc))}</div>'
+        with session.lock:
+            if session.revision == rev and not view.closed:
+                view.derivation_due = None
+                view.set_derivation(content)
 
     def _warm_up(self) -> None:
         """Build each lesson once (lambdify caches, meshes) so the first tab is quick."""
+        try:
+            self.derivations.warm()
+        except Exception:
+            traceback.print_exc()
         for lesson in self.lessons:
             if self._stop.is_set():
                 return
@@ -313,12 +354,7 @@ class LabServer:
                 st = lesson.stepper(params)
                 st.advance(0.01)
                 lesson_scene(lesson, params)
-                from app.math_render import derivation_to_html
-
-                DERIVATION_CACHE.get_or_make(
-                    params_key(lesson, params),
-                    lambda: derivation_to_html(lesson.derivation(params)),
-                )
+                DERIVATION_CACHE.get_or_make(params_key(lesson, params), lambda: build(lesson, {}))
             except Exception:
                 pass
 
