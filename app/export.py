@@ -13,6 +13,8 @@ from typing import Any
 
 import numpy as np
 
+from app.replay import MAX_REPLAY_FRAMES
+from app.runlog import MAX_LOG
 from app.session import LabError, Session
 from lessons.core.contract import Lesson, RunResult
 from lessons.core.formula import parse_number
@@ -113,7 +115,11 @@ class ExportPanel:
         buttons = [("Download CSV (grid)", "csv"), ("Download JSON (grid)", "json")]
         for label, kind in buttons:
             gui.add_button(label).on_click(guard(lambda e, k=kind: self.export(k)))
-        gui.add_html('<div style="font-size:0.9em">Every frame played since the last reset:</div>')
+        gui.add_html(
+            '<div style="font-size:0.9em">Every frame played since the last reset (at most'
+            f" {MAX_LOG} rows: a longer run keeps every 2nd, 4th, ... frame; the replay at most"
+            f" {MAX_REPLAY_FRAMES} frames, thinned the same way):</div>"
+        )
         for label, kind in (("Download CSV (frames)", "frames-csv"), ("HTML replay", "html")):
             gui.add_button(label).on_click(guard(lambda e, k=kind: self.export(k)))
 
@@ -128,4 +134,9 @@ class ExportPanel:
         step = parse_step(text, grid_end(s)) if text else None
         name, data = export_run(s, kind, step)
         self.client.send_file_download(name, data, save_immediately=True)
-        s.notify(f"exported {name} ({len(data) / 1024:.1f} kB)")
+        thinned = (
+            f"; every {s.log.stride}{'nd' if s.log.stride == 2 else 'th'} frame of this long run"
+            if kind.startswith("frames") and s.log.stride > 1
+            else ""
+        )
+        s.notify(f"exported {name} ({len(data) / 1024:.1f} kB{thinned})")

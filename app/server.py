@@ -22,6 +22,7 @@ import threading
 import time
 import traceback
 from collections.abc import Sequence
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -109,8 +110,19 @@ class LabServer:
         from app.classroom import Classroom  # classroom hook
 
         self.classroom = Classroom(self, instructor_code)
-        self.server.on_client_connect(self._on_connect)
-        self.server.on_client_disconnect(self._on_disconnect)
+        # pages are built and freed on a pool of their own (building one waits up to 2 s
+        # for the browser's saved state), not in the turns of the page callbacks
+        self._gone: set[int] = set()  # pages that left while being built
+        self._page_pool = ThreadPoolExecutor(max_workers=16, thread_name_prefix="analyzer-lab-page")
+
+        async def connect(client: Any) -> None:
+            self._page_pool.submit(self._guarded, self._on_connect, client)
+
+        async def disconnect(client: Any) -> None:
+            self._page_pool.submit(self._guarded, self._on_disconnect, client)
+
+        self.server.on_client_connect(connect)
+        self.server.on_client_disconnect(disconnect)
         self._loop_done = threading.Event()
         loop = event_loop(self.server)
         if loop is None:
@@ -141,19 +153,39 @@ class LabServer:
 
     # -- sessions ---------------------------------------------------------------------
 
+    @staticmethod
+    def _guarded(fn: Any, client: Any) -> None:
+        try:
+            fn(client)
+        except Exception:
+            traceback.print_exc()
+
     def _on_connect(self, client: Any) -> None:
+        cid = client.client_id
         session = Session(self.lessons, self.default_lesson)
         if self.restore:
             restore_state(client, session)
         view = SessionView(client, session, self.config)
         view.last_tick = time.monotonic()  # type: ignore[attr-defined]
         with self._views_lock:
-            self.views[client.client_id] = view
+            gone = cid in self._gone  # the page left while it was being built
+            self._gone.discard(cid)
+            if not gone:
+                self.views[cid] = view
+        if gone:
+            view.close()
+            return
         self.classroom.attach(view)  # classroom hook
+        with self._views_lock:
+            left = cid not in self.views
+        if left:  # left while the classroom attached it
+            self.classroom.detach(cid, view)
 
     def _on_disconnect(self, client: Any) -> None:
         with self._views_lock:
             view = self.views.pop(client.client_id, None)
+            if view is None:
+                self._gone.add(client.client_id)
         self.classroom.detach(client.client_id, view)  # classroom hook
         if view is not None:
             view.close()
@@ -367,6 +399,7 @@ class LabServer:
         for v in views:
             v.close()
         self._loop_done.wait(timeout=2.0)
+        self._page_pool.shutdown(wait=False, cancel_futures=True)
         try:
             self.server.stop()
         except Exception:

@@ -18,6 +18,7 @@ LIVE_FILES = {
     "test_classroom_browser.py",
     "test_classroom.py",
     "test_server.py",
+    "test_attacks_transport.py",
 }
 
 
