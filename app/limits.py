@@ -136,3 +136,21 @@ class CodeGuard:
             wait = max(wait, bucket.wait_time())
             self.wrong[client_id] = (count, now + wait)
         return False, "wrong code" + (f"; next try in {wait:.0f} s" if wait else "")
+
+
+class Pacer:
+    """Spreads a long computation (an export) thin: after ``work`` seconds of the calling
+    thread's CPU, :meth:`__call__` sleeps ``rest`` seconds, so the frame loop gets the
+    interpreter at once instead of waiting behind it (a third of one core at most)."""
+
+    def __init__(self, work: float = 0.004, rest: float = 0.008) -> None:
+        self.work = work
+        self.rest = rest
+        self.t = time.thread_time()
+        self.rested = 0.0
+
+    def __call__(self) -> None:
+        if time.thread_time() - self.t >= self.work:
+            time.sleep(self.rest)
+            self.rested += self.rest
+            self.t = time.thread_time()

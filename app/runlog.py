@@ -123,15 +123,16 @@ class RunLog:
     def scalar_names(self) -> list[str]:
         return list(self._scalars)
 
+    def sample(self, i: int) -> LogSample:
+        """Row ``i`` as a :class:`LogSample` (a point missing from that frame is left out)."""
+        pts = {k: v[i].copy() for k, v in self._points.items() if not np.all(np.isnan(v[i]))}
+        sc = {k: float(v[i]) for k, v in self._scalars.items() if not np.isnan(v[i])}
+        return LogSample(float(self._t[i]), pts, sc)
+
     @property
     def samples(self) -> list[LogSample]:
-        """The rows as :class:`LogSample` objects (a point missing from a frame is left out)."""
-        out = []
-        for i in range(self.count):
-            pts = {k: v[i].copy() for k, v in self._points.items() if not np.all(np.isnan(v[i]))}
-            sc = {k: float(v[i]) for k, v in self._scalars.items() if not np.isnan(v[i])}
-            out.append(LogSample(float(self._t[i]), pts, sc))
-        return out
+        """Every row as a :class:`LogSample` (:meth:`sample` builds only the rows needed)."""
+        return [self.sample(i) for i in range(self.count)]
 
     @property
     def nbytes(self) -> int:
