@@ -16,7 +16,7 @@ from typing import Any
 
 import numpy as np
 
-from app.limits import Pacer
+from app.limits import Pacer, return_free_memory
 from app.replay import MAX_REPLAY_FRAMES
 from app.runlog import MAX_LOG
 from app.session import LabError, Session
@@ -187,6 +187,9 @@ class ExportPanel:
         step = parse_step(text, grid_end(s)) if text else None
         name, data = export_run(s, kind, step)
         self.client.send_file_download(name, data, save_immediately=True)
+        size = len(data)
+        del data
+        return_free_memory()
         fewer = (
             "; a long run: not every frame is in it (see the file's notes)"
             if kind.startswith("frames")
@@ -196,4 +199,4 @@ class ExportPanel:
             )
             else ""
         )
-        s.notify(f"exported {name} ({len(data) / 1024:.1f} kB{fewer})")
+        s.notify(f"exported {name} ({size / 1024:.1f} kB{fewer})")

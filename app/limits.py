@@ -154,3 +154,25 @@ class Pacer:
             time.sleep(self.rest)
             self.rested += self.rest
             self.t = time.thread_time()
+
+
+def prefer_returned_memory() -> None:
+    """Large buffers (>= 64 kB: export files, a long run's columns) are mapped on their own
+    and given back to the system when freed (glibc otherwise raises this threshold after
+    the first large free and keeps such buffers in its heap).  Linux/glibc only."""
+    try:
+        import ctypes
+
+        ctypes.CDLL("libc.so.6").mallopt(-3, 64 * 1024)  # M_MMAP_THRESHOLD
+    except (OSError, AttributeError):
+        pass
+
+
+def return_free_memory() -> None:
+    """Give the heap's free memory back to the system (after an export)."""
+    try:
+        import ctypes
+
+        ctypes.CDLL("libc.so.6").malloc_trim(0)
+    except (OSError, AttributeError):
+        pass

@@ -27,6 +27,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from app.derivation_jobs import DerivationJobs, build
+from app.limits import prefer_returned_memory
 from app.persistence import restore_state
 from app.runlog import LRUCache, lesson_scene, params_key
 from app.session import LabError, Session
@@ -68,6 +69,7 @@ class LabServer:
         warm_up: bool = True,
         instructor_code: str | None = None,
     ) -> None:
+        prefer_returned_memory()
         self.fps = float(fps)
         self.restore = restore
         self.config = config or ViewConfig(fps=self.fps)

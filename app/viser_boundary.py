@@ -56,8 +56,8 @@ def check_viser_version() -> None:
 #: needs is a saved state of at most 20 kB coming back from the browser's storage).
 WS_RATE = 150.0
 WS_BURST = 300.0
-WS_TOTAL_RATE = 1500.0
-WS_TOTAL_BURST = 1500.0
+WS_TOTAL_RATE = 1000.0
+WS_TOTAL_BURST = 1000.0
 WS_MAX_BYTES = 64 * 1024
 #: The messages a page of the lab sends (viser 1.1.1's client -> server messages that the
 #: app uses): its camera, values of its own widgets, command hotkeys (presenter mode),
@@ -77,8 +77,8 @@ ALLOWED_MESSAGES = frozenset(
 MAX_PENDING_CALLBACKS = 16
 #: Page callbacks (GUI inputs of all pages together) may use this share of one core's
 #: time (CPU seconds per second), with this much at once; the frame loop keeps the rest.
-GUI_CPU_SHARE = 0.3
-GUI_CPU_BURST = 0.3
+GUI_CPU_SHARE = 0.2
+GUI_CPU_BURST = 0.2
 #: Threads that run page callbacks (one connection's callbacks never run in parallel).
 GUI_WORKERS = 4
 

@@ -290,8 +290,9 @@ def server() -> Iterator[tuple[str, subprocess.Popen]]:
 
 async def _warm(url: str) -> None:
     """A server that has served a class before: imports, caches, and the memory a few
-    hundred pages leave to the allocator (RSS grows by about 20 MB over the first
-    150 pages opened and closed, then stays)."""
+    hundred pages and an export leave to the allocator (RSS grows by about 20 MB over
+    the first 150 pages opened and closed, then stays; the first exports add about 20 MB
+    once)."""
     pages = [await _connect_page(url) for _ in range(4)]
     for c in pages:
         await c.set("curves in the family", 3, 0.2)
@@ -302,6 +303,16 @@ async def _warm(url: str) -> None:
         batch = await asyncio.gather(*(_connect_page(url) for _ in range(6)))
         for c in batch:
             await c.close()
+    # one export of a family run (the allocator's pools grow about 20 MB once)
+    c = await _connect_page(url)
+    await c.set("curves in the family", 24, 0.2)
+    await c.set("Speed", "8x", 0.1)
+    await c.set("pause at t_end", False, 0.1)
+    await c.set("Run", "Play", 4.0)
+    await c.set("Run", "Pause", 0.3)
+    for button in ("HTML replay", "Download CSV (frames)"):
+        await c.click(button, 3.0)
+    await c.close()
     await asyncio.sleep(2.0)
 
 
