@@ -37,7 +37,9 @@ def test_a_slow_derivation_is_ended_and_does_not_delay_a_quick_one() -> None:
         took_quick, quick = done["quick"]
         took_slow, slow = done["slow"]
         assert 'class="al-derivation"' in quick and took_quick < 2.5
-        assert "too large to show: it takes longer than 3 s" in slow and 2.9 < took_slow < 6.0
+        assert (
+            "too large to show: it takes longer than 3 s" in slow and 2.6 < took_slow < 6.0
+        )  # from 0.3 s after its start
         assert not jobs.jobs  # both ended and collected
     finally:
         jobs.stop()
