@@ -32,7 +32,13 @@ from app.persistence import restore_state
 from app.runlog import LRUCache, lesson_scene, params_key
 from app.session import LabError, Session
 from app.view import SessionView, ViewConfig
-from app.viser_boundary import PAGE_TITLE, WakeBatch, event_loop, make_viser_server
+from app.viser_boundary import (
+    PAGE_TITLE,
+    WakeBatch,
+    dropped_types,
+    event_loop,
+    make_viser_server,
+)
 from lessons.core.contract import Lesson
 
 #: Frames per second of the live view: a little above 30 so that every page still gets
@@ -285,7 +291,7 @@ class LabServer:
             f"[loop] sessions {len(views)} ticks/s {(self.stats.ticks - self._report_ticks) / span:.1f} "
             f"busy {busy / span:.0%} stepping {(steps - self._report_steps) / span:.0%} "
             f"drawing {(draws - self._report_draws) / span:.0%} load {self.stats.load:.2f} "
-            f"skipped {self.stats.skipped}",
+            f"skipped {self.stats.skipped} dropped {dropped_types() or '-'}",
             file=sys.stderr,
             flush=True,
         )

@@ -80,7 +80,7 @@ MAX_PENDING_CALLBACKS = 16
 GUI_CPU_SHARE = 0.2
 GUI_CPU_BURST = 0.2
 #: Threads that run page callbacks (one connection's callbacks never run in parallel).
-GUI_WORKERS = 4
+GUI_WORKERS = 12
 
 
 _HARDENED = False
@@ -347,6 +347,11 @@ def submit_callback(server: Any, key: Any, fn: Callable[..., Any], *args: Any) -
         return False
     ex.submit_for(key, fn, *args)
     return True
+
+
+def dropped_types() -> str:
+    """The message types the allow-list dropped, with counts (for the server's log)."""
+    return ", ".join(f"{k} {v}" for k, v in sorted(WS_DROPPED_TYPES.items()))
 
 
 def client_address(server: Any, client_id: int) -> str:

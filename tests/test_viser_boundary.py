@@ -108,6 +108,7 @@ def test_only_allowed_message_types_reach_viser(server: Any) -> None:
     asyncio.run(go())
     assert vb.WS_STATS["dropped_type"] - dropped == 21
     assert vb.WS_DROPPED_TYPES["GuiFormDirtyMessage"] >= 20
+    assert "GuiFormDirtyMessage" in vb.dropped_types()
     assert len(buffer.message_from_id) == before  # nothing was broadcast or kept
     assert "ViewerCameraMessage" in vb.ALLOWED_MESSAGES  # the camera of each page still comes
 
