@@ -22,7 +22,7 @@ from app.math_render import derivation_to_html
 from lessons.catalog import all_lessons
 
 #: A derivation's time limit (s), its largest HTML (bytes), and jobs at once.
-DERIVATION_SECONDS = 5.0
+DERIVATION_SECONDS = 15.0
 MAX_DERIVATION_BYTES = 400_000
 MAX_JOBS = 3
 #: Lessons by id, loaded when the fork server imports this module.

@@ -517,7 +517,7 @@ def test_a_slow_derivation_never_delays_another_pages(server: Any) -> None:
             return await sampler.stop()
 
         _, figures, _ = await _measured(
-            server, "slow-derivation: (sin(t)+cos(t)+t)**64 in u1, u2, u3", 12.0, during=during
+            server, "slow-derivation: (sin(t)+cos(t)+t)**64 in u1, u2, u3", 20.0, during=during
         )
         print("derivation latency of another page:", latencies, flush=True)
         assert "too large to show" in figures["message"], figures
