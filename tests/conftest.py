@@ -15,6 +15,7 @@ import pytest
 LIVE_FILES = {
     "test_browser.py",
     "test_browser_lessons.py",
+    "test_assignments_browser.py",
     "test_classroom_browser.py",
     "test_classroom.py",
     "test_server.py",

@@ -11,6 +11,7 @@ solution from the current state.  :func:`integrate` samples a :class:`DenseSolut
 
 from __future__ import annotations
 
+import bisect
 import math
 from collections.abc import Callable
 from typing import Any
@@ -49,6 +50,7 @@ class DenseSolution:
         self._rhs, self._tol, self._method = rhs, (rtol, atol), method
         self._chunk = float(chunk)
         self._pieces: list[tuple[float, float, Callable[[Array], Array]]] = []
+        self._starts: list[float] = []  # the pieces' first times (ascending)
         self._t0, self._y0 = float(t0), np.array(y0, dtype=float)
         self._t_end, self._y_end = self._t0, self._y0
         self.stopped_at = math.inf
@@ -70,6 +72,7 @@ class DenseSolution:
                 b = float(sol.t[-1])
             if b > a:
                 self._pieces.append((a, b, sol.sol))
+                self._starts.append(a)
                 self._y_end = np.asarray(sol.sol(b), dtype=float)
             if first_bad is not None:
                 self.message = (
@@ -117,6 +120,13 @@ class DenseSolution:
         self._extend(float(np.max(tt, initial=self._t_end)))
         out = np.full((len(tt), len(self._y0)), np.nan)
         out[tt == self._t0] = self._y0
+        if len(tt) == 1 and self._pieces:  # a frame: the piece that holds it, by bisection
+            x = float(tt[0])
+            # pieces share their ends: the last that holds x, as the loop below leaves it
+            k = bisect.bisect_right(self._starts, x) - 1
+            if k >= 0 and self._pieces[k][0] <= x <= self._pieces[k][1]:
+                out[:] = np.asarray(self._pieces[k][2](tt), dtype=float).T
+            return out
         for a, b, sol in self._pieces:
             k = (tt >= a) & (tt <= b)
             if np.any(k):
