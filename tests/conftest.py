@@ -22,6 +22,7 @@ LIVE_FILES = {
     "test_classlink_browser.py",
     "test_frontdoor.py",
     "test_server.py",
+    "test_attacks_transport.py",
 }
 
 

@@ -30,7 +30,7 @@ from tests.helpers import RedisServer, start_worker, stop_process, until
 
 pytestmark = pytest.mark.timeout(300)
 ROOT = Path(__file__).resolve().parent.parent
-CODE = "door-4417"
+CODE = "door-4417-front"
 
 
 class Door:
