@@ -24,6 +24,7 @@ import numpy as np
 
 from app.runlog import RunLog, lesson_scene, raw_value, scenes_equal
 from app.state import LabError, SessionState
+from lessons.core.budget import clock, work_budget
 from lessons.core.contract import (
     Frame,
     Lesson,
@@ -47,6 +48,44 @@ MAX_SUBSTEPS = 8
 SCENE_DEBOUNCE = 0.3
 #: "Go to t" reaches at most this many times the lesson's t_end.
 MAX_GO_TO = 10
+#: CPU seconds one session may spend stepping in one frame tick (a quarter of a frame at
+#: 36 fps): a run that needs more plays slower, its own clock only.
+STEP_BUDGET = 0.007
+#: CPU seconds one "go to t" or single step may compute before it stops where it got.
+GO_TO_BUDGET = 0.5
+#: The share of the asked speed below which a page says it runs slower (and above which
+#: it says it is back).
+SLOW_BELOW, SLOW_CLEARED = 0.9, 0.97
+#: Wall seconds a run is behind before the page gets a notice (the figure has settled).
+SLOW_NOTICE_AFTER = 1.0
+
+
+def plain(value: Any) -> str:
+    """A number as a person types it (``1e-05``, ``0.25``, ``3``), never a numpy repr."""
+    try:
+        x = float(value)
+    except (TypeError, ValueError):
+        return str(value)[:60]
+    if x.is_integer() and abs(x) < 1e16:
+        return str(int(x))
+    return repr(x)
+
+
+def non_finite(frame: Frame) -> str | None:
+    """The name of the first quantity of ``frame`` that is not finite, or None."""
+    for name, v in frame.scalars.items():
+        if isinstance(v, (int, float, np.floating, np.integer)) and not math.isfinite(float(v)):
+            return name
+    for name, pts in frame.points.items():
+        if not np.all(np.isfinite(np.asarray(pts, dtype=float))):
+            return f"the {name}"
+    for name, (at, vec) in frame.vectors.items():
+        if not (
+            np.all(np.isfinite(np.asarray(at, dtype=float)))
+            and np.all(np.isfinite(np.asarray(vec, dtype=float)))
+        ):
+            return f"the {name} vector"
+    return None
 
 
 def lesson_label(lesson: Lesson) -> str:
@@ -81,6 +120,13 @@ class Session:
         self.visible_vectors: set[str] | None = None
         self.log = RunLog()
         self.max_substeps = MAX_SUBSTEPS  # lowered by the server under load
+        self.step_budget = STEP_BUDGET  # CPU seconds of stepping per tick
+        self._cost = 0.0  # CPU seconds per lesson second of the recent pieces
+        #: the share of the asked speed the run keeps up with (moving average over ticks)
+        self.keeping_up = 1.0
+        self.slowed = False  # shown on the page: "running at 0.3x ..."
+        self._slow_wall = 0.0  # wall seconds since the run fell behind
+        self._slow_told = False  # the page was told (a notice)
         self._time_debt = 0.0  # lesson time owed to the next played tick (< TIME_QUANTUM / 2)
         #: a clock shared by the pages that show this session (the classroom's demo)
         self.shared_clock: Callable[[float], list[Frame]] | None = None
@@ -298,6 +344,7 @@ class Session:
         if self.pause_at_end and self.frame.t >= self.t_end - 1e-9:
             self.reset()
         self.playing = True
+        self.keeping_up, self.slowed = 1.0, False
 
     def pause(self) -> None:
         self.playing = False
@@ -320,6 +367,33 @@ class Session:
         self.reset_revision += 1
         return self.frame
 
+    def _piece_size(self, piece: float, left: float) -> float:
+        """The next piece of lesson time: ``piece``, less if the recent cost per lesson
+        second says it would not fit into the budget ``left`` (CPU seconds)."""
+        if self._cost > 0.0 and self._cost * piece > left:
+            return max(left / self._cost, 1e-9)
+        return piece
+
+    def _step_piece(self, d: float) -> tuple[Frame | None, str]:
+        """One stepper call of lesson time ``d``: the frame, or None and why it stopped."""
+        t0, c0 = self.stepper.t, clock()
+        try:
+            frame = self.stepper.advance(d)
+        except (ValueError, ArithmeticError, FloatingPointError) as exc:
+            return None, f"the integration stopped: {exc}"
+        moved = self.stepper.t - t0
+        if moved > 0:
+            cost = (clock() - c0) / moved
+            # a dearer piece counts at once, a cheaper one halves the gap
+            self._cost = cost if cost > self._cost else 0.5 * (self._cost + cost)
+        bad = non_finite(frame)
+        if bad is not None:
+            return None, (
+                f"{bad} is not finite (NaN or infinite) at t = {frame.t:.6g} s:"
+                " playback paused; change the values or reset"
+            )
+        return frame, ""
+
     def _advance(self, dt: float) -> list[Frame]:
         frames: list[Frame] = []
         if dt <= 0 or not math.isfinite(dt):
@@ -328,19 +402,29 @@ class Session:
         substep = SUBSTEP_DT * self.lesson.time_scale
         n = max(1, min(self.max_substeps, int(math.ceil(dt / substep - 1e-9))))
         piece = dt / n
-        for _ in range(n):
-            remaining = self.t_end - self.stepper.t if self.pause_at_end else math.inf
-            d = min(piece, remaining)
-            if d <= 1e-12:
-                break
-            try:
-                frame = self.stepper.advance(d)
-            except (ValueError, ArithmeticError, FloatingPointError) as exc:
-                self.playing = False
-                self.notify(f"the integration stopped: {exc}", "error")
-                break
-            frames.append(frame)
-            self.log.add(frame)
+        target = t_before + dt
+        start = clock()
+        with work_budget(self.step_budget):
+            while True:
+                remaining = target - self.stepper.t
+                if self.pause_at_end:
+                    remaining = min(remaining, self.t_end - self.stepper.t)
+                if remaining <= 1e-12 * max(1.0, abs(target)):
+                    break
+                left = self.step_budget - (clock() - start)
+                if frames and left <= 0:
+                    break  # the budget of this tick is spent: the rest of dt is dropped
+                d = min(self._piece_size(piece, left), remaining)
+                t_prev = self.stepper.t
+                frame, stop = self._step_piece(d)
+                if frame is None:
+                    self.playing = False
+                    self.notify(stop, "error")
+                    break
+                frames.append(frame)
+                self.log.add(frame)
+                if self.stepper.t <= t_prev:
+                    break  # the lesson's run cannot go on (checked below)
         if frames:
             self.frame = frames[-1]
             if self.stepper.t <= t_before and self.playing:
@@ -354,11 +438,45 @@ class Session:
         if self.pause_at_end and self.stepper.t >= self.t_end - 1e-9 and self.playing:
             self.playing = False
             self.notify(
-                f"t = {self.t_end:g} s reached (the textbook's run); press play to run again,"
-                " or untick 'pause at t_end'",
+                f"t = {plain(self.t_end)} s reached (the textbook's run); press play to run"
+                " again, or untick 'pause at t_end'",
                 "info",
             )
         return frames
+
+    def _keep_up(self, wanted: float, moved: float, wall_dt: float) -> None:
+        """Follow the share of the asked lesson time the run keeps up with; say so on the
+        page when it falls behind (and when it is back)."""
+        if self.pause_at_end and self.stepper.t >= self.t_end - 1e-9:
+            return  # stopped at t_end on purpose
+        share = min(max(moved / wanted, 0.0), 1.0) if wanted > 0 else 1.0
+        self.keeping_up = 0.85 * self.keeping_up + 0.15 * share
+        if not self.slowed and self.keeping_up < SLOW_BELOW:
+            self.slowed, self._slow_wall, self._slow_told = True, 0.0, False
+        elif self.slowed and self.keeping_up > SLOW_CLEARED:
+            self.slowed = False
+            if self._slow_told:
+                self.notify(f"playing at {plain(self.speed)}x again", "info")
+        if self.slowed and not self._slow_told:
+            self._slow_wall += wall_dt
+            if self._slow_wall >= SLOW_NOTICE_AFTER:  # the figure has settled
+                self._slow_told = True
+                self.notify(self.slow_text(), "warning")
+
+    def effective_speed(self) -> float:
+        """The speed the run keeps up with (the asked speed unless :attr:`slowed`)."""
+        return self.speed * (self.keeping_up if self.slowed else 1.0)
+
+    def slow_text(self) -> str:
+        """What the page says while the run cannot keep up with the asked speed."""
+        names = {p.name for p in self.lesson.params}
+        why = (
+            "the step is too small for live play (a larger step h or a looser tolerance"
+            " plays faster)"
+            if names & {"h", "rtol"}
+            else "the computation is too slow for live play"
+        )
+        return f"running at {self.effective_speed():.2g}x: {why}"
 
     def tick(self, wall_dt: float) -> list[Frame]:
         """Advance by ``wall_dt`` seconds of wall time times the speed (when playing);
@@ -381,7 +499,14 @@ class Session:
         self._time_debt = want - k * quantum
         if k <= 0:
             return []
-        return self._advance(k * quantum)
+        t0 = self.stepper.t
+        frames = self._advance(k * quantum)
+        moved = self.stepper.t - t0
+        if moved < k * quantum - 1e-9 * max(1.0, abs(t0)):
+            self._time_debt = 0.0  # what the budget cut is dropped, not owed
+        if self.playing:
+            self._keep_up(k * quantum, moved, min(wall_dt, 0.25))
+        return frames
 
     def step(self) -> list[Frame]:
         """One single step (paused): the lesson's sampling step (the source's table of
@@ -409,14 +534,26 @@ class Session:
             self.reset()
         frames: list[Frame] = []
         piece = SUBSTEP_DT * self.lesson.time_scale
-        while t - self.stepper.t > 1e-12 * max(1.0, t):
-            try:
-                frame = self.stepper.advance(min(piece, t - self.stepper.t))
-            except (ValueError, ArithmeticError, FloatingPointError) as exc:
-                self.notify(f"the integration stopped: {exc}", "error")
-                break
-            frames.append(frame)
-            self.log.add(frame)
+        with work_budget(GO_TO_BUDGET):
+            start = clock()
+            while t - self.stepper.t > 1e-12 * max(1.0, t):
+                if clock() - start > GO_TO_BUDGET:
+                    self.notify(
+                        f"go to t: stopped at t = {self.stepper.t:.6g} s after"
+                        f" {plain(GO_TO_BUDGET)} s of computing (the step is too small to go"
+                        " further at once); go to t again to go on",
+                        "warning",
+                    )
+                    break
+                t_prev = self.stepper.t
+                frame, stop = self._step_piece(min(piece, t - self.stepper.t))
+                if frame is None:
+                    self.notify(stop, "error")
+                    break
+                frames.append(frame)
+                self.log.add(frame)
+                if self.stepper.t <= t_prev:
+                    break
         if frames:
             self.frame = frames[-1]
         return frames

@@ -18,6 +18,7 @@ from typing import Any
 import numpy as np
 from scipy.integrate import solve_ivp
 
+from lessons.core.budget import spent
 from lessons.core.contract import Frame, Params, Stepper
 
 Array = np.ndarray
@@ -54,8 +55,18 @@ class DenseSolution:
         self.stopped_at = math.inf
         self.message = ""
 
-    def _extend(self, t_max: float) -> None:
+    def reach(self, t: float) -> float:
+        """Solve towards ``t``; the time solved up to: ``t``, or less once the work budget
+        (:mod:`lessons.core.budget`) is spent (at least one chunk is solved per call)."""
+        self._extend(t, budget=True)
+        return t if self.message else min(t, self._t_end)
+
+    def _extend(self, t_max: float, budget: bool = False) -> None:
+        taken = False
         while self._t_end < t_max and not self.message:
+            if budget and taken and spent():
+                return
+            taken = True
             a = self._t_end
             sol, bad = self._solve(a, a + self._chunk)
             first_bad = bad
@@ -133,6 +144,10 @@ class ClosedForm:
     def __init__(self, states: Callable[[Array], Array]) -> None:
         self._states = states
 
+    def reach(self, t: float) -> float:
+        """Every time is known: ``t``."""
+        return t
+
     def __call__(self, t: Array) -> Array:
         return self._states(np.atleast_1d(np.asarray(t, dtype=float)))
 
@@ -190,7 +205,7 @@ class SolutionStepper(Stepper):
         return fr
 
     def advance(self, dt: float) -> Frame:
-        target = self._t + max(float(dt), 0.0)
+        target = self._sol.reach(self._t + max(float(dt), 0.0))
         y = self._sol(np.array([target]))[0]
         self._t = min(target, max(self._t, self._sol.stopped_at))
         self._y = (target, y) if self._t == target else None
