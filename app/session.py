@@ -34,6 +34,7 @@ from lessons.core.contract import (
     SceneSpec,
     Stepper,
 )
+from lessons.core.formula import plain_number as plain
 
 #: Playback speeds offered (lesson seconds per wall-clock second).
 SPEEDS: tuple[float, ...] = (0.25, 0.5, 1.0, 2.0, 4.0, 8.0)
@@ -58,17 +59,6 @@ GO_TO_BUDGET = 0.5
 SLOW_BELOW, SLOW_CLEARED = 0.9, 0.97
 #: Wall seconds a run is behind before the page gets a notice (the figure has settled).
 SLOW_NOTICE_AFTER = 1.0
-
-
-def plain(value: Any) -> str:
-    """A number as a person types it (``1e-05``, ``0.25``, ``3``), never a numpy repr."""
-    try:
-        x = float(value)
-    except (TypeError, ValueError):
-        return str(value)[:60]
-    if x.is_integer() and abs(x) < 1e16:
-        return str(int(x))
-    return repr(x)
 
 
 def non_finite(frame: Frame) -> str | None:
