@@ -346,7 +346,7 @@ class Session:
             raise LabError(f"speed must be one of {', '.join(f'{s:g}x' for s in SPEEDS)}") from None
         if not any(abs(value - s) < 1e-9 for s in SPEEDS):
             raise LabError(
-                f"speed must be one of {', '.join(f'{s:g}x' for s in SPEEDS)}; got {value!r}"
+                f"speed must be one of {', '.join(f'{s:g}x' for s in SPEEDS)}; got {plain(value)}"
             )
         self.speed = value
 
@@ -515,7 +515,7 @@ class Session:
         """Pause and show the run at lesson time ``t`` (from the start if ``t`` is
         earlier than now); the frames on the way are recorded as when played."""
         if not (isinstance(t, (int, float)) and math.isfinite(t)) or t < 0:
-            raise LabError(f"go to t: must be a time >= 0 s, got {t!r}")
+            raise LabError(f"go to t: must be a time >= 0 s, got {plain(t)}")
         limit = MAX_GO_TO * max(self.t_end, 1e-9)
         if t > limit:
             raise LabError(f"go to t: {t:g} s is beyond {limit:g} s ({MAX_GO_TO} x t_end)")
