@@ -67,7 +67,7 @@ def cmd_run(args: argparse.Namespace) -> int:
 
     import numpy as np
 
-    from app.run_limits import first_non_finite, refusal
+    from app.run_limits import first_non_finite, may_be_undefined, refusal
 
     # overflow and tolerance warnings are summed up in one line below, not printed
     with warnings.catch_warnings(), np.errstate(all="ignore"):
@@ -79,7 +79,7 @@ def cmd_run(args: argparse.Namespace) -> int:
             result = lesson.simulate(params, t_end)
         except (ParamError, ValueError, ArithmeticError, RuntimeError) as exc:
             return _fail(str(exc))
-    bad = first_non_finite(result)
+    bad = first_non_finite(result, may_be_undefined(lesson, params))
     if bad is not None:
         name, at = bad
         return _fail(

@@ -102,11 +102,22 @@ def cpu_estimate(lesson: Lesson, params: Params, t_end: float) -> float | None:
     return used / covered * t_end
 
 
-def first_non_finite(result: RunResult) -> tuple[str, float] | None:
-    """The first (in time) series value that is not finite: (series, time), or None."""
+def may_be_undefined(lesson: Lesson, params: Params) -> frozenset[str]:
+    """The columns (with family members) of the series the lesson declares undefined
+    somewhere (``Series.undefined``)."""
+    return frozenset(s.name for s in lesson.series_for(params) if s.undefined)
+
+
+def first_non_finite(
+    result: RunResult, allowed: frozenset[str] = frozenset()
+) -> tuple[str, float] | None:
+    """The first (in time) series value that is not finite: (series, time), or None;
+    ``allowed``: series a lesson declares undefined somewhere (:func:`may_be_undefined`)."""
     first: tuple[str, float] | None = None
     t = np.asarray(result.t, dtype=float)
     for name, values in result.series.items():
+        if name in allowed:
+            continue
         v = np.asarray(values, dtype=float)
         bad = ~np.isfinite(v)
         if v.ndim > 1:

@@ -26,7 +26,13 @@ from app.persistence import restore_state
 from app.runlog import LRUCache, lesson_scene, params_key
 from app.session import LabError, Session
 from app.view import SessionView, ViewConfig
-from app.viser_boundary import PAGE_TITLE, WakeBatch, event_loop, make_viser_server
+from app.viser_boundary import (
+    PAGE_TITLE,
+    WakeBatch,
+    event_loop,
+    guard_gui_updates,
+    make_viser_server,
+)
 from lessons.core.contract import Lesson
 
 #: Frames per second of the live view: a little above 30 so that every page still gets
@@ -134,6 +140,7 @@ class LabServer:
     # -- sessions ---------------------------------------------------------------------
 
     def _on_connect(self, client: Any) -> None:
+        guard_gui_updates(client.gui, self.server)  # wrong-typed values: one message
         session = Session(self.lessons, self.default_lesson)
         if self.restore:
             restore_state(client, session)

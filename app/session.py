@@ -61,9 +61,12 @@ SLOW_BELOW, SLOW_CLEARED = 0.9, 0.97
 SLOW_NOTICE_AFTER = 1.0
 
 
-def non_finite(frame: Frame) -> str | None:
-    """The name of the first quantity of ``frame`` that is not finite, or None."""
+def non_finite(frame: Frame, allowed: frozenset[str] = frozenset()) -> str | None:
+    """The name of the first quantity of ``frame`` that is not finite, or None;
+    ``allowed``: quantities the lesson declares undefined somewhere (``Series.undefined``)."""
     for name, v in frame.scalars.items():
+        if name in allowed:
+            continue
         if isinstance(v, (int, float, np.floating, np.integer)) and not math.isfinite(float(v)):
             return name
     for name, pts in frame.points.items():
@@ -376,7 +379,8 @@ class Session:
             cost = (clock() - c0) / moved
             # a dearer piece counts at once, a cheaper one halves the gap
             self._cost = cost if cost > self._cost else 0.5 * (self._cost + cost)
-        bad = non_finite(frame)
+        allowed = frozenset(s.name for s in self.lesson.series_for(self.params) if s.undefined)
+        bad = non_finite(frame, allowed)
         if bad is not None:
             return None, (
                 f"{bad} is not finite (NaN or infinite) at t = {frame.t:.6g} s:"
