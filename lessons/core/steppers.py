@@ -16,7 +16,8 @@ from collections.abc import Callable
 from typing import Any
 
 import numpy as np
-from scipy.integrate import solve_ivp
+import scipy.integrate
+from scipy.integrate import OdeSolution, solve_ivp
 
 from lessons.core.budget import spent
 from lessons.core.contract import Frame, Params, Stepper
@@ -52,46 +53,81 @@ class DenseSolution:
         self._pieces: list[tuple[float, float, Callable[[Array], Array]]] = []
         self._t0, self._y0 = float(t0), np.array(y0, dtype=float)
         self._t_end, self._y_end = self._t0, self._y0
+        self._open: _Chunk | None = None  # the chunk being stepped, if any
         self.stopped_at = math.inf
         self.message = ""
 
     def reach(self, t: float) -> float:
         """Solve towards ``t``; the time solved up to: ``t``, or less once the work budget
-        (:mod:`lessons.core.budget`) is spent (at least one chunk is solved per call)."""
+        (:mod:`lessons.core.budget`) is spent (at least one solver step is taken per call)."""
         self._extend(t, budget=True)
-        return t if self.message else min(t, self._t_end)
+        if self.message:
+            return t
+        covered = self._open.solver.t if self._open is not None else self._t_end
+        return min(t, max(covered, self._t_end))
 
     def _extend(self, t_max: float, budget: bool = False) -> None:
+        """Solve chunk by chunk until ``t_max`` is covered.  A chunk is stepped as
+        ``solve_ivp`` would step it (the same steps however far anyone asks), and may be
+        left open between two calls when the work budget is spent."""
         taken = False
         while self._t_end < t_max and not self.message:
-            if budget and taken and spent():
-                return
-            taken = True
-            a = self._t_end
-            sol, bad = self._solve(a, a + self._chunk)
-            first_bad = bad
-            for _ in range(40):  # solved again, halfway from its last good step to the bad time
-                if bad is None or bad <= a:
-                    break
-                clean = float(np.max(sol.t[sol.t < bad], initial=a))
-                sol, bad = self._solve(a, clean + 0.5 * (bad - clean))
-            if bad is not None:  # still failing: keep the steps before the bad time
-                b = float(np.max(sol.t[sol.t < bad], initial=a))
-            else:
-                b = float(sol.t[-1])
+            ch = self._open
+            if ch is None:
+                ch = self._open = _Chunk(self, self._t_end, self._t_end + self._chunk)
+            while ch.solver.status == "running" and not ch.bad and ch.solver.t < t_max:
+                if budget and taken and spent():
+                    return
+                ch.step()
+                taken = True
+            if ch.solver.status == "running" and not ch.bad:
+                return  # t_max is covered inside the open chunk
+            self._open = None
+            self._close(ch)
+
+    def _close(self, ch: _Chunk) -> None:
+        """A finished chunk becomes a piece; after a non-finite value it is solved again,
+        halfway from its last good step to the bad time, and ends there."""
+        a = ch.a
+        if not ch.bad and ch.solver.status == "finished":
+            b = float(ch.solver.t)
             if b > a:
-                self._pieces.append((a, b, sol.sol))
-                self._y_end = np.asarray(sol.sol(b), dtype=float)
-            if first_bad is not None:
-                self.message = (
-                    f"integration stopped at t = {first_bad:.4g}: the equations gave a"
-                    " non-finite value (singular position or force)"
-                )
-            elif not sol.success:
-                self.message = f"integration stopped at t = {b:.4g}: {sol.message}"
+                self._pieces.append((a, b, OdeSolution(ch.ts, ch.interpolants)))
+                self._y_end = np.asarray(ch.solver.y, dtype=float)
             self._t_end = b
-            if self.message:
-                self.stopped_at = b
+            return
+        if not ch.bad:  # the solver failed (step size too small, ...)
+            b = ch.ts[-1]
+            if b > a:
+                self._pieces.append((a, b, OdeSolution(ch.ts, ch.interpolants)))
+                self._y_end = np.asarray(ch.interpolants[-1](b), dtype=float)
+            self.message = f"integration stopped at t = {b:.4g}: {ch.failure}"
+            self._t_end = self.stopped_at = b
+            return
+        bad: float | None = ch.bad[0]
+        first_bad = bad
+        times = np.array(ch.ts)
+        sol: Any = None
+        for _ in range(40):  # solved again, halfway from its last good step to the bad time
+            if bad is None or bad <= a:
+                break
+            clean = float(np.max(times[times < bad], initial=a))
+            sol, bad = self._solve(a, clean + 0.5 * (bad - clean))
+            times = sol.t
+        if bad is not None:  # still failing: keep the steps before the bad time
+            b = float(np.max(times[times < bad], initial=a))
+        else:
+            b = float(times[-1])
+        if b > a and sol is not None:
+            self._pieces.append((a, b, sol.sol))
+            self._y_end = np.asarray(sol.sol(b), dtype=float)
+        if first_bad is not None:
+            self.message = (
+                f"integration stopped at t = {first_bad:.4g}: the equations gave a"
+                " non-finite value (singular position or force)"
+            )
+        self._t_end = b
+        self.stopped_at = b
 
     def _solve(self, a: float, b: float) -> tuple[Any, float | None]:
         """solve_ivp over ``[a, b]`` with dense output; the first time the equations gave a
@@ -128,11 +164,52 @@ class DenseSolution:
         self._extend(float(np.max(tt, initial=self._t_end)))
         out = np.full((len(tt), len(self._y0)), np.nan)
         out[tt == self._t0] = self._y0
-        for a, b, sol in self._pieces:
+        pieces = list(self._pieces)
+        ch = self._open
+        if ch is not None and ch.interpolants:
+            pieces.append((ch.a, float(ch.solver.t), OdeSolution(ch.ts, ch.interpolants)))
+        for a, b, sol in pieces:
             k = (tt >= a) & (tt <= b)
             if np.any(k):
                 out[k] = np.asarray(sol(tt[k]), dtype=float).T
         return out
+
+
+class _Chunk:
+    """One chunk of a :class:`DenseSolution` being stepped: the solver ``solve_ivp``
+    would make for ``[a, b]`` (same method, tolerances and steps), its step times and
+    dense outputs, and the first time the equations gave a non-finite value."""
+
+    def __init__(self, owner: DenseSolution, a: float, b: float) -> None:
+        self.a, self.b = a, b
+        self.bad: list[float] = []
+        self.failure = ""
+        self.ts: list[float] = [a]
+        self.interpolants: list[Any] = []
+        rhs = owner._rhs
+
+        def guarded(tt: float, yy: Array) -> Array:
+            if self.bad:
+                return np.zeros_like(yy)
+            try:
+                out = np.asarray(rhs(tt, yy), dtype=float)
+            except _FAILURES:
+                out = np.array([np.nan])
+            if not np.all(np.isfinite(out)):
+                self.bad.append(tt)
+                return np.zeros_like(yy)
+            return out
+
+        method = getattr(scipy.integrate, owner._method)
+        self.solver = method(guarded, a, owner._y_end, b, rtol=owner._tol[0], atol=owner._tol[1])
+
+    def step(self) -> None:
+        message = self.solver.step()
+        if self.solver.status == "failed" or self.bad:
+            self.failure = str(message or "the solver failed")
+            return
+        self.ts.append(float(self.solver.t))
+        self.interpolants.append(self.solver.dense_output())
 
 
 class ClosedForm:
