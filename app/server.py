@@ -24,7 +24,7 @@ from typing import Any
 
 from app.persistence import restore_state
 from app.runlog import LRUCache, lesson_scene, params_key
-from app.session import LabError, Session
+from app.session import STEP_WALL_BUDGET, LabError, Session
 from app.view import SessionView, ViewConfig
 from app.viser_boundary import (
     PAGE_TITLE,
@@ -219,6 +219,7 @@ class LabServer:
                 dt = now - getattr(view, "last_tick", now)
                 view.last_tick = now  # type: ignore[attr-defined]
                 session.max_substeps = substeps
+                session.wall_budget = STEP_WALL_BUDGET
                 grouped = batch.hold(view.client)
                 view.tick(dt, atomic=not grouped)
             except Exception as exc:

@@ -24,7 +24,7 @@ import numpy as np
 
 from app.runlog import RunLog, lesson_scene, raw_value, scenes_equal
 from app.state import LabError, SessionState
-from lessons.core.budget import clock, work_budget
+from lessons.core.budget import clock, left, work_budget
 from lessons.core.contract import (
     Frame,
     Lesson,
@@ -52,6 +52,8 @@ MAX_GO_TO = 10
 #: CPU seconds one session may spend stepping in one frame tick (a quarter of a frame at
 #: 36 fps): a run that needs more plays slower, its own clock only.
 STEP_BUDGET = 0.007
+#: Wall seconds of stepping per tick in the live server (a busy machine steps less).
+STEP_WALL_BUDGET = 0.010
 #: CPU seconds one "go to t" or single step may compute before it stops where it got.
 GO_TO_BUDGET = 0.5
 #: The share of the asked speed below which a page says it runs slower (and above which
@@ -114,6 +116,8 @@ class Session:
         self.log = RunLog()
         self.max_substeps = MAX_SUBSTEPS  # lowered by the server under load
         self.step_budget = STEP_BUDGET  # CPU seconds of stepping per tick
+        #: wall seconds of stepping per tick (the live server sets it; None: CPU only)
+        self.wall_budget: float | None = None
         self._cost = 0.0  # CPU seconds per lesson second of the recent pieces
         #: the share of the asked speed the run keeps up with (moving average over ticks)
         self.keeping_up = 1.0
@@ -397,18 +401,17 @@ class Session:
         n = max(1, min(self.max_substeps, int(math.ceil(dt / substep - 1e-9))))
         piece = dt / n
         target = t_before + dt
-        start = clock()
-        with work_budget(self.step_budget):
+        with work_budget(self.step_budget, self.wall_budget):
             while True:
                 remaining = target - self.stepper.t
                 if self.pause_at_end:
                     remaining = min(remaining, self.t_end - self.stepper.t)
                 if remaining <= 1e-12 * max(1.0, abs(target)):
                     break
-                left = self.step_budget - (clock() - start)
-                if frames and left <= 0:
+                budget_left = left()
+                if frames and budget_left <= 0:
                     break  # the budget of this tick is spent: the rest of dt is dropped
-                d = min(self._piece_size(piece, left), remaining)
+                d = min(self._piece_size(piece, budget_left), remaining)
                 t_prev = self.stepper.t
                 frame, stop = self._step_piece(d)
                 if frame is None:
@@ -529,9 +532,8 @@ class Session:
         frames: list[Frame] = []
         piece = SUBSTEP_DT * self.lesson.time_scale
         with work_budget(GO_TO_BUDGET):
-            start = clock()
             while t - self.stepper.t > 1e-12 * max(1.0, t):
-                if clock() - start > GO_TO_BUDGET:
+                if left() <= 0:
                     self.notify(
                         f"go to t: stopped at t = {self.stepper.t:.6g} s after"
                         f" {plain(GO_TO_BUDGET)} s of computing (the step is too small to go"

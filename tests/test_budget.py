@@ -32,6 +32,18 @@ def test_spent_only_within_a_budget_and_after_its_time() -> None:
     assert not spent()
 
 
+def test_a_wall_clock_limit_counts_waiting_too() -> None:
+    import time
+
+    with work_budget(10.0, wall_seconds=0.02):
+        assert not spent()
+        time.sleep(0.03)  # no CPU spent, the wall time is
+        assert spent()
+    with work_budget(10.0):
+        time.sleep(0.03)
+        assert not spent()
+
+
 def test_a_nested_budget_keeps_the_earlier_deadline() -> None:
     with work_budget(0.01):
         with work_budget(10.0):
