@@ -49,11 +49,12 @@ MAX_SUBSTEPS = 8
 SCENE_DEBOUNCE = 0.3
 #: "Go to t" reaches at most this many times the lesson's t_end.
 MAX_GO_TO = 10
-#: CPU seconds one session may spend stepping in one frame tick (a quarter of a frame at
-#: 36 fps): a run that needs more plays slower, its own clock only.
-STEP_BUDGET = 0.007
+#: CPU seconds one session may spend stepping in one frame tick (a seventh of a frame at
+#: 36 fps; the sphere at 8x needs 1.2 ms): a run that needs more plays slower, its own
+#: clock only, and says so on its page.
+STEP_BUDGET = 0.004
 #: Wall seconds of stepping per tick in the live server (a busy machine steps less).
-STEP_WALL_BUDGET = 0.010
+STEP_WALL_BUDGET = 0.006
 #: CPU seconds one "go to t" or single step may compute before it stops where it got.
 GO_TO_BUDGET = 0.5
 #: The share of the asked speed below which a page says it runs slower (and above which
