@@ -410,7 +410,7 @@ class Session:
                 if remaining <= 1e-12 * max(1.0, abs(target)):
                     break
                 budget_left = left()
-                if frames and budget_left <= 0:
+                if frames and (budget_left <= 0 or len(frames) >= 2 * n + 2):
                     break  # the budget of this tick is spent: the rest of dt is dropped
                 d = min(self._piece_size(piece, budget_left), remaining)
                 t_prev = self.stepper.t
