@@ -353,7 +353,8 @@ REFUSED_UPDATES = {"count": 0, "logged": 0.0}
 def value_problem(current: Any, value: Any) -> str | None:
     """Why ``value`` cannot replace a widget's ``current`` value (viser casts it with the
     current value's type), or None: numbers for numbers (finite), on/off for on/off,
-    text for text, a tuple of the same length and kinds for a tuple."""
+    text (or a finite number, read as its text) for text, a tuple of the same length and
+    kinds for a tuple."""
     import math
 
     if isinstance(current, bool):
@@ -362,8 +363,12 @@ def value_problem(current: Any, value: Any) -> str | None:
         if isinstance(value, bool) or not isinstance(value, (int, float)):
             return "expected a number"
         return None if math.isfinite(value) else "expected a finite number"
-    if isinstance(current, str):
-        return None if isinstance(value, str) else "expected text"
+    if isinstance(current, str):  # a number typed into a text field reads as its text
+        if isinstance(value, str):
+            return None
+        if isinstance(value, (int, float)) and not isinstance(value, bool):
+            return None if math.isfinite(value) else "expected a finite number"
+        return "expected text"
     if isinstance(current, tuple):
         if not isinstance(value, (list, tuple)) or len(value) != len(current):
             return f"expected {len(current)} values"

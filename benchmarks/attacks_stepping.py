@@ -175,7 +175,7 @@ async def attack(
     for label, value in moves:
         await attacker.set(label, value)
     # values of the wrong type: refused with a notice, no traceback on the server
-    for label, value in (("step h [s]", [1, 2]), ("pause at t_end", "yes"), ("Speed", 8)):
+    for label, value in (("step h [s]", [1, 2]), ("pause at t_end", "yes"), ("Speed", None)):
         await attacker.set(label, value, 0.05)
     await asyncio.sleep(2.0)
     during = await normal.rate(window)
