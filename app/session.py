@@ -22,9 +22,10 @@ from typing import Any
 
 import numpy as np
 
+from app.pace import STEP_BUDGET, STEP_WALL_BUDGET, Pacing
 from app.runlog import RunLog, lesson_scene, raw_value, scenes_equal
 from app.state import LabError, SessionState
-from lessons.core.budget import clock, left, work_budget
+from lessons.core.budget import left, work_budget
 from lessons.core.contract import (
     Frame,
     Lesson,
@@ -49,39 +50,8 @@ MAX_SUBSTEPS = 8
 SCENE_DEBOUNCE = 0.3
 #: "Go to t" reaches at most this many times the lesson's t_end.
 MAX_GO_TO = 10
-#: CPU seconds one session may spend stepping in one frame tick (a seventh of a frame at
-#: 36 fps; the sphere at 8x needs 1.2 ms): a run that needs more plays slower, its own
-#: clock only, and says so on its page.
-STEP_BUDGET = 0.004
-#: Wall seconds of stepping per tick in the live server (a busy machine steps less).
-STEP_WALL_BUDGET = 0.006
 #: CPU seconds one "go to t" or single step may compute before it stops where it got.
 GO_TO_BUDGET = 0.5
-#: The share of the asked speed below which a page says it runs slower (and above which
-#: it says it is back).
-SLOW_BELOW, SLOW_CLEARED = 0.9, 0.97
-#: Wall seconds a run is behind before the page gets a notice (the figure has settled).
-SLOW_NOTICE_AFTER = 1.0
-
-
-def non_finite(frame: Frame, allowed: frozenset[str] = frozenset()) -> str | None:
-    """The name of the first quantity of ``frame`` that is not finite, or None;
-    ``allowed``: quantities the lesson declares undefined somewhere (``Series.undefined``)."""
-    for name, v in frame.scalars.items():
-        if name in allowed:
-            continue
-        if isinstance(v, (int, float, np.floating, np.integer)) and not math.isfinite(float(v)):
-            return name
-    for name, pts in frame.points.items():
-        if not np.all(np.isfinite(np.asarray(pts, dtype=float))):
-            return f"the {name}"
-    for name, (at, vec) in frame.vectors.items():
-        if not (
-            np.all(np.isfinite(np.asarray(at, dtype=float)))
-            and np.all(np.isfinite(np.asarray(vec, dtype=float)))
-        ):
-            return f"the {name} vector"
-    return None
 
 
 def lesson_label(lesson: Lesson) -> str:
@@ -95,7 +65,7 @@ def lesson_label(lesson: Lesson) -> str:
     return " · ".join(bits)
 
 
-class Session:
+class Session(Pacing):
     """One student's lesson, parameters, stepper and playback (no view code).
 
     Thread-safety: the owner serializes access with :attr:`lock` (GUI callbacks run
@@ -116,15 +86,7 @@ class Session:
         self.visible_vectors: set[str] | None = None
         self.log = RunLog()
         self.max_substeps = MAX_SUBSTEPS  # lowered by the server under load
-        self.step_budget = STEP_BUDGET  # CPU seconds of stepping per tick
-        #: wall seconds of stepping per tick (the live server sets it; None: CPU only)
-        self.wall_budget: float | None = None
-        self._cost = 0.0  # CPU seconds per lesson second of the recent pieces
-        #: the share of the asked speed the run keeps up with (moving average over ticks)
-        self.keeping_up = 1.0
-        self.slowed = False  # shown on the page: "running at 0.3x ..."
-        self._slow_wall = 0.0  # wall seconds since the run fell behind
-        self._slow_told = False  # the page was told (a notice)
+        self._init_pacing()
         self._time_debt = 0.0  # lesson time owed to the next played tick (< TIME_QUANTUM / 2)
         #: a clock shared by the pages that show this session (the classroom's demo)
         self.shared_clock: Callable[[float], list[Frame]] | None = None
@@ -365,34 +327,6 @@ class Session:
         self.reset_revision += 1
         return self.frame
 
-    def _piece_size(self, piece: float, left: float) -> float:
-        """The next piece of lesson time: ``piece``, less if the recent cost per lesson
-        second says it would not fit into the budget ``left`` (CPU seconds)."""
-        if self._cost > 0.0 and self._cost * piece > left:
-            return max(left / self._cost, 1e-9)
-        return piece
-
-    def _step_piece(self, d: float) -> tuple[Frame | None, str]:
-        """One stepper call of lesson time ``d``: the frame, or None and why it stopped."""
-        t0, c0 = self.stepper.t, clock()
-        try:
-            frame = self.stepper.advance(d)
-        except (ValueError, ArithmeticError, FloatingPointError) as exc:
-            return None, f"the integration stopped: {exc}"
-        moved = self.stepper.t - t0
-        if moved > 0:
-            cost = (clock() - c0) / moved
-            # a dearer piece counts at once, a cheaper one halves the gap
-            self._cost = cost if cost > self._cost else 0.5 * (self._cost + cost)
-        allowed = frozenset(s.name for s in self.lesson.series_for(self.params) if s.undefined)
-        bad = non_finite(frame, allowed)
-        if bad is not None:
-            return None, (
-                f"{bad} is not finite (NaN or infinite) at t = {frame.t:.6g} s:"
-                " playback paused; change the values or reset"
-            )
-        return frame, ""
-
     def _advance(self, dt: float) -> list[Frame]:
         frames: list[Frame] = []
         if dt <= 0 or not math.isfinite(dt):
@@ -441,40 +375,6 @@ class Session:
                 "info",
             )
         return frames
-
-    def _keep_up(self, wanted: float, moved: float, wall_dt: float) -> None:
-        """Follow the share of the asked lesson time the run keeps up with; say so on the
-        page when it falls behind (and when it is back)."""
-        if self.pause_at_end and self.stepper.t >= self.t_end - 1e-9:
-            return  # stopped at t_end on purpose
-        share = min(max(moved / wanted, 0.0), 1.0) if wanted > 0 else 1.0
-        self.keeping_up = 0.85 * self.keeping_up + 0.15 * share
-        if not self.slowed and self.keeping_up < SLOW_BELOW:
-            self.slowed, self._slow_wall, self._slow_told = True, 0.0, False
-        elif self.slowed and self.keeping_up > SLOW_CLEARED:
-            self.slowed = False
-            if self._slow_told:
-                self.notify(f"playing at {plain(self.speed)}x again", "info")
-        if self.slowed and not self._slow_told:
-            self._slow_wall += wall_dt
-            if self._slow_wall >= SLOW_NOTICE_AFTER:  # the figure has settled
-                self._slow_told = True
-                self.notify(self.slow_text(), "warning")
-
-    def effective_speed(self) -> float:
-        """The speed the run keeps up with (the asked speed unless :attr:`slowed`)."""
-        return self.speed * (self.keeping_up if self.slowed else 1.0)
-
-    def slow_text(self) -> str:
-        """What the page says while the run cannot keep up with the asked speed."""
-        names = {p.name for p in self.lesson.params}
-        why = (
-            "the step is too small for live play (a larger step h or a looser tolerance"
-            " plays faster)"
-            if names & {"h", "rtol"}
-            else "the computation is too slow for live play"
-        )
-        return f"running at {self.effective_speed():.2g}x: {why}"
 
     def tick(self, wall_dt: float) -> list[Frame]:
         """Advance by ``wall_dt`` seconds of wall time times the speed (when playing);
@@ -683,4 +583,13 @@ class SharedClock:
         return self.frames
 
 
-__all__ = ["LabError", "SPEEDS", "Session", "SessionState", "SharedClock", "lesson_label"]
+__all__ = [
+    "LabError",
+    "SPEEDS",
+    "STEP_BUDGET",
+    "STEP_WALL_BUDGET",
+    "Session",
+    "SessionState",
+    "SharedClock",
+    "lesson_label",
+]
