@@ -38,6 +38,7 @@ import weakref
 from collections.abc import Callable
 from typing import TYPE_CHECKING, Any
 
+from app import assignments_view
 from app.instructor import InstructorPanel, Presenter
 from app.limits import (
     INPUT_BURST,
@@ -116,6 +117,7 @@ class Classroom:
         btn.on_click(lambda e: self._on_code(view, e))
         self.entries[cid] = (folder, text, btn)
         self.presenters[cid] = Presenter(self, view)
+        assignments_view.attach(self, view)  # assignments hook
         if self.tokens and self._restore_role(view):
             return
         with self.lock:
@@ -127,6 +129,7 @@ class Classroom:
         with self.lock:
             self.entries.pop(client_id, None)
             self.presenters.pop(client_id, None)
+            assignments_view.detach(self, client_id)  # assignments hook
             self.buckets.pop(client_id, None)
             self.codes.forget(client_id)
             self._refused_note.pop(client_id, None)
@@ -201,6 +204,7 @@ class Classroom:
                     pass
             self.instructors[cid] = InstructorPanel(self, view)
             self.followers.pop(cid, None)
+        assignments_view.grant(self, view)  # assignments hook
 
     def _restore_role(self, view: SessionView) -> bool:
         """A page reloaded by the instructor gets the role back from the token it keeps."""
@@ -352,6 +356,7 @@ class Classroom:
             with demo.lock, own.lock:
                 view.show_session(own)
                 view.set_following(False)
+                assignments_view.released(self, view)  # assignments hook
             try:
                 view.client.add_notification(
                     "Released",

@@ -1,4 +1,5 @@
-"""``analyzer-lab``: the command line (``serve``, ``lessons``, ``run``, ``check``).
+"""``analyzer-lab``: the command line (``serve``, ``lessons``, ``run``, ``check``,
+``assignments``, ``grade``).
 
 Headless commands import no view code; ``serve`` imports the viser app lazily.
 """
@@ -145,7 +146,12 @@ def cmd_check(args: argparse.Namespace) -> int:
 
 
 def cmd_serve(args: argparse.Namespace) -> int:
+    from app.assignments_cli import use_folder_for_serve
     from app.server import serve
+
+    problem = use_folder_for_serve(getattr(args, "assignments", None))
+    if problem:
+        return _fail(problem)
 
     return serve(
         host=args.host,
@@ -183,6 +189,7 @@ def build_parser() -> argparse.ArgumentParser:
         default=36.0,
         help="frames per second of the live view (default 36: every page gets 30 updates/s or more)",
     )
+    s.add_argument("--assignments", metavar="DIR", help="also offer the assignment files in DIR")
     s.set_defaults(func=cmd_serve)
 
     s = sub.add_parser("lessons", help="list the lessons")
@@ -211,6 +218,9 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("--json", action="store_true")
     s.set_defaults(func=cmd_check)
 
+    from app.assignments_cli import add_parsers
+
+    add_parsers(sub)
     return p
 
 

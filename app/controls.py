@@ -88,6 +88,7 @@ class ParamControls:
         self.widgets: dict[str, list[Any]] = {}
         self.errors: dict[str, Any] = {}  # param name -> its (hidden) error line
         self.read_only = False  # while following the instructor
+        self.locked: frozenset[str] = frozenset()  # fields an open assignment locks
         self.folders: dict[str, tuple[Any, Any]] = {}  # group name -> (group, folder)
         self._shown: dict[int, Any] = {}  # widget id -> the session value it last showed
 
@@ -179,7 +180,7 @@ class ParamControls:
             text.on_update(self.guard(lambda e, p=p: self.on_text(p, e.target.value)))
             widgets.append(text)
         for w in widgets:
-            if self.read_only and not w.disabled:
+            if (self.read_only or p.name in self.locked) and not w.disabled:
                 w.disabled = True
         if p.kind in ("choice", "bool", "int"):
             widgets[0].on_update(self.guard(lambda e, p=p: self.on_value(p, e.target.value)))
@@ -193,12 +194,17 @@ class ParamControls:
         self.read_only = on
         for name, widgets in self.widgets.items():
             for w in widgets:
-                off = on
+                off = on or name in self.locked
                 is_slider = hasattr(w, "min") and not hasattr(w, "multiline")
-                if not on and params is not None and is_slider and name in params:
+                if not off and params is not None and is_slider and name in params:
                     off = not is_constant(params[name])
                 if w.disabled != off:
                     w.disabled = off
+
+    def set_locked(self, names: frozenset[str], params: Params | None = None) -> None:
+        """Make the fields ``names`` read-only (an open assignment's locked values)."""
+        self.locked = frozenset(names)
+        self.set_read_only(self.read_only, params)
 
     def show_error(self, name: str, message: str) -> bool:
         """Show ``message`` under the field ``name``; False if it has no error line."""
@@ -251,7 +257,7 @@ class ParamControls:
                     is_slider = hasattr(w, "min") and not hasattr(w, "multiline")
                     if p.kind == "formula" and is_slider:
                         # a slider never stands for a formula of t: off until a number
-                        off = self.read_only or not is_constant(value)
+                        off = self.read_only or name in self.locked or not is_constant(value)
                         if w.disabled != off:
                             w.disabled = off
                         constant = is_constant(value)

@@ -1,0 +1,37 @@
+"""Assignments: a task over one lesson, an answer checked by the lesson's own model.
+
+:mod:`~lessons.assignments.spec` is the file format and its validation,
+:mod:`~lessons.assignments.grading` runs an answer and measures the checks,
+:mod:`~lessons.assignments.library` loads folders and drafts assignments from a state.
+The model side only: nothing here imports the view.
+"""
+
+from lessons.assignments.grading import CheckOutcome, Grade, grade, load_answer
+from lessons.assignments.library import READY_DIR, draft, load_folder, ready_assignments
+from lessons.assignments.spec import (
+    FORMAT,
+    VERSION,
+    Assignment,
+    AssignmentError,
+    Check,
+    load_assignment,
+    parse_assignment,
+)
+
+__all__ = [
+    "FORMAT",
+    "READY_DIR",
+    "VERSION",
+    "Assignment",
+    "AssignmentError",
+    "Check",
+    "CheckOutcome",
+    "Grade",
+    "draft",
+    "grade",
+    "load_answer",
+    "load_assignment",
+    "load_folder",
+    "parse_assignment",
+    "ready_assignments",
+]

@@ -1,0 +1,306 @@
+"""Grading: an answer (the unlocked parameters' values) is run by the lesson's own model
+and every declared check of the assignment is measured on that run.
+
+Results are plain data: :class:`Grade` with one :class:`CheckOutcome` per check, each
+saying whether it passes, what was measured, the bound it was held to and by how much it
+misses.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from lessons.assignments.spec import (
+    MAX_ANSWER_BYTES,
+    Assignment,
+    AssignmentError,
+    Check,
+    Quantity,
+    decode_json,
+)
+from lessons.core.contract import ParamError, RunResult
+
+
+@dataclass
+class CheckOutcome:
+    """One check measured on one run: ``miss`` > 0 by how much it fails (0 when it passes)."""
+
+    id: str
+    kind: str
+    text: str
+    passed: bool
+    measured: float
+    bound: float
+    miss: float
+    message: str
+
+    def to_json_dict(self) -> dict[str, Any]:
+        def num(v: float) -> float | None:
+            return float(v) if math.isfinite(v) else None
+
+        return {
+            "id": self.id,
+            "kind": self.kind,
+            "text": self.text,
+            "pass": self.passed,
+            "measured": num(self.measured),
+            "bound": num(self.bound),
+            "miss": num(self.miss),
+            "message": self.message,
+        }
+
+
+@dataclass
+class Grade:
+    """The whole verdict on one answer."""
+
+    assignment: str
+    lesson: str
+    passed: bool
+    checks: list[CheckOutcome]
+    values: dict[str, Any] = field(default_factory=dict)
+    messages: list[str] = field(default_factory=list)
+
+    def to_json_dict(self) -> dict[str, Any]:
+        return {
+            "assignment": self.assignment,
+            "lesson": self.lesson,
+            "pass": self.passed,
+            "values": dict(self.values),
+            "checks": [c.to_json_dict() for c in self.checks],
+            "messages": list(self.messages),
+        }
+
+    @property
+    def failed(self) -> list[CheckOutcome]:
+        return [c for c in self.checks if not c.passed]
+
+
+def check_answer_values(a: Assignment, values: Any, where: str = "answer") -> dict[str, Any]:
+    """The answer's values, refused (one line) if not an object of unlocked parameters."""
+    if not isinstance(values, dict):
+        raise AssignmentError(where, "", "an answer is a JSON object of parameter values")
+    if not values:
+        raise AssignmentError(where, "", f"gives no values; set some of {', '.join(a.unlocked)}")
+    for k, v in values.items():
+        if k not in a.unlocked:
+            what = "is locked in this assignment" if _known(a, k) else "is not a parameter"
+            raise AssignmentError(
+                where, str(k)[:40], f"{what} (you may set {', '.join(a.unlocked)})"
+            )
+        if not isinstance(v, (str, int, float, bool)) or (isinstance(v, str) and len(v) > 400):
+            raise AssignmentError(where, k, "must be a number, a formula text or true/false")
+    return dict(values)
+
+
+def _known(a: Assignment, name: str) -> bool:
+    from lessons.catalog import get_lesson
+
+    return any(p.name == name for p in get_lesson(a.lesson).params)
+
+
+def load_answer(text: str | bytes, a: Assignment, where: str) -> dict[str, Any]:
+    """Decode and check an answer file's text."""
+    return check_answer_values(a, decode_json(text, where, MAX_ANSWER_BYTES), where)
+
+
+def run_answer(a: Assignment, values: Mapping[str, Any], where: str = "answer") -> RunResult:
+    """Resolve the answer over the assignment's start and simulate (refusals name the value)."""
+    from lessons.catalog import get_lesson
+
+    lesson = get_lesson(a.lesson)
+    try:
+        params = lesson.resolve({**a.start, **values}, a.preset)
+        return lesson.simulate(params, a.t_end)
+    except ParamError as exc:
+        raise AssignmentError(where, exc.name, exc.message) from None
+    except ValueError as exc:
+        raise AssignmentError(where, "", str(exc)) from None
+
+
+def grade(a: Assignment, values: Mapping[str, Any], where: str = "answer") -> Grade:
+    """Check ``values`` against every check of ``a`` (raises :class:`AssignmentError` on bad input)."""
+    vals = check_answer_values(a, dict(values), where)
+    run = run_answer(a, vals, where)
+    outcomes = [measure(c, run) for c in a.checks]
+    return Grade(
+        assignment=a.id,
+        lesson=a.lesson,
+        passed=all(o.passed for o in outcomes),
+        checks=outcomes,
+        values=vals,
+        messages=list(run.messages),
+    )
+
+
+def _eval(q: Quantity, run: RunResult) -> np.ndarray:
+    t = np.asarray(run.t, dtype=float)
+    if q.series is not None:
+        return np.asarray(run.series[q.series], dtype=float)
+    assert q.formula is not None
+    args = [t] + [np.asarray(run.series[v], dtype=float) for v in q.formula.variables[1:]]
+    return np.broadcast_to(np.asarray(q.formula(*args), dtype=float), t.shape).astype(float)
+
+
+def _window(c: Check, t: np.ndarray) -> np.ndarray:
+    lo = -np.inf if c.t_from is None else c.t_from - 1e-9
+    hi = np.inf if c.t_to is None else c.t_to + 1e-9
+    if c.by is not None:
+        hi = c.by + 1e-9
+    mask = (t >= lo) & (t <= hi)
+    if not mask.any():
+        mask[int(np.argmin(np.abs(t - (lo if np.isfinite(lo) else hi))))] = True
+    return mask
+
+
+def _undefined(values: np.ndarray, t: np.ndarray) -> str:
+    bad = ~np.isfinite(values)
+    if bad.any():
+        return f"not defined from t = {float(t[int(np.argmax(bad))]):g}"
+    return ""
+
+
+def _reduce(how: str, v: np.ndarray) -> float:
+    if how == "max-abs":
+        return float(np.max(np.abs(v)))
+    if how == "max":
+        return float(np.max(v))
+    if how == "min":
+        return float(np.min(v))
+    if how == "final":
+        return float(v[-1])
+    if how == "mean":
+        return float(np.mean(v))
+    return float(np.sqrt(np.mean(v * v)))
+
+
+def _points(c: Check, run: RunResult) -> np.ndarray:
+    return np.stack([np.asarray(run.series[n], dtype=float) for n in c.path], axis=1)
+
+
+def measure(c: Check, run: RunResult) -> CheckOutcome:
+    """Measure one check on a finished run."""
+    t = np.asarray(run.t, dtype=float)
+    text = c.describe()
+    if c.kind in ("at-most", "at-least") and c.metric is not None:
+        raw = run.metrics.get(c.metric)
+        if isinstance(raw, bool) or not isinstance(raw, (int, float, np.floating, np.integer)):
+            return _outcome(
+                c, text, math.inf, float(c.bound or 0), f"the run has no metric {c.metric}"
+            )
+        return _bound(c, text, float(raw), f"metric {c.metric}")
+    mask = _window(c, t)
+    tw = t[mask]
+    if c.kind == "within":
+        assert c.quantity is not None and c.target is not None and c.tolerance is not None
+        diff = _eval(c.quantity, run) - _eval(c.target, run)
+        if c.at is not None:
+            if not np.isfinite(diff).all():
+                return _outcome(c, text, math.inf, c.tolerance, _undefined(diff, t))
+            d = abs(float(np.interp(c.at, t, diff)))
+            where = f"at t = {c.at:g}"
+        else:
+            dw = diff[mask]
+            if not np.isfinite(dw).all():
+                return _outcome(c, text, math.inf, c.tolerance, _undefined(dw, tw))
+            k = int(np.argmax(np.abs(dw)))
+            d = float(abs(dw[k]))
+            where = f"largest at t = {float(tw[k]):g}"
+        return _outcome(
+            c, text, d, c.tolerance, f"|{c.quantity.text} - ({c.target.text})| = {d:.4g} {where}"
+        )
+    if c.kind in ("at-most", "at-least"):
+        assert c.quantity is not None
+        v = _eval(c.quantity, run)[mask]
+        if not np.isfinite(v).all():
+            return _outcome(c, text, math.inf, float(c.bound or 0), _undefined(v, tw))
+        return _bound(c, text, _reduce(c.reduce, v), f"{c.reduce} of {c.quantity.text}")
+    assert c.tolerance is not None
+    pts = _points(c, run)
+    if c.kind == "reaches":
+        pw = pts[mask]
+        if not np.isfinite(pw).all():
+            return _outcome(c, text, math.inf, c.tolerance, _undefined(pw.sum(axis=1), tw))
+        dist = np.linalg.norm(pw - np.asarray(c.point), axis=1)
+        k = int(np.argmin(dist))
+        return _outcome(
+            c,
+            text,
+            float(dist[k]),
+            c.tolerance,
+            f"closest approach {float(dist[k]):.4g} at t = {float(tw[k]):g}",
+        )
+    if not np.isfinite(pts).all():
+        return _outcome(c, text, math.inf, c.tolerance, _undefined(pts.sum(axis=1), t))
+    if c.kind == "in-plane":
+        n = np.asarray(c.normal, dtype=float)
+        nn = float(np.linalg.norm(n))
+        dev = np.abs(pts @ n - c.offset) / nn
+        k = int(np.argmax(dev))
+        return _outcome(
+            c,
+            text,
+            float(dev[k]),
+            c.tolerance,
+            f"farthest from the plane by {float(dev[k]):.4g} at t = {float(t[k]):g}",
+        )
+    # on-circle
+    centre = np.asarray(c.center, dtype=float)
+    rel = pts - centre
+    dev = np.abs(np.linalg.norm(rel, axis=1) - float(c.radius or 0))
+    if c.normal is not None:
+        n = np.asarray(c.normal, dtype=float) / float(np.linalg.norm(c.normal))
+        off = rel @ n
+        dev = np.hypot(
+            np.abs(np.linalg.norm(rel - np.outer(off, n), axis=1) - float(c.radius or 0)), off
+        )
+    k = int(np.argmax(dev))
+    return _outcome(
+        c,
+        text,
+        float(dev[k]),
+        c.tolerance,
+        f"farthest from the circle by {float(dev[k]):.4g} at t = {float(t[k]):g}",
+    )
+
+
+def _bound(c: Check, text: str, value: float, what: str) -> CheckOutcome:
+    bound = float(c.bound if c.bound is not None else 0.0)
+    if not math.isfinite(value):
+        return _outcome(c, text, math.inf, bound, f"{what} is not finite")
+    if c.kind == "at-most":
+        miss = max(0.0, value - bound)
+        return CheckOutcome(
+            c.id,
+            c.kind,
+            text,
+            miss == 0.0,
+            value,
+            bound,
+            miss,
+            f"{what} = {value:.4g}" + (f", {miss:.3g} above the bound {bound:g}" if miss else ""),
+        )
+    miss = max(0.0, bound - value)
+    return CheckOutcome(
+        c.id,
+        c.kind,
+        text,
+        miss == 0.0,
+        value,
+        bound,
+        miss,
+        f"{what} = {value:.4g}" + (f", {miss:.3g} below the bound {bound:g}" if miss else ""),
+    )
+
+
+def _outcome(c: Check, text: str, measured: float, tol: float, detail: str) -> CheckOutcome:
+    """A deviation checked against a tolerance (``measured`` <= ``tol`` passes)."""
+    miss = max(0.0, measured - tol) if math.isfinite(measured) else math.inf
+    passed = bool(math.isfinite(measured) and measured <= tol)
+    msg = detail if passed else f"{detail}; misses the tolerance {tol:g} by {miss:.3g}"
+    return CheckOutcome(c.id, c.kind, text, passed, measured, tol, miss, msg)

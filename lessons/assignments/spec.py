@@ -1,0 +1,499 @@
+"""The assignment file format (version 1): a task over one lesson, checked by its model.
+
+An assignment is plain JSON data (see the README section "Assignments"):
+
+* ``format`` = ``"analyzer-lab assignment"``, ``version`` = 1, ``id`` (a slug), ``title``;
+* ``lesson``, ``preset`` (or null), ``start`` (values over the preset), ``t_end``;
+* ``unlocked``: the parameters the student may change (every other one is locked);
+* ``checks``: declared checks over the run (``within``, ``at-most``, ``at-least``,
+  ``in-plane``, ``on-circle``, ``reaches``); expressions go through the formula whitelist
+  of :mod:`lessons.core.formula` with ``t`` and the lesson's series as variables;
+* ``task``, ``hint``, ``reference`` (text), ``answers`` (``correct``/``wrong`` values).
+
+Loading validates everything; the first problem raises :class:`AssignmentError`, whose
+message is one line naming the file, the field and what is wrong.  Nothing in a file is
+ever evaluated as code.
+"""
+
+from __future__ import annotations
+
+import json
+import keyword
+import math
+import re
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from lessons.core.contract import Lesson, ParamError, Params
+from lessons.core.formula import CONSTANTS, FUNCTIONS, Formula, FormulaError, parse_formula
+from lessons.core.formula import parse_number as _parse_number
+
+FORMAT = "analyzer-lab assignment"
+VERSION = 1
+MAX_FILE_BYTES = 64 * 1024
+MAX_ANSWER_BYTES = 16 * 1024
+MAX_CHECKS = 8
+MAX_UNLOCKED = 24
+MAX_TEXT = 2000
+MAX_SHORT = 160
+MAX_T_END = 1e4
+KINDS = ("within", "at-most", "at-least", "in-plane", "on-circle", "reaches")
+REDUCTIONS = ("max-abs", "max", "min", "final", "mean", "rms")
+_SLUG = re.compile(r"^[a-z0-9][a-z0-9.-]{0,59}$")
+_TOP = {
+    "format",
+    "version",
+    "id",
+    "title",
+    "lesson",
+    "preset",
+    "start",
+    "t_end",
+    "unlocked",
+    "checks",
+    "task",
+    "hint",
+    "reference",
+    "answers",
+}
+_CHECK_FIELDS: dict[str, set[str]] = {
+    "within": {"quantity", "target", "tolerance", "from", "to", "at"},
+    "at-most": {"quantity", "metric", "reduce", "bound", "from", "to"},
+    "at-least": {"quantity", "metric", "reduce", "bound", "from", "to"},
+    "in-plane": {"path", "normal", "offset", "tolerance"},
+    "on-circle": {"path", "center", "radius", "normal", "tolerance"},
+    "reaches": {"path", "point", "by", "tolerance"},
+}
+
+
+class AssignmentError(ValueError):
+    """An assignment or answer was refused: ``str(err)`` is one line (file, field, problem)."""
+
+    def __init__(self, where: str, field_name: str, message: str) -> None:
+        loc = f"{where}: " if where else ""
+        fld = f"field {field_name}: " if field_name else ""
+        super().__init__(f"{loc}{fld}{message}".replace("\n", " "))
+        self.where = where
+        self.field = field_name
+        self.message = message
+
+
+@dataclass(frozen=True)
+class Quantity:
+    """A run quantity: one series by name, or a whitelisted formula of t and the series."""
+
+    text: str
+    series: str | None = None
+    formula: Formula | None = None
+
+
+@dataclass(frozen=True)
+class Check:
+    """One declared check; the fields used depend on ``kind`` (see the module doc)."""
+
+    id: str
+    kind: str
+    label: str = ""
+    quantity: Quantity | None = None
+    target: Quantity | None = None
+    metric: str | None = None
+    reduce: str = "max-abs"
+    bound: float | None = None
+    tolerance: float | None = None
+    t_from: float | None = None
+    t_to: float | None = None
+    at: float | None = None
+    path: tuple[str, ...] = ()
+    normal: tuple[float, ...] | None = None
+    offset: float = 0.0
+    center: tuple[float, ...] = ()
+    radius: float | None = None
+    point: tuple[float, ...] = ()
+    by: float | None = None
+
+    def describe(self) -> str:
+        """One line in words (the ``label`` when the file gives one)."""
+        if self.label:
+            return self.label
+        win = _window_text(self.t_from, self.t_to)
+        if self.kind == "within":
+            assert self.quantity is not None and self.target is not None
+            when = f" at t = {self.at:g}" if self.at is not None else win
+            return (
+                f"{self.quantity.text} stays within {self.tolerance:g} of {self.target.text}{when}"
+            )
+        if self.kind in ("at-most", "at-least"):
+            what = (
+                f"metric {self.metric}"
+                if self.metric
+                else f"{self.reduce} of {self.quantity.text if self.quantity else ''}{win}"
+            )
+            sign = "<=" if self.kind == "at-most" else ">="
+            return f"{what} {sign} {self.bound:g}"
+        p = ", ".join(self.path)
+        if self.kind == "in-plane":
+            n = " ".join(f"{c:+g}*{a}" for c, a in zip(self.normal or (), "xyz"))
+            return f"the path ({p}) lies in the plane {n} = {self.offset:g} (within {self.tolerance:g})"
+        if self.kind == "on-circle":
+            c = ", ".join(f"{v:g}" for v in self.center)
+            return (
+                f"the path ({p}) lies on the circle centre ({c}), radius {self.radius:g}"
+                f" (within {self.tolerance:g})"
+            )
+        pt = ", ".join(f"{v:g}" for v in self.point)
+        return f"the path ({p}) reaches ({pt}) by t = {self.by:g} (within {self.tolerance:g})"
+
+
+@dataclass(frozen=True)
+class Assignment:
+    """A validated assignment (see :func:`parse_assignment`)."""
+
+    id: str
+    title: str
+    lesson: str
+    preset: str | None
+    start: Mapping[str, Any]
+    t_end: float
+    unlocked: tuple[str, ...]
+    checks: tuple[Check, ...]
+    task: str
+    hint: str = ""
+    reference: str = ""
+    answers: Mapping[str, Mapping[str, Any]] = field(default_factory=dict)
+    source: str = ""
+    data: Mapping[str, Any] = field(default_factory=dict, repr=False, compare=False)
+
+    def summary(self) -> dict[str, Any]:
+        """JSON-friendly listing entry."""
+        return {
+            "id": self.id,
+            "title": self.title,
+            "lesson": self.lesson,
+            "preset": self.preset,
+            "unlocked": list(self.unlocked),
+            "checks": [{"id": c.id, "kind": c.kind, "text": c.describe()} for c in self.checks],
+            "task": self.task,
+            "hint": self.hint,
+            "reference": self.reference,
+            "source": self.source,
+        }
+
+
+def _window_text(a: float | None, b: float | None) -> str:
+    if a is None and b is None:
+        return ""
+    lo = "0" if a is None else f"{a:g}"
+    hi = "end" if b is None else f"{b:g}"
+    return f" for t in [{lo}, {hi}]"
+
+
+class _Reader:
+    """Typed access to one JSON object, every refusal naming the file and field."""
+
+    def __init__(self, where: str, lesson: Lesson | None = None) -> None:
+        self.where = where
+        self.lesson = lesson
+
+    def fail(self, fld: str, message: str) -> AssignmentError:
+        return AssignmentError(self.where, fld, message)
+
+    def text(self, obj: Mapping[str, Any], key: str, fld: str, limit: int, required: bool) -> str:
+        v = obj.get(key)
+        if v is None:
+            if required:
+                raise self.fail(fld, "is missing")
+            return ""
+        if not isinstance(v, str):
+            raise self.fail(fld, f"must be text, got {_type(v)}")
+        if len(v) > limit:
+            raise self.fail(fld, f"is {len(v)} characters long; the limit is {limit}")
+        return v
+
+    def number(self, v: Any, fld: str, positive: bool = False) -> float:
+        if isinstance(v, bool) or v is None:
+            raise self.fail(fld, f"must be a number, got {_type(v)}")
+        if isinstance(v, (int, float)):
+            x = float(v)
+        elif isinstance(v, str):
+            try:
+                x = _parse_number(v)
+            except FormulaError as exc:
+                raise self.fail(fld, str(exc)) from None
+        else:
+            raise self.fail(fld, f"must be a number, got {_type(v)}")
+        if not math.isfinite(x) or abs(x) > 1e12:
+            raise self.fail(fld, f"must be a finite number of at most 1e12, got {x:g}")
+        if positive and x <= 0:
+            raise self.fail(fld, f"must be positive, got {x:g}")
+        return x
+
+    def numbers(self, v: Any, fld: str, n: int) -> tuple[float, ...]:
+        if not isinstance(v, list):
+            raise self.fail(fld, f"must be a list of {n} numbers, got {_type(v)}")
+        if len(v) != n:
+            raise self.fail(fld, f"must have {n} numbers (one per path coordinate), got {len(v)}")
+        return tuple(self.number(x, f"{fld}[{i}]") for i, x in enumerate(v))
+
+
+def _type(v: Any) -> str:
+    if v is None:
+        return "null"
+    if isinstance(v, bool):
+        return "true/false"
+    if isinstance(v, (list, tuple)):
+        return f"a list of {len(v)}"
+    if isinstance(v, dict):
+        return "an object"
+    if isinstance(v, str):
+        return f"text {v[:30]!r}"
+    return type(v).__name__
+
+
+def expression_names(lesson: Lesson, params: Params) -> tuple[str, ...]:
+    """The series names usable as variables of an expression (identifiers only)."""
+    reserved = set(FUNCTIONS) | set(CONSTANTS) | {"t"}
+    return tuple(
+        s.name
+        for s in lesson.series_for(params)
+        if s.name.isidentifier() and not keyword.iskeyword(s.name) and s.name not in reserved
+    )
+
+
+def parse_quantity(
+    text: Any, lesson: Lesson, params: Params, reader: _Reader, fld: str
+) -> Quantity:
+    """A series name or a whitelisted formula of ``t`` and the lesson's series."""
+    if isinstance(text, (int, float)) and not isinstance(text, bool):
+        text = repr(float(text))
+    if not isinstance(text, str):
+        raise reader.fail(fld, f"must be a series name or a formula, got {_type(text)}")
+    series = {s.name for s in lesson.series_for(params)}
+    if text.strip() in series:
+        return Quantity(text.strip(), series=text.strip())
+    try:
+        f = parse_formula(text, variables=("t", *expression_names(lesson, params)))
+    except FormulaError as exc:
+        raise reader.fail(fld, str(exc)) from None
+    return Quantity(f.text, formula=f)
+
+
+def _path(
+    obj: Mapping[str, Any], lesson: Lesson, params: Params, r: _Reader, fld: str
+) -> tuple[str, ...]:
+    series = [s.name for s in lesson.series_for(params)]
+    raw = obj.get("path")
+    if raw is None:
+        raw = [n for n in ("x", "y", "z") if n in series]
+    if not isinstance(raw, list) or not 1 <= len(raw) <= 3:
+        raise r.fail(fld, f"must be a list of 1 to 3 series names, got {_type(raw)}")
+    for i, n in enumerate(raw):
+        if not isinstance(n, str) or n not in series:
+            raise r.fail(f"{fld}[{i}]", f"{_type(n)} is not a series of lesson {lesson.id}")
+    return tuple(raw)
+
+
+def _times(obj: Mapping[str, Any], r: _Reader, fld: str, t_end: float) -> dict[str, Any]:
+    out: dict[str, Any] = {}
+    for key, name in (("from", "t_from"), ("to", "t_to"), ("at", "at"), ("by", "by")):
+        if obj.get(key) is not None:
+            v = r.number(obj[key], f"{fld}.{key}")
+            if not 0 <= v <= t_end + 1e-9:
+                raise r.fail(f"{fld}.{key}", f"{v:g} is outside the run [0, {t_end:g}]")
+            out[name] = v
+    if out.get("t_from", 0.0) > out.get("t_to", t_end):
+        raise r.fail(f"{fld}.from", "is after 'to'")
+    return out
+
+
+def parse_check(
+    obj: Any, index: int, lesson: Lesson, params: Params, t_end: float, r: _Reader
+) -> Check:
+    """One check object (validated against the lesson and its series)."""
+    fld = f"checks[{index}]"
+    if not isinstance(obj, dict):
+        raise r.fail(fld, f"must be an object, got {_type(obj)}")
+    cid = r.text(obj, "id", f"{fld}.id", 60, True)
+    if not _SLUG.match(cid):
+        raise r.fail(f"{fld}.id", "must be lowercase letters, digits, '-' or '.' (1-60)")
+    kind = r.text(obj, "kind", f"{fld}.kind", 20, True)
+    if kind not in KINDS:
+        raise r.fail(f"{fld}.kind", f"{kind[:20]!r} is not one of {', '.join(KINDS)}")
+    extra = set(obj) - _CHECK_FIELDS[kind] - {"id", "kind", "label"}
+    if extra:
+        raise r.fail(f"{fld}", f"unknown field {sorted(extra)[0][:30]!r} for a {kind} check")
+    label = r.text(obj, "label", f"{fld}.label", MAX_SHORT, False)
+    kw: dict[str, Any] = {"id": cid, "kind": kind, "label": label}
+    kw.update(_times(obj, r, fld, t_end))
+    if kind == "within":
+        kw["quantity"] = parse_quantity(obj.get("quantity"), lesson, params, r, f"{fld}.quantity")
+        kw["target"] = parse_quantity(obj.get("target", "0"), lesson, params, r, f"{fld}.target")
+        kw["tolerance"] = r.number(obj.get("tolerance"), f"{fld}.tolerance", positive=True)
+    elif kind in ("at-most", "at-least"):
+        if ("metric" in obj) == ("quantity" in obj):
+            raise r.fail(fld, "needs exactly one of 'metric' or 'quantity'")
+        if "metric" in obj:
+            m = r.text(obj, "metric", f"{fld}.metric", 60, True)
+            if not re.match(r"^[A-Za-z_][A-Za-z0-9_]*$", m):
+                raise r.fail(f"{fld}.metric", "must be a metric name")
+            kw["metric"] = m
+        else:
+            kw["quantity"] = parse_quantity(obj["quantity"], lesson, params, r, f"{fld}.quantity")
+            red = obj.get("reduce", "max-abs")
+            if red not in REDUCTIONS:
+                raise r.fail(f"{fld}.reduce", f"must be one of {', '.join(REDUCTIONS)}")
+            kw["reduce"] = red
+        kw["bound"] = r.number(obj.get("bound"), f"{fld}.bound")
+    else:
+        path = _path(obj, lesson, params, r, f"{fld}.path")
+        kw["path"] = path
+        kw["tolerance"] = r.number(obj.get("tolerance"), f"{fld}.tolerance", positive=True)
+        if kind == "in-plane":
+            n = r.numbers(obj.get("normal"), f"{fld}.normal", len(path))
+            if math.hypot(*n) == 0:
+                raise r.fail(f"{fld}.normal", "must not be zero")
+            kw["normal"] = n
+            kw["offset"] = r.number(obj.get("offset", 0), f"{fld}.offset")
+        elif kind == "on-circle":
+            if len(path) < 2:
+                raise r.fail(f"{fld}.path", "a circle needs 2 or 3 coordinates")
+            kw["center"] = r.numbers(obj.get("center"), f"{fld}.center", len(path))
+            kw["radius"] = r.number(obj.get("radius"), f"{fld}.radius", positive=True)
+            if obj.get("normal") is not None:
+                n = r.numbers(obj["normal"], f"{fld}.normal", len(path))
+                if math.hypot(*n) == 0:
+                    raise r.fail(f"{fld}.normal", "must not be zero")
+                kw["normal"] = n
+        else:
+            kw["point"] = r.numbers(obj.get("point"), f"{fld}.point", len(path))
+            if "by" not in kw:
+                raise r.fail(f"{fld}.by", "is missing")
+    return Check(**kw)
+
+
+def _values(v: Any, r: _Reader, fld: str, lesson: Lesson) -> dict[str, Any]:
+    if not isinstance(v, dict):
+        raise r.fail(fld, f"must be an object of parameter values, got {_type(v)}")
+    if len(v) > 64:
+        raise r.fail(fld, f"has {len(v)} entries; the limit is 64")
+    known = {p.name for p in lesson.params}
+    for k, x in v.items():
+        if k not in known:
+            raise r.fail(f"{fld}.{k[:40]}", f"is not a parameter of lesson {lesson.id}")
+        if not isinstance(x, (str, int, float, bool)) or (isinstance(x, str) and len(x) > 400):
+            raise r.fail(f"{fld}.{k}", f"must be a number, text or true/false, got {_type(x)}")
+    return dict(v)
+
+
+def parse_assignment(data: Any, where: str = "") -> Assignment:
+    """Validate decoded JSON as an assignment; raise :class:`AssignmentError`."""
+    from lessons.catalog import get_lesson
+
+    r = _Reader(where)
+    if not isinstance(data, dict):
+        raise r.fail("", f"an assignment is a JSON object, got {_type(data)}")
+    if data.get("format") != FORMAT:
+        raise r.fail("format", f"must be {FORMAT!r}")
+    if data.get("version") != VERSION or isinstance(data.get("version"), bool):
+        raise r.fail("version", f"must be {VERSION}, got {_type(data.get('version'))}")
+    extra = set(data) - _TOP
+    if extra:
+        raise r.fail(sorted(extra)[0][:40], "is not a field of an assignment")
+    aid = r.text(data, "id", "id", 60, True)
+    if not _SLUG.match(aid):
+        raise r.fail("id", "must be lowercase letters, digits, '-' or '.' (1-60)")
+    title = r.text(data, "title", "title", MAX_SHORT, True)
+    lesson_id = r.text(data, "lesson", "lesson", 60, True)
+    try:
+        lesson = get_lesson(lesson_id)
+    except KeyError:
+        raise r.fail(
+            "lesson", f"no lesson {lesson_id[:40]!r} (see 'analyzer-lab lessons')"
+        ) from None
+    preset = data.get("preset")
+    if preset is not None:
+        preset = r.text(data, "preset", "preset", 60, True)
+        if preset not in {p.name for p in lesson.presets}:
+            raise r.fail("preset", f"lesson {lesson.id} has no preset {preset[:40]!r}")
+    start = _values(data.get("start", {}), r, "start", lesson)
+    t_end = lesson.preset_t_end(preset)
+    if data.get("t_end") is not None:
+        t_end = r.number(data["t_end"], "t_end", positive=True)
+        if t_end > MAX_T_END:
+            raise r.fail("t_end", f"{t_end:g} is above the limit {MAX_T_END:g}")
+    try:
+        params = lesson.resolve(start, preset)
+    except (ParamError, ValueError) as exc:
+        raise r.fail("start", str(exc)) from None
+    unlocked_raw = data.get("unlocked")
+    if not isinstance(unlocked_raw, list) or not unlocked_raw:
+        raise r.fail(
+            "unlocked", f"must be a non-empty list of parameter names, got {_type(unlocked_raw)}"
+        )
+    if len(unlocked_raw) > MAX_UNLOCKED:
+        raise r.fail("unlocked", f"has {len(unlocked_raw)} names; the limit is {MAX_UNLOCKED}")
+    known = {p.name for p in lesson.params}
+    for i, n in enumerate(unlocked_raw):
+        if not isinstance(n, str) or n not in known:
+            raise r.fail(f"unlocked[{i}]", f"{_type(n)} is not a parameter of lesson {lesson.id}")
+    if len(set(unlocked_raw)) != len(unlocked_raw):
+        raise r.fail("unlocked", "names a parameter twice")
+    checks_raw = data.get("checks")
+    if not isinstance(checks_raw, list) or not checks_raw:
+        raise r.fail("checks", f"must be a non-empty list of checks, got {_type(checks_raw)}")
+    if len(checks_raw) > MAX_CHECKS:
+        raise r.fail("checks", f"has {len(checks_raw)} checks; the limit is {MAX_CHECKS}")
+    checks = tuple(parse_check(c, i, lesson, params, t_end, r) for i, c in enumerate(checks_raw))
+    if len({c.id for c in checks}) != len(checks):
+        raise r.fail("checks", "two checks have the same id")
+    answers_raw = data.get("answers", {})
+    if not isinstance(answers_raw, dict) or set(answers_raw) - {"correct", "wrong"}:
+        raise r.fail("answers", "must be an object with 'correct' and/or 'wrong'")
+    answers = {k: _values(v, r, f"answers.{k}", lesson) for k, v in answers_raw.items()}
+    for k, v in answers.items():
+        locked = [n for n in v if n not in unlocked_raw]
+        if locked:
+            raise r.fail(f"answers.{k}.{locked[0]}", "is locked in this assignment")
+    return Assignment(
+        id=aid,
+        title=title,
+        lesson=lesson.id,
+        preset=preset,
+        start=start,
+        t_end=t_end,
+        unlocked=tuple(unlocked_raw),
+        checks=checks,
+        task=r.text(data, "task", "task", MAX_TEXT, True),
+        hint=r.text(data, "hint", "hint", MAX_TEXT, False),
+        reference=r.text(data, "reference", "reference", MAX_SHORT, False),
+        answers=answers,
+        source=where,
+        data=data,
+    )
+
+
+def decode_json(text: str | bytes, where: str, limit: int) -> Any:
+    """JSON text -> data, refusing oversize or malformed input in one line."""
+    if len(text) > limit:
+        raise AssignmentError(where, "", f"is {len(text)} bytes; the limit is {limit}")
+    try:
+        return json.loads(text)
+    except (json.JSONDecodeError, UnicodeDecodeError, RecursionError) as exc:
+        msg = exc.msg if isinstance(exc, json.JSONDecodeError) else type(exc).__name__
+        pos = (
+            f" at line {exc.lineno}, column {exc.colno}"
+            if isinstance(exc, json.JSONDecodeError)
+            else ""
+        )
+        raise AssignmentError(where, "", f"is not valid JSON ({msg}{pos})") from None
+
+
+def load_assignment(path: str | Path) -> Assignment:
+    """Read and validate one assignment file."""
+    p = Path(path)
+    try:
+        raw = p.read_bytes()[: MAX_FILE_BYTES + 1]
+    except OSError as exc:
+        raise AssignmentError(str(p), "", f"cannot be read ({exc.strerror})") from None
+    return parse_assignment(decode_json(raw, str(p), MAX_FILE_BYTES), str(p))
