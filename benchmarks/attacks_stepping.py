@@ -177,12 +177,14 @@ async def attack(
     # values of the wrong type: refused with a notice, no traceback on the server
     for label, value in (("step h [s]", [1, 2]), ("pause at t_end", "yes"), ("Speed", None)):
         await attacker.set(label, value, 0.05)
-    await asyncio.sleep(2.0)
-    during = await normal.rate(window)
+    # the attack is under way once its page is told (its setup, a lesson change or a
+    # "go to t", is one-off work of its own page's callbacks, not the attack measured)
     end = time.monotonic() + 20
     while not any(told in s for s in attacker.texts):
         assert time.monotonic() < end, f"the attacker was not told {told!r}: {attacker.texts}"
         await asyncio.sleep(0.2)
+    await asyncio.sleep(0.5)
+    during = await normal.rate(window)
     await attacker.close()
     await asyncio.sleep(1.5)
     after = await normal.rate(window)
