@@ -71,6 +71,8 @@ class Pacing:
         self.slowed = False  # shown on the page: "running at 0.3x ..."
         self._slow_wall = 0.0  # wall seconds since the run fell behind
         self._slow_told = False  # the page was told (a notice)
+        #: the last cut tick spent little CPU: the machine, not the run, was slow
+        self.machine_busy = False
 
     def _piece_size(self, piece: float, left: float) -> float:
         """The next piece of lesson time: ``piece``, less if the recent cost per lesson
@@ -126,10 +128,13 @@ class Pacing:
     def slow_text(self) -> str:
         """What the page says while the run cannot keep up with the asked speed."""
         names = {p.name for p in self.lesson.params}
-        why = (
-            "the step is too small for live play (a larger step h or a looser tolerance"
-            " plays faster)"
-            if names & {"h", "rtol"}
-            else "the computation is too slow for live play"
-        )
+        if self.machine_busy:
+            why = "the server's machine is busy"
+        elif names & {"h", "rtol"}:
+            why = (
+                "the step is too small for live play (a larger step h or a looser tolerance"
+                " plays faster)"
+            )
+        else:
+            why = "the computation is too slow for live play"
         return f"running at {self.effective_speed():.2g}x: {why}"

@@ -25,7 +25,7 @@ import numpy as np
 from app.pace import STEP_BUDGET, STEP_WALL_BUDGET, Pacing
 from app.runlog import RunLog, lesson_scene, raw_value, scenes_equal
 from app.state import LabError, SessionState
-from lessons.core.budget import left, work_budget
+from lessons.core.budget import clock, left, work_budget
 from lessons.core.contract import (
     Frame,
     Lesson,
@@ -336,6 +336,7 @@ class Session(Pacing):
         n = max(1, min(self.max_substeps, int(math.ceil(dt / substep - 1e-9))))
         piece = dt / n
         target = t_before + dt
+        cpu_start = clock()
         with work_budget(self.step_budget, self.wall_budget):
             while True:
                 remaining = target - self.stepper.t
@@ -345,7 +346,10 @@ class Session(Pacing):
                     break
                 budget_left = left()
                 if frames and (budget_left <= 0 or len(frames) >= 2 * n + 2):
-                    break  # the budget of this tick is spent: the rest of dt is dropped
+                    # the budget of this tick is spent: the rest of dt is dropped; by the
+                    # stepping itself, or by a busy machine (wall time, little CPU)
+                    self.machine_busy = clock() - cpu_start < 0.5 * self.step_budget
+                    break
                 d = min(self._piece_size(piece, budget_left), remaining)
                 t_prev = self.stepper.t
                 frame, stop = self._step_piece(d)

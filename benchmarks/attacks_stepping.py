@@ -38,7 +38,14 @@ from benchmarks.loadtest import (
 from lessons.catalog import get_lesson
 
 #: Texts that only the attacker's actions produce.
-ATTACK_WORDS = ("running at", "not finite", "5*sin(t)", "sqrt(101-t)", "value refused", "1e-05")
+ATTACK_WORDS = (
+    "the step is too small",
+    "not finite",
+    "5*sin(t)",
+    "sqrt(101-t)",
+    "value refused",
+    "1e-05",
+)
 WINDOW = 4.0  # seconds of each measuring window
 
 
@@ -290,12 +297,12 @@ def main(argv: list[str] | None = None) -> int:
     print("|---|---|---|---|---|")
     try:
         for row, lesson_id, moves, told in (
-            ("1: h = 1e-5, u1 = 5 sin t, 8x, sphere", "sphere", TINY_STEP, "running at "),
+            ("1: h = 1e-5, u1 = 5 sin t, 8x, sphere", "sphere", TINY_STEP, "the step is too small"),
             (
                 "1: the same on sphere-constant-speed",
                 "sphere-constant-speed",
                 TINY_STEP,
-                "running at ",
+                "the step is too small",
             ),
             ("7: u1 = sqrt(101 - t), 8x, past t = 101 s", "sphere", NOT_FINITE, "is not finite"),
         ):

@@ -63,7 +63,7 @@ def test_a_tiny_step_at_8x_slows_only_the_attackers_clock(
     server: tuple[str, Any, str], lesson_id: str
 ) -> None:
     url, proc, log_path = server
-    figures = asyncio.run(attack(url, proc, lesson_id, TINY_STEP, "running at "))
+    figures = asyncio.run(attack(url, proc, lesson_id, TINY_STEP, "the step is too small"))
     check(figures, log_path, f"attack 1 ({lesson_id})")
     assert any("the step is too small for live play" in s for s in figures["attacker"])
 
