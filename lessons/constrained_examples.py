@@ -17,6 +17,7 @@ every quantity the lesson declares from that state.
 
 from __future__ import annotations
 
+import math
 from functools import cache, lru_cache
 from typing import Any
 
@@ -217,10 +218,17 @@ def reference(params: Params, t0: float, q: Array, qd: Array) -> DenseSolution |
         return KnifeReference(params, t0, q, qd)
     if ex in PENDULUMS:
         g = float(params["g"])
+        L0, eps, nu = float(params["L"]), float(params["eps"]), float(params["nu"])
+        rheonomic = params["example"] == "rheonomic-pendulum"
 
         def angle(t: float, z: Array) -> Array:
-            L, Ld = rod_length(params, np.array([t]))
-            return np.array([z[1], -(g * np.sin(z[0]) + 2 * Ld[0] * z[1]) / L[0]])
+            # rod_length at one time, on floats (the integrator asks thousands of times)
+            th, w = float(z[0]), float(z[1])
+            if rheonomic:
+                L, Ld = L0 * (1 + eps * math.sin(nu * t)), L0 * eps * nu * math.cos(nu * t)
+            else:
+                L, Ld = L0, 0.0
+            return np.array([w, -(g * math.sin(th) + 2 * Ld * w) / L])
 
         r2 = q[0] ** 2 + q[1] ** 2
         z0 = [np.arctan2(q[0], -q[1]), (q[0] * qd[1] - q[1] * qd[0]) / r2]

@@ -179,6 +179,10 @@ class LinearPositioner(PositionerLesson):
         return max(hi - lo, 0.5)
 
     def _range(self, params: Params) -> tuple[float, float]:
+        """Lowest and highest x of the default run (once per values)."""
+        return self.cached("range", params, lambda: self._measure_range(params))
+
+    def _measure_range(self, params: Params) -> tuple[float, float]:
         r = self.coarse_run(params)
         x = r.series["x"]
         x = x[np.isfinite(x)]

@@ -245,6 +245,10 @@ class Planar2Axis(PositionerLesson):
         return self._extent(params)[2]
 
     def _extent(self, params: Params) -> tuple[Array, Array, float]:
+        """Lowest and highest corner of the default run and its span (once per values)."""
+        return self.cached("extent", params, lambda: self._measure_extent(params))
+
+    def _measure_extent(self, params: Params) -> tuple[Array, Array, float]:
         r = self.coarse_run(params)
         pts = self._world(params, r.series["x"], r.series["y"])
         pts = pts[np.all(np.isfinite(pts), axis=1)]

@@ -78,6 +78,13 @@ def _number(
     return Param(name, "float", default, label=label, unit=unit, min=lo, max=hi, group=group)
 
 
+def _frozen(values: list[float]) -> Array:
+    """A read-only array (shared by every frame of one parameter set)."""
+    out = np.array(values, dtype=float)
+    out.setflags(write=False)
+    return out
+
+
 class Table6DOF(DynamicsLesson):
     """Problem 2.5: six-DOF work table on three planar inductors, geometry reconstructed
     (see :mod:`lessons.core.table6dof`); loops opened and closed by the §2.2 algorithm.
@@ -197,11 +204,15 @@ class Table6DOF(DynamicsLesson):
     # -- pieces -------------------------------------------------------------------------
 
     def pvec(self, params: Params) -> Array:
-        return np.array([float(params[n]) for n in PHYSICAL], dtype=float)
+        return self.cached("pvec", params, lambda: _frozen([float(params[n]) for n in PHYSICAL]))
 
     def program(self, params: Params) -> Callable[[Array | float], tuple[Array, Array, Array]]:
         """The pose program: ``t -> (pose, pose', pose'')`` by exact differentiation."""
-        return formula_derivatives([params[f"{n}_t"].expr for n in POSE], t_symbol)
+        return self.cached(
+            "program",
+            params,
+            lambda: formula_derivatives([params[f"{n}_t"].expr for n in POSE], t_symbol),
+        )
 
     def validate(self, params: Params) -> None:
         z, l = float(params["z_D_t"](0.0)), float(params["l"])

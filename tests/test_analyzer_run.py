@@ -5,8 +5,9 @@ import numpy as np
 import pytest
 
 from lessons.core.analyzer import COEFF_NAMES, AnalyzerModel, Controls
-from lessons.core.analyzer_run import Trajectory, integrate
+from lessons.core.analyzer_run import SHORT_GRAIN, SpeedStepper, Trajectory, integrate
 from lessons.core.formula import parse_formula
+from lessons.core.integrators import gl_propagators
 from lessons.core.quadric import Quadric
 from tests.test_analyzer import SURFACES
 
@@ -115,3 +116,61 @@ def test_reading_backwards_is_refused():
     traj.at(5.0)
     with pytest.raises(ValueError, match="backwards"):
         traj.at(0.5)
+
+
+def test_shortened_steps_of_a_constant_field_reuse_their_maps() -> None:
+    model = AnalyzerModel.of(Quadric.sphere(1.0).coeffs(), Controls(5.0, 5.0, 5.0))
+    traj = Trajectory(model, np.array([1.0, 0.0, 0.0]), h=0.01)
+    frames = [k / 600.0 for k in range(1, 400)]  # the session's time quanta
+    states = traj.at(frames)
+    assert 0 < len(traj._short_maps) <= 6  # 6 offsets of 1/600 s within a step of 0.01 s
+    # each value is the shortened step from its node with the map of the rounded length
+    k = int(np.floor(frames[100] / 0.01 + 1e-9))
+    rest = frames[100] - k * 0.01
+    node = Trajectory(model, np.array([1.0, 0.0, 0.0]), h=0.01).at([k * 0.01])[0]
+    key = round(rest / 0.01 * SHORT_GRAIN)
+    D, phi = gl_propagators(traj._coeffs, 0.0, key * 0.01 / SHORT_GRAIN, 1, 3)
+    expected = node + (D[0] @ node[:, :, None])[:, :, 0] + phi[0]
+    assert np.array_equal(states[100], expected)
+    # and agrees with the shortened step of the exact length (|v| h / 2**40 apart)
+    D, phi = gl_propagators(traj._coeffs, k * 0.01, rest, 1, 3)
+    exact = node + (D[0] @ node[:, :, None])[:, :, 0] + phi[0]
+    assert np.allclose(states[100], exact, rtol=0, atol=1e-13)
+
+
+def test_time_dependent_field_keeps_no_shortened_maps() -> None:
+    model = AnalyzerModel.of(Quadric.sphere(1.0).coeffs(), Controls(parse_formula("t"), 5.0, 5.0))
+    traj = Trajectory(model, np.array([1.0, 0.0, 0.0]), h=0.01)
+    traj.at([k / 600.0 for k in range(1, 60)])
+    assert traj._short_maps == {}
+
+
+def test_speed_stages_extrapolate_the_step_before_exactly_for_a_quadratic() -> None:
+    sp = SpeedStepper(AnalyzerModel.of(Quadric.sphere(1.0).coeffs(), Controls(1.0, V=1.0)))
+    # slopes of a degree-2 polynomial at the stage times of a step of length h ...
+    poly = lambda x: 1.0 - 2.0 * x + 0.5 * x**2  # noqa: E731
+    h = 0.02
+    K = np.array([poly(h * c) for c in sp.c])[None, :, None] * np.ones((1, 1, 3))
+    for ratio in (1.0, 0.5, 0.25):
+        E = sp.extrapolation(ratio)
+        pred = np.einsum("ij,njd->nid", E, K)
+        # ... predict those of the next step (length ratio * h) exactly
+        want = np.array([poly(h + ratio * h * c) for c in sp.c])
+        assert np.allclose(pred[0, :, 0], want, rtol=0, atol=1e-13)
+
+
+def test_speed_stages_from_the_step_before_converge_to_the_same_step_in_fewer_iterations() -> None:
+    model = AnalyzerModel.of(Quadric.sphere(1.0).coeffs(), Controls(5.0, 5.0, 5.0, V=1.0))
+    r = np.array([[1.0, 0.0, 0.0]])
+    sp = SpeedStepper(model)
+    r1 = sp.step_substeps(0.0, r, 0.01)
+    before = sp.last
+    cold, warm = SpeedStepper(model), SpeedStepper(model)
+    a = cold.step_substeps(0.01, r1, 0.01)
+    b = warm.step_substeps(0.01, r1, 0.01, None, before)
+    assert np.allclose(a, b, rtol=0, atol=1e-15)
+    assert warm.evaluations < cold.evaluations
+    # on the sphere at constant speed: on the surface, |v| = V
+    assert abs(float(np.sum(b**2)) - 1.0) < 1e-14
+    v = model.velocity(0.02, b)
+    assert abs(float(np.linalg.norm(v)) - 1.0) < 1e-14

@@ -114,3 +114,37 @@ def test_groups_apply_to_their_mode_values() -> None:
         "change": "live",
         "when": ["shape", ["exp"]],
     }
+
+
+class Broken(Decay):
+    """Decay whose observation misses a series or gives two values for one time."""
+
+    id = "broken"
+    mode = "missing"
+
+    def observe(self, params: Params, t: np.ndarray, state: Any) -> dict[str, Any]:
+        out = dict(super().observe(params, t, state))
+        if self.mode == "missing":
+            out.pop("k_used")
+        else:
+            out["k_used"] = np.array([1.0, 2.0])
+        return out
+
+
+def test_frame_scalars_read_the_observation_at_one_time() -> None:
+    lesson = Decay()
+    for family in (1, 3):
+        params = lesson.resolve({"family": family, "k": 2.5})
+        full = lesson.observation(params, [0.3], None)
+        fast = lesson.frame_scalars(params, 0.3, None)
+        assert list(fast) == list(full) == list(lesson.series_names(params))
+        assert all(type(v) is float and v == full[k][0] for k, v in fast.items())
+    assert set(lesson._series_names) == {1, 3}  # the names are kept per family size
+
+
+@pytest.mark.parametrize("mode", ["missing", "shape"])
+def test_frame_scalars_of_a_wrong_observation_say_what_differs(mode: str) -> None:
+    lesson = Broken()
+    lesson.mode = mode
+    with pytest.raises((ObservationError, ValueError)):
+        lesson.frame_scalars(lesson.resolve(), 0.3, None)

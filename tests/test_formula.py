@@ -92,3 +92,11 @@ def test_parse_number():
         parse_number("t")
     with pytest.raises(FormulaError):
         parse_number("nan")
+
+
+def test_constant_formula_answers_its_number_and_broadcasts():
+    f = parse_formula("1/3 + 2")
+    assert f(0.5) == pytest.approx(7 / 3, rel=1e-15) and np.ndim(f(0.5)) == 0
+    out = f(np.zeros((2, 3)))
+    assert out.shape == (2, 3) and np.all(out == f(0.0))
+    assert parse_formula("t")(np.array([1.0, 2.0])).tolist() == [1.0, 2.0]

@@ -56,3 +56,17 @@ def test_formula_derivatives_and_differences() -> None:
     assert qd[1, 1] == pytest.approx(3.0) and qdd[0, 0] == pytest.approx(-4 * np.sin(1.0))
     tt = np.linspace(0, 1, 1001)
     assert np.max(np.abs(numerical_second_derivative(tt, np.cos(tt)) + np.sin(tt))) < 1e-5
+
+
+def test_one_time_equals_the_array_and_keeps_numpy_arithmetic() -> None:
+    from lessons.core.formula import parse_formula, t_symbol
+    from lessons.core.lagrange import formula_derivatives
+
+    ev = formula_derivatives([parse_formula("log(t)").expr, parse_formula("t**3").expr], t_symbol)
+    grid = ev(np.array([0.5, 2.0]))
+    for k, tt in enumerate((0.5, 2.0)):
+        one = ev(np.array([tt]))
+        for a, b in zip(one, grid):
+            assert a.shape == (2, 1) and np.array_equal(a[:, 0], b[:, k])
+    q, qd, qdd = ev(np.array([0.0]))  # 1/t at 0: inf as in an array, not an exception
+    assert np.isinf(qd[0, 0]) and qd[1, 0] == 0.0

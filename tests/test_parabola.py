@@ -86,3 +86,13 @@ def test_family_members_are_lambda_2_and_3():
         LESSON.resolve({"family": 2, "lambda_2": 0})
     assert LESSON.family == "family" and LESSON.modes == ("digital",)
     assert LESSON.declaration_errors() == []
+
+
+def test_frame_reads_its_velocities_once_and_equals_the_observation() -> None:
+    params = LESSON.resolve(preset=LESSON.presets[0].name)
+    st = LESSON.stepper(params)
+    fr = st.advance(17 / 600.0)
+    state = st.track.at(np.array([st.t]))
+    assert state.v is None  # a fresh state: the observation computes the field itself
+    full = LESSON.observation(params, [st.t], state)
+    assert fr.scalars == {k: float(v[0]) for k, v in full.items()}

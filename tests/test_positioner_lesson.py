@@ -90,3 +90,30 @@ def test_set_params_keeps_the_forward_state() -> None:
     f = st.advance(1.0)
     assert x1 == pytest.approx(0.1, rel=1e-9)
     assert f.scalars["x"] == pytest.approx(0.1 + 0.2, rel=1e-9)  # coasting at 0.2 m/s
+
+
+def test_answers_are_kept_by_values_and_by_parameter_object() -> None:
+    params = PLANAR2.resolve(preset=PLANAR2.presets[0].name)
+    builds: list[int] = []
+
+    def build() -> int:
+        builds.append(1)
+        return len(builds)
+
+    assert PLANAR2.cached("probe", params, build) == 1
+    assert PLANAR2.cached("probe", params, build) == 1  # the same object: kept
+    same = PLANAR2.resolve(preset=PLANAR2.presets[0].name)
+    assert same is not params and PLANAR2.cached("probe", same, build) == 1  # same values
+    other = PLANAR2.resolve(preset=PLANAR2.presets[0].name, values={"g": 7.5})
+    assert PLANAR2.cached("probe", other, build) == 2 and len(builds) == 2  # new values
+    # the scene extent a frame reads is the one of its values
+    lo, hi, span = PLANAR2._extent(params)
+    assert PLANAR2._extent(params)[2] == span and span >= 0.5
+
+
+def test_table_physical_values_are_shared_read_only() -> None:
+    params = TABLE.resolve()
+    p = TABLE.pvec(params)
+    assert TABLE.pvec(params) is p and not p.flags.writeable
+    with pytest.raises(ValueError):
+        p[0] = 1.0

@@ -299,3 +299,22 @@ def test_declarations() -> None:
     assert [g.name for g in LESSON.groups][0] == "mode"
     assert {LESSON.param(m).group for m in LESSON.modes} == {"mode"}
     assert all(s.unit == "mm" for s in LESSON.series)
+
+
+def test_played_frames_carry_the_state_by_kept_step_maps() -> None:
+    params = LESSON.resolve(preset="table-parabola")
+    st = LESSON.stepper(params)
+    system = st._setup.system
+    z0 = system.initial_state(float(params["xdot0"]), float(params["ydot0"]))
+    for k in range(600):  # 17 s of frames of 16 or 17 quanta of 1/600 s
+        st.advance((17 if k % 3 else 16) / 600.0)
+    exact = system.states([st.t], z0, 0.0)[0]
+    carried = st._state()[0]
+    assert np.max(np.abs(carried - exact)) <= 1e-10 * np.max(np.abs(exact))
+    assert 0 < len(system._step_maps) <= 4  # the two frame lengths, rounded
+    # new channel values: a new servo (its own maps), carried from the current state
+    st.set_params(LESSON.resolve(preset="table-parabola", values={"k": 300}))
+    assert st._setup.system is not system and not st._setup.system.__dict__.get("_step_maps")
+    st.advance(17 / 600.0)  # solved at once from the new anchor
+    st.advance(17 / 600.0)  # carried
+    assert len(st._setup.system._step_maps) == 1

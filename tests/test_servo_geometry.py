@@ -47,3 +47,17 @@ def test_fit_centred_ellipse() -> None:
     assert (major, minor, angle) == pytest.approx((5.0, 2.0, 30.0))
     s = np.linspace(-1.0, 1.0, 50)  # a hyperbola x^2 - y^2 = 1 is no ellipse
     assert math.isnan(fit_centred_ellipse(np.cosh(s), np.sinh(s))[0])
+
+
+@pytest.mark.parametrize("n", [2, 3, 4])
+def test_one_point_distance_equals_the_array_path(n: int) -> None:
+    rng = np.random.default_rng(n)
+    xq, yq = rng.normal(size=40), rng.normal(size=40)
+    guess = xq + rng.normal(scale=0.1, size=40)
+    d, fx, fy = power_distance(xq, yq, n, 0.2, -0.1, 1.5, guess=guess)
+    for k in range(40):
+        d1, fx1, fy1 = power_distance(xq[k : k + 1], yq[k : k + 1], n, 0.2, -0.1, 1.5, guess[k])
+        assert d1.shape == fx1.shape == fy1.shape == (1,)
+        assert d1[0] == pytest.approx(d[k], rel=1e-13, abs=1e-14)
+        assert fx1[0] == pytest.approx(fx[k], rel=1e-13, abs=1e-14)
+        assert fy1[0] == pytest.approx(fy[k], rel=1e-13, abs=1e-14)

@@ -135,3 +135,16 @@ def test_a_bad_control_is_refused_naming_itself() -> None:
     for name in ("u1", "u2", "u3"):
         with pytest.raises(ParamError, match=f"^{name}: '1/\\(t-3\\)' is not finite at t = 3"):
             LESSON.resolve({name: "1/(t-3)"})
+
+
+def test_prepared_once_per_values_and_read_again_by_object() -> None:
+    params = LESSON.resolve(preset="example-1.1")
+    first = LESSON.prepare(params)
+    assert LESSON.prepare(params) is first  # the same object
+    assert LESSON.prepare(LESSON.resolve(preset="example-1.1")) is first  # the same values
+    other = LESSON.prepare(LESSON.resolve(preset="example-1.1", values={"u1": "2"}))
+    assert other is not first and LESSON.prepare(params) is first
+    # a frame's observation of the values it was built with
+    st = LESSON.stepper(params)
+    fr = st.advance(17 / 600.0)
+    assert fr.scalars["u1"] == 5.0 and abs(fr.scalars["drift"]) < 1e-12

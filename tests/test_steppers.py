@@ -81,3 +81,15 @@ def test_solution_stepper_on_a_closed_form() -> None:
     assert st.advance(0.25).scalars["s"] == 0.5
     st.set_params({"v": 4.0})  # type: ignore[arg-type]
     assert st.frame().scalars["s"] == 1.0 and st.reset().t == 0.0
+
+
+def test_one_time_read_by_bisection_equals_the_whole_grid_at_piece_ends() -> None:
+    rhs = lambda t, y: np.array([y[1], -y[0]])  # noqa: E731
+    ends = np.arange(0, 6) * CHUNK  # the pieces' shared ends, and times inside them
+    t = np.sort(np.concatenate([ends, ends[:-1] + 0.37 * CHUNK]))
+    whole = DenseSolution(rhs, 0.0, np.array([1.0, 0.0]))(t)
+    one = DenseSolution(rhs, 0.0, np.array([1.0, 0.0]))
+    one(np.array([t[-1]]))  # every piece built before the reads below
+    assert len(one._pieces) >= 5
+    for k, tt in enumerate(t):
+        assert np.array_equal(one(np.array([tt]))[0], whole[k])

@@ -231,8 +231,13 @@ class AnalyzerModel:
 
     def hold_size(self, R: np.ndarray) -> np.ndarray:
         """The natural size ``|F_r/2| + |Q| |r|`` of the field per unit control at ``R (..., 3)``."""
-        qn = max(float(np.max(np.abs(self.coeffs[n]))) for n in COEFF_NAMES[:6])
-        return np.linalg.norm(self.half_gradient(R), axis=-1) + qn * np.linalg.norm(R, axis=-1)
+        qn = self.__dict__.get("_qn")
+        if qn is None:  # the surface's largest quadratic coefficient, once per model
+            qn = self.__dict__["_qn"] = max(
+                float(np.max(np.abs(self.coeffs[n]))) for n in COEFF_NAMES[:6]
+            )
+        g = self.half_gradient(R)
+        return np.sqrt((g * g).sum(-1)) + qn * np.sqrt((R * R).sum(-1))
 
     @staticmethod
     def holds(norm: np.ndarray, size: np.ndarray, umax: np.ndarray) -> np.ndarray:

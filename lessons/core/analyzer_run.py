@@ -20,7 +20,7 @@ from typing import Any
 import numpy as np
 import scipy.integrate
 
-from lessons.core.analyzer import AnalyzerModel
+from lessons.core.analyzer import HOLD_TOL, AnalyzerModel
 from lessons.core.budget import spent
 from lessons.core.integrators import apply_propagators, gauss_legendre, gl_propagators
 
@@ -29,6 +29,10 @@ BLOCK = 256
 SPEED_BLOCK = 32
 #: Length (s) of one piece of a scipy ``solve_ivp`` run.
 PIECE = 10.0
+#: Shortened steps of a time-independent field: their lengths are rounded to h / SHORT_GRAIN
+#: and at most SHORT_MAPS step maps are kept (see :meth:`Trajectory._short_map`).
+SHORT_GRAIN = 2**40
+SHORT_MAPS = 256
 
 
 class SpeedStepper:
@@ -49,9 +53,12 @@ class SpeedStepper:
         self.model = model
         self.a, self.b, self.c = gauss_legendre(stages)
         self.s = stages
+        self._eye3, self._eye3s = np.eye(3), np.eye(3 * stages)
         self.max_iter = max_iter
         self.evaluations = 0
         self.K: np.ndarray | None = None
+        #: stage slopes and length of the last substep of :meth:`step_substeps`
+        self.last: tuple[np.ndarray, float] | None = None
 
     def coefficients(self, t: float, h: float, n_steps: int, N: int) -> tuple[np.ndarray, ...]:
         """Batched A, c, sigma V and max|u| at the stage times of ``n_steps`` steps."""
@@ -67,8 +74,42 @@ class SpeedStepper:
             umax.reshape(n_steps, s),
         )
 
-    def step(self, R: np.ndarray, h: float, coeffs: tuple[np.ndarray, ...]) -> np.ndarray:
-        """One step of size ``h`` from ``R (N, 3)`` with the stage coefficients ``coeffs``."""
+    def extrapolation(self, ratio: float, offset: float = 1.0) -> np.ndarray:
+        """``E (s, s)``: the stage slopes of a step of ``ratio`` times the length of the
+        step before it, predicted from that step's slopes ``K`` as ``E @ K`` (its
+        collocation polynomial's derivative, of degree s - 1, at the new stage times).
+        ``offset = 0``: the new step starts where that step starts (a shorter step inside
+        it: interpolation)."""
+        cache = self.__dict__.setdefault("_extrapolations", {})
+        E = cache.get((ratio, offset))
+        if E is None:
+            if len(cache) >= 64:
+                cache.clear()
+            x = offset + self.c * ratio
+            E = np.ones((self.s, self.s))
+            for j in range(self.s):
+                for k in range(self.s):
+                    if k != j:
+                        E[:, j] *= (x - self.c[k]) / (self.c[j] - self.c[k])
+            cache[(ratio, offset)] = E
+        return E
+
+    def step(
+        self,
+        R: np.ndarray,
+        h: float,
+        coeffs: tuple[np.ndarray, ...],
+        before: tuple[np.ndarray, float] | None = None,
+        covering: tuple[np.ndarray, float] | None = None,
+    ) -> np.ndarray:
+        """One step of size ``h`` from ``R (N, 3)`` with the stage coefficients ``coeffs``.
+
+        ``before``: the stage slopes and length of the step that ended at ``R``; the
+        stages then start from its extrapolated collocation polynomial; ``covering``: those
+        of a longer step from ``R`` (its polynomial inside); otherwise from the last step's
+        slopes.  Either way they are solved to round-off: the iteration stops when the
+        correction, or the sum of the corrections its rate of convergence leaves to come,
+        is below 2e-16 of the slopes."""
         s, a = self.s, self.a
         N = len(R)
         A, cc, Vs, umax = coeffs
@@ -79,13 +120,17 @@ class SpeedStepper:
         moving = norm_m > 0
         safe = np.where(moving, norm_m, 1.0)
         nh = nm / safe[:, None]
-        P = np.eye(3) - nh[:, :, None] * nh[:, None, :]
+        P = self._eye3 - nh[:, :, None] * nh[:, None, :]
         J = (np.where(moving, Vs[mid], 0.0) / safe)[:, None, None] * (P @ A[mid])
-        M = np.eye(3 * s) - h * (a[None, :, None, :, None] * J[:, None, :, None, :]).reshape(
+        M = self._eye3s - h * (a[None, :, None, :, None] * J[:, None, :, None, :]).reshape(
             N, 3 * s, 3 * s
         )
         Minv = np.linalg.inv(M)
-        if self.K is not None and self.K.shape == (N, s, 3):
+        if covering is not None and covering[0].shape == (N, s, 3):
+            K = np.einsum("ij,njd->nid", self.extrapolation(h / covering[1], 0.0), covering[0])
+        elif before is not None and before[0].shape == (N, s, 3):
+            K = np.einsum("ij,njd->nid", self.extrapolation(h / before[1]), before[0])
+        elif self.K is not None and self.K.shape == (N, s, 3):
             K = self.K.copy()
         else:
             K = np.repeat((nm * (Vs[mid] / safe)[:, None])[:, None, :], s, axis=1)
@@ -93,22 +138,38 @@ class SpeedStepper:
         ct = cc.transpose(1, 0, 2)
         ha = h * a
         size = self.model.hold_size(R)[:, None]  # the field's size barely changes in a step
+        # AnalyzerModel.holds, its bound computed once for the step
+        bound = HOLD_TOL * (umax[None, :] + 1e-300) * (size + 1e-300)
+        previous = np.inf
         for _ in range(self.max_iter):
             Y = R[:, None, :] + ha @ K  # (N, s, 3)
             n = (At @ Y[..., None])[..., 0] + ct
             norm = np.sqrt((n * n).sum(-1))
-            held = self.model.holds(norm, size, umax[None, :])
-            f = n * np.where(held, 0.0, Vs[None, :] / np.where(norm > 0, norm, 1.0))[..., None]
+            f = (
+                n
+                * np.where(norm <= bound, 0.0, Vs[None, :] / np.where(norm > 0, norm, 1.0))[
+                    ..., None
+                ]
+            )
             self.evaluations += s
             dK = -(Minv @ (K - f).reshape(N, 3 * s, 1)).reshape(N, s, 3)
             K += dK
-            if np.abs(dK).max() <= 2e-16 * (np.abs(K).max() + 1e-300):
+            step, tol = float(np.abs(dK).max()), 2e-16 * (float(np.abs(K).max()) + 1e-300)
+            rate = step / previous  # after the first correction: its rate of convergence
+            if step <= tol or (0.0 < rate < 0.5 and rate / (1.0 - rate) * step <= tol):
                 break
+            previous = step
         self.K = K
         return R + h * np.einsum("i,nid->nd", self.b, K)
 
     def step_substeps(
-        self, t: float, R: np.ndarray, h: float, coeffs: tuple[np.ndarray, ...] | None = None
+        self,
+        t: float,
+        R: np.ndarray,
+        h: float,
+        coeffs: tuple[np.ndarray, ...] | None = None,
+        before: tuple[np.ndarray, float] | None = None,
+        covering: tuple[np.ndarray, float] | None = None,
     ) -> np.ndarray:
         """One output step of size ``h`` from ``(t, R)``, split into equal substeps where the
         curve turns fast.
@@ -116,7 +177,10 @@ class SpeedStepper:
         The turning rate of (1.59) is ``omega |A| = V |A| / |A r + c|``: near points where the
         analyzer's field is small the point turns quickly; the step is cut so that
         ``rate * substep <= max_turn`` (each substep is still a Gauss-Legendre step).
-        ``coeffs``: the step's stage coefficients, if already computed (:meth:`coefficients`).
+        ``coeffs``: the step's stage coefficients, if already computed (:meth:`coefficients`);
+        ``before``/``covering``: the slopes and length of the (sub)step that ended at ``R``
+        or of a longer one from ``R`` (see :meth:`step`).  Afterwards :attr:`last` holds
+        those of this step's last substep.
         """
         if coeffs is None:
             coeffs = tuple(x[0] for x in self.coefficients(t, h, 1, len(R)))
@@ -128,16 +192,20 @@ class SpeedStepper:
         )
         m = int(np.ceil(float(np.max(np.where(norm0 > 0, rate, 0.0))) * h / self.max_turn - 1e-12))
         if m <= 1:
-            return self.step(R, h, coeffs)
+            out = self.step(R, h, coeffs, before, covering)
+            self.last = (self.K, h)
+            return out
         m = min(m, 10_000)
         hs = h / m
         batch = self.coefficients(t, hs, m, len(R))
         comp = np.zeros_like(R)
         for j in range(m):
-            inc = (self.step(R, hs, tuple(x[j] for x in batch)) - R) - comp
+            inc = (self.step(R, hs, tuple(x[j] for x in batch), before, covering) - R) - comp
+            before, covering = (self.K, hs), None
             nxt = R + inc
             comp = (nxt - R) - inc
             R = nxt
+        self.last = before
         return R
 
 
@@ -169,6 +237,7 @@ class Trajectory:
         self._coeffs = lambda ts: model.linear_coeffs(ts, N)
         self._speed: SpeedStepper | None = None
         self._map: tuple[np.ndarray, np.ndarray] | None = None
+        self._short_maps: dict[int, tuple[np.ndarray, np.ndarray]] = {}
         if method.startswith("gauss-legendre"):
             self.stages = int(method.rsplit("-", 1)[1])
             if model.controls.V is not None:
@@ -185,6 +254,8 @@ class Trajectory:
         self._nfev0 = 0  # evaluations of the pieces before the current one
         self._ends: list[float] = []  # end times of the current piece's steps
         self._steps: list[Any] = []  # their dense outputs
+        #: (1.59): per node of the block, the slopes and length of the substep ending there
+        self._incoming: list[tuple[np.ndarray, float] | None] = [None]
 
     @property
     def gauss_legendre(self) -> bool:
@@ -244,13 +315,16 @@ class Trajectory:
             nodes = np.empty((SPEED_BLOCK + 1, *r.shape))
             nodes[0] = r
             batch = self._speed.coefficients(t, self.h, SPEED_BLOCK, len(r))
+            incoming = [self._incoming[-1]]
             for j in range(SPEED_BLOCK):
                 coeffs = tuple(x[j] for x in batch)
-                step = self._speed.step_substeps(t + j * self.h, r, self.h, coeffs)
+                step = self._speed.step_substeps(t + j * self.h, r, self.h, coeffs, incoming[-1])
+                incoming.append(self._speed.last)
                 inc = (step - r) - self._comp
                 nxt = r + inc
                 self._comp = (nxt - r) - inc
                 r = nodes[j + 1] = nxt
+            self._incoming = incoming
             self.nfev = self._speed.evaluations
         else:
             if self._map is not None:
@@ -263,12 +337,35 @@ class Trajectory:
     def _short_step(self, tk: float, r: np.ndarray, rest: float) -> np.ndarray:
         """One Gauss-Legendre step of length ``rest < h`` from the node ``(tk, r)``."""
         if self._speed is not None:
-            warm = self._speed.K
-            out = self._speed.step_substeps(tk, r, rest)
-            self._speed.K = warm  # the next full step starts as if this one was not taken
+            warm = self._speed.K, self._speed.last
+            # from the slopes of the step that ended at the node: a few iterations
+            j = int(round((tk - self.t0) / self.h)) - self._k0
+            before = self._incoming[j]
+            # the step from the node, if taken whole (its block is computed ahead)
+            nxt = self._incoming[j + 1] if j + 1 < len(self._incoming) else None
+            covering = nxt if nxt is not None and nxt[1] == self.h else None
+            out = self._speed.step_substeps(tk, r, rest, None, before, covering)
+            self._speed.K, self._speed.last = warm  # as if this step was not taken
             return out
-        D, phi = gl_propagators(self._coeffs, tk, rest, 1, self.stages)
+        if self._map is not None:
+            D, phi = self._short_map(rest)
+        else:
+            D, phi = gl_propagators(self._coeffs, tk, rest, 1, self.stages)
         return r + (D[0] @ r[:, :, None])[:, :, 0] + phi[0]
+
+    def _short_map(self, rest: float) -> tuple[np.ndarray, np.ndarray]:
+        """The step map of a shortened step of a time-independent field (1.50), kept per
+        length: played frames fall on a few offsets from the nodes (the session's time
+        quanta), so a frame reads a kept map.  ``rest`` is rounded to ``h / 2**40`` first,
+        so that a time has one value however often it is read."""
+        key = round(rest / self.h * SHORT_GRAIN)
+        hit = self._short_maps.get(key)
+        if hit is None:
+            if len(self._short_maps) >= SHORT_MAPS:
+                self._short_maps.clear()
+            hit = gl_propagators(self._coeffs, self.t0, key * self.h / SHORT_GRAIN, 1, self.stages)
+            self._short_maps[key] = hit
+        return hit
 
     # -- scipy ---------------------------------------------------------------------------
 

@@ -52,6 +52,7 @@ class ConstraintEval:
             (self.v2,),
             (self.v2,),
         ]
+        self._sizes = [int(np.prod(shape)) for shape in self._shapes]
         flat = [e for m in mats for e in m]
         args = (system.q, system.qd, system.t, system.params, system.inputs)
         self._fn = sp.lambdify(args, flat, modules="numpy", cse=True)
@@ -66,8 +67,7 @@ class ConstraintEval:
         for i, v in enumerate(values):
             flat[i] = v
         out, k = [], 0
-        for shape in self._shapes:
-            size = int(np.prod(shape))
+        for shape, size in zip(self._shapes, self._sizes):
             out.append(flat[k : k + size].T.reshape(N, *shape))
             k += size
         return Parts(*out)

@@ -312,8 +312,39 @@ class Lesson(ABC):
             out[n] = np.array(v, dtype=float)
         return out
 
+    def series_names(self, params: Params) -> tuple[str, ...]:
+        """The names of :meth:`series_for` (kept per family size: a frame reads them)."""
+        n = int(params[self.family]) if self.family is not None else 1
+        cache = self.__dict__.setdefault("_series_names", {})
+        names = cache.get(n)
+        if names is None:
+            names = cache[n] = tuple(s.name for s in self.series_for(params))
+        return names
+
     def frame_scalars(self, params: Params, t: float, state: Any) -> dict[str, float]:
-        """The observation at one time (``state`` with a leading time axis of length 1)."""
+        """The observation at one time (``state`` with a leading time axis of length 1).
+
+        The same values as :meth:`observation` at ``[t]``, read without its copies: the
+        names are checked against the cached declared ones, each value is one number or
+        one per time (anything else goes through :meth:`observation`, which says what
+        differs)."""
+        raw = self.observe(params, np.array([float(t)]), state)
+        names = self.series_names(params)
+        out: dict[str, float] = {}
+        if len(raw) == len(names):
+            try:
+                for n in names:
+                    v = raw[n]
+                    if isinstance(v, float) or np.ndim(v) == 0:
+                        out[n] = float(v)
+                    elif np.shape(v) == (1,):
+                        out[n] = float(v[0])
+                    else:
+                        break
+                else:
+                    return out
+            except KeyError:
+                pass
         return {k: float(v[0]) for k, v in self.observation(params, [t], state).items()}
 
     def result(

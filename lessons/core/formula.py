@@ -80,6 +80,11 @@ class Formula:
     def __call__(self, *args: float | np.ndarray) -> np.ndarray | float:
         """Evaluate (numpy broadcasting).  Non-finite results are returned as they are;
         callers that integrate check finiteness with :meth:`check_finite`."""
+        c = self.constant_value
+        if c is not None:  # a number: its value, broadcast over the arguments
+            if any(np.ndim(a) > 0 for a in args):
+                return np.full(np.broadcast(*args).shape, c)
+            return c
         fn = self._fn
         if fn is None:
             fn = sp.lambdify(

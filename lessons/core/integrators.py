@@ -64,20 +64,13 @@ def gl_propagators(
     m, N, d, _ = A.shape
     A = A.reshape(n_steps, s, N, d, d).transpose(0, 2, 1, 3, 4)  # (n, N, s, d, d)
     cc = cc.reshape(n_steps, s, N, d).transpose(0, 2, 1, 3)  # (n, N, s, d)
-    eye = np.eye(d)
-    # M_{ij} = delta_ij I - h a_ij A_i
-    M = np.zeros((n_steps, N, s * d, s * d))
-    rhs = np.zeros((n_steps, N, s * d, d + 1))
-    for i in range(s):
-        for j in range(s):
-            block = -h * a[i, j] * A[:, :, i]
-            if i == j:
-                block = block + eye
-            M[:, :, i * d : (i + 1) * d, j * d : (j + 1) * d] = block
-        rhs[:, :, i * d : (i + 1) * d, :d] = A[:, :, i]
-        rhs[:, :, i * d : (i + 1) * d, d] = cc[:, :, i]
-    K = np.linalg.solve(M, rhs)  # (n, N, s*d, d+1): stage slopes per unit r and for c
-    weighted = sum(b[i] * K[:, :, i * d : (i + 1) * d, :] for i in range(s)) * h
+    # M_{ij} = delta_ij I - h a_ij A_i, built as (n, N, s, d, s, d) in one broadcast
+    M = -h * a[None, None, :, None, :, None] * A[:, :, :, :, None, :]
+    M = M + np.eye(s * d).reshape(s, d, s, d)
+    rhs = np.concatenate([A, cc[..., None]], axis=-1)  # (n, N, s, d, d+1)
+    K = np.linalg.solve(M.reshape(n_steps, N, s * d, s * d), rhs.reshape(n_steps, N, s * d, d + 1))
+    K = K.reshape(n_steps, N, s, d, d + 1)
+    weighted = sum(b[i] * K[:, :, i] for i in range(s)) * h
     return weighted[..., :d], weighted[..., d]
 
 

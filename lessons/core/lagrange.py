@@ -200,6 +200,9 @@ def formula_derivatives(
         with np.errstate(all="ignore"):
             if not shape:
                 return tuple(np.array([float(f(tt)) for f in row]) for row in fns)  # type: ignore[return-value]
+            if shape == (1,):  # a live frame: one time
+                x = np.asarray(tt, dtype=float)[0]  # numpy's scalar: 1/0 is inf, as in arrays
+                return tuple(np.array([[float(f(x))] for f in row]) for row in fns)  # type: ignore[return-value]
             return tuple(
                 np.array(
                     [np.broadcast_to(np.asarray(f(tt), dtype=float), shape) for f in row],

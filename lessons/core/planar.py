@@ -325,13 +325,16 @@ class DigitalTrack:
 class PlanarState:
     """The analyzer at ``m`` times: the continuous point ``r (m, N, 2)`` and, with the
     digital analyzer on, its staircase ``digital``, its cumulative pulses ``counts`` and
-    the continuous point at the same additions ``reference``."""
+    the continuous point at the same additions ``reference``; ``v``: the field at ``r``,
+    when already computed."""
 
     model: PlanarModel
     r: np.ndarray
     digital: np.ndarray | None = None
     counts: np.ndarray | None = None
     reference: np.ndarray | None = None
+    #: the field at ``r`` when a frame has already computed it (then read, not recomputed)
+    v: np.ndarray | None = None
 
 
 @dataclass

@@ -357,7 +357,7 @@ class PlanarLesson(Lesson):
 
     def observe(self, params: Params, t: np.ndarray, state: PlanarState) -> dict[str, np.ndarray]:
         plane, model = self.plane_of(params), state.model
-        v = model.velocity(t, state.r)
+        v = state.v if state.v is not None else model.velocity(t, state.r)
         r3, v3 = embed(state.r, plane), embed(v, plane)
         speed = np.linalg.norm(v, axis=-1)
         out: dict[str, np.ndarray] = {}
@@ -430,7 +430,8 @@ class PlanarLesson(Lesson):
     def make_frame(self, params: Params, t: float, state: PlanarState) -> Frame:
         plane, model = self.plane_of(params), state.model
         r = state.r[0]
-        v = model.velocity(t, r)
+        state.v = model.velocity(np.array([t]), state.r)  # the observation reads it too
+        v = state.v[0]
         p3 = embed(r, plane)
         points = {"point": p3}
         if state.digital is not None:

@@ -113,6 +113,8 @@ class DynamicsLesson(Lesson):
     #: what a frame says where the state is not defined
     undefined = "the motion is not defined"
     _cache: dict[tuple[str, str], Any] = {}
+    #: id(params) -> (params, {what: value}): the same answers by parameter object
+    _by_object: dict[int, tuple[Params, dict[str, Any]]] = {}
 
     def formulas_in_use(self, params: Params) -> list[tuple[str, Formula]]:
         raise NotImplementedError
@@ -127,13 +129,25 @@ class DynamicsLesson(Lesson):
         raise NotImplementedError
 
     def cached(self, what: str, params: Params, build: Callable[[], Any]) -> Any:
-        """``build()`` once per lesson, ``what`` and parameter values."""
+        """``build()`` once per lesson, ``what`` and parameter values.
+
+        A frame asks with the same ``params`` object again and again: its answers are
+        also kept by that object (held, so its ``id`` stays its own), which spares
+        spelling out the values each time."""
+        memo = self._by_object.get(id(params))
+        if memo is not None and memo[0] is params and what in memo[1]:
+            return memo[1][what]
         key = (f"{self.id}:{what}", repr(sorted(params.raw().items())))
         if key not in self._cache:
             if len(self._cache) > 64:
                 self._cache.clear()
             self._cache[key] = build()
-        return self._cache[key]
+        if memo is None or memo[0] is not params:
+            if len(self._by_object) > 64:
+                self._by_object.clear()
+            memo = self._by_object[id(params)] = (params, {})
+        memo[1][what] = self._cache[key]
+        return memo[1][what]
 
     def solution(self, params: Params) -> Solution:
         """The solution from t = 0 that runs and live frames share (once per parameter set)."""
@@ -396,6 +410,9 @@ class PositionerLesson(DynamicsLesson):
     def force_scale(self, params: Params) -> float:
         """Arrow length per unit force: the largest force of the default run maps to a
         quarter of the scene size."""
+        return float(self.cached("force scale", params, lambda: self._force_scale(params)))
+
+    def _force_scale(self, params: Params) -> float:
         r = self.coarse_run(params)
         U = np.array([r.series[i.name] for i in self.inputs])
         fmax = float(np.nanmax(np.abs(U))) if np.any(np.isfinite(U)) else 0.0

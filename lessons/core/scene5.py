@@ -10,11 +10,11 @@ i.e. down); the scene is drawn in the viewer's right-handed z-up frame
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 
 import numpy as np
 import trimesh
-from scipy.spatial.transform import Rotation
 
 from lessons.core.contract import (
     CurveItem,
@@ -104,14 +104,15 @@ def body_poses(machine: Machine5, q: np.ndarray) -> dict[str, tuple[np.ndarray, 
     cv, bv = to_view(c_pivot), to_view(b_pivot)
     th = float(machine.theta(q[3]))
     ident = np.array([1.0, 0.0, 0.0, 0.0])
-    rz = Rotation.from_rotvec([0.0, 0.0, -th])
-    rb = rz * Rotation.from_rotvec([float(q[4]), 0.0, 0.0])
+    # rz: -theta about z; rb = rz * (B about x), as wxyz quaternions
+    c1, s1 = math.cos(th / 2.0), math.sin(th / 2.0)
+    c2, s2 = math.cos(float(q[4]) / 2.0), math.sin(float(q[4]) / 2.0)
     return {
         "portal_X": (np.array([cv[0], 0.0, 0.0]), ident),
         "portal_Y": (np.array([cv[0], cv[1], BRIDGE_Z]), ident),
         "portal_Z": (cv, ident),
-        "lever_C": (cv, rz.as_quat(scalar_first=True)),
-        "lever_B": (bv, rb.as_quat(scalar_first=True)),
+        "lever_C": (cv, np.array([c1, 0.0, 0.0, -s1])),
+        "lever_B": (bv, np.array([c1 * c2, c1 * s2, -s1 * s2, -s1 * c2])),
     }
 
 
@@ -155,6 +156,12 @@ def machine_scene(machine: Machine5, task: Task, tolerance_um: float) -> SceneSp
     )
 
 
+#: lesson seconds between the times a played frame can fall on (the session's time quanta)
+FRAME_GRAIN = 1.0 / 600.0
+#: grain times sampled at once for played frames (see :meth:`ProgramStepper.playhead`)
+TABLE_BLOCK = 256
+
+
 class ProgramStepper(Stepper):
     """Plays a CNC program live; parameters may change while it runs (time is kept).
 
@@ -171,6 +178,7 @@ class ProgramStepper(Stepper):
         self.program_of = program_of
         self.scalars = scalars
         self._t = 0.0
+        self._table: tuple[tuple[Program, int], Playhead, dict[str, np.ndarray]] | None = None
         self.set_params(params)
 
     @property
@@ -182,9 +190,26 @@ class ProgramStepper(Stepper):
         self.prog = self.program_of(params)
         self._t = min(self._t, self.prog.duration)
 
+    def playhead(self, t: float) -> Playhead:
+        """The playhead at ``t``.  A time on the grain of played frames (multiples of
+        :data:`FRAME_GRAIN`) is read from a table of :data:`TABLE_BLOCK` grain times,
+        sampled in one vectorized evaluation when a frame first reaches it."""
+        prog = self.prog
+        j = round(t / FRAME_GRAIN)
+        if abs(t / FRAME_GRAIN - j) > 1e-6 or j < 0:
+            return prog.playhead(t)
+        b, i = divmod(j, TABLE_BLOCK)
+        if self._table is None or self._table[0][0] is not prog or self._table[0][1] != b:
+            head = prog.playhead((b * TABLE_BLOCK + np.arange(TABLE_BLOCK)) * FRAME_GRAIN)
+            self._table = ((prog, b), head, head.values)
+        _, head, values = self._table
+        row = Playhead(prog, head.move[i : i + 1], head.tau[i : i + 1], head.running[i : i + 1])
+        row.__dict__["values"] = {k: v[i : i + 1] for k, v in values.items()}
+        return row
+
     def frame(self) -> Frame:
         prog = self.prog
-        head = prog.playhead(self._t)
+        head = self.playhead(self._t)
         s = head.values
         pv = to_view(s["p"])
         if self._t >= prog.duration:

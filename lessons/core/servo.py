@@ -24,6 +24,8 @@ from scipy import linalg, signal
 Correction = Literal["off", "on", "derivative"]
 #: a uniform grid is solved exactly at every ANCHOR-th time (see TwoAxisServo.states)
 ANCHOR = 16
+#: step maps exp(M dt) kept per servo (see TwoAxisServo.step_map)
+STEP_MAPS = 64
 
 
 @dataclass(frozen=True)
@@ -150,6 +152,16 @@ class TwoAxisServo:
             powers.append(step @ powers[-1])
         Z = np.einsum("kab,mb->mka", np.stack(powers), anchors).reshape(-1, len(z0))
         return Z[: len(tt)]
+
+    def step_map(self, dt: float) -> np.ndarray:
+        """exp(M dt), kept per step length (a played run repeats a few frame lengths)."""
+        cache: dict[float, np.ndarray] = self.__dict__.setdefault("_step_maps", {})
+        E = cache.get(dt)
+        if E is None:
+            if len(cache) >= STEP_MAPS:
+                cache.clear()
+            E = cache[dt] = linalg.expm(dt * self.M)
+        return E
 
     def outputs(self, Z: np.ndarray) -> dict[str, np.ndarray]:
         """Programmed x, y; channel inputs ux, uy; outputs x1, y1; steady outputs x1ss, y1ss."""

@@ -11,6 +11,7 @@ reproduced circle or ellipse).  Signs follow the article: positive inside a conv
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import numpy as np
 
@@ -34,6 +35,19 @@ def _newton_foot(
     xq: np.ndarray, yq: np.ndarray, n: int, xc: float, yc: np.ndarray, p: float, u0: np.ndarray
 ) -> np.ndarray:
     """Abscissa u of the nearest point of y = yc + (u - xc)^n / p, Newton from u0."""
+    if xq.size == 1:  # a live frame: one point, the same iteration on Python floats
+        return np.full(
+            xq.shape,
+            _newton_foot_1(
+                float(xq.flat[0]),
+                float(yq.flat[0]),
+                n,
+                xc,
+                float(yc.flat[0]),
+                p,
+                float(np.broadcast_to(u0, xq.shape).flat[0]),
+            ),
+        )
     u = np.broadcast_to(u0, xq.shape).copy()
     active = np.arange(u.size)
     for _ in range(60):
@@ -55,6 +69,26 @@ def _newton_foot(
     return u
 
 
+def _newton_foot_1(xq: float, yq: float, n: int, xc: float, yc: float, p: float, u: float) -> float:
+    """:func:`_newton_foot` for one point."""
+    for _ in range(60):
+        w = u - xc
+        wn2 = w ** (n - 2)
+        fu = yc + wn2 * w * w / p
+        f1 = n * wn2 * w / p
+        f2 = n * (n - 1) * wn2 / p
+        g = (u - xq) + (fu - yq) * f1
+        base = 1.0 + f1 * f1
+        h = base + (fu - yq) * f2
+        h = h if h > 0.1 * base else base
+        du = g / h
+        old = u
+        u = old - du
+        if abs(du) <= 1e-13 * (1.0 + abs(old)):
+            break
+    return u
+
+
 def power_distance(
     xq: np.ndarray,
     yq: np.ndarray,
@@ -65,6 +99,8 @@ def power_distance(
     guess: np.ndarray | None = None,
 ) -> Distance:
     """Signed normal distance from y = yc + (x - xc)^n / p (+ above); foot points."""
+    if np.size(xq) == 1 and np.size(yq) == 1 and np.size(yc) == 1 and np.size(guess) <= 1:
+        return _power_distance_1(xq, yq, n, xc, yc, p, guess)
     xq, yq = np.broadcast_arrays(
         np.atleast_1d(np.asarray(xq, dtype=float)), np.atleast_1d(np.asarray(yq, dtype=float))
     )
@@ -81,6 +117,20 @@ def power_distance(
     d = np.choose(pick, dist)
     sign = np.where(yq >= f(xq), 1.0, -1.0)
     return sign * d, u, f(u)
+
+
+def _power_distance_1(
+    xq: Any, yq: Any, n: int, xc: float, yc: Any, p: float, guess: Any
+) -> Distance:
+    """:func:`power_distance` of one point (a live frame), on Python floats."""
+    x, y, c = (float(np.ravel(v)[0]) for v in (xq, yq, yc))
+    starts = [x] if guess is None else [x, float(np.ravel(guess)[0])]
+    us = [_newton_foot_1(x, y, n, xc, c, p, u0) for u0 in starts]
+    ds = [float(np.hypot(u - x, c + (u - xc) ** n / p - y)) for u in us]
+    nan = [k for k, d in enumerate(ds) if math.isnan(d)]
+    k = nan[0] if nan else ds.index(min(ds))  # as numpy's argmin
+    sign = 1.0 if y >= c + (x - xc) ** n / p else -1.0
+    return np.array([sign * ds[k]]), np.array([us[k]]), np.array([c + (us[k] - xc) ** n / p])
 
 
 def ellipse_distance(

@@ -11,6 +11,7 @@ solution from the current state.  :func:`integrate` samples a :class:`DenseSolut
 
 from __future__ import annotations
 
+import bisect
 import math
 from collections.abc import Callable
 from typing import Any
@@ -51,6 +52,7 @@ class DenseSolution:
         self._rhs, self._tol, self._method = rhs, (rtol, atol), method
         self._chunk = float(chunk)
         self._pieces: list[tuple[float, float, Callable[[Array], Array]]] = []
+        self._starts: list[float] = []  # the pieces' first times (ascending)
         self._t0, self._y0 = float(t0), np.array(y0, dtype=float)
         self._t_end, self._y_end = self._t0, self._y0
         self._open: _Chunk | None = None  # the chunk being stepped, if any
@@ -93,6 +95,7 @@ class DenseSolution:
             b = float(ch.solver.t)
             if b > a:
                 self._pieces.append((a, b, OdeSolution(ch.ts, ch.interpolants)))
+                self._starts.append(a)
                 self._y_end = np.asarray(ch.solver.y, dtype=float)
             self._t_end = b
             return
@@ -100,6 +103,7 @@ class DenseSolution:
             b = ch.ts[-1]
             if b > a:
                 self._pieces.append((a, b, OdeSolution(ch.ts, ch.interpolants)))
+                self._starts.append(a)
                 self._y_end = np.asarray(ch.interpolants[-1](b), dtype=float)
             self.message = f"integration stopped at t = {b:.4g}: {ch.failure}"
             self._t_end = self.stopped_at = b
@@ -120,6 +124,7 @@ class DenseSolution:
             b = float(times[-1])
         if b > a and sol is not None:
             self._pieces.append((a, b, sol.sol))
+            self._starts.append(a)
             self._y_end = np.asarray(sol.sol(b), dtype=float)
         if first_bad is not None:
             self.message = (
@@ -164,8 +169,18 @@ class DenseSolution:
         self._extend(float(np.max(tt, initial=self._t_end)))
         out = np.full((len(tt), len(self._y0)), np.nan)
         out[tt == self._t0] = self._y0
-        pieces = list(self._pieces)
         ch = self._open
+        if len(tt) == 1 and (self._pieces or ch is not None):  # a frame: one lookup
+            x = float(tt[0])
+            if ch is not None and ch.interpolants and ch.a <= x <= float(ch.solver.t):
+                out[:] = np.asarray(OdeSolution(ch.ts, ch.interpolants)(tt), dtype=float).T
+                return out
+            # pieces share their ends: the last that holds x, as the loop below leaves it
+            k = bisect.bisect_right(self._starts, x) - 1
+            if k >= 0 and self._pieces[k][0] <= x <= self._pieces[k][1]:
+                out[:] = np.asarray(self._pieces[k][2](tt), dtype=float).T
+            return out
+        pieces = list(self._pieces)
         if ch is not None and ch.interpolants:
             pieces.append((ch.a, float(ch.solver.t), OdeSolution(ch.ts, ch.interpolants)))
         for a, b, sol in pieces:
