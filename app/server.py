@@ -30,13 +30,14 @@ from app.derivation_jobs import DerivationJobs, build
 from app.limits import prefer_returned_memory
 from app.persistence import restore_state
 from app.runlog import LRUCache, lesson_scene, params_key
-from app.session import LabError, Session
+from app.session import STEP_WALL_BUDGET, LabError, Session
 from app.view import SessionView, ViewConfig
 from app.viser_boundary import (
     PAGE_TITLE,
     WakeBatch,
     dropped_types,
     event_loop,
+    guard_gui_updates,
     make_viser_server,
 )
 from lessons.core.contract import Lesson
@@ -171,6 +172,7 @@ class LabServer:
 
     def _on_connect(self, client: Any) -> None:
         cid = client.client_id
+        guard_gui_updates(client.gui, self.server)  # wrong-typed values: one message
         session = Session(self.lessons, self.default_lesson)
         if self.restore:
             restore_state(client, session)
@@ -261,6 +263,7 @@ class LabServer:
                 dt = now - getattr(view, "last_tick", now)
                 view.last_tick = now  # type: ignore[attr-defined]
                 session.max_substeps = substeps
+                session.wall_budget = STEP_WALL_BUDGET
                 grouped = batch.hold(view.client)
                 view.tick(dt, atomic=not grouped)
             except Exception as exc:

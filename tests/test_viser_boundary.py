@@ -204,3 +204,36 @@ def test_recording_scene_serializes_to_html() -> None:
     html = serializer.as_html()
     assert html.lstrip().lower().startswith("<!doctype html") or "<html" in html.lower()
     assert len(html) > 1000
+
+
+def test_gui_updates_go_through_the_type_check(server: Any) -> None:
+    from viser import _messages
+
+    handlers = server._websock_server._incoming_handlers[_messages.GuiUpdateMessage]
+    assert [h.__name__ for h in handlers] == ["checked"]
+
+
+@pytest.mark.parametrize(
+    "current,value,ok",
+    [
+        (1.0, 2, True),
+        (1.0, [1, 2], False),
+        (1.0, "3", False),
+        (1.0, float("nan"), False),
+        (1.0, True, False),
+        (True, False, True),
+        (True, "yes", False),
+        ("text", "t*2", True),
+        ("text", 2.5, True),  # a number typed into a text field reads as its text
+        ("text", None, False),
+        ("text", {"a": 1}, False),
+        ((1.0, 2.0), [3, 4], True),
+        ((1.0, 2.0), [3], False),
+        ((1.0, 2.0), ["a", 4], False),
+    ],
+)
+def test_a_value_of_the_wrong_type_is_named(current: Any, value: Any, ok: bool) -> None:
+    why = vb.value_problem(current, value)
+    assert (why is None) == ok, why
+    if not ok:
+        assert why.startswith("expected ")
