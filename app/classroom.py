@@ -46,6 +46,7 @@ from app.limits import (
     INPUT_BURST,
     INPUT_RATE,
     MAX_NOTICE_LENGTH,
+    MIN_CODE_LENGTH,
     TEXT_COST,
     CodeGuard,
     TokenBucket,
@@ -53,6 +54,7 @@ from app.limits import (
     normalize_code,
 )
 from app.session import LabError, Session, SharedClock
+from app.viser_boundary import client_address, submit_callback
 
 #: Follower sync / camera pushes (Hz).
 SYNC_HZ = 20.0
@@ -71,8 +73,11 @@ class Classroom:
     def __init__(self, lab: LabServer, code: str | None = None, bus: Bus | None = None) -> None:
         self.lab = lab
         self.code = code if code else generate_code()
-        if len(normalize_code(self.code)) < 4:
-            raise LabError("the instructor code must have at least 4 letters or digits")
+        if len(normalize_code(self.code)) < MIN_CODE_LENGTH:
+            raise LabError(
+                f"the instructor code must have at least {MIN_CODE_LENGTH} letters or digits"
+                " (a shorter one could be guessed)"
+            )
         self.codes = CodeGuard(self.code)
         self.lock = threading.RLock()
         self.instructors: dict[int, InstructorPanel] = {}
@@ -174,7 +179,9 @@ class Classroom:
         entry = self.entries.get(cid)
         if entry is None:
             return
-        ok, message = self.check_code(cid, entry[1].value)
+        ok, message = self.check_code(
+            cid, entry[1].value, client_address(getattr(self.lab, "server", None), cid)
+        )
         entry[1].value = ""
         if not ok:
             client.add_notification("Instructor code", message, auto_close_seconds=5.0, color="red")
@@ -231,9 +238,10 @@ class Classroom:
         self._grant(view)
         return True
 
-    def check_code(self, client_id: int, text: Any) -> tuple[bool, str]:
-        """Compare in constant time; refuse while this page or the server is locked out."""
-        ok, message = self.codes.check(client_id, text)
+    def check_code(self, client_id: int, text: Any, address: str = "") -> tuple[bool, str]:
+        """Compare in constant time; refuse while this page (or, for a page that gave a
+        wrong code, its address) must wait."""
+        ok, message = self.codes.check(client_id, text, address)
         if not ok:
             self.stats["wrong_codes"] += 1
         return ok, message
@@ -289,10 +297,14 @@ class Classroom:
             item = self.pending.pop(key, None)
             if item is not None:
                 self.stats["replayed"] += 1
-                try:
-                    item[0](item[1])  # goes through the gate again
-                except Exception:
-                    traceback.print_exc()
+                # goes through the gate again, in the page's turn of the callback budget
+                if not submit_callback(
+                    getattr(self.lab, "server", None), ("replay", cid), item[0], item[1]
+                ):
+                    try:
+                        item[0](item[1])
+                    except Exception:
+                        traceback.print_exc()
 
     # ------------------------------------------------------------------ follow / release
 

@@ -64,10 +64,29 @@ def cmd_run(args: argparse.Namespace) -> int:
     t_end = lesson.preset_t_end(args.preset) if args.t_end is None else args.t_end
     if not math.isfinite(t_end) or t_end <= 0 or t_end > 1e5:
         return _fail(f"--t-end must be a finite number in (0, 1e5], got {t_end}")
-    try:
-        result = lesson.simulate(params, t_end)
-    except (ParamError, ValueError) as exc:
-        return _fail(str(exc))
+    import warnings
+
+    import numpy as np
+
+    from app.run_limits import first_non_finite, may_be_undefined, refusal
+
+    # overflow and tolerance warnings are summed up in one line below, not printed
+    with warnings.catch_warnings(), np.errstate(all="ignore"):
+        warnings.simplefilter("ignore")
+        why = refusal(lesson, params, t_end)
+        if why is not None:
+            return _fail(why)
+        try:
+            result = lesson.simulate(params, t_end)
+        except (ParamError, ValueError, ArithmeticError, RuntimeError) as exc:
+            return _fail(str(exc))
+    bad = first_non_finite(result, may_be_undefined(lesson, params))
+    if bad is not None:
+        name, at = bad
+        return _fail(
+            f"{name} is not finite (NaN or infinite) from t = {at:.6g} s on:"
+            " the run is not defined there (shorten --t-end or change the values)"
+        )
     result.preset = args.preset
     text = json.dumps(result.to_json_dict()) if args.format == "json" else result.to_csv()
     for m in result.messages:
@@ -228,7 +247,13 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("--json", action="store_true")
     s.set_defaults(func=cmd_lessons)
 
-    s = sub.add_parser("run", help="run one lesson headless")
+    from app.run_limits import LIMITS_TEXT
+
+    s = sub.add_parser(
+        "run",
+        help="run one lesson headless",
+        description=f"Run one lesson headless; {LIMITS_TEXT}.",
+    )
     s.add_argument("lesson")
     s.add_argument("--preset")
     s.add_argument(

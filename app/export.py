@@ -7,18 +7,28 @@ page played (every frame since the last reset, live edits included).
 
 from __future__ import annotations
 
+import csv
+import io
 import json
 from collections.abc import Callable
+from dataclasses import replace
 from typing import Any
 
 import numpy as np
 
+from app.limits import Pacer, return_free_memory
+from app.replay import MAX_REPLAY_FRAMES
+from app.runlog import MAX_LOG
 from app.session import LabError, Session
 from lessons.core.contract import Lesson, RunResult
 from lessons.core.formula import parse_number
 
 #: Most rows of a grid export (the step is refused below t_end / MAX_GRID_ROWS).
 MAX_GRID_ROWS = 20001
+#: Most values (rows x columns) in one CSV or JSON export (about 8 MB of CSV): a grid
+#: step that gives more is refused; the frames of a longer run are thinned (every 2nd,
+#: 3rd, ... frame) and the file and the page say so.
+MAX_EXPORT_VALUES = 400_000
 #: Lesson seconds a fresh stepper advances in one call while sampling the grid.
 GRID_CHUNK = 1.0 / 36.0
 
@@ -51,10 +61,19 @@ def grid_run(s: Session, step: float | None = None) -> RunResult:
     grid = s.lesson.sample_grid(t_end, step)
     if len(grid) > MAX_GRID_ROWS:
         raise LabError(f"grid step: more than {MAX_GRID_ROWS} rows; choose a larger step")
-    stepper = s.lesson.stepper(s.params)
     names = [x.name for x in s.lesson.series_for(s.params)]
+    if len(grid) * (len(names) + 1) > MAX_EXPORT_VALUES:
+        rows = MAX_EXPORT_VALUES // (len(names) + 1)
+        raise LabError(
+            f"grid step: {len(grid)} rows x {len(names) + 1} columns is more than"
+            f" {MAX_EXPORT_VALUES} values; with these columns the smallest step is"
+            f" {t_end / max(rows - 1, 1):.3g} s"
+        )
+    stepper = s.lesson.stepper(s.params)
     columns: dict[str, list[float]] = {n: [] for n in names}
+    pace = Pacer()
     for tk in grid:
+        pace()
         frame = stepper.frame()
         while tk - stepper.t > 1e-12 * max(1.0, abs(tk)):
             frame = stepper.advance(min(GRID_CHUNK, tk - stepper.t))
@@ -80,7 +99,7 @@ def export_run(s: Session, kind: str, step: float | None = None) -> tuple[str, b
     if kind in ("csv", "json"):
         result = grid_run(s, step)
     elif kind in ("frames-csv", "frames-json"):
-        result = s.run_result()
+        result = thinned(s.run_result())
         stem += "-frames"
     elif kind == "html":
         from app.replay import replay_html
@@ -89,8 +108,44 @@ def export_run(s: Session, kind: str, step: float | None = None) -> tuple[str, b
     else:
         raise LabError(f"unknown export {kind[:20]!r}")
     if kind.endswith("csv"):
-        return stem + ".csv", result.to_csv().encode()
+        return stem + ".csv", paced_csv(result).encode()
     return stem + ".json", json.dumps(result.to_json_dict(), indent=1).encode()
+
+
+def thinned(result: RunResult) -> RunResult:
+    """The run with every k-th row only when it has more than :data:`MAX_EXPORT_VALUES`
+    values (a note in its messages says so)."""
+    cols = [k for k, v in result.series.items() if np.ndim(v) == 1 and len(v) == len(result.t)]
+    values = len(result.t) * (len(cols) + 1)
+    if values <= MAX_EXPORT_VALUES:
+        return result
+    k = int(np.ceil(values / MAX_EXPORT_VALUES))
+    series = {
+        name: (np.asarray(v)[::k] if name in cols else v) for name, v in result.series.items()
+    }
+    note = (
+        f"every {k}{'nd' if k == 2 else 'rd' if k == 3 else 'th'} of {len(result.t)} frames"
+        f" exported (at most {MAX_EXPORT_VALUES} values)"
+    )
+    return replace(
+        result, t=np.asarray(result.t)[::k], series=series, messages=[*result.messages, note]
+    )
+
+
+def paced_csv(result: RunResult) -> str:
+    """``result.to_csv()``, written with pauses (:class:`~app.limits.Pacer`)."""
+    names = [k for k, v in result.series.items() if np.ndim(v) == 1 and len(v) == len(result.t)]
+    buf = io.StringIO()
+    w = csv.writer(buf, lineterminator="\n")
+    w.writerow(["t", *names])
+    cols = [np.asarray(result.t, dtype=float)] + [
+        np.asarray(result.series[n], dtype=float) for n in names
+    ]
+    pace = Pacer()
+    for row in zip(*cols):
+        w.writerow([repr(float(x)) for x in row])
+        pace()
+    return buf.getvalue()
 
 
 class ExportPanel:
@@ -113,7 +168,11 @@ class ExportPanel:
         buttons = [("Download CSV (grid)", "csv"), ("Download JSON (grid)", "json")]
         for label, kind in buttons:
             gui.add_button(label).on_click(guard(lambda e, k=kind: self.export(k)))
-        gui.add_html('<div style="font-size:0.9em">Every frame played since the last reset:</div>')
+        gui.add_html(
+            '<div style="font-size:0.9em">Every frame played since the last reset (at most'
+            f" {MAX_LOG} rows: a longer run keeps every 2nd, 4th, ... frame; the replay at most"
+            f" {MAX_REPLAY_FRAMES} frames, thinned the same way):</div>"
+        )
         for label, kind in (("Download CSV (frames)", "frames-csv"), ("HTML replay", "html")):
             gui.add_button(label).on_click(guard(lambda e, k=kind: self.export(k)))
 
@@ -128,4 +187,16 @@ class ExportPanel:
         step = parse_step(text, grid_end(s)) if text else None
         name, data = export_run(s, kind, step)
         self.client.send_file_download(name, data, save_immediately=True)
-        s.notify(f"exported {name} ({len(data) / 1024:.1f} kB)")
+        size = len(data)
+        del data
+        return_free_memory()
+        fewer = (
+            "; a long run: not every frame is in it (see the file's notes)"
+            if kind.startswith("frames")
+            and (
+                s.log.stride > 1
+                or len(s.log) * (len(s.lesson.series_for(s.params)) + 1) > MAX_EXPORT_VALUES
+            )
+            else ""
+        )
+        s.notify(f"exported {name} ({size / 1024:.1f} kB{fewer})")

@@ -27,7 +27,12 @@ def restore_state(client: Any, session: Session, timeout: float = 2.0) -> None:
     if not saved:
         return
     try:
-        session.apply_state(SessionState.from_json(saved))
-        session.notify(f"restored your last lesson and parameters ({session.lesson.id})")
+        problems = session.apply_state(SessionState.from_json(saved))
+        restored = f"restored your last lesson and parameters ({session.lesson.id})"
+        if problems:
+            # one notice with both: the newest notice is the one the page shows
+            session.notify(f"{restored}, but: {'; '.join(problems)}", "warning")
+        else:
+            session.notify(restored)
     except Exception as exc:
         session.notify(f"saved state ignored: {exc}", "warning")

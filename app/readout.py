@@ -16,6 +16,8 @@ def speed_label(s: float) -> str:
 def readout_html(s: Session) -> str:
     """Time, speed, play state and the lesson's declared readout quantities."""
     state = "playing" if s.playing else "paused"
+    if s.playing and s.slowed:
+        state = f'playing <span class="al-slow" style="color:#8a5a00">({html.escape(s.slow_text())})</span>'
     units = {x.name: x.unit for x in s.lesson.series}
     values = []
     for name in s.lesson.readout:

@@ -17,6 +17,7 @@ from typing import Any
 
 import numpy as np
 
+from app.limits import Pacer
 from app.scene_render import _bounds_info, _nice, _safe
 from app.session import Session
 from app.viser_boundary import recording_scene
@@ -41,22 +42,29 @@ def replay_html(session: Session) -> str:
     spec = session.scene
     lo, hi, size = _bounds_info(spec)
     _static(scene_api, spec, lo, hi, size)
-    samples = session.log.samples
+    log = session.log
+    count = len(log)
     notes: list[str] = []
-    if samples:
+    if count:
+        first = log.sample(0)
         members = max(
-            (len(np.asarray(x.points[n]).reshape(-1, 3)) for x in samples[:1] for n in x.points),
-            default=1,
+            (len(np.asarray(first.points[n]).reshape(-1, 3)) for n in first.points), default=1
         )
         budget = max(50, MAX_REPLAY_POINTS // max(1, members * max(1, len(spec.moving_points))))
         frames = min(MAX_REPLAY_FRAMES, budget)
-        stride = max(1, int(np.ceil(len(samples) / frames)))
-        chosen = list(range(0, len(samples), stride))
-        if chosen[-1] != len(samples) - 1:
-            chosen.append(len(samples) - 1)
+        stride = max(1, int(np.ceil(count / frames)))
+        chosen = list(range(0, count, stride))
+        if chosen[-1] != count - 1:
+            chosen.append(count - 1)
         if stride > 1:
-            notes.append(f"every {stride}th of {len(samples)} recorded frames shown")
-        _animate(scene_api, ser, session, spec, [samples[k] for k in chosen], size, hi)
+            notes.append(f"every {stride}th of {count} recorded frames shown")
+        # only the chosen rows are built (not all of a long run's rows)
+        pace = Pacer()
+        rows = []
+        for k in chosen:
+            rows.append(log.sample(k))
+            pace()
+        _animate(scene_api, ser, session, spec, rows, size, hi)
     page = ser.as_html()
     return _dress(page, session, notes)
 
@@ -118,7 +126,9 @@ def _animate(
     last: dict[str, np.ndarray] = {}
     pending: dict[str, list[np.ndarray]] = {}
     t_prev = chosen[0].t
+    pace = Pacer()
     for k, s in enumerate(chosen):
+        pace()
         for name, color in spec.moving_points.items():
             if name not in s.points:
                 continue

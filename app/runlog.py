@@ -123,15 +123,16 @@ class RunLog:
     def scalar_names(self) -> list[str]:
         return list(self._scalars)
 
+    def sample(self, i: int) -> LogSample:
+        """Row ``i`` as a :class:`LogSample` (a point missing from that frame is left out)."""
+        pts = {k: v[i].copy() for k, v in self._points.items() if not np.all(np.isnan(v[i]))}
+        sc = {k: float(v[i]) for k, v in self._scalars.items() if not np.isnan(v[i])}
+        return LogSample(float(self._t[i]), pts, sc)
+
     @property
     def samples(self) -> list[LogSample]:
-        """The rows as :class:`LogSample` objects (a point missing from a frame is left out)."""
-        out = []
-        for i in range(self.count):
-            pts = {k: v[i].copy() for k, v in self._points.items() if not np.all(np.isnan(v[i]))}
-            sc = {k: float(v[i]) for k, v in self._scalars.items() if not np.isnan(v[i])}
-            out.append(LogSample(float(self._t[i]), pts, sc))
-        return out
+        """Every row as a :class:`LogSample` (:meth:`sample` builds only the rows needed)."""
+        return [self.sample(i) for i in range(self.count)]
 
     @property
     def nbytes(self) -> int:
@@ -154,6 +155,20 @@ class LRUCache:
         self.maxsize = maxsize
         self._data: OrderedDict[Any, Any] = OrderedDict()
         self._lock = threading.Lock()
+
+    def get(self, key: Any) -> Any:
+        """The value of ``key`` (``None`` when not cached)."""
+        with self._lock:
+            if key in self._data:
+                self._data.move_to_end(key)
+                return self._data[key]
+        return None
+
+    def put(self, key: Any, value: Any) -> None:
+        with self._lock:
+            self._data[key] = value
+            while len(self._data) > self.maxsize:
+                self._data.popitem(last=False)
 
     def get_or_make(self, key: Any, make: Callable[[], Any]) -> Any:
         with self._lock:

@@ -6,12 +6,15 @@ and a :class:`~app.view.SessionView` for every tab that connects (restoring the
 state the tab saved before a reload) and frees them when the tab closes.
 
 ONE loop thread steps every session at a fixed rate (``fps``) and pushes the
-frames; a second, slow thread renders derivations and deferred scene updates
-outside the session locks, so a slider drag never stalls the animation.
+frames; a second, slow thread computes deferred scene updates outside the session
+locks, so a slider drag never stalls the animation, and starts each page's derivation
+in a child process with time and size limits (:mod:`app.derivation_jobs`), so a slow
+derivation never delays another page's.
 """
 
 from __future__ import annotations
 
+import html
 import math
 import os
 import sys
@@ -19,14 +22,24 @@ import threading
 import time
 import traceback
 from collections.abc import Sequence
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
 from typing import Any
 
+from app.derivation_jobs import DerivationJobs, build
+from app.limits import prefer_returned_memory
 from app.persistence import restore_state
 from app.runlog import LRUCache, lesson_scene, params_key
-from app.session import LabError, Session
+from app.session import STEP_WALL_BUDGET, LabError, Session
 from app.view import SessionView, ViewConfig
-from app.viser_boundary import PAGE_TITLE, WakeBatch, event_loop, make_viser_server
+from app.viser_boundary import (
+    PAGE_TITLE,
+    WakeBatch,
+    dropped_types,
+    event_loop,
+    guard_gui_updates,
+    make_viser_server,
+)
 from lessons.core.contract import Lesson
 
 #: Frames per second of the live view: a little above 30 so that every page still gets
@@ -64,6 +77,7 @@ class LabServer:
         instructor_code: str | None = None,
         bus: Any = None,
     ) -> None:
+        prefer_returned_memory()
         self.fps = float(fps)
         self.restore = restore
         self.config = config or ViewConfig(fps=self.fps)
@@ -106,8 +120,19 @@ class LabServer:
         from app.classroom import Classroom  # classroom hook
 
         self.classroom = Classroom(self, instructor_code, bus)
-        self.server.on_client_connect(self._on_connect)
-        self.server.on_client_disconnect(self._on_disconnect)
+        # pages are built and freed on a pool of their own (building one waits up to 2 s
+        # for the browser's saved state), not in the turns of the page callbacks
+        self._gone: set[int] = set()  # pages that left while being built
+        self._page_pool = ThreadPoolExecutor(max_workers=16, thread_name_prefix="analyzer-lab-page")
+
+        async def connect(client: Any) -> None:
+            self._page_pool.submit(self._guarded, self._on_connect, client)
+
+        async def disconnect(client: Any) -> None:
+            self._page_pool.submit(self._guarded, self._on_disconnect, client)
+
+        self.server.on_client_connect(connect)
+        self.server.on_client_disconnect(disconnect)
         self._loop_done = threading.Event()
         loop = event_loop(self.server)
         if loop is None:
@@ -116,6 +141,10 @@ class LabServer:
         import asyncio
 
         asyncio.run_coroutine_threadsafe(self._async_loop(), loop)
+        self.derivations = DerivationJobs()
+        self._deriving: dict[
+            int, tuple[SessionView, int, Any]
+        ] = {}  # id(view) -> (view, revision, key)
         self._slow_thread = threading.Thread(
             target=self._slow_loop, name="analyzer-lab-slow", daemon=True
         )
@@ -134,19 +163,40 @@ class LabServer:
 
     # -- sessions ---------------------------------------------------------------------
 
+    @staticmethod
+    def _guarded(fn: Any, client: Any) -> None:
+        try:
+            fn(client)
+        except Exception:
+            traceback.print_exc()
+
     def _on_connect(self, client: Any) -> None:
+        cid = client.client_id
+        guard_gui_updates(client.gui, self.server)  # wrong-typed values: one message
         session = Session(self.lessons, self.default_lesson)
         if self.restore:
             restore_state(client, session)
         view = SessionView(client, session, self.config)
         view.last_tick = time.monotonic()  # type: ignore[attr-defined]
         with self._views_lock:
-            self.views[client.client_id] = view
+            gone = cid in self._gone  # the page left while it was being built
+            self._gone.discard(cid)
+            if not gone:
+                self.views[cid] = view
+        if gone:
+            view.close()
+            return
         self.classroom.attach(view)  # classroom hook
+        with self._views_lock:
+            left = cid not in self.views
+        if left:  # left while the classroom attached it
+            self.classroom.detach(cid, view)
 
     def _on_disconnect(self, client: Any) -> None:
         with self._views_lock:
             view = self.views.pop(client.client_id, None)
+            if view is None:
+                self._gone.add(client.client_id)
         self.classroom.detach(client.client_id, view)  # classroom hook
         if view is not None:
             view.close()
@@ -213,6 +263,7 @@ class LabServer:
                 dt = now - getattr(view, "last_tick", now)
                 view.last_tick = now  # type: ignore[attr-defined]
                 session.max_substeps = substeps
+                session.wall_budget = STEP_WALL_BUDGET
                 grouped = batch.hold(view.client)
                 view.tick(dt, atomic=not grouped)
             except Exception as exc:
@@ -244,7 +295,7 @@ class LabServer:
             f"[loop] sessions {len(views)} ticks/s {(self.stats.ticks - self._report_ticks) / span:.1f} "
             f"busy {busy / span:.0%} stepping {(steps - self._report_steps) / span:.0%} "
             f"drawing {(draws - self._report_draws) / span:.0%} load {self.stats.load:.2f} "
-            f"skipped {self.stats.skipped}",
+            f"skipped {self.stats.skipped} dropped {dropped_types() or '-'}",
             file=sys.stderr,
             flush=True,
         )
@@ -262,15 +313,20 @@ class LabServer:
             with self._views_lock:
                 views = list(self.views.values())
             now = time.monotonic()
+            for owner in [k for k, v in self._deriving.items() if v[0].closed]:
+                self._deriving.pop(owner, None)
+                self.derivations.cancel(owner)
             for view in views:
                 try:
                     self._slow_work(view, now)
+                    self._derivation_work(view, now)
                 except Exception:
                     traceback.print_exc()
             views = view = None  # type: ignore[assignment]  # classroom hook: no stale reference
+        self.derivations.stop()
+        self._deriving.clear()
 
     def _slow_work(self, view: SessionView, now: float) -> None:
-        from app.math_render import derivation_to_html
 
         session = view.session
         if session.scene_due is not None and now >= session.scene_due:
@@ -287,25 +343,53 @@ class LabServer:
                     session.scene_due = None
                     if spec is not None:
                         session.accept_scene(spec)
-        if view.derivation_due is not None and now >= view.derivation_due and not view.closed:
-            with session.lock:
-                lesson, params, rev = session.lesson, session.params, session.revision
-            try:
-                content = DERIVATION_CACHE.get_or_make(
-                    params_key(lesson, params),
-                    lambda: derivation_to_html(lesson.derivation(params)),
-                )
-            except Exception as exc:
-                import html
 
-                content = f'<div class="al-error">The derivation could not be built: {html.escape(str(exc))}</div>'
+    def _derivation_work(self, view: SessionView, now: float) -> None:
+        """Show a finished derivation, or start the page's next one (cached, in a child
+        process, or here for a lesson outside the catalog)."""
+        session = view.session
+        owner = id(view)
+        running = self._deriving.get(owner)
+        if running is not None:
+            content = self.derivations.poll(owner)
+            if content is None:
+                return
+            del self._deriving[owner]
+            _, rev, key = running
+            DERIVATION_CACHE.put(key, content)
             with session.lock:
                 if session.revision == rev and not view.closed:
                     view.derivation_due = None
                     view.set_derivation(content)
+            return
+        if view.derivation_due is None or now < view.derivation_due or view.closed:
+            return
+        with session.lock:
+            lesson, params, rev = session.lesson, session.params, session.revision
+            values = session.raw_values()
+        key = params_key(lesson, params)
+        content = DERIVATION_CACHE.get(key)
+        if content is None and DerivationJobs.can_run(lesson):
+            if not self.derivations.full():
+                self.derivations.start(owner, lesson.id, values)
+                self._deriving[owner] = (view, rev, key)
+            return
+        if content is None:
+            try:
+                content = DERIVATION_CACHE.get_or_make(key, lambda: build(lesson, values))
+            except Exception as exc:
+                content = f'<div class="al-error">The derivation could not be built: {html.escape(str(exc))}</div>'
+        with session.lock:
+            if session.revision == rev and not view.closed:
+                view.derivation_due = None
+                view.set_derivation(content)
 
     def _warm_up(self) -> None:
         """Build each lesson once (lambdify caches, meshes) so the first tab is quick."""
+        try:
+            self.derivations.warm()
+        except Exception:
+            traceback.print_exc()
         for lesson in self.lessons:
             if self._stop.is_set():
                 return
@@ -314,12 +398,7 @@ class LabServer:
                 st = lesson.stepper(params)
                 st.advance(0.01)
                 lesson_scene(lesson, params)
-                from app.math_render import derivation_to_html
-
-                DERIVATION_CACHE.get_or_make(
-                    params_key(lesson, params),
-                    lambda: derivation_to_html(lesson.derivation(params)),
-                )
+                DERIVATION_CACHE.get_or_make(params_key(lesson, params), lambda: build(lesson, {}))
             except Exception:
                 pass
 
@@ -332,6 +411,7 @@ class LabServer:
         for v in views:
             v.close()
         self._loop_done.wait(timeout=2.0)
+        self._page_pool.shutdown(wait=False, cancel_futures=True)
         try:
             self.server.stop()
         except Exception:

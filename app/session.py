@@ -22,8 +22,10 @@ from typing import Any
 
 import numpy as np
 
+from app.pace import STEP_BUDGET, STEP_WALL_BUDGET, Pacing
 from app.runlog import RunLog, lesson_scene, raw_value, scenes_equal
 from app.state import LabError, SessionState
+from lessons.core.budget import clock, left, work_budget
 from lessons.core.contract import (
     Frame,
     Lesson,
@@ -33,6 +35,7 @@ from lessons.core.contract import (
     SceneSpec,
     Stepper,
 )
+from lessons.core.formula import plain_number as plain
 
 #: Playback speeds offered (lesson seconds per wall-clock second).
 SPEEDS: tuple[float, ...] = (0.25, 0.5, 1.0, 2.0, 4.0, 8.0)
@@ -47,6 +50,8 @@ MAX_SUBSTEPS = 8
 SCENE_DEBOUNCE = 0.3
 #: "Go to t" reaches at most this many times the lesson's t_end.
 MAX_GO_TO = 10
+#: CPU seconds one "go to t" or single step may compute before it stops where it got.
+GO_TO_BUDGET = 0.5
 
 
 def lesson_label(lesson: Lesson) -> str:
@@ -60,7 +65,7 @@ def lesson_label(lesson: Lesson) -> str:
     return " · ".join(bits)
 
 
-class Session:
+class Session(Pacing):
     """One student's lesson, parameters, stepper and playback (no view code).
 
     Thread-safety: the owner serializes access with :attr:`lock` (GUI callbacks run
@@ -81,6 +86,7 @@ class Session:
         self.visible_vectors: set[str] | None = None
         self.log = RunLog()
         self.max_substeps = MAX_SUBSTEPS  # lowered by the server under load
+        self._init_pacing()
         self._time_debt = 0.0  # lesson time owed to the next played tick (< TIME_QUANTUM / 2)
         #: a clock shared by the pages that show this session (the classroom's demo)
         self.shared_clock: Callable[[float], list[Frame]] | None = None
@@ -298,6 +304,7 @@ class Session:
         if self.pause_at_end and self.frame.t >= self.t_end - 1e-9:
             self.reset()
         self.playing = True
+        self.keeping_up, self.slowed = 1.0, False
 
     def pause(self) -> None:
         self.playing = False
@@ -309,7 +316,7 @@ class Session:
             raise LabError(f"speed must be one of {', '.join(f'{s:g}x' for s in SPEEDS)}") from None
         if not any(abs(value - s) < 1e-9 for s in SPEEDS):
             raise LabError(
-                f"speed must be one of {', '.join(f'{s:g}x' for s in SPEEDS)}; got {value!r}"
+                f"speed must be one of {', '.join(f'{s:g}x' for s in SPEEDS)}; got {plain(value)}"
             )
         self.speed = value
 
@@ -328,19 +335,32 @@ class Session:
         substep = SUBSTEP_DT * self.lesson.time_scale
         n = max(1, min(self.max_substeps, int(math.ceil(dt / substep - 1e-9))))
         piece = dt / n
-        for _ in range(n):
-            remaining = self.t_end - self.stepper.t if self.pause_at_end else math.inf
-            d = min(piece, remaining)
-            if d <= 1e-12:
-                break
-            try:
-                frame = self.stepper.advance(d)
-            except (ValueError, ArithmeticError, FloatingPointError) as exc:
-                self.playing = False
-                self.notify(f"the integration stopped: {exc}", "error")
-                break
-            frames.append(frame)
-            self.log.add(frame)
+        target = t_before + dt
+        cpu_start = clock()
+        with work_budget(self.step_budget, self.wall_budget):
+            while True:
+                remaining = target - self.stepper.t
+                if self.pause_at_end:
+                    remaining = min(remaining, self.t_end - self.stepper.t)
+                if remaining <= 1e-12 * max(1.0, abs(target)):
+                    break
+                budget_left = left()
+                if frames and (budget_left <= 0 or len(frames) >= 2 * n + 2):
+                    # the budget of this tick is spent: the rest of dt is dropped; by the
+                    # stepping itself, or by a busy machine (wall time, little CPU)
+                    self.machine_busy = clock() - cpu_start < 0.5 * self.step_budget
+                    break
+                d = min(self._piece_size(piece, budget_left), remaining)
+                t_prev = self.stepper.t
+                frame, stop = self._step_piece(d)
+                if frame is None:
+                    self.playing = False
+                    self.notify(stop, "error")
+                    break
+                frames.append(frame)
+                self.log.add(frame)
+                if self.stepper.t <= t_prev:
+                    break  # the lesson's run cannot go on (checked below)
         if frames:
             self.frame = frames[-1]
             if self.stepper.t <= t_before and self.playing:
@@ -354,8 +374,8 @@ class Session:
         if self.pause_at_end and self.stepper.t >= self.t_end - 1e-9 and self.playing:
             self.playing = False
             self.notify(
-                f"t = {self.t_end:g} s reached (the textbook's run); press play to run again,"
-                " or untick 'pause at t_end'",
+                f"t = {plain(self.t_end)} s reached (the textbook's run); press play to run"
+                " again, or untick 'pause at t_end'",
                 "info",
             )
         return frames
@@ -381,7 +401,14 @@ class Session:
         self._time_debt = want - k * quantum
         if k <= 0:
             return []
-        return self._advance(k * quantum)
+        t0 = self.stepper.t
+        frames = self._advance(k * quantum)
+        moved = self.stepper.t - t0
+        if moved < k * quantum - 1e-9 * max(1.0, abs(t0)):
+            self._time_debt = 0.0  # what the budget cut is dropped, not owed
+        if self.playing:
+            self._keep_up(k * quantum, moved, min(wall_dt, 0.25))
+        return frames
 
     def step(self) -> list[Frame]:
         """One single step (paused): the lesson's sampling step (the source's table of
@@ -400,7 +427,7 @@ class Session:
         """Pause and show the run at lesson time ``t`` (from the start if ``t`` is
         earlier than now); the frames on the way are recorded as when played."""
         if not (isinstance(t, (int, float)) and math.isfinite(t)) or t < 0:
-            raise LabError(f"go to t: must be a time >= 0 s, got {t!r}")
+            raise LabError(f"go to t: must be a time >= 0 s, got {plain(t)}")
         limit = MAX_GO_TO * max(self.t_end, 1e-9)
         if t > limit:
             raise LabError(f"go to t: {t:g} s is beyond {limit:g} s ({MAX_GO_TO} x t_end)")
@@ -409,14 +436,25 @@ class Session:
             self.reset()
         frames: list[Frame] = []
         piece = SUBSTEP_DT * self.lesson.time_scale
-        while t - self.stepper.t > 1e-12 * max(1.0, t):
-            try:
-                frame = self.stepper.advance(min(piece, t - self.stepper.t))
-            except (ValueError, ArithmeticError, FloatingPointError) as exc:
-                self.notify(f"the integration stopped: {exc}", "error")
-                break
-            frames.append(frame)
-            self.log.add(frame)
+        with work_budget(GO_TO_BUDGET):
+            while t - self.stepper.t > 1e-12 * max(1.0, t):
+                if left() <= 0:
+                    self.notify(
+                        f"go to t: stopped at t = {self.stepper.t:.6g} s after"
+                        f" {plain(GO_TO_BUDGET)} s of computing (the step is too small to go"
+                        " further at once); go to t again to go on",
+                        "warning",
+                    )
+                    break
+                t_prev = self.stepper.t
+                frame, stop = self._step_piece(min(piece, t - self.stepper.t))
+                if frame is None:
+                    self.notify(stop, "error")
+                    break
+                frames.append(frame)
+                self.log.add(frame)
+                if self.stepper.t <= t_prev:
+                    break
         if frames:
             self.frame = frames[-1]
         return frames
@@ -549,4 +587,13 @@ class SharedClock:
         return self.frames
 
 
-__all__ = ["LabError", "SPEEDS", "Session", "SessionState", "SharedClock", "lesson_label"]
+__all__ = [
+    "LabError",
+    "SPEEDS",
+    "STEP_BUDGET",
+    "STEP_WALL_BUDGET",
+    "Session",
+    "SessionState",
+    "SharedClock",
+    "lesson_label",
+]

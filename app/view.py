@@ -40,7 +40,7 @@ from app.session import LabError, Session, lesson_label
 from app.transport import MAX_DRAWN_FRAMES, Transport
 from app.viser_boundary import fast_set
 from lessons.core.contract import Param, ParamError
-from lessons.core.formula import Formula
+from lessons.core.formula import Formula, plain_number
 
 if TYPE_CHECKING:
     import viser
@@ -364,10 +364,14 @@ class SessionView:
             raise ParamError(p.name, f"expected a number, got {type(value).__name__}")
         v = float(value)
         if not math.isfinite(v):
-            raise ParamError(p.name, f"must be a finite number, got {v}")
+            raise ParamError(p.name, f"must be a finite number, got {v!r}")
         if v < float(p.min) or v > float(p.max):
-            raise ParamError(p.name, f"{v:g} is outside the slider range [{p.min:g}, {p.max:g}]")
-        v = round(v, 9)
+            raise ParamError(
+                p.name,
+                f"{plain_number(v)} is outside the slider range"
+                f" [{plain_number(p.min)}, {plain_number(p.max)}]",
+            )
+        v = float(f"{v:.12g}")  # slider round-off, kept in significant digits (1e-14 stays)
         self.session.set_value(p.name, repr(v) if not v.is_integer() else str(int(v)))
         self.controls.clear_error(p.name)
         self._param_changed()

@@ -5,13 +5,19 @@ viser 1.1.1 offers no public API for these, and each is checked by a test of its
 viser whose internals were not checked:
 
 * :func:`make_viser_server`: our page title (a copy of viser's page), no share tunnel;
-* :func:`harden_websocket`: oversized messages dropped before decoding, each connection
-  paced (a flooding page waits on its own socket);
-* :func:`order_callbacks`: one connection's callbacks run in the order its messages came;
+* :func:`harden_websocket`: the websocket refuses messages over :data:`WS_MAX_BYTES` before
+  reading them (the transport's ``max_size``), only :data:`ALLOWED_MESSAGES` reach viser's
+  handlers, each connection is paced (a flooding page waits on its own socket) and waits
+  while its callbacks queue up;
+* :func:`order_callbacks`: one connection's callbacks run in the order its messages came,
+  round-robin over connections within a CPU budget (:class:`OrderedExecutor`);
+* :func:`client_address`: the network address a page connected from;
 * :class:`WakeBatch`: the messages of one frame-loop tick wake viser's loop once;
 * :func:`fast_set`: one property of a handle set on the hot path;
 * :func:`recording_scene`: a scene API whose messages are only recorded (HTML replay);
-* :func:`event_loop`: the server's own event loop (the frame loop runs in it).
+* :func:`event_loop`: the server's own event loop (the frame loop runs in it);
+* :func:`guard_gui_updates`: a GUI value of the wrong type is refused with one message
+  to its sender (viser would raise while casting it, a traceback per message).
 """
 
 from __future__ import annotations
@@ -20,6 +26,7 @@ import asyncio
 import contextvars
 import tempfile
 import threading
+import time
 from collections import deque
 from collections.abc import Callable
 from concurrent.futures import Future, ThreadPoolExecutor
@@ -46,15 +53,44 @@ def check_viser_version() -> None:
         )
 
 
-#: Websocket: incoming messages per second and burst per connection; size limit.
+#: Websocket: incoming messages per second and burst per connection, and for all
+#: connections together; the largest message a page may send (bytes; the largest the app
+#: needs is a saved state of at most 20 kB coming back from the browser's storage).
 WS_RATE = 150.0
 WS_BURST = 300.0
-WS_MAX_BYTES = 256 * 1024
+WS_TOTAL_RATE = 1000.0
+WS_TOTAL_BURST = 1000.0
+WS_MAX_BYTES = 64 * 1024
+#: The messages a page of the lab sends (viser 1.1.1's client -> server messages that the
+#: app uses): its camera, values of its own widgets, command hotkeys (presenter mode),
+#: clicks on scene surfaces and answers from the browser's storage.  Everything else
+#: (form "dirty" flags that viser broadcasts to every page and keeps, share-tunnel
+#: requests, uploads, renders, pointer and drag events) is dropped unread.
+ALLOWED_MESSAGES = frozenset(
+    {
+        "ViewerCameraMessage",
+        "GuiUpdateMessage",
+        "CommandTriggerMessage",
+        "SceneNodeClickMessage",
+        "LocalStorageGetItemResponseMessage",
+    }
+)
+#: A connection's socket is not read while this many of its callbacks wait to run.
+MAX_PENDING_CALLBACKS = 16
+#: Page callbacks (GUI inputs of all pages together) may use this share of one core's
+#: time (CPU seconds per second), with this much at once; the frame loop keeps the rest.
+GUI_CPU_SHARE = 0.2
+GUI_CPU_BURST = 0.2
+#: Threads that run page callbacks (one connection's callbacks never run in parallel).
+GUI_WORKERS = 12
 
 
 _HARDENED = False
 _HARDEN_LOCK = threading.Lock()
-WS_STATS = {"dropped_oversized": 0, "paced": 0}
+WS_STATS = {"dropped_oversized": 0, "paced": 0, "dropped_type": 0, "held": 0}
+#: Message types dropped by the allow-list (type name -> count; names cut to 40 chars).
+WS_DROPPED_TYPES: dict[str, int] = {}
+_EXECUTORS: list[OrderedExecutor] = []
 
 
 #: The connection whose message is being handled (set around viser's dispatch; the
@@ -64,56 +100,132 @@ CONNECTION: contextvars.ContextVar[int | None] = contextvars.ContextVar(
 )
 
 
+class CpuBudget:
+    """CPU seconds that callbacks may spend: ``share`` per second of wall time, up to
+    ``burst`` saved; one callback may overdraw it (the next waits until it is paid)."""
+
+    def __init__(self, share: float, burst: float) -> None:
+        self.share = float(share)
+        self.burst = float(burst)
+        self.tokens = float(burst)
+        self.t = time.monotonic()
+        self.lock = threading.Lock()
+
+    def _refill(self) -> None:
+        now = time.monotonic()
+        self.tokens = min(self.burst, self.tokens + (now - self.t) * self.share)
+        self.t = now
+
+    def wait_time(self) -> float:
+        """Seconds until the budget is positive again (0 when it is)."""
+        with self.lock:
+            self._refill()
+            return 0.0 if self.tokens > 0 else -self.tokens / self.share + 1e-3
+
+    def spend(self, seconds: float) -> None:
+        with self.lock:
+            self._refill()
+            self.tokens -= seconds
+
+
 class OrderedExecutor:
     """viser's callback pool, but the callbacks of one connection run one after the other
-    in the order its messages arrived.
+    in the order its messages arrived, connections take turns (round-robin), and all
+    page callbacks together stay within a CPU budget (:data:`GUI_CPU_SHARE`).
 
     viser starts every GUI callback on a shared pool, so a preset choice and a checkbox
     ticked right after it could run in either order (and the slower preset callback
-    could show the old checkbox value over the new one).  Callbacks of different
-    connections still run in parallel; work submitted outside a connection's message
-    (connect handlers, server code) goes to the pool directly."""
+    could show the old checkbox value over the new one), and many pages' inputs could
+    take the interpreter from the frame loop.  Here each connection has a queue; a few
+    worker threads take one callback from the next connection in turn, and wait while
+    the budget is spent (a callback's thread CPU time is charged to it).  Work submitted
+    outside a connection's message (connect handlers, server code) goes to the pool."""
 
-    def __init__(self, pool: Any) -> None:
+    def __init__(
+        self,
+        pool: Any,
+        share: float = GUI_CPU_SHARE,
+        burst: float = GUI_CPU_BURST,
+        workers: int = GUI_WORKERS,
+    ) -> None:
         self.pool = pool
-        self._lock = threading.Lock()
-        self._queues: dict[int, deque[tuple[Future, Callable[..., Any], tuple, dict]]] = {}
+        self.budget = CpuBudget(share, burst)
+        self._cond = threading.Condition()
+        self._queues: dict[Any, deque[tuple[Future, Callable[..., Any], tuple, dict]]] = {}
+        self._ready: deque[Any] = deque()  # connections with work, not running, in turn
+        self._stopped = False
+        self.stats = {"run": 0, "waited": 0.0, "cpu": 0.0}
+        self._workers = [
+            threading.Thread(target=self._work, name=f"analyzer-lab-gui-{k}", daemon=True)
+            for k in range(max(1, workers))
+        ]
+        for w in self._workers:
+            w.start()
 
     def submit(self, fn: Callable[..., Any], /, *args: Any, **kwargs: Any) -> Future:
         key = CONNECTION.get()
         if key is None:
             return self.pool.submit(fn, *args, **kwargs)
+        return self.submit_for(key, fn, *args, **kwargs)
+
+    def submit_for(self, key: Any, fn: Callable[..., Any], /, *args: Any, **kwargs: Any) -> Future:
+        """Queue ``fn`` as a callback of ``key`` (a connection, or any other input source)."""
         fut: Future = Future()
-        with self._lock:
+        with self._cond:
             queue = self._queues.get(key)
-            first = queue is None
-            if first:
+            if queue is None:
                 queue = self._queues[key] = deque()
-            queue.append((fut, fn, args, kwargs))  # type: ignore[union-attr]
-        if first:
-            self.pool.submit(self._drain, key)
+                self._ready.append(key)
+                self._cond.notify()
+            queue.append((fut, fn, args, kwargs))
         return fut
 
-    def _drain(self, key: int) -> None:
+    def _work(self) -> None:
         while True:
-            with self._lock:
-                queue = self._queues[key]
-                if not queue:
-                    del self._queues[key]
+            with self._cond:
+                while not self._ready and not self._stopped:
+                    self._cond.wait()
+                if self._stopped:
                     return
-                fut, fn, args, kwargs = queue.popleft()
-            if not fut.set_running_or_notify_cancel():
-                continue
-            try:
-                fut.set_result(fn(*args, **kwargs))
-            except BaseException as exc:  # delivered to the future's callbacks (viser logs it)
-                fut.set_exception(exc)
+                key = self._ready.popleft()
+                fut, fn, args, kwargs = self._queues[key].popleft()
+            wait = self.budget.wait_time()
+            while wait > 0:
+                self.stats["waited"] += wait
+                time.sleep(min(wait, 0.05))
+                wait = self.budget.wait_time()
+            if fut.set_running_or_notify_cancel():
+                cpu = time.thread_time()
+                try:
+                    fut.set_result(fn(*args, **kwargs))
+                except BaseException as exc:  # delivered to the future's callbacks (viser logs it)
+                    fut.set_exception(exc)
+                used = time.thread_time() - cpu
+                self.budget.spend(used)
+                self.stats["run"] += 1
+                self.stats["cpu"] += used
+            with self._cond:
+                queue = self._queues[key]
+                if queue:
+                    self._ready.append(key)  # its next callback, after the others' turn
+                    self._cond.notify()
+                else:
+                    del self._queues[key]
 
-    def pending(self) -> int:
-        with self._lock:
+    def pending(self, key: Any = None) -> int:
+        """Callbacks queued (of one connection, or of all)."""
+        with self._cond:
+            if key is not None:
+                q = self._queues.get(key)
+                return len(q) if q is not None else 0
             return sum(len(q) for q in self._queues.values())
 
     def shutdown(self, wait: bool = True, **kwargs: Any) -> None:
+        with self._cond:
+            self._stopped = True
+            self._cond.notify_all()
+        if self in _EXECUTORS:
+            _EXECUTORS.remove(self)
         self.pool.shutdown(wait=wait, **kwargs)
 
 
@@ -121,53 +233,137 @@ def order_callbacks(server: Any) -> OrderedExecutor:
     """Route a :class:`viser.ViserServer`'s callbacks through an :class:`OrderedExecutor`
     (before any client connects: per-client APIs copy the executor when created)."""
     ordered = OrderedExecutor(server._thread_executor)
+    _EXECUTORS.append(ordered)
     server._thread_executor = ordered
     for api in (server.gui, server.scene):
         api._thread_executor = ordered
     return ordered
 
 
+class _Proxy:
+    """A module seen through a proxy: some attributes replaced, the rest delegated."""
+
+    def __init__(self, target: Any, **replaced: Any) -> None:
+        self._target = target
+        self.__dict__.update(replaced)
+
+    def __getattr__(self, name: str) -> Any:
+        return getattr(self._target, name)
+
+
+def _limited_serve(serve: Callable[..., Any]) -> Callable[..., Any]:
+    """``websockets.asyncio.server.serve`` with our message size and queue limits: a frame
+    longer than :data:`WS_MAX_BYTES` is refused from its header (the connection closes
+    with 1009 "message too big") before its payload is read."""
+
+    def limited(*args: Any, **kwargs: Any) -> Any:
+        kwargs["max_size"] = WS_MAX_BYTES
+        kwargs["max_queue"] = 4
+        return serve(*args, **kwargs)
+
+    limited.__name__ = "limited_serve"
+    return limited
+
+
+def _pending(key: int) -> int:
+    return sum(ex.pending(key) for ex in list(_EXECUTORS))
+
+
 def harden_websocket() -> None:
-    """Replace viser's per-connection message consumer with one that drops messages
-    larger than :data:`WS_MAX_BYTES` before decoding them and paces each connection
-    to :data:`WS_RATE` messages/s (a flooding client waits on its own TCP window;
-    the other clients are not slowed).  Idempotent; process-wide."""
+    """Patch viser's websocket server (before it starts): the transport refuses messages
+    over :data:`WS_MAX_BYTES` unread; the per-connection message consumer drops every
+    message type not in :data:`ALLOWED_MESSAGES` before any handler (or broadcast) sees
+    it, paces each connection to :data:`WS_RATE` messages/s and all of them together to
+    :data:`WS_TOTAL_RATE`, and stops reading a connection while
+    :data:`MAX_PENDING_CALLBACKS` of its callbacks wait (a flooding client waits on its
+    own TCP window; the other clients are not slowed).  Idempotent; process-wide."""
     global _HARDENED
     with _HARDEN_LOCK:
         if _HARDENED:
             return
-        import asyncio
-
+        import msgspec
+        import websockets.asyncio.server
         from viser.infra import _infra
+
+        total = TokenBucket(WS_TOTAL_RATE, WS_TOTAL_BURST)
 
         async def paced_consumer(
             websocket: Any, handle_message: Callable[[Any], None], message_class: Any
         ) -> None:
             bucket = TokenBucket(WS_RATE, WS_BURST)
+            key = id(websocket)
             while True:
                 raw = await websocket.recv()
                 if not isinstance(raw, (bytes, bytearray)):
                     continue
-                if len(raw) > WS_MAX_BYTES:
+                if len(raw) > WS_MAX_BYTES:  # the transport refuses these already
                     WS_STATS["dropped_oversized"] += 1
                     continue
                 if not bucket.take():
                     WS_STATS["paced"] += 1
                     await asyncio.sleep(bucket.wait_time())
                     bucket.take()
+                while not total.take():
+                    WS_STATS["paced"] += 1
+                    await asyncio.sleep(max(total.wait_time(), 0.002))
+                try:
+                    kind = msgspec.msgpack.decode(raw).get("type")
+                except Exception:
+                    continue  # malformed: ignore
+                if kind not in ALLOWED_MESSAGES:
+                    WS_STATS["dropped_type"] += 1
+                    name = str(kind)[:40]
+                    if name in WS_DROPPED_TYPES or len(WS_DROPPED_TYPES) < 64:
+                        WS_DROPPED_TYPES[name] = WS_DROPPED_TYPES.get(name, 0) + 1
+                    continue
                 try:
                     message = message_class.deserialize(raw)
                 except Exception:
                     continue  # malformed: ignore
+                while _pending(key) >= MAX_PENDING_CALLBACKS:
+                    WS_STATS["held"] += 1
+                    await asyncio.sleep(0.01)
                 # the tasks viser creates for this message inherit the connection key
-                token = CONNECTION.set(id(websocket))
+                token = CONNECTION.set(key)
                 try:
                     handle_message(message)
                 finally:
                     CONNECTION.reset(token)
 
         _infra._message_consumer = paced_consumer  # type: ignore[assignment]
+        server_module = _Proxy(
+            websockets.asyncio.server,
+            serve=_limited_serve(websockets.asyncio.server.serve),
+        )
+        _infra.websockets = _Proxy(  # type: ignore[attr-defined]
+            websockets, asyncio=_Proxy(websockets.asyncio, server=server_module)
+        )
         _HARDENED = True
+
+
+def submit_callback(server: Any, key: Any, fn: Callable[..., Any], *args: Any) -> bool:
+    """Run ``fn(*args)`` as a page callback of ``key`` (in its turn, within the callback
+    budget); False when the server has no :class:`OrderedExecutor`."""
+    ex = getattr(server, "_thread_executor", None)
+    if not isinstance(ex, OrderedExecutor):
+        return False
+    ex.submit_for(key, fn, *args)
+    return True
+
+
+def dropped_types() -> str:
+    """The message types the allow-list dropped, with counts (for the server's log)."""
+    return ", ".join(f"{k} {v}" for k, v in sorted(WS_DROPPED_TYPES.items()))
+
+
+def client_address(server: Any, client_id: int) -> str:
+    """The network address (host) a page connected from ("" when not known)."""
+    try:
+        conn = server._websock_server._live_connections[client_id]
+        addr = conn.remote_address
+        return str(addr[0]) if isinstance(addr, (tuple, list)) and addr else str(addr or "")
+    except Exception:
+        return ""
 
 
 #: Keys typed into a field (arrows on a focused slider, letters in a formula) stay in that
@@ -203,6 +399,7 @@ def make_viser_server(host: str, port: int, verbose: bool) -> Any:
     from viser import _messages, infra
 
     check_viser_version()
+    harden_websocket()  # before the server starts listening
     root = _client_root()
     original = infra.WebsockServer
 
@@ -224,7 +421,7 @@ def make_viser_server(host: str, port: int, verbose: bool) -> Any:
         except (AssertionError, KeyError):
             pass
     server.request_share_url = lambda *a, **k: None  # type: ignore[method-assign]
-    harden_websocket()
+    guard_gui_updates(server.gui, server)
     order_callbacks(server)  # one connection's callbacks run in the order its messages came
     server.gui.configure_theme(show_share_button=False, show_logo=False, control_width="large")
     server.gui.set_panel_label(PAGE_TITLE)
@@ -340,3 +537,99 @@ def recording_scene() -> tuple[Any, Any]:
 def event_loop(server: Any) -> asyncio.AbstractEventLoop | None:
     """The event loop viser's websocket server runs in (``None`` if not reachable)."""
     return getattr(server._websock_server, "_background_event_loop", None)
+
+
+#: Seconds between two log lines about refused GUI values (the count is kept).
+REFUSED_LOG_EVERY = 10.0
+REFUSED_UPDATES = {"count": 0, "logged": 0.0}
+
+
+def value_problem(current: Any, value: Any) -> str | None:
+    """Why ``value`` cannot replace a widget's ``current`` value (viser casts it with the
+    current value's type), or None: numbers for numbers (finite), on/off for on/off,
+    text (or a finite number, read as its text) for text, a tuple of the same length and
+    kinds for a tuple."""
+    import math
+
+    if isinstance(current, bool):
+        return None if isinstance(value, bool) else "expected on/off"
+    if isinstance(current, (int, float)):
+        if isinstance(value, bool) or not isinstance(value, (int, float)):
+            return "expected a number"
+        return None if math.isfinite(value) else "expected a finite number"
+    if isinstance(current, str):  # a number typed into a text field reads as its text
+        if isinstance(value, str):
+            return None
+        if isinstance(value, (int, float)) and not isinstance(value, bool):
+            return None if math.isfinite(value) else "expected a finite number"
+        return "expected text"
+    if isinstance(current, tuple):
+        if not isinstance(value, (list, tuple)) or len(value) != len(current):
+            return f"expected {len(current)} values"
+        for c, v in zip(current, value):
+            why = value_problem(c, v)
+            if why is not None:
+                return why
+        return None
+    return None
+
+
+def guard_gui_updates(gui: Any, server: Any) -> None:
+    """Check each GUI update's value against its widget before viser casts it: a wrong
+    type (a list for a number, text for a checkbox, NaN) is refused with one notice to
+    the sender and a log line at most every :data:`REFUSED_LOG_EVERY` seconds; nothing
+    changes and nothing is sent to other pages.  ``gui``: the server's or a client's GUI
+    API (each registers its own handler on its connection)."""
+    import sys
+    import time
+
+    from viser import _messages
+
+    ws = gui._websock_interface
+    original = gui._handle_gui_updates
+
+    async def checked(client_id: Any, message: Any) -> None:
+        handle = gui._gui_input_handle_from_uuid.get(message.uuid, None)
+        if handle is None or handle._impl.removed:
+            return
+        state = handle._impl
+        updates = message.updates if isinstance(message.updates, dict) else {}
+        why = None if updates else "an empty update"
+        for name, value in updates.items():
+            if name != "value":
+                why = f"the page may only change a widget's value, not {str(name)[:30]!r}"
+                break
+            why = value_problem(state.value, value)
+            if why is not None:
+                break
+        if why is None:
+            await original(client_id, message)
+            return
+        label = str(getattr(handle, "label", "") or "a widget")[:60]
+        REFUSED_UPDATES["count"] += 1
+        now = time.monotonic()
+        if now - REFUSED_UPDATES["logged"] >= REFUSED_LOG_EVERY:
+            REFUSED_UPDATES["logged"] = now
+            print(
+                f"analyzer-lab: refused GUI values so far: {REFUSED_UPDATES['count']}"
+                f" (latest: {label}: {why})",
+                file=sys.stderr,
+                flush=True,
+            )
+        client = server.get_clients().get(client_id)
+        if client is not None:
+            try:
+                client.add_notification(
+                    "Analyzer Lab",
+                    f"{label}: value refused ({why})",
+                    auto_close_seconds=6.0,
+                    color="yellow",
+                )
+            except Exception:
+                pass
+
+    try:
+        ws.unregister_handler(_messages.GuiUpdateMessage, original)
+    except (AssertionError, ValueError):
+        return  # viser's handler is not where it was checked: keep it
+    ws.register_handler(_messages.GuiUpdateMessage, checked)

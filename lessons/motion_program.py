@@ -107,6 +107,8 @@ PRESETS = tuple(
     )
 )  # fmt: skip
 
+#: Where the analyzer's quantities are undefined: (1.15) divides by D = |X|^2.
+AT_ORIGIN = "where X(t) passes the origin: the controls (1.15) divide by D = 0"
 U_NAMES = tuple(f"u{i}{j}" for i in (1, 2, 3) for j in (1, 2, 3))
 
 
@@ -180,13 +182,23 @@ class MotionProgramLesson(Lesson):
         *(Series(c, "m", f"{c.upper()}(t) of the program, (1.11)") for c in "xyz"),
         *(Series(f"v{c}", "m/s", f"d{c.upper()}/dt = r'/|r'| v(t) of the program") for c in "xyz"),
         *(
-            Series(f"{c}_analyzer", "m", f"{c} of the solution of (1.5) with the controls (1.15)")
+            Series(
+                f"{c}_analyzer",
+                "m",
+                f"{c} of the solution of (1.5) with the controls (1.15)",
+                undefined=AT_ORIGIN,
+            )
             for c in "xyz"
         ),
-        Series("speed", "m/s", "speed |U X| of the solution of (1.5)"),
-        Series("error", "m", "reproduction error: distance of the solution of (1.5) from X(t)"),
+        Series("speed", "m/s", "speed |U X| of the solution of (1.5)", undefined=AT_ORIGIN),
+        Series(
+            "error",
+            "m",
+            "reproduction error: distance of the solution of (1.5) from X(t)",
+            undefined=AT_ORIGIN,
+        ),
         Series("dist_sq", "m^2", "D = X^2 + Y^2 + Z^2, (1.14)"),
-        *(Series(n, "1/s", f"control u_{n[1:]}(t), (1.15)") for n in U_NAMES),
+        *(Series(n, "1/s", f"control u_{n[1:]}(t), (1.15)", undefined=AT_ORIGIN) for n in U_NAMES),
     )
     readout = ("s", "v_limit", "x", "y", "z", "speed", "error")
     sampling = 0.01

@@ -13,6 +13,7 @@ from __future__ import annotations
 import pytest
 
 LIVE_FILES = {
+    "test_attacks_stepping.py",
     "test_browser.py",
     "test_browser_lessons.py",
     "test_assignments_browser.py",
@@ -22,6 +23,7 @@ LIVE_FILES = {
     "test_classlink_browser.py",
     "test_frontdoor.py",
     "test_server.py",
+    "test_attacks_transport.py",
 }
 
 

@@ -16,7 +16,7 @@ import pytest
 from tests.test_browser import ARTIFACTS, CHROMIUM, LAUNCH_ARGS, Page, _require_browser, wait_until
 
 pytestmark = [pytest.mark.browser, pytest.mark.timeout(600)]
-CODE = "assign-4826"
+CODE = "assign-4826-class"
 TASK = "circle-speed-10"
 
 

@@ -20,7 +20,7 @@ from benchmarks.loadtest import free_port
 from tests.helpers import RedisServer, start_worker, stop_process, until
 
 pytestmark = pytest.mark.timeout(300)
-CODE = "class-5821"
+CODE = "class-5821-bus7"
 
 
 class Pair:

@@ -18,7 +18,7 @@ from tests.helpers import RedisServer, start_worker, stop_process
 from tests.test_browser import ARTIFACTS, CHROMIUM, LAUNCH_ARGS, _require_browser, wait_until
 
 pytestmark = [pytest.mark.browser, pytest.mark.timeout(400)]
-CODE = "remote-3306"
+CODE = "remote-3306-follow"
 
 
 class RemotePage:

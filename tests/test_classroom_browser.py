@@ -15,7 +15,7 @@ pytestmark = [
     pytest.mark.browser,
     pytest.mark.timeout(600),
 ]  # three SwiftShader pages on a shared 2-core machine
-CODE = "demo-7391"
+CODE = "demo-7391-4826"
 INSTRUCTOR_BUTTONS = ("Follow me", "Release", "Push preset to all", "Notify all")
 
 

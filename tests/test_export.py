@@ -83,3 +83,50 @@ def test_replay_is_titled_captioned_and_capped() -> None:
     assert "<title>Analyzer Lab replay: Problem 1.4 Curve on a sphere</title>" in page
     assert 'id="al-caption"' in page and "family" in page and "<svg" in page
     assert len(data) < 25e6
+
+
+def test_a_long_family_run_is_thinned_to_the_value_cap_and_says_so() -> None:
+    from app.export import MAX_EXPORT_VALUES, paced_csv, thinned
+
+    s = _session("sphere", "example-1.1")
+    s.set_values({"family": 24})
+    s.pause_at_end = False
+    s.speed = 8.0
+    s.play()
+    while len(s.log) < 2000:
+        s.tick(1 / 36)
+    full = s.run_result()
+    cols = 1 + sum(1 for v in full.series.values() if np.ndim(v) == 1)
+    assert len(full.t) * cols > MAX_EXPORT_VALUES  # 220 columns
+    small = thinned(full)
+    assert len(small.t) * cols <= MAX_EXPORT_VALUES and len(small.t) > 1
+    assert small.messages[-1].startswith("every ") and "frames exported" in small.messages[-1]
+    k = int(np.ceil(len(full.t) * cols / MAX_EXPORT_VALUES))
+    assert np.array_equal(small.t, full.t[::k])
+    text = paced_csv(small)
+    assert text == small.to_csv()  # the paced writer writes the same file
+    name, data = export_run(s, "frames-csv")
+    assert data.decode() == text and name.endswith("-frames.csv")
+
+
+def test_a_grid_with_too_many_values_is_refused_naming_the_smallest_step() -> None:
+    s = _session("sphere", "example-1.1")
+    s.set_values({"family": 24})
+    with pytest.raises(
+        LabError, match="more than 400000 values; with these columns the smallest step"
+    ):
+        export_run(s, "csv", 0.001)
+
+
+def test_the_pacer_rests_after_its_share_of_work() -> None:
+    import time
+
+    from app.limits import Pacer
+
+    pace = Pacer(work=0.002, rest=0.004)
+    t0 = time.monotonic()
+    end = time.thread_time() + 0.05
+    while time.thread_time() < end:
+        pace()
+    assert pace.rested >= 0.04  # about twice the 50 ms of work
+    assert time.monotonic() - t0 >= 0.09

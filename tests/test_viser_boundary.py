@@ -4,6 +4,7 @@ against the installed viser: a viser update that moves one of them fails here fi
 from __future__ import annotations
 
 import asyncio
+import time
 import urllib.request
 from collections.abc import Iterator
 from typing import Any
@@ -43,7 +44,127 @@ def test_websocket_consumer_is_replaced_by_the_paced_one(server: Any) -> None:
     from viser.infra import _infra
 
     assert _infra._message_consumer.__name__ == "paced_consumer"
-    assert vb.WS_MAX_BYTES == 256 * 1024
+    assert _infra.websockets.asyncio.server.serve.__name__ == "limited_serve"
+    assert vb.WS_MAX_BYTES == 64 * 1024
+
+
+async def _connect(server: Any) -> Any:
+    import viser
+    import websockets
+
+    from benchmarks.loadtest import camera_message, encode
+
+    ws = await websockets.connect(
+        f"ws://127.0.0.1:{server.get_port()}/",
+        subprotocols=[f"viser-v{viser.__version__}"],
+        max_size=None,
+        compression=None,
+    )
+    await ws.send(encode(camera_message()))
+    return ws
+
+
+def test_the_transport_refuses_an_oversized_message_before_reading_it(server: Any) -> None:
+    async def go() -> tuple[int | None, float, int | None]:
+        small = await _connect(server)
+        ws = await _connect(server)
+        t0 = time.monotonic()
+        # one byte over the limit: refused from the frame header, the payload unread
+        await ws.send(b"\x00" * (vb.WS_MAX_BYTES + 1))
+        try:
+            await asyncio.wait_for(ws.wait_closed(), 5)
+        except asyncio.TimeoutError:
+            pass
+        took = time.monotonic() - t0
+        code = ws.close_code
+        await small.send(b"\x00" * 1000)  # under the limit: read (and ignored as malformed)
+        await asyncio.sleep(0.2)
+        still = small.close_code
+        await small.close()
+        return code, took, still
+
+    code, took, still = asyncio.run(go())
+    assert code == 1009 and took < 2.0  # "message too big"
+    assert still is None  # the page that sent a normal-sized message stays connected
+
+
+def test_only_allowed_message_types_reach_viser(server: Any) -> None:
+    from viser import _messages
+
+    from benchmarks.loadtest import encode
+
+    buffer = server._websock_server._broadcast_buffer
+    before = len(buffer.message_from_id)
+    dropped = vb.WS_STATS["dropped_type"]
+
+    async def go() -> None:
+        ws = await _connect(server)
+        for k in range(20):
+            await ws.send(encode(_messages.GuiFormDirtyMessage(uuid=f"junk-{k}" * 50)))
+        await ws.send(encode(_messages.ShareUrlRequest()))
+        await asyncio.sleep(0.5)
+        await ws.close()
+
+    asyncio.run(go())
+    assert vb.WS_STATS["dropped_type"] - dropped == 21
+    assert vb.WS_DROPPED_TYPES["GuiFormDirtyMessage"] >= 20
+    assert "GuiFormDirtyMessage" in vb.dropped_types()
+    assert len(buffer.message_from_id) == before  # nothing was broadcast or kept
+    assert "ViewerCameraMessage" in vb.ALLOWED_MESSAGES  # the camera of each page still comes
+
+
+def test_client_address_is_the_page_host(server: Any) -> None:
+    seen: list[str] = []
+    server.on_client_connect(lambda c: seen.append(vb.client_address(server, c.client_id)))
+
+    async def go() -> None:
+        ws = await _connect(server)
+        await asyncio.sleep(0.3)
+        await ws.close()
+
+    asyncio.run(go())
+    assert "127.0.0.1" in seen
+    assert vb.client_address(server, 10**9) == ""
+
+
+def test_callbacks_take_turns_within_the_cpu_budget() -> None:
+    from concurrent.futures import ThreadPoolExecutor
+
+    ex = vb.OrderedExecutor(ThreadPoolExecutor(2), share=0.2, burst=0.05, workers=2)
+    try:
+        order: list[str] = []
+
+        def burn(tag: str) -> None:
+            t = time.thread_time()
+            while time.thread_time() - t < 0.02:
+                pass
+            order.append(tag)
+
+        t0 = time.monotonic()
+        futs = [ex.submit_for("flood", burn, "flood") for _ in range(20)]
+        quiet = ex.submit_for("quiet", burn, "quiet")
+        quiet.result(timeout=10)
+        # the quiet source runs after at most a turn of the flooding one, not after all 20
+        assert order.index("quiet") <= 3
+        for f in futs:
+            f.result(timeout=30)
+        took = time.monotonic() - t0
+        # 21 x 20 ms of CPU at a share of 0.2 needs about (0.42 - 0.05) / 0.2 = 1.85 s
+        assert took > 1.4, took
+        assert ex.stats["cpu"] >= 0.4
+        assert ex.pending() == 0
+    finally:
+        ex.shutdown(wait=False)
+
+
+def test_submit_callback_goes_through_the_ordered_executor(server: Any) -> None:
+    done: list[int] = []
+    assert vb.submit_callback(server, ("replay", 1), done.append, 5)
+    deadline = time.monotonic() + 5
+    while not done and time.monotonic() < deadline:
+        time.sleep(0.01)
+    assert done == [5]
+    assert not vb.submit_callback(object(), "k", done.append, 6)
 
 
 def test_callbacks_go_through_the_ordered_executor(server: Any) -> None:
@@ -83,3 +204,36 @@ def test_recording_scene_serializes_to_html() -> None:
     html = serializer.as_html()
     assert html.lstrip().lower().startswith("<!doctype html") or "<html" in html.lower()
     assert len(html) > 1000
+
+
+def test_gui_updates_go_through_the_type_check(server: Any) -> None:
+    from viser import _messages
+
+    handlers = server._websock_server._incoming_handlers[_messages.GuiUpdateMessage]
+    assert [h.__name__ for h in handlers] == ["checked"]
+
+
+@pytest.mark.parametrize(
+    "current,value,ok",
+    [
+        (1.0, 2, True),
+        (1.0, [1, 2], False),
+        (1.0, "3", False),
+        (1.0, float("nan"), False),
+        (1.0, True, False),
+        (True, False, True),
+        (True, "yes", False),
+        ("text", "t*2", True),
+        ("text", 2.5, True),  # a number typed into a text field reads as its text
+        ("text", None, False),
+        ("text", {"a": 1}, False),
+        ((1.0, 2.0), [3, 4], True),
+        ((1.0, 2.0), [3], False),
+        ((1.0, 2.0), ["a", 4], False),
+    ],
+)
+def test_a_value_of_the_wrong_type_is_named(current: Any, value: Any, ok: bool) -> None:
+    why = vb.value_problem(current, value)
+    assert (why is None) == ok, why
+    if not ok:
+        assert why.startswith("expected ")

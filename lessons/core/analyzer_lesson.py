@@ -532,8 +532,10 @@ class AnalyzerStepper(Stepper):
         return self.frame()
 
     def advance(self, dt: float) -> Frame:
+        """Move on by ``dt``, or less if the work budget runs out first
+        (:meth:`Trajectory.reach`)."""
         if np.isfinite(dt) and dt > 0:
-            self._t += dt
+            self._t = max(self._t, self.traj.reach(self._t + dt))
             self.R = self.traj.at(self._t)[0]
         return self.frame()
 

@@ -13,12 +13,15 @@ same trajectory.  :func:`integrate` samples one for the claims and the benchmark
 
 from __future__ import annotations
 
+import bisect
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
-from scipy.integrate import solve_ivp
+import scipy.integrate
 
 from lessons.core.analyzer import HOLD_TOL, AnalyzerModel
+from lessons.core.budget import spent
 from lessons.core.integrators import apply_propagators, gauss_legendre, gl_propagators
 
 #: Gauss-Legendre steps per block of nodes: (1.50) (one batched solve), (1.59) (Newton).
@@ -247,7 +250,10 @@ class Trajectory:
         self._nodes = self.r0[None].copy()
         self._comp = np.zeros_like(self.r0)
         self._piece = -1
-        self._sol = None
+        self._solver: Any = None  # scipy OdeSolver of the current piece
+        self._nfev0 = 0  # evaluations of the pieces before the current one
+        self._ends: list[float] = []  # end times of the current piece's steps
+        self._steps: list[Any] = []  # their dense outputs
         #: (1.59): per node of the block, the slopes and length of the substep ending there
         self._incoming: list[tuple[np.ndarray, float] | None] = [None]
 
@@ -263,6 +269,25 @@ class Trajectory:
         for i, t in enumerate(times):
             out[i] = self._state(float(t)) if self.gauss_legendre else self._dense(float(t))
         return out
+
+    def reach(self, t: float) -> float:
+        """Compute ahead towards time ``t`` and return the time up to which :meth:`at` can
+        read without computing more: ``t``, or less once the work budget
+        (:mod:`lessons.core.budget`) is spent (at least one block or solver step is taken
+        per call, so a live run always moves on)."""
+        t = float(t)
+        if self.gauss_legendre:
+            k = max(0, int(np.floor((t - self.t0) / self.h + 1e-9)))
+            if k < self._k0:
+                raise ValueError(f"trajectory read backwards (step {k} < {self._k0})")
+            taken = False
+            while k >= self._k0 + len(self._nodes):
+                if taken and spent():
+                    return self.t0 + (self._k0 + len(self._nodes) - 1) * self.h
+                self._next_block()
+                taken = True
+            return t
+        return self._cover(t)
 
     # -- Gauss-Legendre ------------------------------------------------------------------
 
@@ -345,31 +370,52 @@ class Trajectory:
     # -- scipy ---------------------------------------------------------------------------
 
     def _dense(self, t: float) -> np.ndarray:
+        self._cover(t, budget=False)
+        i = min(bisect.bisect_left(self._ends, t), len(self._steps) - 1)
+        if i < 0:
+            return np.asarray(self._solver.y, dtype=float).reshape(self.r0.shape)
+        return np.asarray(self._steps[i](t), dtype=float).reshape(self.r0.shape)
+
+    def _cover(self, t: float, budget: bool = True) -> float:
+        """Step the scipy solver (pieces of :data:`PIECE` seconds, each a fresh solver as
+        ``solve_ivp`` would run it) until ``t`` is covered; with ``budget``, stop once the
+        work budget is spent and return the time covered."""
         j = max(0, int(np.floor((t - self.t0) / PIECE)))
         if j < self._piece:
             raise ValueError("trajectory read backwards")
-        while self._piece < j:
-            start = self.t0 + (self._piece + 1) * PIECE
-            r = self.r0 if self._sol is None else self._sol(start).reshape(self.r0.shape)
-            shape = self.r0.shape
+        taken = False
+        while True:
+            solver = self._solver
+            if solver is None or (self._piece < j and solver.status == "finished"):
+                start = self.t0 + (self._piece + 1) * PIECE
+                r = self.r0 if solver is None else np.asarray(solver.y).reshape(self.r0.shape)
+                self._nfev0 += 0 if solver is None else int(solver.nfev)
+                self._new_piece(start, r)
+                continue
+            if self._piece == j and (solver.t >= t or solver.status == "finished"):
+                return t
+            if solver.status == "failed":
+                raise RuntimeError(f"the {self.method} solver failed at t = {solver.t:.6g} s")
+            if budget and taken and spent():
+                return float(solver.t)
+            solver.step()
+            taken = True
+            if solver.status == "failed":
+                raise RuntimeError(f"the {self.method} solver failed at t = {solver.t:.6g} s")
+            self._ends.append(float(solver.t))
+            self._steps.append(solver.dense_output())
+            self.nfev = self._nfev0 + int(solver.nfev)
 
-            def rhs(tt: float, yy: np.ndarray) -> np.ndarray:
-                return self.model.velocity(tt, yy.reshape(shape)).ravel()
+    def _new_piece(self, start: float, r: np.ndarray) -> None:
+        shape = self.r0.shape
 
-            sol = solve_ivp(
-                rhs,
-                (start, start + PIECE),
-                r.ravel(),
-                method=self.method,
-                rtol=self.rtol,
-                atol=self.atol,
-                dense_output=True,
-            )
-            if not sol.success:
-                raise RuntimeError(f"solve_ivp ({self.method}) failed: {sol.message}")
-            self.nfev += int(sol.nfev)
-            self._sol, self._piece = sol.sol, self._piece + 1
-        return self._sol(t).reshape(self.r0.shape)
+        def rhs(tt: float, yy: np.ndarray) -> np.ndarray:
+            return self.model.velocity(tt, yy.reshape(shape)).ravel()
+
+        method = getattr(scipy.integrate, self.method)
+        self._solver = method(rhs, start, r.ravel(), start + PIECE, rtol=self.rtol, atol=self.atol)
+        self._piece += 1
+        self._ends, self._steps = [], []
 
 
 @dataclass

@@ -50,12 +50,16 @@ class Series:
 
     ``member``: for a lesson with a family of start points, members 2..N add the
     columns ``name_2 .. name_N`` (member 1 keeps ``name``).
+    ``undefined``: where the quantity is undefined by the textbook's own formula (e.g.
+    the controls (1.15) at the origin); a non-finite value of it there is part of the
+    lesson (reported by the lesson's notes), not a failed run.  Empty: always defined.
     """
 
     name: str
     unit: str = ""
     description: str = ""
     member: bool = False
+    undefined: str = ""
 
 
 NoteKind = Literal["info", "warning", "reconstructed", "corrected"]
@@ -273,7 +277,9 @@ class Lesson(ABC):
         n = int(params[self.family]) if self.family is not None else 1
         for k in range(2, n + 1):
             out += [
-                Series(f"{s.name}_{k}", s.unit, f"{s.description} (curve {k})")
+                Series(
+                    f"{s.name}_{k}", s.unit, f"{s.description} (curve {k})", undefined=s.undefined
+                )
                 for s in self.series
                 if s.member
             ]

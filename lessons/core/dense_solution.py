@@ -20,6 +20,7 @@ from typing import Any, Protocol
 import numpy as np
 from scipy.integrate import DOP853, RK45, Radau
 
+from lessons.core.budget import spent
 from lessons.core.contract import Frame, Params, Stepper
 
 Array = np.ndarray
@@ -65,8 +66,13 @@ class DenseSolution:
         return self._ts[-1]
 
     def extend(self, t: float) -> None:
-        """Step until the solution covers ``t`` (or fails)."""
+        """Step until the solution covers ``t`` (or fails), or until the work budget
+        (:mod:`lessons.core.budget`) is spent, after at least one step."""
+        taken = False
         while self._ts[-1] < t and not self.failure:
+            if taken and spent():
+                return
+            taken = True
             try:
                 message = self._solver.step()
             except (np.linalg.LinAlgError, ZeroDivisionError, FloatingPointError) as exc:
@@ -145,7 +151,15 @@ class RunStepper(Stepper):
         return fr
 
     def advance(self, dt: float) -> Frame:
-        self._t += max(float(dt), 0.0)
+        """Move on by ``dt``, or less if the work budget runs out while the run is
+        extended (the time then stops where the solution is known)."""
+        target = self._t + max(float(dt), 0.0)
+        run = self._run
+        if not run.failure and target > run.t_covered:
+            run.extend(target + self._block)
+            if not run.failure:
+                target = min(target, run.t_covered)
+        self._t = max(self._t, target)
         return self.frame()
 
     def set_params(self, params: Params) -> None:

@@ -252,11 +252,26 @@ def _build_node(node: ast.AST, src: str, symbols: dict[str, sp.Symbol], depth: i
     raise _fail(src, col, f"{kind} is not allowed in a formula")
 
 
+def plain_number(value: object) -> str:
+    """A number as a person types it: the shortest text that reads back as the same float
+    (``1e-05``, ``0.25``, ``3``), never a numpy repr such as ``np.float64(0.25)``."""
+    try:
+        x = float(value)  # type: ignore[arg-type]
+    except (TypeError, ValueError):
+        return str(value)[:60]
+    if x.is_integer() and abs(x) < 1e16:
+        return str(int(x))
+    return repr(x)
+
+
 def parse_number(text: str) -> float:
-    """A constant formula (``2.5``, ``pi/2``, ``sqrt(2)``) as a finite float."""
+    """A constant formula (``2.5``, ``pi/2``, ``sqrt(2)``) as a finite float: a typed
+    number reads back exactly (``1e-5`` is the float ``1e-05``, as printed)."""
     f = parse_formula(text, variables=())
     try:
-        value = float(sp.N(f.expr))
+        # exact numbers (a typed literal is a Rational) are rounded once, to the nearest
+        # float; 15 significant digits would make 1e-5 read as 9.999999999999999e-06
+        value = float(f.expr) if f.expr.is_Rational else float(sp.N(f.expr, 30))
     except (TypeError, ValueError, OverflowError):
         raise FormulaError(f"{text[:60]!r} is not a real number") from None
     if not math.isfinite(value):

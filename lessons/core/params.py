@@ -12,7 +12,10 @@ from typing import Any, Literal
 
 import numpy as np
 
-from lessons.core.formula import Formula, FormulaError, parse_formula, parse_number
+from lessons.core.formula import Formula, FormulaError, parse_formula, parse_number, plain_number
+
+#: Relative round-off within which a value at a bound counts as the bound.
+_ROUND_OFF = 4 * 2.0**-52
 
 ParamKind = Literal["float", "int", "formula", "choice", "bool"]
 Value = float | int | str | bool | Formula
@@ -68,7 +71,7 @@ class Param:
                 raise ParamError(self.name, "expected a formula of t, got a boolean")
             if isinstance(raw, (int, float, np.floating, np.integer)):
                 if not math.isfinite(float(raw)):
-                    raise ParamError(self.name, f"must be finite, got {float(raw)}")
+                    raise ParamError(self.name, f"must be finite, got {plain_number(raw)}")
                 raw = (
                     str(int(raw))
                     if float(raw).is_integer() and abs(raw) < 1e15
@@ -103,21 +106,28 @@ class Param:
         else:
             raise ParamError(self.name, f"expected a number, got {type(raw).__name__}")
         if not math.isfinite(value):
-            raise ParamError(self.name, f"must be a finite number, got {value}")
+            raise ParamError(self.name, f"must be a finite number, got {plain_number(value)}")
         if self.kind == "int":
             if not float(value).is_integer():
-                raise ParamError(self.name, f"must be a whole number, got {value:g}")
+                raise ParamError(self.name, f"must be a whole number, got {plain_number(value)}")
             value = int(value)
+        unit = self.unit and " " + self.unit
+        # a bound typed as printed is accepted: within a few units of round-off of the
+        # bound, the value is the bound (e.g. a limit computed as pi/2 and typed so)
         if self.min is not None and value < self.min:
-            raise ParamError(
-                self.name,
-                f"{value:g} is below the minimum {self.min:g}{self.unit and ' ' + self.unit}",
-            )
+            if value < self.min - _ROUND_OFF * max(abs(self.min), 1e-300):
+                raise ParamError(
+                    self.name,
+                    f"{plain_number(value)} is below the minimum {plain_number(self.min)}{unit}",
+                )
+            value = int(self.min) if self.kind == "int" else float(self.min)
         if self.max is not None and value > self.max:
-            raise ParamError(
-                self.name,
-                f"{value:g} is above the maximum {self.max:g}{self.unit and ' ' + self.unit}",
-            )
+            if value > self.max + _ROUND_OFF * max(abs(self.max), 1e-300):
+                raise ParamError(
+                    self.name,
+                    f"{plain_number(value)} is above the maximum {plain_number(self.max)}{unit}",
+                )
+            value = int(self.max) if self.kind == "int" else float(self.max)
         return value
 
 

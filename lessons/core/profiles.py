@@ -171,7 +171,7 @@ def speed_profile(
     """
     for name, val in (("S_l", S_l), ("v0", v0), ("Delta0", Delta0), ("Delta1", Delta1)):
         if not math.isfinite(val):
-            raise ValueError(f"{name} must be finite, got {val}")
+            raise ValueError(f"{name} must be finite, got {float(val)!r}")
     if S_l <= 0:
         raise ValueError(f"the curve length S_l must be positive, got {S_l:g}")
     if v0 <= 0:

@@ -30,6 +30,7 @@ from typing import Any
 import numpy as np
 import sympy as sp
 
+from lessons.core.formula import plain_number
 from lessons.core.quadric_mesh import _mesh_quadric
 from lessons.core.quadric_projection import _nearest_point, _project_affine
 from lessons.core.quadric_types import Classification, _classify3
@@ -60,17 +61,25 @@ def _at(center: Vec3) -> str:
     return "" if not any(c) else " at (" + ", ".join(_fmt(v) for v in c) + ")"
 
 
+def _numbers(values: Any) -> str:
+    """A sequence of numbers as typed (no numpy reprs)."""
+    try:
+        return "(" + ", ".join(plain_number(v) for v in np.asarray(values).ravel()[:6]) + ")"
+    except (TypeError, ValueError):
+        return str(values)[:60]
+
+
 def _positive(name: str, value: float) -> float:
     v = float(value)
     if not math.isfinite(v) or v <= 0.0:
-        raise ValueError(f"{name} must be a positive finite number, got {value!r}")
+        raise ValueError(f"{name} must be a positive finite number, got {plain_number(value)}")
     return v
 
 
 def _center3(center: Vec3) -> np.ndarray:
     c = np.asarray(center, dtype=float).reshape(-1)
     if c.shape != (3,) or not np.all(np.isfinite(c)):
-        raise ValueError(f"center must be three finite numbers, got {center!r}")
+        raise ValueError(f"center must be three finite numbers, got {_numbers(center)}")
     return c
 
 
@@ -139,10 +148,10 @@ class Quadric:
                 v = float(getattr(self, n))
             except (TypeError, ValueError):
                 raise ValueError(
-                    f"coefficient {n} must be a number, got {getattr(self, n)!r}"
+                    f"coefficient {n} must be a number, got {plain_number(getattr(self, n))}"
                 ) from None
             if not math.isfinite(v):
-                bad.append(f"{n}={v}")
+                bad.append(f"{n}={plain_number(v)}")
             object.__setattr__(self, n, v)
         if bad:
             raise ValueError("quadric coefficients must be finite: " + ", ".join(bad))

@@ -174,9 +174,13 @@ def _mesh_quadric(q: Quadric, bounds: Bounds, resolution: int):
         or hi.shape != (3,)
         or not (np.all(np.isfinite(lo)) and np.all(np.isfinite(hi)))
     ):
-        raise ValueError(f"bounds must be two finite 3-vectors, got {bounds!r}")
+        raise ValueError(
+            f"bounds must be two finite 3-vectors, got {lo.tolist()} and {hi.tolist()}"
+        )
     if np.any(hi <= lo):
-        raise ValueError(f"bounds must satisfy lo < hi in every coordinate, got {bounds!r}")
+        raise ValueError(
+            f"bounds must satisfy lo < hi in every coordinate, got {lo.tolist()} and {hi.tolist()}"
+        )
     n = max(int(resolution), 4)
     cl = q.classify()
     empty = trimesh.Trimesh(

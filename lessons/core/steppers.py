@@ -17,8 +17,10 @@ from collections.abc import Callable
 from typing import Any
 
 import numpy as np
-from scipy.integrate import solve_ivp
+import scipy.integrate
+from scipy.integrate import OdeSolution, solve_ivp
 
+from lessons.core.budget import spent
 from lessons.core.contract import Frame, Params, Stepper
 
 Array = np.ndarray
@@ -53,37 +55,84 @@ class DenseSolution:
         self._starts: list[float] = []  # the pieces' first times (ascending)
         self._t0, self._y0 = float(t0), np.array(y0, dtype=float)
         self._t_end, self._y_end = self._t0, self._y0
+        self._open: _Chunk | None = None  # the chunk being stepped, if any
         self.stopped_at = math.inf
         self.message = ""
 
-    def _extend(self, t_max: float) -> None:
+    def reach(self, t: float) -> float:
+        """Solve towards ``t``; the time solved up to: ``t``, or less once the work budget
+        (:mod:`lessons.core.budget`) is spent (at least one solver step is taken per call)."""
+        self._extend(t, budget=True)
+        if self.message:
+            return t
+        covered = self._open.solver.t if self._open is not None else self._t_end
+        return min(t, max(covered, self._t_end))
+
+    def _extend(self, t_max: float, budget: bool = False) -> None:
+        """Solve chunk by chunk until ``t_max`` is covered.  A chunk is stepped as
+        ``solve_ivp`` would step it (the same steps however far anyone asks), and may be
+        left open between two calls when the work budget is spent."""
+        taken = False
         while self._t_end < t_max and not self.message:
-            a = self._t_end
-            sol, bad = self._solve(a, a + self._chunk)
-            first_bad = bad
-            for _ in range(40):  # solved again, halfway from its last good step to the bad time
-                if bad is None or bad <= a:
-                    break
-                clean = float(np.max(sol.t[sol.t < bad], initial=a))
-                sol, bad = self._solve(a, clean + 0.5 * (bad - clean))
-            if bad is not None:  # still failing: keep the steps before the bad time
-                b = float(np.max(sol.t[sol.t < bad], initial=a))
-            else:
-                b = float(sol.t[-1])
+            ch = self._open
+            if ch is None:
+                ch = self._open = _Chunk(self, self._t_end, self._t_end + self._chunk)
+            while ch.solver.status == "running" and not ch.bad and ch.solver.t < t_max:
+                if budget and taken and spent():
+                    return
+                ch.step()
+                taken = True
+            if ch.solver.status == "running" and not ch.bad:
+                return  # t_max is covered inside the open chunk
+            self._open = None
+            self._close(ch)
+
+    def _close(self, ch: _Chunk) -> None:
+        """A finished chunk becomes a piece; after a non-finite value it is solved again,
+        halfway from its last good step to the bad time, and ends there."""
+        a = ch.a
+        if not ch.bad and ch.solver.status == "finished":
+            b = float(ch.solver.t)
             if b > a:
-                self._pieces.append((a, b, sol.sol))
+                self._pieces.append((a, b, OdeSolution(ch.ts, ch.interpolants)))
                 self._starts.append(a)
-                self._y_end = np.asarray(sol.sol(b), dtype=float)
-            if first_bad is not None:
-                self.message = (
-                    f"integration stopped at t = {first_bad:.4g}: the equations gave a"
-                    " non-finite value (singular position or force)"
-                )
-            elif not sol.success:
-                self.message = f"integration stopped at t = {b:.4g}: {sol.message}"
+                self._y_end = np.asarray(ch.solver.y, dtype=float)
             self._t_end = b
-            if self.message:
-                self.stopped_at = b
+            return
+        if not ch.bad:  # the solver failed (step size too small, ...)
+            b = ch.ts[-1]
+            if b > a:
+                self._pieces.append((a, b, OdeSolution(ch.ts, ch.interpolants)))
+                self._starts.append(a)
+                self._y_end = np.asarray(ch.interpolants[-1](b), dtype=float)
+            self.message = f"integration stopped at t = {b:.4g}: {ch.failure}"
+            self._t_end = self.stopped_at = b
+            return
+        bad: float | None = ch.bad[0]
+        first_bad = bad
+        times = np.array(ch.ts)
+        sol: Any = None
+        for _ in range(40):  # solved again, halfway from its last good step to the bad time
+            if bad is None or bad <= a:
+                break
+            clean = float(np.max(times[times < bad], initial=a))
+            sol, bad = self._solve(a, clean + 0.5 * (bad - clean))
+            times = sol.t
+        if bad is not None:  # still failing: keep the steps before the bad time
+            b = float(np.max(times[times < bad], initial=a))
+        else:
+            b = float(times[-1])
+        if b > a and sol is not None:
+            self._pieces.append((a, b, sol.sol))
+            self._starts.append(a)
+            self._y_end = np.asarray(sol.sol(b), dtype=float)
+        if first_bad is not None:
+            self.message = (
+                f"integration stopped at t = {first_bad:.4g}: the equations gave a"
+                " non-finite value (singular position or force)"
+            )
+        self._t_end = b
+        self.stopped_at = b
 
     def _solve(self, a: float, b: float) -> tuple[Any, float | None]:
         """solve_ivp over ``[a, b]`` with dense output; the first time the equations gave a
@@ -120,18 +169,62 @@ class DenseSolution:
         self._extend(float(np.max(tt, initial=self._t_end)))
         out = np.full((len(tt), len(self._y0)), np.nan)
         out[tt == self._t0] = self._y0
-        if len(tt) == 1 and self._pieces:  # a frame: the piece that holds it, by bisection
+        ch = self._open
+        if len(tt) == 1 and (self._pieces or ch is not None):  # a frame: one lookup
             x = float(tt[0])
+            if ch is not None and ch.interpolants and ch.a <= x <= float(ch.solver.t):
+                out[:] = np.asarray(OdeSolution(ch.ts, ch.interpolants)(tt), dtype=float).T
+                return out
             # pieces share their ends: the last that holds x, as the loop below leaves it
             k = bisect.bisect_right(self._starts, x) - 1
             if k >= 0 and self._pieces[k][0] <= x <= self._pieces[k][1]:
                 out[:] = np.asarray(self._pieces[k][2](tt), dtype=float).T
             return out
-        for a, b, sol in self._pieces:
+        pieces = list(self._pieces)
+        if ch is not None and ch.interpolants:
+            pieces.append((ch.a, float(ch.solver.t), OdeSolution(ch.ts, ch.interpolants)))
+        for a, b, sol in pieces:
             k = (tt >= a) & (tt <= b)
             if np.any(k):
                 out[k] = np.asarray(sol(tt[k]), dtype=float).T
         return out
+
+
+class _Chunk:
+    """One chunk of a :class:`DenseSolution` being stepped: the solver ``solve_ivp``
+    would make for ``[a, b]`` (same method, tolerances and steps), its step times and
+    dense outputs, and the first time the equations gave a non-finite value."""
+
+    def __init__(self, owner: DenseSolution, a: float, b: float) -> None:
+        self.a, self.b = a, b
+        self.bad: list[float] = []
+        self.failure = ""
+        self.ts: list[float] = [a]
+        self.interpolants: list[Any] = []
+        rhs = owner._rhs
+
+        def guarded(tt: float, yy: Array) -> Array:
+            if self.bad:
+                return np.zeros_like(yy)
+            try:
+                out = np.asarray(rhs(tt, yy), dtype=float)
+            except _FAILURES:
+                out = np.array([np.nan])
+            if not np.all(np.isfinite(out)):
+                self.bad.append(tt)
+                return np.zeros_like(yy)
+            return out
+
+        method = getattr(scipy.integrate, owner._method)
+        self.solver = method(guarded, a, owner._y_end, b, rtol=owner._tol[0], atol=owner._tol[1])
+
+    def step(self) -> None:
+        message = self.solver.step()
+        if self.solver.status == "failed" or self.bad:
+            self.failure = str(message or "the solver failed")
+            return
+        self.ts.append(float(self.solver.t))
+        self.interpolants.append(self.solver.dense_output())
 
 
 class ClosedForm:
@@ -142,6 +235,10 @@ class ClosedForm:
 
     def __init__(self, states: Callable[[Array], Array]) -> None:
         self._states = states
+
+    def reach(self, t: float) -> float:
+        """Every time is known: ``t``."""
+        return t
 
     def __call__(self, t: Array) -> Array:
         return self._states(np.atleast_1d(np.asarray(t, dtype=float)))
@@ -200,7 +297,7 @@ class SolutionStepper(Stepper):
         return fr
 
     def advance(self, dt: float) -> Frame:
-        target = self._t + max(float(dt), 0.0)
+        target = self._sol.reach(self._t + max(float(dt), 0.0))
         y = self._sol(np.array([target]))[0]
         self._t = min(target, max(self._t, self._sol.stopped_at))
         self._y = (target, y) if self._t == target else None
