@@ -319,6 +319,10 @@ def inverse_states(ev: Callable[[Array], tuple[Array, Array, Array]], p: Array, 
     ``ev``: ``(len(t), 36)``, NaN where a leg cannot reach (one vectorized evaluation)."""
     if not len(t):
         return np.full((0, 36), np.nan)
+    if len(t) == 1:  # one time (a frame off the table's grain): the one-time functions
+        q1, qd1, qdd1, ok1 = program_state(*(a[:, 0] for a in ev(t)), p)
+        row = np.concatenate([q1, qd1, qdd1])[None, :]
+        return row if ok1 else np.full((1, 36), np.nan)
     q, qd, qdd, ok = program_states(*ev(t), p)
     out = np.full((len(ok), 36), np.nan)
     out[ok] = np.concatenate([q, qd, qdd], axis=1)[ok]
@@ -331,7 +335,11 @@ def inverse_observed(states: Array, p: Array) -> tuple[Array, Array]:
     ok = np.all(np.isfinite(states), axis=1)
     F = np.full((len(states), 6), np.nan)
     resid = np.full(len(states), np.nan)
-    if ok.any():
+    if len(states) == 1 and ok[0]:  # one state: the one-time functions
+        s = states[0]
+        F[0] = inverse_dynamics(s[:12], s[12:24], s[24:], p)[0]
+        resid[0] = constraint_residual(s[:12], p)
+    elif ok.any():
         s = states[ok]
         F[ok] = inverse_dynamics_many(s[:, :12], s[:, 12:24], s[:, 24:], p)[0]
         resid[ok] = constraint_residuals(s[:, :12], p)

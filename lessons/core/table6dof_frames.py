@@ -21,7 +21,7 @@ Array = np.ndarray
 #: lesson seconds between the times a played frame can fall on (the session's time quanta)
 FRAME_GRAIN = 1.0 / 600.0
 #: grain times evaluated at once for played frames (see :class:`InverseTable`)
-TABLE_BLOCK = 2048
+TABLE_BLOCK = 512
 
 
 class InverseTable:
