@@ -258,7 +258,9 @@ def test_a_bus_that_is_down_is_reported_and_reconnects(tmp_path: Path) -> None:
             await inst.wait_for("Run")  # serves its own pages meanwhile
             await inst.become_instructor(CODE)
             await until(lambda: "al-bus-down" in _counts(inst), 20, "down on the panel")
-            assert "[bus] redis://127.0.0.1" in log_path.read_text()
+            await until(
+                lambda: "[bus] redis://127.0.0.1" in log_path.read_text(), 20, "down in the log"
+            )
             redis_server.start()
             await until(lambda: "[bus] connected" in log_path.read_text(), 20, "reconnected")
             await until(lambda: "al-bus-down" not in _counts(inst), 20, "panel clear")
