@@ -18,7 +18,6 @@ from collections.abc import Callable
 from typing import Any
 
 import numpy as np
-import sympy as sp
 
 from lessons.core.contract import (
     Claim,
@@ -48,8 +47,9 @@ from lessons.core.table6dof import (
     PHYSICAL,
     POSE,
     axis_displacements,
-    constraint_residual,
+    constraint_residuals,
     inverse_dynamics,
+    inverse_observed,
     plane_through_joints,
     pose_table,
     program_state,
@@ -57,6 +57,8 @@ from lessons.core.table6dof import (
     table_scene,
     zero_tilt_energy_is_the_sources,
 )
+from lessons.core.table6dof_derivation import table_derivation
+from lessons.core.table6dof_frames import InverseTable, pose_row, pose_rows
 
 Array = np.ndarray
 POSE_LAWS = {
@@ -252,22 +254,39 @@ class Table6DOF(DynamicsLesson):
     def start(self, params: Params, t0: float, y: Array | None) -> Solution:
         p, ev = self.pvec(params), self.program(params)
         if params["problem"] == "inverse":
-
-            def states(t: Array) -> Array:
-                out = np.full((len(t), 36), np.nan)
-                pose = ev(t)
-                for k in range(len(t)):
-                    q, qd, qdd, ok = program_state(*(a[:, k] for a in pose), p)
-                    if ok:
-                        out[k] = np.concatenate([q, qd, qdd])
-                return out
-
-            return ClosedForm(states)
+            return ClosedForm(self.inverse_table(params).states)
         if y is None:
             q0, qd0, _, _ = program_state(*ev(0.0), p)
             y = np.concatenate([q0, qd0])
         rhs = table_model().system.rhs(p, self.forces_of(params), BAUMGARTE, BAUMGARTE)
         return DenseSolution(rhs, t0, y, rtol=1e-7, atol=1e-9)
+
+    def inverse_table(self, params: Params) -> InverseTable:
+        """The inverse problem's table for played frames (one per parameter set)."""
+        return self.cached(
+            "inverse_table",
+            params,
+            lambda: InverseTable(
+                self.program(params),
+                self.pvec(params),
+                lambda t, s: self.observe(params, t, s),
+                self.series_names(params),
+                lambda s, obs: pose_rows(
+                    np.nan_to_num(s[:, :12]),
+                    self.arrow_scale(params)
+                    * np.nan_to_num(np.column_stack([obs[f] for f in FORCES])),
+                    float(params["r_t"]),
+                ),
+            ),
+        )
+
+    def frame_scalars(self, params: Params, t: float, state: Any) -> dict[str, float]:
+        """The inverse problem's played frames read their scalars from its table."""
+        if params["problem"] == "inverse" and np.shape(state)[0] == 1:
+            row = self.inverse_table(params).scalars(float(t), np.asarray(state)[0])
+            if row is not None:
+                return row
+        return super().frame_scalars(params, t, state)
 
     def observe(self, params: Params, t: Array, state: Any) -> dict[str, Array]:
         state = np.asarray(state, dtype=float)
@@ -276,13 +295,14 @@ class Table6DOF(DynamicsLesson):
         ok = np.all(np.isfinite(state), axis=1)
         F = np.full((len(t), 6), np.nan)
         resid = np.full(len(t), np.nan)
-        u = self.forces_of(params) if params["problem"] == "forward" else None
-        for k in np.nonzero(ok)[0]:
-            if u is None:
-                F[k] = inverse_dynamics(q[k], qd[k], state[k, 24:], p)[0]
-            else:
+        if params["problem"] == "inverse":
+            F, resid = inverse_observed(state, p)
+        else:
+            u = self.forces_of(params)
+            for k in np.nonzero(ok)[0]:
                 F[k] = u(float(t[k]), q[k], qd[k])
-            resid[k] = constraint_residual(q[k], p)
+            if ok.any():
+                resid[ok] = constraint_residuals(q[ok], p)
         prog = self.program(params)(t)[0]
         out = {n: q[:, k] for k, n in enumerate(COORDS)}
         out.update({f"{n}_dot": qd[:, k] for k, n in enumerate(COORDS)})
@@ -327,125 +347,26 @@ class Table6DOF(DynamicsLesson):
 
     # -- live -----------------------------------------------------------------------
 
+    def arrow_scale(self, params: Params) -> float:
+        """Length of the inductor force arrows per newton."""
+        return 0.1 / max(float(params["M_c"]) * max(float(params["g"]), 1.0) / 3.0, 1e-9)
+
     def pose_frame(self, params: Params, fr: Frame, state: Array) -> None:
-        F = np.nan_to_num(np.array([fr.scalars[f] for f in FORCES]))
-        scale = 0.1 / max(float(params["M_c"]) * max(float(params["g"]), 1.0) / 3.0, 1e-9)
-        pose_table(fr, np.nan_to_num(state[:12]), scale * F, float(params["r_t"]))
+        if params["problem"] == "inverse":
+            hit = self.inverse_table(params).drawn(fr.t, state)
+            if hit is not None:
+                pose_row(fr, *hit)
+                return
+        F = np.array([fr.scalars[f] for f in FORCES])
+        F = F if np.isfinite(F).all() else np.nan_to_num(F)
+        q = state[:12] if np.isfinite(state[:12]).all() else np.nan_to_num(state[:12])
+        pose_table(fr, q, self.arrow_scale(params) * F, float(params["r_t"]))
 
     def scene(self, params: Params) -> SceneSpec:
         return table_scene(float(params["l"]), float(params["r_t"]))
 
     def derivation(self, params: Params) -> list[DerivationStep]:
-        tm = table_model()
-        ge = (
-            r"\frac{d}{dt}\frac{\partial T}{\partial \dot q_i}-\frac{\partial T}{\partial "
-            r"q_i}=-\frac{\partial U}{\partial q_i}+Q_{q_i},\quad i=1,\dots,6"
-        )
-        why = "the mechanism is only in the lost Figs 2.6-2.9; rebuilt consistently from the text"
-        return [
-            DerivationStep(
-                "Generalized coordinates",
-                "The planar coordinates of the three inductors.",
-                r"q_1=x_A,\;q_2=y_A,\;q_3=x_B,\;q_4=y_B,\;q_5=x_C,\;q_6=y_C",
-                "Problem 2.5",
-            ),
-            DerivationStep(
-                "Six Lagrange equations",
-                "The 'natural coordinates' form was lost in the extraction.",
-                ge,
-                "Problem 2.5",
-            ),
-            DerivationStep(
-                "Legs and joints",
-                (
-                    "Each rigid leg of length l joins inductor k (ball joint) to table joint "
-                    "A'_k (hinge parallel to the opposite side of the table triangle): the "
-                    "inductor moves along the virtual axis n (eta), tau, rho perpendicular to "
-                    "that side."
-                ),
-                (
-                    r"(\vec r_{A}-\vec r_{A'})\cdot R\,\vec e_A=0,\qquad |\vec r_{A}-\vec "
-                    r"r_{A'}|^2-l^2=0\quad(\text{and likewise } B, C)"
-                ),
-                "Figs 2.6-2.9",
-                reconstructed=why,
-            ),
-            DerivationStep(
-                "Displacement along a virtual axis",
-                "At zero tilt the joint height Z' sets the inductor displacement along its axis.",
-                r"S_A=\sqrt{l^2-Z_{A'}^2}",
-                "Fig. 2.9",
-                reconstructed=why,
-            ),
-            DerivationStep(
-                "Table plane through A', B', C'",
-                "Vanishing mixed product; D lies on the plane.",
-                (
-                    r"(\vec r_{A'}-\vec r_0)\cdot\left[(\vec r_{B'}-\vec r_0)\times(\vec "
-                    r"r_{C'}-\vec r_0)\right]=0,\qquad x\cos\alpha+y\cos\beta+z\cos\gamma-h=0"
-                ),
-                "Problem 2.5",
-            ),
-            DerivationStep(
-                "Kinetic energy", "", r"T=T_c+T_A+T_B+T_C+T_{AA'}+T_{BB'}+T_{CC'}", "Problem 2.5"
-            ),
-            DerivationStep(
-                "Table: translation of D and rotation about D",
-                (
-                    "R = Rz(phi) Ry(beta) Rx(alpha); at zero tilt and J_Dz = J_D this is the "
-                    "source's 1/2 M (x'^2+y'^2+z'^2) + 1/2 Z_D (alpha'^2+beta'^2+gamma'^2)."
-                ),
-                sp.Eq(sp.Symbol("T_c"), sp.simplify(tm.T_table)),
-                "Problem 2.5",
-                reconstructed=(
-                    "the isotropic coefficient printed 'Z_D' read as the table inertia; angular "
-                    "velocity of the ZYX angles"
-                ),
-            ),
-            DerivationStep(
-                "Inductors",
-                "",
-                (
-                    r"T_A=\tfrac12 m_A(\dot x_A^2+\dot y_A^2),\;T_B=\tfrac12 m_B(\dot x_B^2+\dot "
-                    r"y_B^2),\;T_C=\tfrac12 m_C(\dot x_C^2+\dot y_C^2)"
-                ),
-                "Problem 2.5",
-            ),
-            DerivationStep(
-                "Legs (slender rods)",
-                "End velocities v_A (inductor) and v_A' (table joint).",
-                (
-                    r"T_{AA'}=\frac{m_l}{6}\left(v_A^2+\vec v_A\cdot\vec "
-                    r"v_{A'}+v_{A'}^2\right)\quad(\text{and likewise } BB', CC')"
-                ),
-                "Problem 2.5",
-                reconstructed="leg energies lost in the extraction (only the factors 1/2 survive)",
-            ),
-            DerivationStep(
-                "Potential energy",
-                "The inductors move in the horizontal plane: U_A = U_B = U_C = 0.",
-                r"U=M_c g z_D+\sum_k m_l g \frac{z_{A'_k}}{2}",
-                "Problem 2.5",
-            ),
-            DerivationStep(
-                "Generalized forces",
-                "Virtual work of the inductor forces on their own coordinates.",
-                r"Q_{q_i}=\frac{\delta A^e_{q_i}}{\delta q_i}=F_{q_i}",
-                "Problem 2.5",
-            ),
-            DerivationStep(
-                "Loops opened (§2.2)",
-                (
-                    "12 coordinates (table pose + inductors), six leg constraints, multipliers "
-                    "eliminated by (2.33)-(2.34): the six equations of the source in closed form."
-                ),
-                (
-                    r"A\ddot q=B+S F+H^{T}\lambda,\quad H\ddot q=-\Phi,\quad "
-                    r"H\in\mathbb{R}^{6\times 12}"
-                ),
-                "(2.25), (2.30), (2.34)",
-            ),
-        ]
+        return table_derivation()
 
     # -- claims -------------------------------------------------------------------------------
 

@@ -7,6 +7,7 @@ turn about Z, or a segment between two points), and scene bounds around sampled 
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
 
 import numpy as np
@@ -44,14 +45,14 @@ def segment_pose(p0: Array, p1: Array) -> tuple[Array, Array]:
     """Pose of a mesh built along +Z and centred at the origin so that it spans p0 -> p1."""
     p0, p1 = np.asarray(p0, dtype=float), np.asarray(p1, dtype=float)
     d = p1 - p0
-    n = np.linalg.norm(d)
+    n = math.sqrt(d @ d)  # np.linalg.norm's own formula, without its checks
     if n < 1e-15:
         return (p0 + p1) / 2, IDENTITY_Q.copy()
     b = d / n
     if b[2] < -1.0 + 1e-12:  # straight down: half a turn about X
         return (p0 + p1) / 2, np.array([0.0, 1.0, 0.0, 0.0])
     q = np.array([1.0 + b[2], -b[1], b[0], 0.0])  # the shortest turn from +Z to b
-    return (p0 + p1) / 2, q / np.linalg.norm(q)
+    return (p0 + p1) / 2, q / math.sqrt(q @ q)
 
 
 def mesh_item(

@@ -23,6 +23,11 @@ from lessons.core.lagrange import LagrangeModel, plain_symbols
 Array = np.ndarray
 
 
+def args_of(cs: ConstrainedSystem) -> tuple[Any, ...]:
+    """The arguments of the numeric functions: ``(q, q', t, params, inputs)``."""
+    return (cs.q, cs.qd, cs.t, cs.params, cs.inputs)
+
+
 @dataclass
 class ConstrainedSystem:
     """The algorithm of §2.2 for ``A(q,t) q'' = B(q,q',t) + H^T lambda``.
@@ -46,6 +51,7 @@ class ConstrainedSystem:
     Phi: sp.Matrix
     n_hol: int
     _num: dict[str, Callable[..., Any]] = field(default_factory=dict, repr=False)
+    _many: dict[str, Any] = field(default_factory=dict, repr=False)
 
     @classmethod
     def build(
@@ -135,9 +141,63 @@ class ConstrainedSystem:
         return int(self.H.rows)
 
     def _lambdify(self) -> None:
-        args = (self.q, self.qd, self.t, self.params, self.inputs)
+        args = args_of(self)
         for name in ("A", "B", "f_hol", "H", "psi", "Phi"):
             self._num[name] = sp.lambdify(args, getattr(self, name), modules="numpy", cse=True)
+
+    def parts_many(
+        self,
+        t: float,
+        q: Array,
+        qd: Array,
+        p: Array,
+        u: Array,
+        names: Sequence[str] = ("A", "B", "f", "H", "psi", "Phi"),
+    ) -> dict[str, Array]:
+        """:meth:`parts` at ``N`` states at once: ``q``, ``qd`` are ``(N, n)``; each part
+        gets a leading axis of length ``N`` (one vectorized evaluation of its entries)."""
+        q, qd = np.asarray(q, dtype=float), np.asarray(qd, dtype=float)
+        N = q.shape[0]
+        n, v2 = self.n, self.v2
+        a = (list(q.T), list(qd.T), t, p, u)
+        shapes = {
+            "A": (n, n),
+            "B": (n,),
+            "f": (self.n_hol,),
+            "H": (v2, n),
+            "psi": (v2,),
+            "Phi": (v2,),
+        }
+        out: dict[str, Array] = {}
+        for k in names:
+            name = "f_hol" if k == "f" else k
+            fns = self._many.get(name)
+            if fns is None:
+                fns = self._many[name] = self._lambdify_many(getattr(self, name))
+            varying, fixed, per_state, once = fns
+            flat = np.empty((N, int(np.prod(shapes[k]))))
+            if len(varying):
+                flat[:, varying] = np.stack(per_state(*a), axis=1)
+            if len(fixed):
+                flat[:, fixed] = once(*a)
+            out[k] = flat.reshape((N, *shapes[k]))
+        return out
+
+    def _lambdify_many(
+        self, m: sp.Matrix
+    ) -> tuple[Array, Array, Callable[..., Any], Callable[..., Any]]:
+        """The entries of ``m`` that vary with the state (``q``, ``q'``) and those that do
+        not, each as one numeric function of all arguments returning a list."""
+        entries = list(m)
+        state = set(self.q) | set(self.qd)
+        varying = [i for i, e in enumerate(entries) if e.free_symbols & state]
+        fixed = [i for i in range(len(entries)) if i not in set(varying)]
+        args = args_of(self)
+
+        def fn(idx: list[int]) -> Callable[..., Any]:
+            return sp.lambdify(args, [entries[i] for i in idx], modules="numpy", cse=True)
+
+        return np.array(varying, dtype=int), np.array(fixed, dtype=int), fn(varying), fn(fixed)
 
     def _eval(self, name: str, shape: tuple[int, int], *args: Any) -> Array:
         return np.asarray(self._num[name](*args), dtype=float).reshape(shape)

@@ -25,6 +25,7 @@ with the six holonomic constraints per leg ``(A - A') . (R e_k) = 0`` and
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
@@ -206,7 +207,10 @@ _MODEL: list[TableModel] = []
 def table_model() -> TableModel:
     """The symbolic model, built once (a few seconds) and lambdified once."""
     if not _MODEL:
-        _MODEL.append(build_table_model())
+        tm = build_table_model()
+        z = np.zeros((1, 12))  # the vectorized functions, built once with the model
+        tm.system.parts_many(0.0, z, z, np.ones(len(PHYSICAL)), np.zeros(6))
+        _MODEL.append(tm)
     return _MODEL[0]
 
 
@@ -228,6 +232,118 @@ def program_state(
     P = cs.parts(0.0, q, qd, p, u0, ("Phi",))
     qdd = np.concatenate([pose_dd, np.linalg.solve(Hi, -(P["Phi"] + Hs @ pose_dd))])
     return q, qd, qdd, ok
+
+
+def rotations(alpha: Array, beta: Array, phi: Array) -> Array:
+    """:func:`rotation` at ``N`` orientations at once: ``(N, 3, 3)``."""
+    ca, sa, cb, sb, cp, sp_ = (
+        np.cos(alpha),
+        np.sin(alpha),
+        np.cos(beta),
+        np.sin(beta),
+        np.cos(phi),
+        np.sin(phi),
+    )
+    R = np.empty((len(ca), 3, 3))
+    R[:, 0, 0], R[:, 0, 1], R[:, 0, 2] = cp * cb, cp * sb * sa - sp_ * ca, cp * sb * ca + sp_ * sa
+    R[:, 1, 0], R[:, 1, 1], R[:, 1, 2] = sp_ * cb, sp_ * sb * sa + cp * ca, sp_ * sb * ca - cp * sa
+    R[:, 2, 0], R[:, 2, 1], R[:, 2, 2] = -sb, cb * sa, cb * ca
+    return R
+
+
+def inverse_kinematics_many(pose: Array, l: float, r_t: float) -> tuple[Array, Array]:
+    """:func:`inverse_kinematics` at ``N`` poses (``pose``: ``(6, N)``): ``(N, 6)`` inductor
+    coordinates and ``(N,)`` ``ok``."""
+    R = rotations(pose[3], pose[4], pose[5])
+    Ap = pose[:3].T[:, None, :] + joints_body(r_t) @ R.transpose(0, 2, 1)  # (N, 3, 3)
+    u1 = np.einsum("nij,kj->nki", R, radial_axes())  # (N, k, 3)
+    u2 = R[:, :, 2]  # R e_z
+    c = np.hypot(u1[:, :, 2], u2[:, None, 2])
+    with np.errstate(all="ignore"):
+        kappa = np.where(c > 1e-12, -Ap[:, :, 2] / (l * c), np.inf)
+    reach = np.abs(kappa) <= 1.0
+    ok = np.all(reach, axis=1)
+    kappa = np.where(reach, kappa, np.where(np.isfinite(kappa), np.clip(kappa, -1.0, 1.0), 0.0))
+    delta = np.arctan2(np.broadcast_to(u2[:, None, 2], c.shape), u1[:, :, 2])
+    ac = np.arccos(kappa)
+    plus, minus = delta + ac, delta - ac
+    psi = np.where(np.cos(minus) > np.cos(plus), minus, plus)  # the leg splays outwards
+    d = l * (np.cos(psi)[..., None] * u1 + np.sin(psi)[..., None] * u2[:, None, :])
+    return (Ap + d)[:, :, :2].reshape(len(ok), 6), ok
+
+
+def program_states(
+    pose: Array, pose_d: Array, pose_dd: Array, p: Array
+) -> tuple[Array, Array, Array, Array]:
+    """:func:`program_state` at ``N`` times (``(6, N)`` poses): ``(N, 12)`` ``q, q', q''``
+    and ``(N,)`` ``ok``, in one vectorized evaluation."""
+    cs = table_model().system
+    l, rt = float(p[PHYSICAL.index("l")]), float(p[PHYSICAL.index("r_t")])
+    ind, ok = inverse_kinematics_many(pose, l, rt)
+    N = len(ok)
+    q = np.concatenate([pose.T, ind], axis=1)
+    u0 = np.zeros(6)
+    qd = np.concatenate([pose_d.T, np.zeros((N, 6))], axis=1)
+    P = cs.parts_many(0.0, q, qd, p, u0, ("H", "psi"))
+    H = P["H"]
+    Hs, Hi = H[:, :, :6], H[:, :, 6:]
+    rhs = -(Hs @ pose_d.T[:, :, None])[:, :, 0] - P["psi"]
+    qd[:, 6:] = np.linalg.solve(Hi, rhs[:, :, None])[:, :, 0]
+    Phi = cs.parts_many(0.0, q, qd, p, u0, ("Phi",))["Phi"]
+    rhs = -(Phi + (Hs @ pose_dd.T[:, :, None])[:, :, 0])
+    qdd = np.concatenate([pose_dd.T, np.linalg.solve(Hi, rhs[:, :, None])[:, :, 0]], axis=1)
+    return q, qd, qdd, ok
+
+
+def inverse_dynamics_many(q: Array, qd: Array, qdd: Array, p: Array) -> tuple[Array, Array]:
+    """:func:`inverse_dynamics` at ``N`` states (``(N, 12)`` each): ``(N, 6)`` forces and
+    multipliers."""
+    tm = table_model()
+    P0 = tm.system.parts_many(0.0, q, qd, p, np.zeros(6), ("A", "B", "H"))
+    rhs = (P0["A"] @ qdd[:, :, None])[:, :, 0] - P0["B"]
+    S = np.broadcast_to(tm.S, (len(q), *tm.S.shape))
+    sol = np.linalg.solve(np.concatenate([P0["H"].transpose(0, 2, 1), S], axis=2), rhs[:, :, None])
+    return sol[:, 6:, 0], sol[:, :6, 0]
+
+
+def constraint_residuals(q: Array, p: Array) -> Array:
+    """:func:`constraint_residual` at ``N`` configurations (``(N, 12)``)."""
+    z = np.zeros_like(q)
+    f = table_model().system.parts_many(0.0, q, z, p, np.zeros(6), ("f",))["f"]
+    f[:, 1::2] /= 2.0 * float(p[PHYSICAL.index("l")])
+    return np.max(np.abs(f), axis=1)
+
+
+def inverse_states(ev: Callable[[Array], tuple[Array, Array, Array]], p: Array, t: Array) -> Array:
+    """The inverse problem's states ``(q, q', q'')`` at the times ``t`` of the pose program
+    ``ev``: ``(len(t), 36)``, NaN where a leg cannot reach (one vectorized evaluation)."""
+    if not len(t):
+        return np.full((0, 36), np.nan)
+    if len(t) == 1:  # one time (a frame off the table's grain): the one-time functions
+        q1, qd1, qdd1, ok1 = program_state(*(a[:, 0] for a in ev(t)), p)
+        row = np.concatenate([q1, qd1, qdd1])[None, :]
+        return row if ok1 else np.full((1, 36), np.nan)
+    q, qd, qdd, ok = program_states(*ev(t), p)
+    out = np.full((len(ok), 36), np.nan)
+    out[ok] = np.concatenate([q, qd, qdd], axis=1)[ok]
+    return out
+
+
+def inverse_observed(states: Array, p: Array) -> tuple[Array, Array]:
+    """Inductor forces ``(N, 6)`` and constraint residuals ``(N,)`` of inverse-problem
+    states (NaN where a state is not finite)."""
+    ok = np.all(np.isfinite(states), axis=1)
+    F = np.full((len(states), 6), np.nan)
+    resid = np.full(len(states), np.nan)
+    if len(states) == 1 and ok[0]:  # one state: the one-time functions
+        s = states[0]
+        F[0] = inverse_dynamics(s[:12], s[12:24], s[24:], p)[0]
+        resid[0] = constraint_residual(s[:12], p)
+    elif ok.any():
+        s = states[ok]
+        F[ok] = inverse_dynamics_many(s[:, :12], s[:, 12:24], s[:, 24:], p)[0]
+        resid[ok] = constraint_residuals(s[:, :12], p)
+    return F, resid
 
 
 def inverse_dynamics(q: Array, qd: Array, qdd: Array, p: Array) -> tuple[Array, Array]:
@@ -339,16 +455,23 @@ __all__ = [
     "TableModel",
     "axis_displacements",
     "constraint_residual",
+    "constraint_residuals",
     "inverse_dynamics",
+    "inverse_dynamics_many",
     "inverse_kinematics",
+    "inverse_kinematics_many",
+    "inverse_observed",
+    "inverse_states",
     "joints_body",
     "plane_through_joints",
     "pose_table",
     "table_scene",
     "zero_tilt_energy_is_the_sources",
     "program_state",
+    "program_states",
     "radial_axes",
     "rotation",
+    "rotations",
     "table_joints",
     "table_model",
 ]
