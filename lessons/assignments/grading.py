@@ -273,19 +273,9 @@ def _bound(c: Check, text: str, value: float, what: str) -> CheckOutcome:
     bound = float(c.bound if c.bound is not None else 0.0)
     if not math.isfinite(value):
         return _outcome(c, text, math.inf, bound, f"{what} is not finite")
-    if c.kind == "at-most":
-        miss = max(0.0, value - bound)
-        return CheckOutcome(
-            c.id,
-            c.kind,
-            text,
-            miss == 0.0,
-            value,
-            bound,
-            miss,
-            f"{what} = {value:.4g}" + (f", {miss:.3g} above the bound {bound:g}" if miss else ""),
-        )
-    miss = max(0.0, bound - value)
+    above = c.kind == "at-most"
+    miss = max(0.0, value - bound) if above else max(0.0, bound - value)
+    side = "above" if above else "below"
     return CheckOutcome(
         c.id,
         c.kind,
@@ -294,7 +284,7 @@ def _bound(c: Check, text: str, value: float, what: str) -> CheckOutcome:
         value,
         bound,
         miss,
-        f"{what} = {value:.4g}" + (f", {miss:.3g} below the bound {bound:g}" if miss else ""),
+        f"{what} = {value:.4g}" + (f", {miss:.3g} {side} the bound {bound:g}" if miss else ""),
     )
 
 
