@@ -51,9 +51,10 @@ def non_finite(frame: Frame, allowed: frozenset[str] = frozenset()) -> str | Non
 
 def _sum(values: Any) -> float:
     """The sum of an array's numbers (NaN if one is NaN, or +inf and -inf both occur)."""
-    if type(values) is np.ndarray and values.dtype == np.float64:
-        return sum(values.ravel().tolist()) if values.size <= 64 else float(values.sum())
-    return float(np.sum(np.asarray(values, dtype=float)))
+    if type(values) is np.ndarray and values.dtype == np.float64 and values.size <= 64:
+        return sum(values.ravel().tolist())
+    with np.errstate(over="ignore", invalid="ignore"):
+        return float(np.sum(np.asarray(values, dtype=float)))
 
 
 def first_non_finite(frame: Frame, allowed: frozenset[str] = frozenset()) -> str | None:
