@@ -98,6 +98,7 @@ TIMES = (0.0, 1e-6, 0.37, 0.999, 1.5, 7.25)
 
 @pytest.mark.parametrize("controls", CONTROL_SETS)
 def test_controls_at_one_time_equal_the_arrays(controls):
+    """:meth:`Controls.one` to round-off; :meth:`Controls.at` exactly as each formula."""
     f = parse_formula
     u1, u2, u3, V = controls
     c = Controls(f(u1), f(u2), f(u3), V=None if V is None else f(V) if isinstance(V, str) else V)
@@ -108,6 +109,9 @@ def test_controls_at_one_time_equal_the_arrays(controls):
             assert all(type(v) is float for v in one)
             np.testing.assert_allclose(one, arr, rtol=1e-15, atol=0)
             assert np.array_equal(np.isnan(one), np.isnan(arr))
+        grid = np.linspace(0.0, 3.0, 31)
+        each = [np.broadcast_to(u(grid), grid.shape) for u in (c.u1, c.u2, c.u3)]
+        assert np.array_equal(c.at(grid), np.array(each), equal_nan=True)
 
 
 @pytest.mark.parametrize("name", SURFACES)

@@ -98,9 +98,15 @@ class Controls:
         """``(3, *t.shape)`` control values."""
         t = np.asarray(t, dtype=float)
         out = np.empty((3, *t.shape))
-        for k, u in enumerate((self.u1, self.u2, self.u3)):
-            c = _constant_value(u)
-            out[k] = c if c is not None else u(t)  # type: ignore[operator]
+        plan = self.__dict__.get("_at")
+        if plan is None:
+            plan = self.__dict__["_at"] = self._plan((self.u1, self.u2, self.u3))
+        values, where, fn = plan
+        out[0], out[1], out[2] = values
+        if fn is not None:
+            with np.errstate(all="ignore"):
+                for k, v in zip(where, fn(t)):
+                    out[k] = v
         return out
 
     def one(self, t: float) -> tuple[float, float, float, float]:
@@ -108,22 +114,25 @@ class Controls:
         :meth:`speed` at ``[t]`` (the formulas of t are evaluated by one function, kept)."""
         plan = self.__dict__.get("_one")
         if plan is None:
-            plan = self.__dict__["_one"] = self._one_plan()
+            plan = self.__dict__["_one"] = self._plan((self.u1, self.u2, self.u3, self.V))
         values, where, fn = plan
         if fn is None:
-            return values
+            return values  # type: ignore[return-value]
         out = list(values)
         with np.errstate(all="ignore"):
             for k, v in zip(where, fn(float(t))):
                 out[k] = float(v)
         return out[0], out[1], out[2], out[3]
 
-    def _one_plan(self) -> tuple[tuple[float, float, float, float], list[int], Any]:
-        """The constant values, the places of the formulas of t, one function for them."""
-        values = [0.0, 0.0, 0.0, 0.0]
+    @staticmethod
+    def _plan(controls: tuple[Any, ...]) -> tuple[tuple[float, ...], list[int], Any]:
+        """The values of the constant ``controls`` (0 for None), the places of the formulas
+        of t and one function of t for them all (the same expressions each formula
+        evaluates; formulas of other variables evaluate themselves)."""
+        values = [0.0] * len(controls)
         where: list[int] = []
         formulas: list[Formula] = []
-        for k, u in enumerate((self.u1, self.u2, self.u3, self.V)):
+        for k, u in enumerate(controls):
             c = _constant_value(u)
             if c is not None:
                 values[k] = c
@@ -139,7 +148,7 @@ class Controls:
             def fn(t: float) -> list[Any]:
                 return [u(t) for u in formulas]
 
-        return (values[0], values[1], values[2], values[3]), where, fn
+        return tuple(values), where, fn
 
     def constant(self) -> bool:
         """True when u1, u2, u3 (and V) do not depend on t."""
