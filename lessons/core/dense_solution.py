@@ -146,11 +146,17 @@ class FrameTable:
         self._block: tuple[int, Array, list[list[float]]] | None = None
         self.builds = 0  # blocks evaluated so far
 
-    def row(self, t: float) -> tuple[Array, dict[str, float]] | None:
-        """The state (leading axis of length 1) and the scalars at ``t``; None off the
-        grain or where the run does not cover the whole block."""
+    def on_grain(self, t: float) -> float:
+        """``t`` moved onto the grain time it rounds to (by far less than the session's
+        tolerance), or ``t`` itself off the grain."""
         j = round(t / self.grain)
-        if j < 0 or abs(t / self.grain - j) > 1e-9:
+        return j * self.grain if j >= 0 and abs(t / self.grain - j) <= 1e-9 else t
+
+    def row(self, t: float) -> tuple[Array, dict[str, float]] | None:
+        """The state (leading axis of length 1) and the scalars at the grain time ``t``;
+        None off the grain or where the run does not cover the whole block."""
+        j = round(t / self.grain)
+        if j < 0 or t != j * self.grain:
             return None
         b, i = divmod(j, TABLE_BLOCK)
         if self._block is None or self._block[0] != b:
@@ -206,18 +212,20 @@ class RunStepper(Stepper):
     def t(self) -> float:
         return self._t
 
+    def _read(self) -> tuple[Array, dict[str, float] | None]:
+        """The state at the current time (leading axis of length 1) and, from the table,
+        its scalars (None: not read from the table)."""
+        hit = self._table.row(self._t) if self._table is not None else None
+        return hit if hit is not None else (self._run.state(np.array([self._t])), None)
+
     def frame(self) -> Frame:
         if not self._run.failure and self._t > self._run.t_covered:
             self._run.extend(self._t + self._block)
+        state, scalars = self._read()
         if self._table is None:
-            fr = self._frame_of(self._params, self._t, self._run.state(np.array([self._t])))
+            fr = self._frame_of(self._params, self._t, state)
         else:
-            hit = self._table.row(self._t)
-            if hit is None:
-                state = self._run.state(np.array([self._t]))
-                fr = self._frame_of(self._params, self._t, state, None)
-            else:
-                fr = self._frame_of(self._params, self._t, *hit)
+            fr = self._frame_of(self._params, self._t, state, scalars)
         if self._run.failure and not fr.message:
             fr.message = self._run.failure
         return fr
@@ -232,10 +240,13 @@ class RunStepper(Stepper):
             if not run.failure:
                 target = min(target, run.t_covered)
         self._t = max(self._t, target)
+        if self._table is not None:  # accumulated round-off: the time the table holds
+            on = self._table.on_grain(self._t)
+            self._t = on if on <= run.t_covered else self._t
         return self.frame()
 
     def set_params(self, params: Params) -> None:
-        state = self._run.state(np.array([self._t]))
+        state, _ = self._read()  # the state the last frame showed
         self._params = params
         self._run = self._build(params, self._t, state[0] if np.all(np.isfinite(state)) else None)
         self._table = self._new_table()
