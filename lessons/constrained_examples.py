@@ -10,8 +10,10 @@
 Each is built once as a :class:`lessons.core.constrained.ConstrainedSystem` (corrected
 form: ``H`` is ``v2 x n``) and evaluated by :class:`lessons.core.constraint_eval.ConstraintEval`.
 An :class:`ExampleRun` is one dense solution of (2.34) per parameter set
-(:mod:`lessons.core.dense_solution`), shared by the lesson's headless run and its live
-stepper, next to an independent reference solution; :func:`observe_example` computes
+(:mod:`lessons.core.dense_solution`; its right-hand side is (2.34) generated once on plain
+floats, :meth:`ConstraintEval.accelerations`), shared by the lesson's headless run and its
+live stepper, next to an independent reference solution (a closed form where there is
+one); :func:`observe_example` computes
 every quantity the lesson declares from that state.
 """
 
