@@ -23,6 +23,7 @@ import scipy.integrate
 from lessons.core.analyzer import HOLD_TOL, AnalyzerModel
 from lessons.core.budget import spent
 from lessons.core.integrators import apply_propagators, gauss_legendre, gl_propagators
+from lessons.core.speed_flow import UniformSpeed
 
 #: Gauss-Legendre steps per block of nodes: (1.50) (one batched solve), (1.59) (Newton).
 BLOCK = 256
@@ -236,12 +237,19 @@ class Trajectory:
         N = len(self.r0)
         self._coeffs = lambda ts: model.linear_coeffs(ts, N)
         self._speed: SpeedStepper | None = None
+        self._uniform: UniformSpeed | None = None
         self._map: tuple[np.ndarray, np.ndarray] | None = None
         self._short_maps: dict[int, tuple[np.ndarray, np.ndarray]] = {}
         if method.startswith("gauss-legendre"):
             self.stages = int(method.rsplit("-", 1)[1])
             if model.controls.V is not None:
-                self._speed = SpeedStepper(model, self.stages)
+                # constant u, V and a skew A: (1.59) is (1.50) at a constant rate per point
+                self._uniform = UniformSpeed.of(model, self.r0, SpeedStepper.max_turn)
+                if self._uniform is None:
+                    self._speed = SpeedStepper(model, self.stages)
+                else:
+                    self._coeffs = self._uniform.coeffs
+                    self._map = self._uniform.step_map(self.h, self.stages)
             elif model.controls.constant():
                 # time-independent field: every full step has the same map
                 self._map = gl_propagators(self._coeffs, self.t0, self.h, 1, self.stages)
@@ -354,16 +362,21 @@ class Trajectory:
         return r + (D[0] @ r[:, :, None])[:, :, 0] + phi[0]
 
     def _short_map(self, rest: float) -> tuple[np.ndarray, np.ndarray]:
-        """The step map of a shortened step of a time-independent field (1.50), kept per
-        length: played frames fall on a few offsets from the nodes (the session's time
-        quanta), so a frame reads a kept map.  ``rest`` is rounded to ``h / 2**40`` first,
+        """The step map of a shortened step of a time-independent field (1.50), or of (1.59)
+        as its time change (:class:`UniformSpeed`), kept per length: played frames fall on
+        a few offsets from the nodes (the session's time quanta), so a frame reads a kept
+        map.  ``rest`` is rounded to ``h / 2**40`` first,
         so that a time has one value however often it is read."""
         key = round(rest / self.h * SHORT_GRAIN)
         hit = self._short_maps.get(key)
         if hit is None:
             if len(self._short_maps) >= SHORT_MAPS:
                 self._short_maps.clear()
-            hit = gl_propagators(self._coeffs, self.t0, key * self.h / SHORT_GRAIN, 1, self.stages)
+            length = key * self.h / SHORT_GRAIN
+            if self._uniform is not None:
+                hit = self._uniform.short_map(length, self.h, self.stages)
+            else:
+                hit = gl_propagators(self._coeffs, self.t0, length, 1, self.stages)
             self._short_maps[key] = hit
         return hit
 
