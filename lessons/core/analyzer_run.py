@@ -34,6 +34,9 @@ PIECE = 10.0
 #: and at most SHORT_MAPS step maps are kept (see :meth:`Trajectory._short_map`).
 SHORT_GRAIN = 2**40
 SHORT_MAPS = 256
+#: (1.59): a shortened step cut into more substeps than this reads the kept substep ends
+#: of its whole step (see :meth:`Trajectory._from_substep_ends`).
+KEEP_SUBSTEPS = 16
 
 
 class SpeedStepper:
@@ -264,6 +267,8 @@ class Trajectory:
         self._steps: list[Any] = []  # their dense outputs
         #: (1.59): per node of the block, the slopes and length of the substep ending there
         self._incoming: list[tuple[np.ndarray, float] | None] = [None]
+        #: (1.59): node time, substep length, states and incoming slopes of one whole step
+        self._substep_ends: tuple[float, float, list[np.ndarray], list[Any]] | None = None
 
     @property
     def gauss_legendre(self) -> bool:
@@ -343,16 +348,22 @@ class Trajectory:
         self._k0, self._nodes = k0, nodes
 
     def _short_step(self, tk: float, r: np.ndarray, rest: float) -> np.ndarray:
-        """One Gauss-Legendre step of length ``rest < h`` from the node ``(tk, r)``."""
+        """One Gauss-Legendre step of length ``rest < h`` from the node ``(tk, r)``; for
+        (1.59), one cut into more than :data:`KEEP_SUBSTEPS` substeps reads the substep
+        ends of the whole step instead (:meth:`_from_substep_ends`)."""
         if self._speed is not None:
             warm = self._speed.K, self._speed.last
             # from the slopes of the step that ended at the node: a few iterations
             j = int(round((tk - self.t0) / self.h)) - self._k0
             before = self._incoming[j]
-            # the step from the node, if taken whole (its block is computed ahead)
-            nxt = self._incoming[j + 1] if j + 1 < len(self._incoming) else None
-            covering = nxt if nxt is not None and nxt[1] == self.h else None
-            out = self._speed.step_substeps(tk, r, rest, None, before, covering)
+            coeffs = tuple(x[0] for x in self._speed.coefficients(tk, rest, 1, len(r)))
+            if self._cuts(coeffs, r, rest) > KEEP_SUBSTEPS:
+                out = self._from_substep_ends(tk, r, rest, before)
+            else:
+                # the step from the node, if taken whole (its block is computed ahead)
+                nxt = self._incoming[j + 1] if j + 1 < len(self._incoming) else None
+                covering = nxt if nxt is not None and nxt[1] == self.h else None
+                out = self._speed.step_substeps(tk, r, rest, coeffs, before, covering)
             self._speed.K, self._speed.last = warm  # as if this step was not taken
             return out
         if self._map is not None:
@@ -360,6 +371,53 @@ class Trajectory:
         else:
             D, phi = gl_propagators(self._coeffs, tk, rest, 1, self.stages)
         return r + (D[0] @ r[:, :, None])[:, :, 0] + phi[0]
+
+    def _cuts(self, coeffs: tuple[np.ndarray, ...], r: np.ndarray, length: float) -> int:
+        """The substeps :meth:`SpeedStepper.step_substeps` cuts a step of ``length`` from
+        ``r`` into (its turning-rate bound ``V |A| / |A r + c|`` at the first stage)."""
+        assert self._speed is not None
+        A, cc, Vs, _ = coeffs
+        n0 = np.einsum("nij,nj->ni", A[0], r) + cc[0]
+        norm0 = np.sqrt((n0 * n0).sum(-1))
+        rate = (
+            np.abs(Vs).max() * np.sqrt((A[0] ** 2).sum(axis=(-1, -2))) / np.maximum(norm0, 1e-300)
+        )
+        turn = float(np.max(np.where(norm0 > 0, rate, 0.0))) * length / self._speed.max_turn
+        return min(max(int(np.ceil(turn - 1e-12)), 1), 10_000)
+
+    def _from_substep_ends(
+        self, tk: float, r: np.ndarray, rest: float, before: tuple[np.ndarray, float] | None
+    ) -> np.ndarray:
+        """(1.59) at ``tk + rest``, read from the ends of the ``m`` equal substeps of the whole
+        step from the node ``(tk, r)`` (kept for one node): one shortened substep from the
+        latest end.  Where the field is small at a node (Example 1.3's start) a shortened
+        step is cut into about as many substeps as the whole one, however short it is; a
+        frame then costs one substep, not all of them."""
+        assert self._speed is not None
+        kept = self._substep_ends
+        if kept is None or kept[0] != tk:
+            coeffs = tuple(x[0] for x in self._speed.coefficients(tk, self.h, 1, len(r)))
+            m = self._cuts(coeffs, r, self.h)
+            hs = self.h / m
+            batch = self._speed.coefficients(tk, hs, m, len(r))
+            ends, slopes = [r], [before]
+            comp = np.zeros_like(r)
+            for i in range(m):
+                step = self._speed.step(r, hs, tuple(x[i] for x in batch), slopes[-1])
+                slopes.append((self._speed.K, hs))
+                inc = (step - r) - comp
+                nxt = r + inc
+                comp = (nxt - r) - inc
+                r = nxt
+                ends.append(r)
+            kept = self._substep_ends = (tk, hs, ends, slopes)
+        _, hs, ends, slopes = kept
+        i = min(int(np.floor(rest / hs)), len(ends) - 2)
+        d = rest - i * hs
+        if d <= 1e-12 * max(1.0, abs(tk)):
+            return ends[i]
+        covering = slopes[i + 1]
+        return self._speed.step_substeps(tk + i * hs, ends[i], d, None, slopes[i], covering)
 
     def _short_map(self, rest: float) -> tuple[np.ndarray, np.ndarray]:
         """The step map of a shortened step of a time-independent field (1.50), or of (1.59)
