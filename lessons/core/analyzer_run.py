@@ -4,9 +4,12 @@ and live steppers.
 A :class:`Trajectory` integrates one analyzer (1.50) or its constant-speed form (1.59)
 from ``(t0, r0)``.  Gauss-Legendre runs take fixed steps on the grid ``t0 + k h`` (the
 nodes are computed in blocks of steps; for (1.50) each block's step maps in one batched
-solve, for (1.59) by :class:`SpeedStepper`); scipy's solvers run in pieces of
-:data:`PIECE` seconds and are read through their dense output.  Between two nodes the
-state is one shortened step from the earlier node.  So every time has one value however
+solve, for (1.59) by :class:`SpeedStepper`, or, with constant controls on a skew field, as
+the time change of (1.50) of :class:`lessons.core.speed_flow.UniformSpeed` by kept step
+maps); scipy's solvers run in pieces of :data:`PIECE` seconds and are read through their
+dense output.  Between two nodes the state is one shortened step from the earlier node (for
+(1.59), from the latest substep end where that step would be cut into many substeps, see
+:meth:`Trajectory._from_substep_ends`).  So every time has one value however
 the run is sampled: ``simulate`` on its grid and the live stepper frame by frame read the
 same trajectory.  :func:`integrate` samples one for the claims and the benchmark.
 """
