@@ -4,6 +4,7 @@ the constant-speed analyzer holding only while its field is zero."""
 import numpy as np
 import pytest
 
+import lessons.core.analyzer_run as analyzer_run
 from lessons.core.analyzer import COEFF_NAMES, AnalyzerModel, Controls
 from lessons.core.analyzer_run import SHORT_GRAIN, SpeedStepper, Trajectory, integrate
 from lessons.core.formula import parse_formula
@@ -180,8 +181,6 @@ def test_frames_in_a_step_cut_into_many_substeps_read_its_substep_ends(monkeypat
     """Example 1.3's start, where the field is zero: any step from there is cut into ~200
     substeps however short; a frame is one shortened substep from the kept substep ends,
     the same state as the shortened step from the node to 1e-12."""
-    import lessons.core.analyzer_run as analyzer_run
-
     f = parse_formula
     model = AnalyzerModel.of(
         Quadric.sphere(1.0).coeffs(), Controls(f("sin(10*t)"), f("t"), 5.0, V=1.0)
