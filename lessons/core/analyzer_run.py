@@ -33,6 +33,14 @@ PIECE = 10.0
 #: and at most SHORT_MAPS step maps are kept (see :meth:`Trajectory._short_map`).
 SHORT_GRAIN = 2**40
 SHORT_MAPS = 256
+#: Largest turning rate times substep (rad) of the constant-speed analyzer per number of
+#: Gauss-Legendre stages (:meth:`SpeedStepper.step_substeps`).  A higher order takes a larger
+#: turn to the same error: these keep the benchmark's V = 1 run (benchmarks/integrators.py,
+#: h = 0.05 for 4 stages, 0.1 for 5 and 6) to about 1e-13 along the curve, as 0.03 does for 3
+#: stages at h = 0.0125.
+MAX_TURNS = {1: 0.03, 2: 0.03, 3: 0.03, 4: 0.12, 5: 0.2, 6: 0.35}
+#: Most substeps of one step of the constant-speed analyzer (:meth:`SpeedStepper.step_substeps`).
+MAX_SUBSTEPS = 10_000
 
 
 class SpeedStepper:
@@ -46,17 +54,27 @@ class SpeedStepper:
     that vanishes only at the step's start, as Example 1.3's at t = 0, does not stop it).
     """
 
-    #: Largest turn of the velocity per substep (rad), see :meth:`step_substeps`.
-    max_turn = 0.03
-
-    def __init__(self, model: AnalyzerModel, stages: int = 3, max_iter: int = 30) -> None:
+    def __init__(
+        self,
+        model: AnalyzerModel,
+        stages: int = 3,
+        max_iter: int = 30,
+        *,
+        max_turn: float | None = None,
+    ) -> None:
         self.model = model
         self.a, self.b, self.c = gauss_legendre(stages)
+        #: largest turning rate times substep (rad), :data:`MAX_TURNS` by default
+        self.max_turn = MAX_TURNS[stages] if max_turn is None else float(max_turn)
         self.s = stages
         self._eye3, self._eye3s = np.eye(3), np.eye(3 * stages)
         self.max_iter = max_iter
         self.evaluations = 0
+        #: Newton matrices formed (one per step unless the iteration is slow)
+        self.newton_matrices = 0
         self.K: np.ndarray | None = None
+        #: per point, the largest turning rate at a stage of the last step
+        self.rates = np.zeros(0)
         #: stage slopes and length of the last substep of :meth:`step_substeps`
         self.last: tuple[np.ndarray, float] | None = None
 
@@ -107,60 +125,77 @@ class SpeedStepper:
         ``before``: the stage slopes and length of the step that ended at ``R``; the
         stages then start from its extrapolated collocation polynomial; ``covering``: those
         of a longer step from ``R`` (its polynomial inside); otherwise from the last step's
-        slopes.  Either way they are solved to round-off: the iteration stops when the
+        slopes.  Either way they are solved to round-off by simplified Newton: its matrix
+        holds each stage's own Jacobian ``omega (I - nn^T) A`` at the predicted stage
+        values, and is formed again at the current ones while an iteration contracts the
+        correction by less than :attr:`refresh_rate`.  The iteration stops when the
         correction, or the sum of the corrections its rate of convergence leaves to come,
         is below 2e-16 of the slopes."""
-        s, a = self.s, self.a
+        s = self.s
         N = len(R)
         A, cc, Vs, umax = coeffs
-        mid = s // 2
-        # simplified Newton matrix from the middle stage at R: J = omega (I - nn^T) A
-        nm = np.einsum("nij,nj->ni", A[mid], R) + cc[mid]
-        norm_m = np.sqrt((nm * nm).sum(-1))
-        moving = norm_m > 0
-        safe = np.where(moving, norm_m, 1.0)
-        nh = nm / safe[:, None]
-        P = self._eye3 - nh[:, :, None] * nh[:, None, :]
-        J = (np.where(moving, Vs[mid], 0.0) / safe)[:, None, None] * (P @ A[mid])
-        M = self._eye3s - h * (a[None, :, None, :, None] * J[:, None, :, None, :]).reshape(
-            N, 3 * s, 3 * s
-        )
-        Minv = np.linalg.inv(M)
+        At = A.transpose(1, 0, 2, 3)  # (N, s, 3, 3)
+        ct = cc.transpose(1, 0, 2)
         if covering is not None and covering[0].shape == (N, s, 3):
             K = np.einsum("ij,njd->nid", self.extrapolation(h / covering[1], 0.0), covering[0])
         elif before is not None and before[0].shape == (N, s, 3):
             K = np.einsum("ij,njd->nid", self.extrapolation(h / before[1]), before[0])
         elif self.K is not None and self.K.shape == (N, s, 3):
             K = self.K.copy()
-        else:
-            K = np.repeat((nm * (Vs[mid] / safe)[:, None])[:, None, :], s, axis=1)
-        At = A.transpose(1, 0, 2, 3)  # (N, s, 3, 3)
-        ct = cc.transpose(1, 0, 2)
-        ha = h * a
+        else:  # the field at R, at the middle stage's time
+            mid = s // 2
+            n0 = np.einsum("nij,nj->ni", A[mid], R) + cc[mid]
+            norm0 = np.sqrt((n0 * n0).sum(-1))
+            w0 = np.where(norm0 > 0, Vs[mid] / np.where(norm0 > 0, norm0, 1.0), 0.0)
+            K = np.repeat((n0 * w0[:, None])[:, None, :], s, axis=1)
+        ha = h * self.a
         size = self.model.hold_size(R)[:, None]  # the field's size barely changes in a step
         # AnalyzerModel.holds, its bound computed once for the step
         bound = HOLD_TOL * (umax[None, :] + 1e-300) * (size + 1e-300)
-        previous = np.inf
+        previous, Minv = np.inf, None
         for _ in range(self.max_iter):
             Y = R[:, None, :] + ha @ K  # (N, s, 3)
             n = (At @ Y[..., None])[..., 0] + ct
             norm = np.sqrt((n * n).sum(-1))
-            f = (
-                n
-                * np.where(norm <= bound, 0.0, Vs[None, :] / np.where(norm > 0, norm, 1.0))[
-                    ..., None
-                ]
-            )
+            w = np.where(norm <= bound, 0.0, Vs[None, :] / np.where(norm > 0, norm, 1.0))
+            f = n * w[..., None]
             self.evaluations += s
+            if Minv is None:
+                Minv = self._newton_inverse(At, n, norm, w, h)
             dK = -(Minv @ (K - f).reshape(N, 3 * s, 1)).reshape(N, s, 3)
             K += dK
             step, tol = float(np.abs(dK).max()), 2e-16 * (float(np.abs(K).max()) + 1e-300)
             rate = step / previous  # after the first correction: its rate of convergence
             if step <= tol or (0.0 < rate < 0.5 and rate / (1.0 - rate) * step <= tol):
                 break
+            if rate > self.refresh_rate:
+                Minv = None  # slow: the matrix again at the current stage values
             previous = step
         self.K = K
+        # the turning rate |V| |A| / |A r + c| at the stages that move (see step_substeps)
+        self.rates = (
+            np.abs(Vs)[None, :]
+            * np.sqrt((At * At).sum(axis=(-1, -2)))
+            * np.where(w != 0.0, 1.0 / np.where(norm > 0, norm, 1.0), 0.0)
+        ).max(axis=-1)
         return R + h * np.einsum("i,nid->nd", self.b, K)
+
+    #: A correction shrinking by less than this factor forms the Newton matrix again.
+    refresh_rate = 0.25
+
+    def _newton_inverse(
+        self, At: np.ndarray, n: np.ndarray, norm: np.ndarray, w: np.ndarray, h: float
+    ) -> np.ndarray:
+        """``(I - h (a x I) diag(J_j))^-1 (N, 3s, 3s)`` with the stage Jacobians
+        ``J_j = w_j (I - n_j n_j^T / |n_j|^2) A_j`` of (1.59) at the stage fields ``n``."""
+        s, N = self.s, len(n)
+        self.newton_matrices += 1
+        nh = n / np.where(norm > 0, norm, 1.0)[..., None]
+        J = w[..., None, None] * (At - nh[..., :, None] * (nh[..., None, :] @ At))
+        M = self._eye3s - (
+            h * self.a[None, :, None, :, None] * J.transpose(0, 2, 1, 3)[:, None]
+        ).reshape(N, 3 * s, 3 * s)
+        return np.linalg.inv(M)
 
     def step_substeps(
         self,
@@ -175,8 +210,13 @@ class SpeedStepper:
         curve turns fast.
 
         The turning rate of (1.59) is ``omega |A| = V |A| / |A r + c|``: near points where the
-        analyzer's field is small the point turns quickly; the step is cut so that
-        ``rate * substep <= max_turn`` (each substep is still a Gauss-Legendre step).
+        analyzer's field is small the point turns quickly (its reciprocal is about the time
+        to the nearest zero of the field, which sets the error of a high order step); the
+        step is cut so that ``rate * substep <= max_turn`` at its start and then at every
+        stage of every substep: where a stage exceeds it, the step is taken again in more
+        substeps (each substep is still a Gauss-Legendre step).  A point whose field is zero
+        at ``t`` (Example 1.3's start) moves off along the field's derivative, turning
+        slowly: its rates do not count in this step.
         ``coeffs``: the step's stage coefficients, if already computed (:meth:`coefficients`);
         ``before``/``covering``: the slopes and length of the (sub)step that ended at ``R``
         or of a longer one from ``R`` (see :meth:`step`).  Afterwards :attr:`last` holds
@@ -191,22 +231,45 @@ class SpeedStepper:
             np.abs(Vs).max() * np.sqrt((A[0] ** 2).sum(axis=(-1, -2))) / np.maximum(norm0, 1e-300)
         )
         m = int(np.ceil(float(np.max(np.where(norm0 > 0, rate, 0.0))) * h / self.max_turn - 1e-12))
-        if m <= 1:
+        m = min(max(m, 1), MAX_SUBSTEPS)
+        counted = norm0 > 0.0
+        while True:
+            out, peak, last = self._substeps(t, R, h, m, coeffs, before, covering, counted)
+            if peak * h / m <= self.max_turn * (1.0 + 1e-12) or m == MAX_SUBSTEPS:
+                break
+            m = min(MAX_SUBSTEPS, max(m + 1, int(np.ceil(peak * h / self.max_turn))))
+        self.last = last
+        return out
+
+    def _substeps(
+        self,
+        t: float,
+        R: np.ndarray,
+        h: float,
+        m: int,
+        coeffs: tuple[np.ndarray, ...],
+        before: tuple[np.ndarray, float] | None,
+        covering: tuple[np.ndarray, float] | None,
+        counted: np.ndarray,
+    ) -> tuple[np.ndarray, float, tuple[np.ndarray, float]]:
+        """``m`` equal substeps over ``[t, t + h]``: the end, the largest turning rate at a
+        stage of the ``counted`` points (:attr:`rates`) and the slopes and length of the
+        last substep."""
+        if m == 1:
             out = self.step(R, h, coeffs, before, covering)
-            self.last = (self.K, h)
-            return out
-        m = min(m, 10_000)
+            return out, float(np.max(self.rates[counted], initial=0.0)), (self.K, h)
         hs = h / m
         batch = self.coefficients(t, hs, m, len(R))
         comp = np.zeros_like(R)
+        peak = 0.0
         for j in range(m):
             inc = (self.step(R, hs, tuple(x[j] for x in batch), before, covering) - R) - comp
             before, covering = (self.K, hs), None
+            peak = max(peak, float(np.max(self.rates[counted], initial=0.0)))
             nxt = R + inc
             comp = (nxt - R) - inc
             R = nxt
-        self.last = before
-        return R
+        return R, peak, before
 
 
 class Trajectory:
