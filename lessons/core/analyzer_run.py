@@ -37,8 +37,8 @@ SHORT_MAPS = 256
 #: Gauss-Legendre stages (:meth:`SpeedStepper.step_substeps`).  A higher order takes a larger
 #: turn to the same error: these keep the benchmark's V = 1 run (benchmarks/integrators.py,
 #: h = 0.05 for 4 stages, 0.1 for 5 and 6) to about 1e-13 along the curve, as 0.03 does for 3
-#: stages at h = 0.0125.
-MAX_TURNS = {1: 0.03, 2: 0.03, 3: 0.03, 4: 0.12, 5: 0.2, 6: 0.35}
+#: stages at h = 0.0125 (with :attr:`SpeedStepper.recheck` = 2).
+MAX_TURNS = {1: 0.03, 2: 0.03, 3: 0.03, 4: 0.1, 5: 0.15, 6: 0.25}
 #: Most substeps of one step of the constant-speed analyzer (:meth:`SpeedStepper.step_substeps`).
 MAX_SUBSTEPS = 10_000
 
@@ -53,6 +53,10 @@ class SpeedStepper:
     holds only while the field is zero (the Gauss nodes lie inside the step, so a field
     that vanishes only at the step's start, as Example 1.3's at t = 0, does not stop it).
     """
+
+    #: A step is taken again in more substeps where a stage's rate times the substep
+    #: exceeds ``recheck * max_turn`` (see :meth:`step_substeps`).
+    recheck = 2.0
 
     def __init__(
         self,
@@ -70,8 +74,8 @@ class SpeedStepper:
         self._eye3, self._eye3s = np.eye(3), np.eye(3 * stages)
         self.max_iter = max_iter
         self.evaluations = 0
-        #: Newton matrices formed (one per step unless the iteration is slow)
-        self.newton_matrices = 0
+        #: whether the last step's stages were solved to round-off (see :meth:`step`)
+        self.converged = True
         self.K: np.ndarray | None = None
         #: per point, the largest turning rate at a stage of the last step
         self.rates = np.zeros(0)
@@ -119,18 +123,20 @@ class SpeedStepper:
         coeffs: tuple[np.ndarray, ...],
         before: tuple[np.ndarray, float] | None = None,
         covering: tuple[np.ndarray, float] | None = None,
+        *,
+        size: np.ndarray | None = None,
     ) -> np.ndarray:
         """One step of size ``h`` from ``R (N, 3)`` with the stage coefficients ``coeffs``.
 
         ``before``: the stage slopes and length of the step that ended at ``R``; the
         stages then start from its extrapolated collocation polynomial; ``covering``: those
         of a longer step from ``R`` (its polynomial inside); otherwise from the last step's
-        slopes.  Either way they are solved to round-off by simplified Newton: its matrix
-        holds each stage's own Jacobian ``omega (I - nn^T) A`` at the predicted stage
-        values, and is formed again at the current ones while an iteration contracts the
-        correction by less than :attr:`refresh_rate`.  The iteration stops when the
-        correction, or the sum of the corrections its rate of convergence leaves to come,
-        is below 2e-16 of the slopes."""
+        slopes.  Either way they are solved to round-off by simplified Newton, its matrix
+        built from each stage's own Jacobian ``omega (I - nn^T) A`` at the predicted stage
+        values.  The iteration stops when the correction, or the sum of the corrections its
+        rate of convergence leaves to come, is below 2e-16 of the slopes (:attr:`converged`;
+        false if ``max_iter`` iterations did not get there).  ``size``: :meth:`AnalyzerModel.hold_size` near ``R``
+        (at ``R`` by default)."""
         s = self.s
         N = len(R)
         A, cc, Vs, umax = coeffs
@@ -149,10 +155,13 @@ class SpeedStepper:
             w0 = np.where(norm0 > 0, Vs[mid] / np.where(norm0 > 0, norm0, 1.0), 0.0)
             K = np.repeat((n0 * w0[:, None])[:, None, :], s, axis=1)
         ha = h * self.a
-        size = self.model.hold_size(R)[:, None]  # the field's size barely changes in a step
-        # AnalyzerModel.holds, its bound computed once for the step
-        bound = HOLD_TOL * (umax[None, :] + 1e-300) * (size + 1e-300)
+        if size is None:
+            size = self.model.hold_size(R)
+        # AnalyzerModel.holds, its bound computed once for the step (the field's size
+        # barely changes in a step)
+        bound = HOLD_TOL * (umax[None, :] + 1e-300) * (size[:, None] + 1e-300)
         previous, Minv = np.inf, None
+        self.converged = False
         for _ in range(self.max_iter):
             Y = R[:, None, :] + ha @ K  # (N, s, 3)
             n = (At @ Y[..., None])[..., 0] + ct
@@ -167,9 +176,8 @@ class SpeedStepper:
             step, tol = float(np.abs(dK).max()), 2e-16 * (float(np.abs(K).max()) + 1e-300)
             rate = step / previous  # after the first correction: its rate of convergence
             if step <= tol or (0.0 < rate < 0.5 and rate / (1.0 - rate) * step <= tol):
+                self.converged = True
                 break
-            if rate > self.refresh_rate:
-                Minv = None  # slow: the matrix again at the current stage values
             previous = step
         self.K = K
         # the turning rate |V| |A| / |A r + c| at the stages that move (see step_substeps)
@@ -180,16 +188,12 @@ class SpeedStepper:
         ).max(axis=-1)
         return R + h * np.einsum("i,nid->nd", self.b, K)
 
-    #: A correction shrinking by less than this factor forms the Newton matrix again.
-    refresh_rate = 0.25
-
     def _newton_inverse(
         self, At: np.ndarray, n: np.ndarray, norm: np.ndarray, w: np.ndarray, h: float
     ) -> np.ndarray:
         """``(I - h (a x I) diag(J_j))^-1 (N, 3s, 3s)`` with the stage Jacobians
         ``J_j = w_j (I - n_j n_j^T / |n_j|^2) A_j`` of (1.59) at the stage fields ``n``."""
         s, N = self.s, len(n)
-        self.newton_matrices += 1
         nh = n / np.where(norm > 0, norm, 1.0)[..., None]
         J = w[..., None, None] * (At - nh[..., :, None] * (nh[..., None, :] @ At))
         M = self._eye3s - (
@@ -212,11 +216,15 @@ class SpeedStepper:
         The turning rate of (1.59) is ``omega |A| = V |A| / |A r + c|``: near points where the
         analyzer's field is small the point turns quickly (its reciprocal is about the time
         to the nearest zero of the field, which sets the error of a high order step); the
-        step is cut so that ``rate * substep <= max_turn`` at its start and then at every
-        stage of every substep: where a stage exceeds it, the step is taken again in more
-        substeps (each substep is still a Gauss-Legendre step).  A point whose field is zero
-        at ``t`` (Example 1.3's start) moves off along the field's derivative, turning
-        slowly: its rates do not count in this step.
+        step is cut so that ``rate * substep <= max_turn`` at its start, and where then at a
+        stage of a substep it exceeds ``recheck * max_turn``, the step is taken again in as
+        many substeps as that stage's rate asks for (each substep is still a Gauss-Legendre
+        step).  So it is, with twice the
+        substeps, where a substep's stages were not solved to round-off (:attr:`converged`),
+        which keeps F to round-off.  A point whose field is zero at ``(t, R)``
+        (:meth:`zero_field`; Example 1.3's start) moves off along the field's derivative,
+        turning slowly (the rate's bound, about ``1 / (time since t)``, does not show it):
+        its stages do not count in this step.
         ``coeffs``: the step's stage coefficients, if already computed (:meth:`coefficients`);
         ``before``/``covering``: the slopes and length of the (sub)step that ended at ``R``
         or of a longer one from ``R`` (see :meth:`step`).  Afterwards :attr:`last` holds
@@ -232,14 +240,29 @@ class SpeedStepper:
         )
         m = int(np.ceil(float(np.max(np.where(norm0 > 0, rate, 0.0))) * h / self.max_turn - 1e-12))
         m = min(max(m, 1), MAX_SUBSTEPS)
-        counted = norm0 > 0.0
+        counted: np.ndarray | None = None  # the points not starting at a zero of the field
         while True:
-            out, peak, last = self._substeps(t, R, h, m, coeffs, before, covering, counted)
-            if peak * h / m <= self.max_turn * (1.0 + 1e-12) or m == MAX_SUBSTEPS:
+            out, peaks, solved, last = self._substeps(t, R, h, m, coeffs, before, covering)
+            turned = peaks * h / m > self.max_turn * self.recheck
+            if turned.any() and counted is None:
+                counted = ~self.zero_field(t, R)
+            if counted is not None:
+                peaks = np.where(counted, peaks, 0.0)
+                turned &= counted
+            if (solved and not turned.any()) or m == MAX_SUBSTEPS:
                 break
-            m = min(MAX_SUBSTEPS, max(m + 1, int(np.ceil(peak * h / self.max_turn))))
+            need = int(np.ceil(float(peaks.max()) * h / self.max_turn))
+            m = min(MAX_SUBSTEPS, max(m + 1 if solved else 2 * m, need))
         self.last = last
         return out
+
+    def zero_field(self, t: float, R: np.ndarray) -> np.ndarray:
+        """``(N,)``: where the analyzer's field is zero at ``(t, R)``
+        (:meth:`AnalyzerModel.holds`)."""
+        A, c = self.model.linear_coeffs(np.array([float(t)]), len(R))
+        n = np.einsum("nij,nj->ni", A[0], R) + c[0]
+        umax = float(np.abs(self.model.controls.at(np.array([float(t)]))).max())
+        return self.model.holds(np.sqrt((n * n).sum(-1)), self.model.hold_size(R), umax)
 
     def _substeps(
         self,
@@ -250,34 +273,41 @@ class SpeedStepper:
         coeffs: tuple[np.ndarray, ...],
         before: tuple[np.ndarray, float] | None,
         covering: tuple[np.ndarray, float] | None,
-        counted: np.ndarray,
-    ) -> tuple[np.ndarray, float, tuple[np.ndarray, float]]:
-        """``m`` equal substeps over ``[t, t + h]``: the end, the largest turning rate at a
-        stage of the ``counted`` points (:attr:`rates`) and the slopes and length of the
-        last substep."""
+    ) -> tuple[np.ndarray, np.ndarray, bool, tuple[np.ndarray, float]]:
+        """``m`` equal substeps over ``[t, t + h]``: the end, per point the largest turning
+        rate at a stage (:attr:`rates`), whether every substep :attr:`converged`, and the
+        slopes and length of the last substep."""
+        size = self.model.hold_size(R)  # for every substep: see step
         if m == 1:
-            out = self.step(R, h, coeffs, before, covering)
-            return out, float(np.max(self.rates[counted], initial=0.0)), (self.K, h)
+            out = self.step(R, h, coeffs, before, covering, size=size)
+            return out, self.rates, self.converged, (self.K, h)
         hs = h / m
         batch = self.coefficients(t, hs, m, len(R))
         comp = np.zeros_like(R)
-        peak = 0.0
+        peaks, solved = np.zeros(len(R)), True
         for j in range(m):
-            inc = (self.step(R, hs, tuple(x[j] for x in batch), before, covering) - R) - comp
+            out = self.step(R, hs, tuple(x[j] for x in batch), before, covering, size=size)
+            inc = (out - R) - comp
             before, covering = (self.K, hs), None
-            peak = max(peak, float(np.max(self.rates[counted], initial=0.0)))
+            peaks = np.maximum(peaks, self.rates)
+            solved = solved and self.converged
             nxt = R + inc
             comp = (nxt - R) - inc
             R = nxt
-        return R, peak, before
+        return R, peaks, solved, before
 
 
 class Trajectory:
     """r(t) of one analyzer from ``(t0, r0 (N, 3))``, read forward in time by :meth:`at`.
 
-    ``method``: ``gauss-legendre-2``/``-3`` (fixed step ``h``, F kept to round-off) or a
+    ``method``: ``gauss-legendre-s`` with s = 1 to 6 stages (order 2s; fixed step ``h``, F
+    kept to round-off; the lessons offer 2, 3 and 6) or a
     ``solve_ivp`` method (``RK45``, ``DOP853``, ...) with ``rtol``/``atol``.
     """
+
+    #: A step is taken again in more substeps where a stage's rate times the substep
+    #: exceeds ``recheck * max_turn`` (see :meth:`step_substeps`).
+    recheck = 2.0
 
     def __init__(
         self,
