@@ -37,8 +37,13 @@ SHORT_MAPS = 256
 #: Gauss-Legendre stages (:meth:`SpeedStepper.step_substeps`).  A higher order takes a larger
 #: turn to the same error: these keep the benchmark's V = 1 run (benchmarks/integrators.py,
 #: h = 0.05 for 4 stages, 0.1 for 5 and 6) to about 1e-13 along the curve, as 0.03 does for 3
-#: stages at h = 0.0125 (with :attr:`SpeedStepper.recheck` = 2).
+#: stages at h = 0.0125.
 MAX_TURNS = {1: 0.03, 2: 0.03, 3: 0.03, 4: 0.1, 5: 0.15, 6: 0.25}
+#: How far a stage may exceed that limit before the step is taken again in more substeps.
+#: Steps of order 6 or less are short (h ~ 0.01 s): the rate at the start holds over the
+#: step, and twice the limit catches what it did not see.  Steps of order 8 to 12 are long
+#: (h ~ 0.1 s), the start says little about the end: the limit holds at every stage.
+RECHECKS = {1: 2.0, 2: 2.0, 3: 2.0, 4: 1.0, 5: 1.0, 6: 1.0}
 #: Most substeps of one step of the constant-speed analyzer (:meth:`SpeedStepper.step_substeps`).
 MAX_SUBSTEPS = 10_000
 
@@ -54,10 +59,6 @@ class SpeedStepper:
     that vanishes only at the step's start, as Example 1.3's at t = 0, does not stop it).
     """
 
-    #: A step is taken again in more substeps where a stage's rate times the substep
-    #: exceeds ``recheck * max_turn`` (see :meth:`step_substeps`).
-    recheck = 2.0
-
     def __init__(
         self,
         model: AnalyzerModel,
@@ -65,11 +66,14 @@ class SpeedStepper:
         max_iter: int = 30,
         *,
         max_turn: float | None = None,
+        recheck: float | None = None,
     ) -> None:
         self.model = model
         self.a, self.b, self.c = gauss_legendre(stages)
         #: largest turning rate times substep (rad), :data:`MAX_TURNS` by default
         self.max_turn = MAX_TURNS[stages] if max_turn is None else float(max_turn)
+        #: a stage may reach ``recheck * max_turn`` (:data:`RECHECKS` by default)
+        self.recheck = RECHECKS[stages] if recheck is None else float(recheck)
         self.s = stages
         self._eye3, self._eye3s = np.eye(3), np.eye(3 * stages)
         self.max_iter = max_iter
@@ -304,10 +308,6 @@ class Trajectory:
     kept to round-off; the lessons offer 2, 3 and 6) or a
     ``solve_ivp`` method (``RK45``, ``DOP853``, ...) with ``rtol``/``atol``.
     """
-
-    #: A step is taken again in more substeps where a stage's rate times the substep
-    #: exceeds ``recheck * max_turn`` (see :meth:`step_substeps`).
-    recheck = 2.0
 
     def __init__(
         self,
