@@ -75,7 +75,7 @@ class SpeedStepper:
         #: a stage may reach ``recheck * max_turn`` (:data:`RECHECKS` by default)
         self.recheck = RECHECKS[stages] if recheck is None else float(recheck)
         self.s = stages
-        self._eye3, self._eye3s = np.eye(3), np.eye(3 * stages)
+        self._eye3s = np.eye(3 * stages)
         self.max_iter = max_iter
         self.evaluations = 0
         #: whether the last step's stages were solved to round-off (see :meth:`step`)
@@ -139,8 +139,8 @@ class SpeedStepper:
         built from each stage's own Jacobian ``omega (I - nn^T) A`` at the predicted stage
         values.  The iteration stops when the correction, or the sum of the corrections its
         rate of convergence leaves to come, is below 2e-16 of the slopes (:attr:`converged`;
-        false if ``max_iter`` iterations did not get there).  ``size``: :meth:`AnalyzerModel.hold_size` near ``R``
-        (at ``R`` by default)."""
+        false if ``max_iter`` iterations did not get there).  ``size``:
+        :meth:`AnalyzerModel.hold_size` near ``R`` (at ``R`` by default)."""
         s = self.s
         N = len(R)
         A, cc, Vs, umax = coeffs
@@ -223,12 +223,11 @@ class SpeedStepper:
         step is cut so that ``rate * substep <= max_turn`` at its start, and where then at a
         stage of a substep it exceeds ``recheck * max_turn``, the step is taken again in as
         many substeps as that stage's rate asks for (each substep is still a Gauss-Legendre
-        step).  So it is, with twice the
-        substeps, where a substep's stages were not solved to round-off (:attr:`converged`),
-        which keeps F to round-off.  A point whose field is zero at ``(t, R)``
-        (:meth:`zero_field`; Example 1.3's start) moves off along the field's derivative,
-        turning slowly (the rate's bound, about ``1 / (time since t)``, does not show it):
-        its stages do not count in this step.
+        step).  So it is, in twice the substeps, where a substep's stages were not solved to
+        round-off (:attr:`converged`), which keeps F to round-off.  A point whose field is
+        zero at ``(t, R)`` (:meth:`zero_field`; Example 1.3's start) moves off along the
+        field's derivative, turning slowly (the rate's bound, about ``1 / (time since t)``,
+        does not show it): its stages do not count in this step.
         ``coeffs``: the step's stage coefficients, if already computed (:meth:`coefficients`);
         ``before``/``covering``: the slopes and length of the (sub)step that ended at ``R``
         or of a longer one from ``R`` (see :meth:`step`).  Afterwards :attr:`last` holds
