@@ -3,16 +3,34 @@
 import numpy as np
 import pytest
 
-from lessons.core.integrators import apply_propagators, gauss_legendre, gl_linear, gl_propagators
+from lessons.core.integrators import (
+    MAX_STAGES,
+    apply_propagators,
+    gauss_legendre,
+    gl_linear,
+    gl_propagators,
+)
 
 
-@pytest.mark.parametrize("s", [1, 2, 3])
+@pytest.mark.parametrize("s", range(1, MAX_STAGES + 1))
 def test_tableau_order_conditions(s):
     a, b, c = gauss_legendre(s)
-    assert b.sum() == pytest.approx(1.0)
-    assert np.allclose(a.sum(axis=1), c)
+    assert b.sum() == pytest.approx(1.0, abs=1e-15)
+    assert np.allclose(a.sum(axis=1), c, rtol=0, atol=1e-15)
     for k in range(1, 2 * s + 1):  # quadrature exact to degree 2s - 1
-        assert b @ c ** (k - 1) == pytest.approx(1.0 / k)
+        assert b @ c ** (k - 1) == pytest.approx(1.0 / k, abs=1e-15)
+    for k in range(1, s + 1):  # stage order s: a integrates degree s - 1 exactly
+        assert np.allclose(a @ c ** (k - 1), c**k / k, rtol=0, atol=1e-15)
+    # b_i a_ij + b_j a_ji = b_i b_j: the condition for keeping quadratic invariants
+    ba = b[:, None] * a
+    assert np.abs(ba + ba.T - np.outer(b, b)).max() < 1e-15
+
+
+def test_tableau_stage_counts():
+    with pytest.raises(ValueError, match="1 to 6"):
+        gauss_legendre(MAX_STAGES + 1)
+    with pytest.raises(ValueError):
+        gauss_legendre(0)
 
 
 def rotation_coeffs(omega):
@@ -25,11 +43,13 @@ def rotation_coeffs(omega):
     return coeffs
 
 
-@pytest.mark.parametrize("s, order", [(2, 4), (3, 6)])
-def test_linear_convergence_order(s, order):
+@pytest.mark.parametrize(
+    "s, order, hs", [(2, 4, (0.1, 0.05)), (3, 6, (0.1, 0.05)), (4, 8, (0.4, 0.2))]
+)
+def test_linear_convergence_order(s, order, hs):
     omega = lambda t: 1.0 + t  # exact: angle = t + t^2/2
     errs = []
-    for h in (0.1, 0.05):
+    for h in hs:
         t, r = gl_linear(rotation_coeffs(omega), np.array([[1.0, 0.0]]), 0.0, 2.0, h, s)
         ang = 2.0 + 2.0
         exact = np.array([np.cos(ang), -np.sin(ang)])
@@ -67,3 +87,14 @@ def test_propagators_applied_in_two_pieces_equal_one():
     first, comp = apply_propagators(D[:40], phi[:40], r0)
     second, _ = apply_propagators(D[40:], phi[40:], first[-1], comp)
     assert np.array_equal(whole[40:], second)
+
+
+def test_order_12_matches_the_exact_rotation_at_large_steps():
+    omega = lambda t: 1.0 + t  # exact: angle = t + t^2/2
+    exact = np.array([np.cos(4.0), -np.sin(4.0)])
+    errs = {}
+    for s, h in ((6, 0.5), (6, 0.25), (3, 0.25)):
+        t, r = gl_linear(rotation_coeffs(omega), np.array([[1.0, 0.0]]), 0.0, 2.0, h, s)
+        errs[s, h] = np.abs(r[-1, 0] - exact).max()
+    assert errs[6, 0.25] < 1e-11 < errs[3, 0.25]
+    assert errs[6, 0.5] / errs[6, 0.25] > 2**10  # order 12 (less the round-off)

@@ -88,3 +88,22 @@ def test_groups_modes_and_readout():
     assert LESSON.group("method").expanded is False
     assert LESSON.readout == ("x", "y", "z", "speed", "v2", "drift")
     assert LESSON.declaration_errors() == []
+
+
+@pytest.mark.parametrize("preset", ["varying-controls", "example-1.3-zero-field"])
+def test_order_12_agrees_with_the_default_and_its_stepper_with_its_run(preset):
+    """The integrator choice gauss-legendre-6 at the largest step, twice the presets': the
+    same curve as order 6 at h = 0.001, speed V, F to round-off; live frames read the run."""
+    params = LESSON.resolve({"integrator": "gauss-legendre-6", "h": 0.1}, preset=preset)
+    res = LESSON.simulate(params, 3.0)
+    ref = LESSON.simulate(LESSON.resolve({"h": 0.001}, preset=preset), 3.0)
+    pick = np.searchsorted(ref.t, res.t - 1e-12)
+    assert np.allclose(ref.t[pick], res.t)
+    for c in "xyz":
+        assert np.abs(res.series[c] - ref.series[c][pick]).max() < 1e-11
+    assert np.abs(res.series["speed"][1:] - 1.0).max() < 1e-12
+    assert res.metrics["invariant_drift_max"] < 1e-15
+    st = LESSON.stepper(params)
+    frame = st.advance(1.0)
+    assert res.t[10] == pytest.approx(1.0)
+    assert frame.scalars["x"] == pytest.approx(res.series["x"][10], abs=1e-12)

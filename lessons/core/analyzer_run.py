@@ -23,10 +23,13 @@ from typing import Any
 import numpy as np
 import scipy.integrate
 
-from lessons.core.analyzer import HOLD_TOL, AnalyzerModel
+from lessons.core.analyzer import AnalyzerModel
 from lessons.core.budget import spent
-from lessons.core.integrators import apply_propagators, gauss_legendre, gl_propagators
+from lessons.core.integrators import apply_propagators, gl_propagators
 from lessons.core.speed_flow import UniformSpeed
+from lessons.core.speed_stepper import MAX_TURNS, SpeedStepper
+
+__all__ = ["MAX_TURNS", "AnalyzerRun", "SpeedStepper", "Trajectory", "integrate"]
 
 #: Gauss-Legendre steps per block of nodes: (1.50) (one batched solve), (1.59) (Newton).
 BLOCK = 256
@@ -42,184 +45,11 @@ SHORT_MAPS = 256
 KEEP_SUBSTEPS = 16
 
 
-class SpeedStepper:
-    """Gauss-Legendre steps of the constant-speed analyzer (1.59), vectorized over points.
-
-    The field is ``omega (A(t) r + c(t))`` with ``A, c`` from the lambdified (1.50) and
-    ``omega = sigma V / |A r + c|`` (1.58); the stages are solved by simplified Newton to
-    round-off (warm-started from the previous step), so F is kept to round-off.  A stage
-    where ``|A r + c|`` vanishes (:meth:`AnalyzerModel.holds`) has slope zero: the point
-    holds only while the field is zero (the Gauss nodes lie inside the step, so a field
-    that vanishes only at the step's start, as Example 1.3's at t = 0, does not stop it).
-    """
-
-    #: Largest turn of the velocity per substep (rad), see :meth:`step_substeps`.
-    max_turn = 0.03
-
-    def __init__(self, model: AnalyzerModel, stages: int = 3, max_iter: int = 30) -> None:
-        self.model = model
-        self.a, self.b, self.c = gauss_legendre(stages)
-        self.s = stages
-        self._eye3, self._eye3s = np.eye(3), np.eye(3 * stages)
-        self.max_iter = max_iter
-        self.evaluations = 0
-        self.K: np.ndarray | None = None
-        #: stage slopes and length of the last substep of :meth:`step_substeps`
-        self.last: tuple[np.ndarray, float] | None = None
-
-    def coefficients(self, t: float, h: float, n_steps: int, N: int) -> tuple[np.ndarray, ...]:
-        """Batched A, c, sigma V and max|u| at the stage times of ``n_steps`` steps."""
-        ts = (t + h * (np.arange(n_steps)[:, None] + self.c[None, :])).ravel()
-        A, cc = self.model.linear_coeffs(ts, N)
-        s = self.s
-        Vs = self.model.controls.sign * self.model.controls.speed(ts)
-        umax = np.abs(self.model.controls.at(ts)).max(axis=0)
-        return (
-            A.reshape(n_steps, s, N, 3, 3),
-            cc.reshape(n_steps, s, N, 3),
-            Vs.reshape(n_steps, s),
-            umax.reshape(n_steps, s),
-        )
-
-    def extrapolation(self, ratio: float, offset: float = 1.0) -> np.ndarray:
-        """``E (s, s)``: the stage slopes of a step of ``ratio`` times the length of the
-        step before it, predicted from that step's slopes ``K`` as ``E @ K`` (its
-        collocation polynomial's derivative, of degree s - 1, at the new stage times).
-        ``offset = 0``: the new step starts where that step starts (a shorter step inside
-        it: interpolation)."""
-        cache = self.__dict__.setdefault("_extrapolations", {})
-        E = cache.get((ratio, offset))
-        if E is None:
-            if len(cache) >= 64:
-                cache.clear()
-            x = offset + self.c * ratio
-            E = np.ones((self.s, self.s))
-            for j in range(self.s):
-                for k in range(self.s):
-                    if k != j:
-                        E[:, j] *= (x - self.c[k]) / (self.c[j] - self.c[k])
-            cache[(ratio, offset)] = E
-        return E
-
-    def step(
-        self,
-        R: np.ndarray,
-        h: float,
-        coeffs: tuple[np.ndarray, ...],
-        before: tuple[np.ndarray, float] | None = None,
-        covering: tuple[np.ndarray, float] | None = None,
-    ) -> np.ndarray:
-        """One step of size ``h`` from ``R (N, 3)`` with the stage coefficients ``coeffs``.
-
-        ``before``: the stage slopes and length of the step that ended at ``R``; the
-        stages then start from its extrapolated collocation polynomial; ``covering``: those
-        of a longer step from ``R`` (its polynomial inside); otherwise from the last step's
-        slopes.  Either way they are solved to round-off: the iteration stops when the
-        correction, or the sum of the corrections its rate of convergence leaves to come,
-        is below 2e-16 of the slopes."""
-        s, a = self.s, self.a
-        N = len(R)
-        A, cc, Vs, umax = coeffs
-        mid = s // 2
-        # simplified Newton matrix from the middle stage at R: J = omega (I - nn^T) A
-        nm = np.einsum("nij,nj->ni", A[mid], R) + cc[mid]
-        norm_m = np.sqrt((nm * nm).sum(-1))
-        moving = norm_m > 0
-        safe = np.where(moving, norm_m, 1.0)
-        nh = nm / safe[:, None]
-        P = self._eye3 - nh[:, :, None] * nh[:, None, :]
-        J = (np.where(moving, Vs[mid], 0.0) / safe)[:, None, None] * (P @ A[mid])
-        M = self._eye3s - h * (a[None, :, None, :, None] * J[:, None, :, None, :]).reshape(
-            N, 3 * s, 3 * s
-        )
-        Minv = np.linalg.inv(M)
-        if covering is not None and covering[0].shape == (N, s, 3):
-            K = np.einsum("ij,njd->nid", self.extrapolation(h / covering[1], 0.0), covering[0])
-        elif before is not None and before[0].shape == (N, s, 3):
-            K = np.einsum("ij,njd->nid", self.extrapolation(h / before[1]), before[0])
-        elif self.K is not None and self.K.shape == (N, s, 3):
-            K = self.K.copy()
-        else:
-            K = np.repeat((nm * (Vs[mid] / safe)[:, None])[:, None, :], s, axis=1)
-        At = A.transpose(1, 0, 2, 3)  # (N, s, 3, 3)
-        ct = cc.transpose(1, 0, 2)
-        ha = h * a
-        size = self.model.hold_size(R)[:, None]  # the field's size barely changes in a step
-        # AnalyzerModel.holds, its bound computed once for the step
-        bound = HOLD_TOL * (umax[None, :] + 1e-300) * (size + 1e-300)
-        previous = np.inf
-        for _ in range(self.max_iter):
-            Y = R[:, None, :] + ha @ K  # (N, s, 3)
-            n = (At @ Y[..., None])[..., 0] + ct
-            norm = np.sqrt((n * n).sum(-1))
-            f = (
-                n
-                * np.where(norm <= bound, 0.0, Vs[None, :] / np.where(norm > 0, norm, 1.0))[
-                    ..., None
-                ]
-            )
-            self.evaluations += s
-            dK = -(Minv @ (K - f).reshape(N, 3 * s, 1)).reshape(N, s, 3)
-            K += dK
-            step, tol = float(np.abs(dK).max()), 2e-16 * (float(np.abs(K).max()) + 1e-300)
-            rate = step / previous  # after the first correction: its rate of convergence
-            if step <= tol or (0.0 < rate < 0.5 and rate / (1.0 - rate) * step <= tol):
-                break
-            previous = step
-        self.K = K
-        return R + h * np.einsum("i,nid->nd", self.b, K)
-
-    def step_substeps(
-        self,
-        t: float,
-        R: np.ndarray,
-        h: float,
-        coeffs: tuple[np.ndarray, ...] | None = None,
-        before: tuple[np.ndarray, float] | None = None,
-        covering: tuple[np.ndarray, float] | None = None,
-    ) -> np.ndarray:
-        """One output step of size ``h`` from ``(t, R)``, split into equal substeps where the
-        curve turns fast.
-
-        The turning rate of (1.59) is ``omega |A| = V |A| / |A r + c|``: near points where the
-        analyzer's field is small the point turns quickly; the step is cut so that
-        ``rate * substep <= max_turn`` (each substep is still a Gauss-Legendre step).
-        ``coeffs``: the step's stage coefficients, if already computed (:meth:`coefficients`);
-        ``before``/``covering``: the slopes and length of the (sub)step that ended at ``R``
-        or of a longer one from ``R`` (see :meth:`step`).  Afterwards :attr:`last` holds
-        those of this step's last substep.
-        """
-        if coeffs is None:
-            coeffs = tuple(x[0] for x in self.coefficients(t, h, 1, len(R)))
-        A, cc, Vs, _ = coeffs
-        n0 = np.einsum("nij,nj->ni", A[0], R) + cc[0]
-        norm0 = np.sqrt((n0 * n0).sum(-1))
-        rate = (
-            np.abs(Vs).max() * np.sqrt((A[0] ** 2).sum(axis=(-1, -2))) / np.maximum(norm0, 1e-300)
-        )
-        m = int(np.ceil(float(np.max(np.where(norm0 > 0, rate, 0.0))) * h / self.max_turn - 1e-12))
-        if m <= 1:
-            out = self.step(R, h, coeffs, before, covering)
-            self.last = (self.K, h)
-            return out
-        m = min(m, 10_000)
-        hs = h / m
-        batch = self.coefficients(t, hs, m, len(R))
-        comp = np.zeros_like(R)
-        for j in range(m):
-            inc = (self.step(R, hs, tuple(x[j] for x in batch), before, covering) - R) - comp
-            before, covering = (self.K, hs), None
-            nxt = R + inc
-            comp = (nxt - R) - inc
-            R = nxt
-        self.last = before
-        return R
-
-
 class Trajectory:
     """r(t) of one analyzer from ``(t0, r0 (N, 3))``, read forward in time by :meth:`at`.
 
-    ``method``: ``gauss-legendre-2``/``-3`` (fixed step ``h``, F kept to round-off) or a
+    ``method``: ``gauss-legendre-s`` with s = 1 to 6 stages (order 2s; fixed step ``h``, F
+    kept to round-off; the lessons offer 2, 3 and 6) or a
     ``solve_ivp`` method (``RK45``, ``DOP853``, ...) with ``rtol``/``atol``.
     """
 
@@ -250,7 +80,7 @@ class Trajectory:
             self.stages = int(method.rsplit("-", 1)[1])
             if model.controls.V is not None:
                 # constant u, V and a skew A: (1.59) is (1.50) at a constant rate per point
-                self._uniform = UniformSpeed.of(model, self.r0, SpeedStepper.max_turn)
+                self._uniform = UniformSpeed.of(model, self.r0, MAX_TURNS[self.stages])
                 if self._uniform is None:
                     self._speed = SpeedStepper(model, self.stages)
                 else:
@@ -376,17 +206,10 @@ class Trajectory:
         return r + (D[0] @ r[:, :, None])[:, :, 0] + phi[0]
 
     def _cuts(self, coeffs: tuple[np.ndarray, ...], r: np.ndarray, length: float) -> int:
-        """The substeps :meth:`SpeedStepper.step_substeps` cuts a step of ``length`` from
-        ``r`` into (its turning-rate bound ``V |A| / |A r + c|`` at the first stage)."""
+        """The substeps :meth:`SpeedStepper.step_substeps` starts a step of ``length`` from
+        ``r`` with (:meth:`SpeedStepper.cuts`)."""
         assert self._speed is not None
-        A, cc, Vs, _ = coeffs
-        n0 = np.einsum("nij,nj->ni", A[0], r) + cc[0]
-        norm0 = np.sqrt((n0 * n0).sum(-1))
-        rate = (
-            np.abs(Vs).max() * np.sqrt((A[0] ** 2).sum(axis=(-1, -2))) / np.maximum(norm0, 1e-300)
-        )
-        turn = float(np.max(np.where(norm0 > 0, rate, 0.0))) * length / self._speed.max_turn
-        return min(max(int(np.ceil(turn - 1e-12)), 1), 10_000)
+        return self._speed.cuts(coeffs, r, length)
 
     def _from_substep_ends(
         self, tk: float, r: np.ndarray, rest: float, before: tuple[np.ndarray, float] | None

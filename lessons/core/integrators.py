@@ -11,7 +11,7 @@ For affine fields ``r' = A(t) r + c(t)`` (the analyzers (1.30), (1.40), (1.50), 
 steps in one batched solve, :func:`apply_propagators` applies them in sequence and
 :func:`gl_linear` does both over a run; all are vectorized over ``N`` points of a family
 (state ``(N, d)``).  The nonlinear constant-speed analyzer (1.59) is stepped by
-:class:`lessons.core.analyzer_run.SpeedStepper` (the same tableau, stages by simplified
+:class:`lessons.core.speed_stepper.SpeedStepper` (the same tableau, stages by simplified
 Newton to round-off).
 """
 
@@ -22,29 +22,32 @@ from functools import lru_cache
 
 import numpy as np
 
+#: The most stages :func:`gauss_legendre` builds (order 12).
+MAX_STAGES = 6
+
 LinearCoeffs = Callable[[np.ndarray], tuple[np.ndarray, np.ndarray]]
 """``coeffs(t)`` with ``t`` of shape ``(m,)`` -> ``A`` of shape ``(m, N, d, d)`` and ``c`` of shape ``(m, N, d)``."""
 
 
 @lru_cache(maxsize=8)
 def gauss_legendre(s: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Butcher tableau ``(a, b, c)`` of the s-stage Gauss–Legendre method (order 2s)."""
-    if s not in (1, 2, 3):
-        raise ValueError("Gauss-Legendre stages must be 1, 2 or 3")
-    x, _ = np.polynomial.legendre.leggauss(s)
-    c = (x + 1.0) / 2.0
-    # a_ij = int_0^{c_i} l_j(tau) d tau, b_j = int_0^1 l_j; Lagrange basis on the nodes c.
-    a = np.zeros((s, s))
-    b = np.zeros(s)
+    """Butcher tableau ``(a, b, c)`` of the s-stage Gauss–Legendre method (order 2s),
+    ``1 <= s <= MAX_STAGES``.
+
+    ``c``: the Gauss nodes on [0, 1]; ``b``: their quadrature weights; ``a_ij``: the
+    integral of the Lagrange basis polynomial ``l_j`` on the nodes over ``[0, c_i]``,
+    taken by the same s-point rule on ``[0, c_i]`` (exact for its degree s - 1)."""
+    if not 1 <= s <= MAX_STAGES:
+        raise ValueError(f"Gauss-Legendre stages must be 1 to {MAX_STAGES}")
+    x, w = np.polynomial.legendre.leggauss(s)
+    c, b = (x + 1.0) / 2.0, w / 2.0
+    tau = c[:, None] * c[None, :]  # (i, q): the rule's points on [0, c_i]
+    basis = np.ones((s, s, s))  # (i, q, j): l_j(tau_iq)
     for j in range(s):
-        others = [c[k] for k in range(s) if k != j]
-        poly = np.poly1d([1.0])
-        for ck in others:
-            poly = poly * np.poly1d([1.0, -ck]) / (c[j] - ck)
-        integ = poly.integ()
-        b[j] = integ(1.0) - integ(0.0)
-        for i in range(s):
-            a[i, j] = integ(c[i]) - integ(0.0)
+        for k in range(s):
+            if k != j:
+                basis[:, :, j] *= (tau - c[k]) / (c[j] - c[k])
+    a = c[:, None] * np.einsum("q,iqj->ij", b, basis)
     return a, b, c
 
 

@@ -18,7 +18,7 @@ round-off (GL keeps every quadratic invariant of a field) and repeat from step t
 a run applies one kept map per node and per shortened step, as for a constant (1.50).  A
 point where the field vanishes (:meth:`AnalyzerModel.holds`) keeps ``omega = 0``: it holds
 for the whole run, as the stage-by-stage solve of
-:class:`lessons.core.analyzer_run.SpeedStepper` holds it.  The steps are cut into the
+:class:`lessons.core.speed_stepper.SpeedStepper` holds it.  The steps are cut into the
 substeps that stepper takes (a turn of at most ``max_turn`` each), so the two agree to
 round-off of the run (about 1e-14 over Fig. 1.28's 10 s).
 
