@@ -117,3 +117,38 @@ def test_table_physical_values_are_shared_read_only() -> None:
     assert TABLE.pvec(params) is p and not p.flags.writeable
     with pytest.raises(ValueError):
         p[0] = 1.0
+
+
+@pytest.mark.parametrize("lid", SMALL)
+def test_played_frames_read_the_numbers_of_the_grid(lid: str) -> None:
+    """A played frame's scalars (worked out on plain numbers for the forward problem)
+    are the observation of a grid run at the same times, and the general path's."""
+    lesson = BY_ID[lid]
+    for preset in lesson.presets:
+        params = lesson.resolve(preset=preset.name)
+        st = lesson.stepper(params)
+        frames = [st.advance(dt) for dt in (0.013, 0.25, 1.0 / 36, 1.7, 0.4, 1.0 / 36)]
+        t = np.array([fr.t for fr in frames])
+        states = lesson.solution(params)(t)
+        grid = lesson.observation(params, t, states)
+        for k, fr in enumerate(frames):
+            general = Lesson.frame_scalars(lesson, params, fr.t, states[k : k + 1])
+            assert list(fr.scalars) == list(general) == list(grid)
+            for name, v in fr.scalars.items():
+                for want in (grid[name][k], general[name]):
+                    assert abs(v - want) <= 1e-12 * (abs(want) + 1.0), (preset.name, name, k)
+
+
+@pytest.mark.parametrize("lid", SMALL)
+def test_accelerations_on_plain_numbers_equal_the_matrix_solve(lid: str) -> None:
+    lesson = BY_ID[lid]
+    params = lesson.resolve(preset=lesson.presets[0].name)
+    model, p = lesson.model(params), lesson.pvec(params)  # type: ignore[attr-defined]
+    n, m = model.n, len(model.inputs)
+    rng = np.random.default_rng(3)
+    for _ in range(20):
+        q, qd, u = rng.normal(size=n), rng.normal(size=n), 10 * rng.normal(size=m)
+        t = float(rng.uniform(0, 10))
+        want = model.accelerations(q, qd, t, p, u)
+        got = model.acceleration_list(q, qd, t, p, list(u))
+        assert np.allclose(got, want, rtol=1e-12, atol=1e-12 * np.abs(want).max())

@@ -121,6 +121,8 @@ class LagrangeModel:
         self._num["M"] = sp.lambdify(args, M, modules="numpy", cse=True)
         self._num["F"] = sp.lambdify(args, F, modules="numpy", cse=True)
         self._num["G"] = sp.lambdify(args, G, modules="numpy", cse=True)
+        # M and F as nested lists from one function: their shared subexpressions once
+        self._num["MF"] = sp.lambdify(args, [M.tolist(), list(F)], modules="numpy", cse=True)
 
     # -- numeric model ---------------------------------------------------------
 
@@ -138,6 +140,15 @@ class LagrangeModel:
 
     def accelerations(self, q: Array, qd: Array, t: float, p: Array, u: Array) -> Array:
         return np.linalg.solve(self.M(q, qd, t, p, u), self.F(q, qd, t, p, u))
+
+    def acceleration_list(
+        self, q: Sequence[float], qd: Sequence[float], t: float, p: Array, u: Sequence[float]
+    ) -> list[float]:
+        """``q''`` from ``M q'' = F`` on plain numbers (one sample): ``M`` and ``F`` from one
+        function, solved by :func:`solve_small`; equal to :meth:`accelerations` to
+        round-off."""
+        M, F = self._num["MF"](q, qd, t, p, u)
+        return solve_small(M, F)
 
     def rhs(
         self, p: Array, u_of_t: Callable[[float, Array, Array], Array]
@@ -173,6 +184,37 @@ class LagrangeModel:
         out = u0.copy()
         out[list(unknown)] = sol
         return out
+
+
+def solve_small(M: Sequence[Sequence[float]], b: Sequence[float]) -> list[float]:
+    """``M x = b`` for a small dense system on plain numbers: Gaussian elimination with
+    partial pivoting (as LAPACK's ``gesv``, equal to it to round-off); a zero pivot
+    raises :class:`numpy.linalg.LinAlgError` as it does."""
+    n = len(b)
+    if n == 1:
+        if M[0][0] == 0:
+            raise np.linalg.LinAlgError("Singular matrix")
+        return [b[0] / M[0][0]]
+    A = [[*row, bi] for row, bi in zip(M, b)]
+    for k in range(n):
+        piv = max(range(k, n), key=lambda i: abs(A[i][k]))
+        if A[piv][k] == 0:
+            raise np.linalg.LinAlgError("Singular matrix")
+        A[k], A[piv] = A[piv], A[k]
+        rk, d = A[k], A[k][k]
+        for i in range(k + 1, n):
+            ri = A[i]
+            f = ri[k] / d
+            for j in range(k + 1, n + 1):
+                ri[j] -= f * rk[j]
+    x = [0.0] * n
+    for k in range(n - 1, -1, -1):
+        rk = A[k]
+        acc = rk[n]
+        for j in range(k + 1, n):
+            acc -= rk[j] * x[j]
+        x[k] = acc / rk[k]
+    return x
 
 
 # ---------------------------------------------------------------- motion laws

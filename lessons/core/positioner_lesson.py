@@ -13,6 +13,7 @@ observation and the round-trip claims from generalized coordinates and forces.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Any
@@ -355,11 +356,19 @@ class PositionerLesson(DynamicsLesson):
         if params["problem"] == "inverse":
             ev = self.law(params)
             return ClosedForm(lambda t: np.vstack(ev(t)[:2]).T)
-        model, p = self.model(params), self.pvec(params)
+        n, p = len(self.coords), self.pvec(params)
+        acc = self.model(params).acceleration_list
         fs = [params[i.name] for i in self.inputs]
-        u_of_t = lambda tt, q, qd: np.array([float(f(tt)) for f in fs])  # noqa: E731
+
+        def rhs(tt: float, yy: Array) -> Array:
+            """``[q, q'] -> [q', q'']`` with ``q''`` from the Lagrange equations."""
+            out = np.empty(2 * n)
+            out[:n] = yy[n:]
+            out[n:] = acc(yy[:n], yy[n:], tt, p, [float(f(tt)) for f in fs])
+            return out
+
         y_start = self.y0(params) if y is None else y
-        return DenseSolution(model.rhs(p, u_of_t), t0, y_start)
+        return DenseSolution(rhs, t0, y_start)
 
     def motion(self, params: Params, t: Array, state: Array) -> tuple[Array, Array, Array, Array]:
         """``(q, q', q'', u)`` on the samples from the state ``[q, q']`` at those times."""
@@ -370,7 +379,7 @@ class PositionerLesson(DynamicsLesson):
             U = self.forces(params, t)
             qdd = np.full_like(q, np.nan)
             for k in np.nonzero(ok & np.all(np.isfinite(U), axis=0))[0]:
-                qdd[:, k] = model.accelerations(q[:, k], qd[:, k], float(t[k]), p, U[:, k])
+                qdd[:, k] = model.acceleration_list(q[:, k], qd[:, k], float(t[k]), p, U[:, k])
             return q, qd, qdd, U
         with np.errstate(all="ignore"):
             qdd = self.law(params)(t)[2]
@@ -394,6 +403,32 @@ class PositionerLesson(DynamicsLesson):
         for k, i in enumerate(self.inputs):
             out[i.name] = U[k]
         out.update(self.extra_series(params, q, qd, qdd))
+        return out
+
+    def frame_scalars(self, params: Params, t: float, state: Any) -> dict[str, float]:
+        """A played frame of the forward problem: :meth:`observe`'s numbers at ``[t]``,
+        worked out on plain numbers (the same functions, no arrays of one sample)."""
+        y = np.asarray(state, dtype=float)
+        if y.shape[0] != 1 or params["problem"] != "forward":
+            return super().frame_scalars(params, t, state)
+        n, model, p = len(self.coords), self.model(params), self.pvec(params)
+        x = np.float64(t)  # numpy's scalar: 1/0 is inf, as on the grid
+        u = [float(params[i.name](x)) for i in self.inputs]
+        q, qd = y[0, :n], y[0, n:]
+        if all(math.isfinite(v) for v in (*y[0].tolist(), *u)):
+            qdd = np.array(model.acceleration_list(q, qd, float(t), p, u))
+        else:
+            qdd = np.full(n, np.nan)
+        out: dict[str, float] = {}
+        for k, c in enumerate(self.coords):
+            out[c.name], out[f"{c.name}_dot"] = float(q[k]), float(qd[k])
+            out[f"{c.name}_ddot"] = float(qdd[k])
+        for k, i in enumerate(self.inputs):
+            out[i.name] = u[k]
+        extra = self.extra_series(params, q[:, None], qd[:, None], qdd[:, None])
+        out.update({name: float(v[0]) for name, v in extra.items()})
+        if len(out) != len(self.series_names(params)):
+            return super().frame_scalars(params, t, state)
         return out
 
     def run_metrics(self, params: Params, series: dict[str, Array]) -> dict[str, Any]:
@@ -422,8 +457,9 @@ class PositionerLesson(DynamicsLesson):
         return 1.0
 
     def pose_frame(self, params: Params, fr: Frame, state: Array) -> None:
-        u = np.array([fr.scalars[i.name] for i in self.inputs])
-        u = np.where(np.isfinite(u), u, 0.0)
+        u = np.array(
+            [v if math.isfinite(v) else 0.0 for v in (fr.scalars[i.name] for i in self.inputs)]
+        )
         self.pose(params, fr, state[: len(self.coords)], u, self.force_scale(params))
 
     def pose(self, params: Params, fr: Frame, q: Array, u: Array, scale: float) -> None:
