@@ -152,3 +152,22 @@ def test_accelerations_on_plain_numbers_equal_the_matrix_solve(lid: str) -> None
         want = model.accelerations(q, qd, t, p, u)
         got = model.acceleration_list(q, qd, t, p, list(u))
         assert np.allclose(got, want, rtol=1e-12, atol=1e-12 * np.abs(want).max())
+
+
+def test_inputs_at_one_time_are_the_formulas_on_the_grid() -> None:
+    """The force formulas read one time at a time on floats are the grid's values, with
+    its inf and NaN where a formula is singular or undefined."""
+    for values in (
+        {"F_dv": "1/(t-1)", "R_sopr": "sqrt(t - 2) + 3"},
+        {"F_dv": "2*sin(3*t) + t**2", "R_sopr": "0.5"},
+        {"F_dv": "4", "R_sopr": "-1.5"},
+    ):
+        params = LINEAR.resolve(values)
+        t = np.array([0.0, 0.5, 1.0, 1.0 + 1e-9, 2.0, 2.25, 3.7])
+        grid = LINEAR.forces(params, t)
+        at = LINEAR.inputs_at(params)
+        for k, tk in enumerate(t):
+            for x in (float(tk), np.float64(tk)):
+                got = np.array(at(x))
+                assert np.allclose(got, grid[:, k], rtol=1e-14, atol=0.0, equal_nan=True), values
+                assert np.array_equal(np.isinf(got), np.isinf(grid[:, k]))

@@ -11,6 +11,7 @@ is differentiated numerically (:func:`recover_inputs`).
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from functools import lru_cache
@@ -121,8 +122,11 @@ class LagrangeModel:
         self._num["M"] = sp.lambdify(args, M, modules="numpy", cse=True)
         self._num["F"] = sp.lambdify(args, F, modules="numpy", cse=True)
         self._num["G"] = sp.lambdify(args, G, modules="numpy", cse=True)
-        # M and F as nested lists from one function: their shared subexpressions once
-        self._num["MF"] = sp.lambdify(args, [M.tolist(), list(F)], modules="numpy", cse=True)
+        # M and F as nested lists of plain floats from one function (shared subexpressions
+        # once): one sample at a time, as the integration and a played frame ask
+        self._num["MF"] = sp.lambdify(
+            args, [M.tolist(), list(F)], modules=["math", "numpy"], cse=True
+        )
 
     # -- numeric model ---------------------------------------------------------
 
@@ -142,12 +146,22 @@ class LagrangeModel:
         return np.linalg.solve(self.M(q, qd, t, p, u), self.F(q, qd, t, p, u))
 
     def acceleration_list(
-        self, q: Sequence[float], qd: Sequence[float], t: float, p: Array, u: Sequence[float]
+        self,
+        q: Sequence[float],
+        qd: Sequence[float],
+        t: float,
+        p: Sequence[float],
+        u: Sequence[float],
     ) -> list[float]:
-        """``q''`` from ``M q'' = F`` on plain numbers (one sample): ``M`` and ``F`` from one
-        function, solved by :func:`solve_small`; equal to :meth:`accelerations` to
-        round-off."""
-        M, F = self._num["MF"](q, qd, t, p, u)
+        """``q''`` from ``M q'' = F`` on plain floats (one sample; lists are fastest): ``M``
+        and ``F`` from one function with the ``math`` module, solved by
+        :func:`solve_small`; equal to :meth:`accelerations` to round-off.  Where the
+        arrays would give inf or NaN (a math domain error, a division by zero) it gives
+        NaN."""
+        try:
+            M, F = self._num["MF"](q, qd, t, p, u)
+        except (ValueError, ZeroDivisionError, OverflowError):
+            return [math.nan] * self.n
         return solve_small(M, F)
 
     def rhs(
@@ -197,7 +211,10 @@ def solve_small(M: Sequence[Sequence[float]], b: Sequence[float]) -> list[float]
         return [b[0] / M[0][0]]
     A = [[*row, bi] for row, bi in zip(M, b)]
     for k in range(n):
-        piv = max(range(k, n), key=lambda i: abs(A[i][k]))
+        piv, big = k, abs(A[k][k])
+        for i in range(k + 1, n):
+            if abs(A[i][k]) > big:
+                piv, big = i, abs(A[i][k])
         if A[piv][k] == 0:
             raise np.linalg.LinAlgError("Singular matrix")
         A[k], A[piv] = A[piv], A[k]

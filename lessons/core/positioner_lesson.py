@@ -356,19 +356,60 @@ class PositionerLesson(DynamicsLesson):
         if params["problem"] == "inverse":
             ev = self.law(params)
             return ClosedForm(lambda t: np.vstack(ev(t)[:2]).T)
-        n, p = len(self.coords), self.pvec(params)
-        acc = self.model(params).acceleration_list
-        fs = [params[i.name] for i in self.inputs]
+        n, p = len(self.coords), self.plain_p(params)
+        acc, u_at = self.model(params).acceleration_list, self.inputs_at(params)
 
         def rhs(tt: float, yy: Array) -> Array:
             """``[q, q'] -> [q', q'']`` with ``q''`` from the Lagrange equations."""
+            ys = yy.tolist()
             out = np.empty(2 * n)
             out[:n] = yy[n:]
-            out[n:] = acc(yy[:n], yy[n:], tt, p, [float(f(tt)) for f in fs])
+            out[n:] = acc(ys[:n], ys[n:], tt, p, u_at(tt))
             return out
 
         y_start = self.y0(params) if y is None else y
         return DenseSolution(rhs, t0, y_start)
+
+    def plain_p(self, params: Params) -> list[float]:
+        """:meth:`pvec` as a list of floats (once per parameter set)."""
+        return self.cached("plain p", params, lambda: self.pvec(params).tolist())
+
+    def inputs_at(self, params: Params) -> Callable[[Any], list[float]]:
+        """``t -> [u_1(t), ...]``: the force formulas at one time as floats (once per
+        parameter set): the constant ones read once, the others in one function on
+        floats; where that fails (1/0, a root of a negative number) the formulas give
+        their inf or NaN as on the grid."""
+
+        def build() -> Callable[[Any], list[float]]:
+            fs = [params[i.name] for i in self.inputs]
+            base = [float(f.constant_value or 0.0) for f in fs]
+            varying = [k for k, f in enumerate(fs) if f.constant_value is None]
+            if not varying:
+                return lambda tt: list(base)
+            names = {fs[k].variables for k in varying}
+            fn = (
+                sp.lambdify(
+                    [sym(v) for v in next(iter(names))],
+                    [fs[k].expr for k in varying],
+                    modules=["math", "numpy"],
+                )
+                if len(names) == 1
+                else None
+            )
+
+            def at(tt: Any) -> list[float]:
+                out = list(base)
+                try:
+                    vals = [float(v) for v in fn(float(tt))]  # type: ignore[misc]
+                except (ValueError, ZeroDivisionError, OverflowError, TypeError):
+                    vals = [float(fs[k](np.float64(tt))) for k in varying]
+                for k, v in zip(varying, vals):
+                    out[k] = v
+                return out
+
+            return at
+
+        return self.cached("inputs at", params, build)
 
     def motion(self, params: Params, t: Array, state: Array) -> tuple[Array, Array, Array, Array]:
         """``(q, q', q'', u)`` on the samples from the state ``[q, q']`` at those times."""
@@ -378,8 +419,11 @@ class PositionerLesson(DynamicsLesson):
         if params["problem"] == "forward":
             U = self.forces(params, t)
             qdd = np.full_like(q, np.nan)
+            acc, pl = model.acceleration_list, self.plain_p(params)
             for k in np.nonzero(ok & np.all(np.isfinite(U), axis=0))[0]:
-                qdd[:, k] = model.acceleration_list(q[:, k], qd[:, k], float(t[k]), p, U[:, k])
+                qdd[:, k] = acc(
+                    q[:, k].tolist(), qd[:, k].tolist(), float(t[k]), pl, U[:, k].tolist()
+                )
             return q, qd, qdd, U
         with np.errstate(all="ignore"):
             qdd = self.law(params)(t)[2]
@@ -411,21 +455,22 @@ class PositionerLesson(DynamicsLesson):
         y = np.asarray(state, dtype=float)
         if y.shape[0] != 1 or params["problem"] != "forward":
             return super().frame_scalars(params, t, state)
-        n, model, p = len(self.coords), self.model(params), self.pvec(params)
-        x = np.float64(t)  # numpy's scalar: 1/0 is inf, as on the grid
-        u = [float(params[i.name](x)) for i in self.inputs]
-        q, qd = y[0, :n], y[0, n:]
-        if all(math.isfinite(v) for v in (*y[0].tolist(), *u)):
-            qdd = np.array(model.acceleration_list(q, qd, float(t), p, u))
+        n = len(self.coords)
+        u = self.inputs_at(params)(np.float64(t))  # numpy's scalar: 1/0 is inf, as on the grid
+        ys = y[0].tolist()
+        q, qd = ys[:n], ys[n:]
+        if all(math.isfinite(v) for v in (*ys, *u)):
+            acc = self.model(params).acceleration_list
+            qdd = acc(q, qd, float(t), self.plain_p(params), u)
         else:
-            qdd = np.full(n, np.nan)
+            qdd = [math.nan] * n
         out: dict[str, float] = {}
         for k, c in enumerate(self.coords):
-            out[c.name], out[f"{c.name}_dot"] = float(q[k]), float(qd[k])
-            out[f"{c.name}_ddot"] = float(qdd[k])
+            out[c.name], out[f"{c.name}_dot"], out[f"{c.name}_ddot"] = q[k], qd[k], qdd[k]
         for k, i in enumerate(self.inputs):
             out[i.name] = u[k]
-        extra = self.extra_series(params, q[:, None], qd[:, None], qdd[:, None])
+        col = lambda v: np.array(v)[:, None]  # noqa: E731  (one sample of the grid's shape)
+        extra = self.extra_series(params, col(q), col(qd), col(qdd))
         out.update({name: float(v[0]) for name, v in extra.items()})
         if len(out) != len(self.series_names(params)):
             return super().frame_scalars(params, t, state)
