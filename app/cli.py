@@ -146,6 +146,9 @@ def cmd_check(args: argparse.Namespace) -> int:
 
 
 def cmd_serve(args: argparse.Namespace) -> int:
+    from app.threads import one_math_thread
+
+    one_math_thread()  # before numpy loads; the workers inherit it
     from app.assignments_cli import use_folder_for_serve
 
     problem = use_folder_for_serve(getattr(args, "assignments", None))

@@ -31,7 +31,35 @@ SLOW_NOTICE_AFTER = 1.0
 
 def non_finite(frame: Frame, allowed: frozenset[str] = frozenset()) -> str | None:
     """The name of the first quantity of ``frame`` that is not finite, or None;
-    ``allowed``: quantities the lesson declares undefined somewhere (``Series.undefined``)."""
+    ``allowed``: quantities the lesson declares undefined somewhere (``Series.undefined``).
+
+    One sum over every number of the frame says at once that all are finite (a sum of
+    finite numbers is finite unless it overflows); only otherwise are the quantities
+    looked at one by one (:func:`first_non_finite`)."""
+    try:
+        total = sum(frame.scalars.values())
+        for pts in frame.points.values():
+            total += _sum(pts)
+        for at, vec in frame.vectors.values():
+            total += _sum(at) + _sum(vec)
+        if math.isfinite(total):
+            return None
+    except TypeError:  # a value that is not a number: looked at one by one
+        pass
+    return first_non_finite(frame, allowed)
+
+
+def _sum(values: Any) -> float:
+    """The sum of an array's numbers (NaN if one is NaN, or +inf and -inf both occur)."""
+    if type(values) is np.ndarray and values.dtype == np.float64 and values.size <= 64:
+        return sum(values.ravel().tolist())
+    with np.errstate(over="ignore", invalid="ignore"):
+        return float(np.sum(np.asarray(values, dtype=float)))
+
+
+def first_non_finite(frame: Frame, allowed: frozenset[str] = frozenset()) -> str | None:
+    """:func:`non_finite`, quantity by quantity: the scalars in order (but the
+    ``allowed``), then the points, then the vectors."""
     for name, v in frame.scalars.items():
         if name in allowed:
             continue
@@ -73,6 +101,8 @@ class Pacing:
         self._slow_told = False  # the page was told (a notice)
         #: the last cut tick spent little CPU: the machine, not the run, was slow
         self.machine_busy = False
+        #: (lesson, params, the series that may be undefined) of the last frame checked
+        self._allowed_for: tuple[Lesson, Params, frozenset[str]] | None = None
 
     def _piece_size(self, piece: float, left: float) -> float:
         """The next piece of lesson time: ``piece``, less if the recent cost per lesson
@@ -93,14 +123,22 @@ class Pacing:
             cost = (clock() - c0) / moved
             # a dearer piece counts at once, a cheaper one halves the gap
             self._cost = cost if cost > self._cost else 0.5 * (self._cost + cost)
-        allowed = frozenset(s.name for s in self.lesson.series_for(self.params) if s.undefined)
-        bad = non_finite(frame, allowed)
+        bad = non_finite(frame, self._allowed())
         if bad is not None:
             return None, (
                 f"{bad} is not finite (NaN or infinite) at t = {frame.t:.6g} s:"
                 " playback paused; change the values or reset"
             )
         return frame, ""
+
+    def _allowed(self) -> frozenset[str]:
+        """The series of the lesson that may be undefined (``Series.undefined``), kept for
+        the current lesson and parameters."""
+        key = self._allowed_for
+        if key is None or key[0] is not self.lesson or key[1] is not self.params:
+            names = frozenset(s.name for s in self.lesson.series_for(self.params) if s.undefined)
+            key = self._allowed_for = (self.lesson, self.params, names)
+        return key[2]
 
     def _keep_up(self, wanted: float, moved: float, wall_dt: float) -> None:
         """Follow the share of the asked lesson time the run keeps up with; say so on the

@@ -37,7 +37,8 @@ class LogSample:
 class RunLog:
     """The samples a session has shown, for export: columns of preallocated arrays that
     grow by doubling up to ``limit`` rows; when full, every second row is dropped and
-    from then on only every ``stride``-th frame is kept."""
+    from then on only every ``stride``-th frame is kept.  The scalars are the columns of
+    one table (a frame's row is written at once when it has the same names as the last)."""
 
     def __init__(self, limit: int = MAX_LOG) -> None:
         self.limit = max(2, int(limit))
@@ -50,7 +51,12 @@ class RunLog:
         self._cap = 0
         self._t = np.empty(0)
         self._points: dict[str, np.ndarray] = {}  # name -> (cap, members, 3)
-        self._scalars: dict[str, np.ndarray] = {}  # name -> (cap,)
+        self._sc = np.empty((0, 0))  # (cap, scalars): the column of each name
+        self._columns: dict[str, int] = {}  # scalar name -> its column in _sc
+        #: the names of the last frame's scalars (in order) and their columns (None: all
+        #: the columns, in order)
+        self._names: tuple[str, ...] = ()
+        self._where: list[int] | None = None
 
     def _grow(self) -> None:
         cap = min(self.limit, max(64, 2 * self._cap))
@@ -62,8 +68,20 @@ class RunLog:
 
         self._t = grown(self._t)
         self._points = {k: grown(v) for k, v in self._points.items()}
-        self._scalars = {k: grown(v) for k, v in self._scalars.items()}
+        self._sc = grown(self._sc)
         self._cap = cap
+
+    def _scalar_columns(self, names: tuple[str, ...]) -> None:
+        """Columns for the names of a frame's scalars (new names get a column of NaN)."""
+        new = [n for n in names if n not in self._columns]
+        if new:
+            for n in new:
+                self._columns[n] = len(self._columns)
+            extra = np.full((self._sc.shape[0], len(new)), np.nan)
+            self._sc = np.concatenate([self._sc, extra], axis=1)
+        where = [self._columns[n] for n in names]
+        self._names = names
+        self._where = None if where == list(range(len(self._columns))) else where
 
     def add(self, frame: Frame) -> None:
         if self._skip:
@@ -75,30 +93,44 @@ class RunLog:
         i = self.count
         self._t[i] = float(frame.t)
         for name, value in frame.points.items():
-            pts = np.asarray(value, dtype=float).reshape(-1, 3)
             col = self._points.get(name)
+            if (
+                col is not None
+                and type(value) is np.ndarray
+                and value.shape == (col.shape[1], 3)
+                and value.dtype == np.float64
+            ):
+                col[i] = value  # the same members as the column: one copy
+                continue
+            pts = np.asarray(value, dtype=float).reshape(-1, 3)
             if col is None:
                 col = self._points[name] = np.full((self._cap, len(pts), 3), np.nan)
             n = min(len(pts), col.shape[1])
             col[i, :n] = pts[:n]
             col[i, n:] = np.nan
-        for name, col in self._points.items():
-            if name not in frame.points:
-                col[i] = np.nan
-        for name, value in frame.scalars.items():
-            col = self._scalars.get(name)
-            if col is None:
-                col = self._scalars[name] = np.full(self._cap, np.nan)
-            col[i] = float(value)
-        for name, col in self._scalars.items():
-            if name not in frame.scalars:
-                col[i] = np.nan
+        if len(self._points) > len(frame.points):
+            for name, col in self._points.items():
+                if name not in frame.points:
+                    col[i] = np.nan
+        scalars = frame.scalars
+        names = tuple(scalars)
+        if names != self._names:
+            self._scalar_columns(names)
+        row = self._sc[i]
+        values: list[Any] = list(scalars.values())
+        if self._where is not None:
+            row[:] = np.nan
+        try:
+            row[self._where if self._where is not None else slice(None)] = values
+        except (TypeError, ValueError):  # not plain numbers: each as float() reads it
+            values = [float(v) for v in values]
+            row[self._where if self._where is not None else slice(None)] = values
         self.count += 1
         if self.count >= self.limit:
             keep = np.arange(0, self.count, 2)
             m = len(keep)
             self._t[:m] = self._t[keep]
-            for col in (*self._points.values(), *self._scalars.values()):
+            for col in (*self._points.values(), self._sc):
                 col[:m] = col[keep]
                 col[m:] = np.nan
             self.count = m
@@ -113,7 +145,7 @@ class RunLog:
         return self._points[name][: self.count].copy()
 
     def scalar(self, name: str) -> np.ndarray:
-        return self._scalars[name][: self.count].copy()
+        return self._sc[: self.count, self._columns[name]].copy()
 
     @property
     def point_names(self) -> list[str]:
@@ -121,12 +153,13 @@ class RunLog:
 
     @property
     def scalar_names(self) -> list[str]:
-        return list(self._scalars)
+        return list(self._columns)
 
     def sample(self, i: int) -> LogSample:
         """Row ``i`` as a :class:`LogSample` (a point missing from that frame is left out)."""
         pts = {k: v[i].copy() for k, v in self._points.items() if not np.all(np.isnan(v[i]))}
-        sc = {k: float(v[i]) for k, v in self._scalars.items() if not np.isnan(v[i])}
+        row = self._sc[i]
+        sc = {k: float(row[j]) for k, j in self._columns.items() if not np.isnan(row[j])}
         return LogSample(float(self._t[i]), pts, sc)
 
     @property
@@ -136,11 +169,7 @@ class RunLog:
 
     @property
     def nbytes(self) -> int:
-        return int(
-            self._t.nbytes
-            + sum(v.nbytes for v in self._points.values())
-            + sum(v.nbytes for v in self._scalars.values())
-        )
+        return int(self._t.nbytes + sum(v.nbytes for v in self._points.values()) + self._sc.nbytes)
 
     def __len__(self) -> int:
         return self.count

@@ -11,7 +11,8 @@ session is warmed up for one second of frames (tables, dense output and factoriz
 are built once per parameter set), then ``--frames`` frames are timed three times in a row (CPU time of this process,
 the least of the three: other processes on the machine do not count).  "50 x 36 fps" is
 the share of one core that 50 pages playing that lesson would take for stepping alone.
-"stepper only" is the same frames without the session (the lesson's own part).
+"stepper only" is the same frames without the session (the lesson's own part).  The math
+libraries run one thread per call, as in the server (:mod:`app.threads`).
 """
 
 from __future__ import annotations
@@ -19,8 +20,12 @@ from __future__ import annotations
 import argparse
 import time
 
-from app.session import Session
-from lessons.catalog import all_lessons
+from app.threads import one_math_thread
+
+one_math_thread()  # as the server runs (before numpy loads)
+
+from app.session import Session  # noqa: E402
+from lessons.catalog import all_lessons  # noqa: E402
 
 FRAME = 1.0 / 36.0
 #: timed runs of ``--frames`` frames each; the least CPU time is reported

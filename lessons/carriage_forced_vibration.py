@@ -50,7 +50,7 @@ from lessons.core.contract import (
     Series,
     Stepper,
 )
-from lessons.core.dense_solution import ClosedFormRun, RunStepper
+from lessons.core.dense_solution import FRAME_GRAIN, ClosedFormRun, RunStepper
 from lessons.core.vibration import ForcedOscillator, frequency_response
 
 TWO_PI = 2.0 * math.pi
@@ -256,9 +256,22 @@ class CarriageForcedVibration(Lesson):
         return self.result(params, t, state, metrics, self.messages(o))
 
     def stepper(self, params: Params) -> Stepper:
-        return RunStepper(self.run_from, self._frame, params)
+        return RunStepper(
+            self.run_from,
+            self._frame,
+            params,
+            observe=self.observe,
+            names=self.series_names,
+            grain=FRAME_GRAIN * self.time_scale,
+        )
 
-    def _frame(self, params: Params, t: float, state: np.ndarray) -> Frame:
+    def _frame(
+        self,
+        params: Params,
+        t: float,
+        state: np.ndarray,
+        scalars: dict[str, float] | None = None,
+    ) -> Frame:
         o, L = oscillator_from_params(params), self._length(params)
         s = 0.6 * L
         q = float(state[0, 0])
@@ -281,8 +294,8 @@ class CarriageForcedVibration(Lesson):
                 ),
             },
             poses={"carriage": (centre, np.array([1.0, 0.0, 0.0, 0.0]))},
-            scalars=self.frame_scalars(params, t, state),
-            message="" if np.all(np.isfinite(state)) else "the state is not finite",
+            scalars=self.frame_scalars(params, t, state) if scalars is None else scalars,
+            message="" if np.isfinite(state).all() else "the state is not finite",
         )
 
     def _length(self, params: Params) -> float:

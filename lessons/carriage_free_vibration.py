@@ -13,6 +13,7 @@ motion (``time_scale``).
 from __future__ import annotations
 
 import math
+from functools import lru_cache
 from typing import Any
 
 import numpy as np
@@ -56,15 +57,15 @@ from lessons.core.contract import (
     Series,
     Stepper,
 )
-from lessons.core.dense_solution import ClosedFormRun, RunStepper
+from lessons.core.dense_solution import FRAME_GRAIN, ClosedFormRun, RunStepper
 from lessons.core.vibration import (
     COORDS,
     MODE_KEYS,
     Carriage,
+    ModalResponse,
     box_inertia,
     closed_form_frequencies,
     frequency_table,
-    modal_propagate,
     mode_character,
     mode_shape,
 )
@@ -93,7 +94,12 @@ def carriage_from_params(p: Params) -> Carriage:
 
 def geometry_from_params(p: Params) -> CarriageGeometry:
     """The drawn box b x a x H, h above the centre of stiffness."""
-    return CarriageGeometry(p["a"], p["b"], p["H"], p["h"])
+    return _geometry(float(p["a"]), float(p["b"]), float(p["H"]), float(p["h"]))
+
+
+@lru_cache(maxsize=8)
+def _geometry(a: float, b: float, H: float, h: float) -> CarriageGeometry:
+    return CarriageGeometry(a, b, H, h)
 
 
 def _size(name: str, default: float, label: str, lo: float, step: float) -> Param:
@@ -271,7 +277,8 @@ class CarriageFreeVibration(Lesson):
         exact by modal superposition of (2.42)-(2.44)."""
         p = carriage_from_params(params)
         q0, v0 = self.initial_state(params) if state is None else (state[:6], state[6:])
-        return ClosedFormRun(lambda t: np.hstack(modal_propagate(p, q0, v0, np.asarray(t) - t0)))
+        modes = ModalResponse(p, q0, v0)  # once per parameter set
+        return ClosedFormRun(lambda t: np.hstack(modes.at(np.asarray(t, dtype=float) - t0)))
 
     def notes(self, params: Params) -> list[Note]:
         out = [Note("info", EXAMPLE_NOTE)]
@@ -327,17 +334,29 @@ class CarriageFreeVibration(Lesson):
     def stepper(self, params: Params) -> Stepper:
         """The exact free response played live; it starts from ``initial_state`` (the
         chosen mode's shape), a changed mode restarts it (group ``mode``)."""
-        return RunStepper(self.run_from, self._frame, params)
+        return RunStepper(
+            self.run_from,
+            self._frame,
+            params,
+            observe=self.observe,
+            names=self.series_names,
+            grain=FRAME_GRAIN * self.time_scale,
+        )
 
-    def _frame(self, params: Params, t: float, state: np.ndarray) -> Frame:
-        geom, q = geometry_from_params(params), state[0, :6]
-        pos, quat = geom.pose(q)
+    def _frame(
+        self,
+        params: Params,
+        t: float,
+        state: np.ndarray,
+        scalars: dict[str, float] | None = None,
+    ) -> Frame:
+        pos, quat, corner, springs = geometry_from_params(params).drawn(state[0, :6])
         return Frame(
             t=t,
-            points={"O (centre of gravity)": pos[None, :], "corner": geom.corner(q)[None, :]},
-            vectors={"springs": geom.spring_vectors(q)},
+            points={"O (centre of gravity)": pos[None, :], "corner": corner[None, :]},
+            vectors={"springs": springs},
             poses={"carriage": (pos, quat)},
-            scalars=self.frame_scalars(params, t, state),
+            scalars=self.frame_scalars(params, t, state) if scalars is None else scalars,
         )
 
     def scene(self, params: Params) -> SceneSpec:

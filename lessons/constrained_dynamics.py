@@ -209,11 +209,18 @@ class ConstrainedDynamics(Lesson):
 
     def stepper(self, params: Params) -> Stepper:
         return RunStepper(
-            lambda ps, t0, state: ExampleRun(ps, t0, state), self._frame, params, block=2.0
+            lambda ps, t0, state: ExampleRun(ps, t0, state),
+            self._frame,
+            params,
+            block=2.0,
+            observe=self.observe,
+            names=lambda ps: tuple(s.name for s in self.series_for(ps)),
         )
 
-    def _frame(self, params: Params, t: float, state: Array) -> Frame:
-        s = self.frame_scalars(params, t, state)
+    def _frame(
+        self, params: Params, t: float, state: Array, scalars: dict[str, float] | None = None
+    ) -> Frame:
+        s = self.frame_scalars(params, t, state) if scalars is None else scalars
         fr = Frame(t=float(t), scalars=s)
         ex = str(params["example"])
         q = np.array([s[c] for c in COORDS[ex]])

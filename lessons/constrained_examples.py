@@ -10,8 +10,10 @@
 Each is built once as a :class:`lessons.core.constrained.ConstrainedSystem` (corrected
 form: ``H`` is ``v2 x n``) and evaluated by :class:`lessons.core.constraint_eval.ConstraintEval`.
 An :class:`ExampleRun` is one dense solution of (2.34) per parameter set
-(:mod:`lessons.core.dense_solution`), shared by the lesson's headless run and its live
-stepper, next to an independent reference solution; :func:`observe_example` computes
+(:mod:`lessons.core.dense_solution`; its right-hand side is (2.34) generated once on plain
+floats, :meth:`ConstraintEval.accelerations`), shared by the lesson's headless run and its
+live stepper, next to an independent reference solution (a closed form where there is
+one); :func:`observe_example` computes
 every quantity the lesson declares from that state.
 """
 
@@ -22,6 +24,7 @@ from functools import cache, lru_cache
 from typing import Any
 
 import numpy as np
+import scipy.special
 import sympy as sp
 from sympy.physics.mechanics import Point, ReferenceFrame, dynamicsymbols
 
@@ -148,6 +151,13 @@ def inputs_of(example: str, t: Array) -> Array:
     return np.array([2 * np.sin(t), one, 0 * one, 0.5 * np.cos(t), 0.1 * np.cos(2 * t)])
 
 
+def inputs_at(example: str, t: float) -> list[float]:
+    """:func:`inputs_of` at one time, on plain floats (the integrator asks thousands of times)."""
+    if example != "planar-3axis":
+        return []
+    return [2 * math.sin(t), 1.0, 0.0, 0.5 * math.cos(t), 0.1 * math.cos(2 * t)]
+
+
 def physical(params: Params) -> Array:
     """The parameter vector of the example's system."""
     ex = str(params["example"])
@@ -209,30 +219,73 @@ class KnifeReference:
         return (self.u0 + self.F_m * turn)[:, None]
 
 
-def reference(params: Params, t0: float, q: Array, qd: Array) -> DenseSolution | KnifeReference:
+class PendulumReference:
+    """Closed form of the angle ODE theta'' = -(g/L) sin(theta) from ``(theta, theta')``
+    at t0, by Jacobi's elliptic functions with k^2 = sin^2(theta/2) + (theta'/2 w0)^2,
+    w0 = sqrt(g/L): swinging (k < 1) sin(theta/2) = k sn(u | k^2), theta' = 2 k w0 cn,
+    u = w0 (t - t0) + u0; going over the top (k >= 1) theta/2 = am(v | 1/k^2), theta' =
+    2 k w0 dn, v = k w0 (t - t0) + v0 (signed by the direction of turning)."""
+
+    failure = ""
+    t_covered = np.inf
+
+    def __init__(self, g: float, L: float, t0: float, theta: float, omega: float) -> None:
+        self.t0, self.theta, self.omega = t0, theta, omega
+        self.w0 = math.sqrt(g / L)
+        if self.w0 == 0.0:
+            return
+        half = math.remainder(theta, 2 * math.pi) / 2  # in [-pi/2, pi/2]
+        self.k = math.sqrt(math.sin(half) ** 2 + (omega / (2 * self.w0)) ** 2)
+        self.sign = 1.0 if omega >= 0 else -1.0
+        if self.k < 1.0:
+            m = self.k**2
+            s0 = min(max(math.sin(half) / self.k, -1.0), 1.0) if self.k > 0 else 0.0
+            u0 = float(scipy.special.ellipkinc(math.asin(s0), m))
+            self.u0 = u0 if omega >= 0 else 2 * float(scipy.special.ellipk(m)) - u0
+        else:
+            self.v0 = float(scipy.special.ellipkinc(self.sign * theta / 2, 1 / self.k**2))
+
+    def extend(self, t: float) -> None:
+        """Nothing to compute: a closed form covers every time."""
+
+    def state(self, t: Array) -> Array:
+        """``(theta, theta')`` at the times ``t``: shape ``(len(t), 2)``."""
+        s = np.asarray(t, dtype=float) - self.t0
+        if self.w0 == 0.0:  # no gravity: turning at a constant rate
+            return np.column_stack([self.theta + self.omega * s, np.full_like(s, self.omega)])
+        if self.k < 1.0:
+            sn, cn, _, _ = scipy.special.ellipj(self.w0 * s + self.u0, self.k**2)
+            th = 2 * np.arcsin(self.k * sn)
+            return np.column_stack([th, 2 * self.k * self.w0 * cn])
+        _, _, dn, am = scipy.special.ellipj(self.k * self.w0 * s + self.v0, 1 / self.k**2)
+        return np.column_stack([2 * self.sign * am, 2 * self.sign * self.k * self.w0 * dn])
+
+
+def reference(
+    params: Params, t0: float, q: Array, qd: Array
+) -> DenseSolution | KnifeReference | PendulumReference:
     """An independent solution from the same state: the angle ODE of the pendulum (polar
-    coordinates, rod length L(t)), the closed form of the knife edge, the reduced 3-DOF
-    Lagrange model of Problem 2.4 (DOP853, rtol = atol = 1e-12)."""
+    coordinates; its closed form for a fixed rod, DOP853 at rtol = atol = 1e-12 for the rod
+    length L(t)), the closed form of the knife edge, the reduced 3-DOF Lagrange model of
+    Problem 2.4 (DOP853, rtol = atol = 1e-12)."""
     ex = str(params["example"])
     if ex == "knife-edge":
         return KnifeReference(params, t0, q, qd)
     if ex in PENDULUMS:
-        g = float(params["g"])
-        L0, eps, nu = float(params["L"]), float(params["eps"]), float(params["nu"])
-        rheonomic = params["example"] == "rheonomic-pendulum"
+        r2 = q[0] ** 2 + q[1] ** 2
+        th0, w0 = float(np.arctan2(q[0], -q[1])), float((q[0] * qd[1] - q[1] * qd[0]) / r2)
+        g, L0 = float(params["g"]), float(params["L"])
+        if ex == "pendulum":
+            return PendulumReference(g, L0, t0, th0, w0)
+        eps, nu = float(params["eps"]), float(params["nu"])
 
         def angle(t: float, z: Array) -> Array:
             # rod_length at one time, on floats (the integrator asks thousands of times)
             th, w = float(z[0]), float(z[1])
-            if rheonomic:
-                L, Ld = L0 * (1 + eps * math.sin(nu * t)), L0 * eps * nu * math.cos(nu * t)
-            else:
-                L, Ld = L0, 0.0
+            L, Ld = L0 * (1 + eps * math.sin(nu * t)), L0 * eps * nu * math.cos(nu * t)
             return np.array([w, -(g * math.sin(th) + 2 * Ld * w) / L])
 
-        r2 = q[0] ** 2 + q[1] ** 2
-        z0 = [np.arctan2(q[0], -q[1]), (q[0] * qd[1] - q[1] * qd[0]) / r2]
-        return DenseSolution(angle, t0, np.array(z0), "DOP853", 1e-12, 1e-12)
+        return DenseSolution(angle, t0, np.array([th0, w0]), "DOP853", 1e-12, 1e-12)
     lesson, pp = planar3()
     u = lambda t, qq, qqd: inputs_of(ex, np.array([t]))[:, 0]  # noqa: E731
     rhs = lesson.model(pp).rhs(lesson.pvec(pp), u)
@@ -253,11 +306,17 @@ class ExampleRun:
         q0, qd0 = start_state(params, t0) if start is None else (start[:n], start[n : 2 * n])
         q0, qd0 = cs.consistent_initial(t0, q0, qd0, p, inputs_of(ex, np.array([t0]))[:, 0])
 
+        acc, pl = ev.accelerations(), p.tolist()
+
         def rhs(t: float, y: Array) -> Array:
-            tt = np.array([t])
-            qd = y[n:, None]
-            P = ev.parts(tt, y[:n, None], qd, p, inputs_of(ex, tt))
-            return np.concatenate([y[n:], ev.solve(P, qd, a, b)[0][0]])
+            # (2.34) on plain floats, generated once per example
+            yl = y.tolist()
+            q, qd = yl[:n], yl[n:]
+            try:
+                qdd = acc(q, qd, t, pl, inputs_at(ex, t), a, b)
+            except ArithmeticError:  # a singular position: the solution ends here
+                return np.full(2 * n, np.nan)
+            return np.array(qd + qdd)
 
         rtol, method = float(params["rtol"]), str(params["integrator"])
         self.main = DenseSolution(rhs, t0, np.concatenate([q0, qd0]), method, rtol, rtol)

@@ -280,6 +280,25 @@ class MotionProgramLesson(Lesson):
             out[name] = U[:, k // 3, k % 3]
         return out
 
+    def observe_one(self, params: Params, t: float, state: np.ndarray) -> dict[str, float]:
+        """:meth:`observe` at one time in plain floats (a played frame; equal to round-off)."""
+        prog = program_of(params)
+        law = prog.law(np.array([float(t)]))
+        X, V = law["X"][0].tolist(), law["V"][0].tolist()
+        Y = np.asarray(state, dtype=float).reshape(3).tolist()
+        D = float(law["D"][0])
+        out = {"s": float(law["s"][0]), "v_limit": float(law["v"][0]), "phi": float(law["phi"][0])}
+        for k, c in enumerate("xyz"):
+            out[c], out[f"v{c}"], out[f"{c}_analyzer"] = X[k], V[k], Y[k]
+        gap = D <= 0 or any(a < t < b for a, b in prog.gaps)  # (1.15) undefined there
+        U = [[math.nan if gap else vi * xj / D for xj in X] for vi in V]
+        UY = [sum(u * y for u, y in zip(row, Y)) for row in U]
+        out["speed"] = math.sqrt(sum(w * w for w in UY))
+        out["error"] = math.sqrt(sum((y - x) ** 2 for x, y in zip(X, Y)))
+        out["dist_sq"] = D
+        out.update((name, U[k // 3][k % 3]) for k, name in enumerate(U_NAMES))
+        return out
+
     def simulate(self, params: Params, t_end: float | None = None) -> RunResult:
         prog = program_of(params)
         prof, cm = prog.profile, prog.curve

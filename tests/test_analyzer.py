@@ -85,3 +85,65 @@ def test_velocities_batch_equals_single():
     for k in range(3):
         assert np.array_equal(batch[k], model.velocity(t[k], R[k]))
     assert np.linalg.norm(batch, axis=-1) == pytest.approx(2.0)
+
+
+CONTROL_SETS = [
+    ("5", "0", "0", None),
+    ("sin(10*t)", "t", "5", 1.0),
+    ("1 + t", "0.2", "t/3", "2 + sin(t)"),
+    ("sqrt(1 - t)", "cos(t)", "0", None),  # not finite from t = 1
+]
+TIMES = (0.0, 1e-6, 0.37, 0.999, 1.5, 7.25)
+
+
+@pytest.mark.parametrize("controls", CONTROL_SETS)
+def test_controls_at_one_time_equal_the_arrays(controls):
+    """:meth:`Controls.one` to round-off; :meth:`Controls.at` exactly as each formula."""
+    f = parse_formula
+    u1, u2, u3, V = controls
+    c = Controls(f(u1), f(u2), f(u3), V=None if V is None else f(V) if isinstance(V, str) else V)
+    with np.errstate(all="ignore"):
+        for t in TIMES:
+            one = c.one(t)
+            arr = [*c.at(np.array([t]))[:, 0], c.speed(np.array([t]))[0]]
+            assert all(type(v) is float for v in one)
+            np.testing.assert_allclose(one, arr, rtol=1e-15, atol=0)
+            assert np.array_equal(np.isnan(one), np.isnan(arr))
+        grid = np.linspace(0.0, 3.0, 31)
+        each = [np.broadcast_to(u(grid), grid.shape) for u in (c.u1, c.u2, c.u3)]
+        assert np.array_equal(c.at(grid), np.array(each), equal_nan=True)
+
+
+@pytest.mark.parametrize("name", SURFACES)
+@pytest.mark.parametrize("controls", CONTROL_SETS[:3])
+def test_a_frame_in_plain_floats_equals_the_arrays(name, controls):
+    """:meth:`AnalyzerModel.at_one` and :meth:`F_one`: the field (1.50)/(1.59) to round-off,
+    the half gradient and F exactly as the array forms, for a family of points."""
+    f = parse_formula
+    q, p = SURFACES[name]
+    u1, u2, u3, V = controls
+    c = Controls(f(u1), f(u2), f(u3), V=None if V is None else f(V) if isinstance(V, str) else V)
+    model = AnalyzerModel.of(q.coeffs(), c)
+    rng = np.random.default_rng(7)
+    R = np.array([p, q.project(np.array(p) + 0.3), q.project(rng.normal(size=3))])
+    for t in TIMES:
+        u, v, g = model.at_one(t, R)
+        ref = model.velocities(np.array([t]), R[None])[0]
+        scale = max(1.0, float(np.abs(ref).max()))
+        np.testing.assert_allclose(v, ref, rtol=0, atol=1e-15 * scale)
+        assert np.array_equal(g, model.half_gradient(R))
+        np.testing.assert_allclose(model.F_one(R), model.F(R), rtol=0, atol=1e-15)
+        assert u[:3] == tuple(c.at(np.array([t]))[:, 0])
+
+
+def test_a_held_point_is_held_in_plain_floats_too():
+    """The constant-speed analyzer where its field vanishes: velocity 0 either way."""
+    f = parse_formula
+    model = AnalyzerModel.of(
+        Quadric.sphere(1.0).coeffs(), Controls(f("sin(10*t)"), f("t"), f("5"), V=1.0)
+    )
+    R = np.array([[1.0, 0.0, 0.0], [0.0, 0.0, 1.0]])
+    _, v, _ = model.at_one(0.0, R)
+    assert np.all(v[0] == 0.0) and np.all(model.velocity(0.0, R)[0] == 0.0)
+    _, v, _ = model.at_one(1e-6, R)
+    assert np.linalg.norm(v, axis=-1) == pytest.approx(1.0, abs=1e-12)

@@ -103,3 +103,21 @@ def test_time_scale_shows_about_one_or_two_periods_per_second() -> None:
     per_wall_second = oscillator_from_params(params).omega / (2 * np.pi) * FORCED.time_scale
     assert 1.0 <= per_wall_second <= 3.0
     assert FORCED.t_end / FORCED.time_scale == pytest.approx(10.0)
+
+
+@pytest.mark.parametrize("preset", [p.name for p in CarriageForcedVibration.presets])
+def test_live_frames_read_the_table_as_the_run_is_sampled(preset: str) -> None:
+    """Played frames on the grain read a block of the observation evaluated at once; off
+    the grain a frame is observed alone; both are the headless run's values."""
+    lesson = CarriageForcedVibration()
+    params = lesson.resolve(preset=preset)
+    st = lesson.stepper(params)
+    run = lesson.run_from(params, 0.0, None)
+    grain = lesson.time_scale / 600.0
+    for dt in [17 * grain, 16 * grain, 0.37 * grain, 17 * grain, 900 * grain]:
+        fr = st.advance(dt)
+        want = lesson.observation(params, np.array([fr.t]), run.state(np.array([fr.t])))
+        assert set(fr.scalars) == set(want)
+        for name, v in want.items():
+            assert fr.scalars[name] == pytest.approx(float(v[0]), rel=1e-12, abs=1e-14), name
+    assert st._table is not None and st._table.builds >= 1

@@ -142,3 +142,31 @@ def test_time_scale_shows_a_few_periods_per_second() -> None:
         per_wall_second = f_hz / (2 * math.pi) * FREE.time_scale
         assert 0.3 <= per_wall_second.min() and per_wall_second.max() <= 5.0
     assert FREE.t_end / FREE.time_scale == pytest.approx(10.0)
+
+
+@pytest.mark.parametrize("preset", [p.name for p in CarriageFreeVibration.presets])
+def test_live_frames_read_the_table_as_the_run_is_sampled(preset: str) -> None:
+    """Played frames on the grain (session quanta times the time scale) read a block of
+    the observation evaluated at once; off the grain a frame is observed alone; both are
+    the headless run's values, and the drawing is that of the state."""
+    lesson = CarriageFreeVibration()
+    params = lesson.resolve(preset=preset)
+    st = lesson.stepper(params)
+    run = lesson.run_from(params, 0.0, None)
+    grain = lesson.time_scale / 600.0
+    geom = geometry_from_params(params)
+    for dt in [17 * grain, 16 * grain, 0.37 * grain, 17 * grain, 900 * grain]:
+        fr = st.advance(dt)
+        state = run.state(np.array([fr.t]))
+        want = lesson.observation(params, np.array([fr.t]), state)
+        assert set(fr.scalars) == set(want)
+        for name, v in want.items():
+            assert fr.scalars[name] == pytest.approx(float(v[0]), rel=1e-12, abs=1e-15), name
+        pos, quat = geom.pose(state[0, :6])
+        assert fr.poses["carriage"][0] == pytest.approx(pos, abs=1e-15)
+        assert fr.poses["carriage"][1] == pytest.approx(quat, abs=1e-13)
+        assert fr.points["corner"][0] == pytest.approx(geom.corner(state[0, :6]), abs=1e-15)
+        assert fr.vectors["springs"][1] == pytest.approx(
+            geom.spring_vectors(state[0, :6])[1], abs=1e-15
+        )
+    assert st._table is not None and st._table.builds >= 1

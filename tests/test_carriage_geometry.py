@@ -34,3 +34,17 @@ def test_max_corner_displacement_of_a_translation_and_a_turn() -> None:
     # a turn phi_z moves the far corners by phi_z * half the diagonal
     turn = GEOM.max_corner_displacement(np.array([0, 0, 0, 0, 0, 0.01]))
     assert turn == pytest.approx(0.01 * np.hypot(0.25, 0.2))
+
+
+def test_drawn_is_pose_corner_and_springs() -> None:
+    rng = np.random.default_rng(5)
+    for _ in range(5):
+        q = rng.normal(scale=1e-3, size=6)
+        pos, quat, corner, (anchors, springs) = GEOM.drawn(q)
+        want_pos, want_quat = GEOM.pose(q)
+        assert pos == pytest.approx(want_pos, abs=1e-15)
+        assert quat == pytest.approx(want_quat, abs=1e-15)
+        assert corner == pytest.approx(GEOM.corner(q), abs=1e-15)
+        want_anchors, want_springs = GEOM.spring_vectors(q)
+        assert np.array_equal(anchors, want_anchors)
+        assert springs == pytest.approx(want_springs, abs=1e-15)

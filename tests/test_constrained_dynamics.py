@@ -6,8 +6,17 @@ import numpy as np
 import pytest
 
 from lessons.constrained_dynamics import LESSON, pendulum_drift, rheonomic_drift_numbers
-from lessons.constrained_examples import ExampleRun, planar3_acceleration_difference, system
+from lessons.constrained_examples import (
+    ExampleRun,
+    PendulumReference,
+    evaluator,
+    inputs_at,
+    inputs_of,
+    planar3_acceleration_difference,
+    system,
+)
 from lessons.core.constraint_eval import CORRECTIONS
+from lessons.core.dense_solution import DenseSolution
 
 
 def test_drift_numbers() -> None:
@@ -90,3 +99,71 @@ def test_stepper_scene_derivation(example: str) -> None:
     assert st.reset().t == 0.0
     steps = LESSON.derivation(params)
     assert any(s.source == "(2.34)" for s in steps)
+
+
+@pytest.mark.parametrize(
+    "example", ["pendulum", "rheonomic-pendulum", "knife-edge", "planar-3axis"]
+)
+def test_generated_accelerations_match_the_stacked_solve(example: str) -> None:
+    """(2.34) generated on floats (the integrator's right-hand side) is the stacked solve."""
+    ev, cs = evaluator(example), system(example)[1]
+    rng = np.random.default_rng(3)
+    acc = ev.accelerations()
+    for _ in range(10):
+        q, qd, t = rng.normal(size=cs.n), rng.normal(size=cs.n), float(rng.uniform(0, 5))
+        p, u = rng.uniform(0.5, 2.0, len(cs.params)), inputs_of(example, np.array([t]))
+        assert inputs_at(example, t) == pytest.approx(u[:, 0], abs=1e-15)
+        for a, b in ((0.0, 0.0), (5.0, 7.0)):
+            P = ev.parts(np.array([t]), q[:, None], qd[:, None], p, u)
+            want = ev.solve(P, qd[:, None], a, b)[0][0]
+            got = acc(list(q), list(qd), t, list(p), inputs_at(example, t), a, b)
+            assert np.max(np.abs(np.array(got) - want)) <= 1e-12 * max(1.0, np.max(np.abs(want)))
+
+
+@pytest.mark.parametrize(
+    ("g", "L", "theta", "omega", "t0"),
+    [
+        (9.81, 1.0, 1.0, 0.0, 0.0),  # released from rest (the presets)
+        (9.81, 1.0, 1.0, -2.0, 3.0),  # swinging back
+        (9.81, 2.0, -2.5, 1.0, 1.0),
+        (9.81, 1.0, 0.5, 8.0, 0.0),  # over the top
+        (9.81, 1.0, 0.5, -8.0, 0.0),
+        (5.0, 1.0, -3.1, -0.2, 0.0),  # near the top
+        (0.0, 1.0, 1.0, 2.0, 0.0),  # no gravity
+        (9.81, 1.0, 0.0, 0.0, 0.0),  # at rest at the bottom
+    ],
+)
+def test_pendulum_closed_form_is_the_angle_ode(
+    g: float, L: float, theta: float, omega: float, t0: float
+) -> None:
+    ref = PendulumReference(g, L, t0, theta, omega)
+    ode = DenseSolution(
+        lambda t, z: np.array([z[1], -g / L * np.sin(z[0])]),
+        t0,
+        np.array([theta, omega]),
+        "DOP853",
+        1e-12,
+        1e-12,
+    )
+    t = np.linspace(t0, t0 + 10.0, 201)
+    a, b = ref.state(t), ode.state(t)
+    assert np.abs(np.sin(a[:, 0]) - np.sin(b[:, 0])).max() < 1e-8
+    assert np.abs(np.cos(a[:, 0]) - np.cos(b[:, 0])).max() < 1e-8
+    assert np.abs(a[:, 1] - b[:, 1]).max() < 1e-7
+
+
+@pytest.mark.parametrize("preset", [p.name for p in LESSON.presets])
+def test_live_frames_read_the_table_as_the_run_is_sampled(preset: str) -> None:
+    """Played frames on the session's grain read blocks of the observation evaluated at
+    once; off the grain the frame is observed alone.  Both are the headless run's values."""
+    params = LESSON.resolve(preset=preset)
+    st = LESSON.stepper(params)
+    run = ExampleRun(params)
+    grain = 1.0 / 600.0
+    for dt in [17 * grain, 16 * grain, 0.013, 17 * grain, 500 * grain, 3 * grain]:
+        fr = st.advance(dt)
+        want = LESSON.observation(params, np.array([fr.t]), run.state(np.array([fr.t])))
+        assert set(fr.scalars) == set(want)
+        for name, v in want.items():
+            assert fr.scalars[name] == pytest.approx(float(v[0]), rel=1e-12, abs=1e-14), name
+    assert st._table is not None and st._table.builds >= 1

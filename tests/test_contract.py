@@ -3,6 +3,7 @@ where a series is not defined."""
 
 from __future__ import annotations
 
+import math
 from typing import Any
 
 import numpy as np
@@ -148,3 +149,72 @@ def test_frame_scalars_of_a_wrong_observation_say_what_differs(mode: str) -> Non
     lesson.mode = mode
     with pytest.raises((ObservationError, ValueError)):
         lesson.frame_scalars(lesson.resolve(), 0.3, None)
+
+
+class DecayOne(Decay):
+    """Decay with its observation at one time in plain numbers (in another order)."""
+
+    id = "decay-one"
+    wrong = False
+
+    def observe_one(self, params: Params, t: float, state: Any) -> dict[str, float] | None:
+        out = {f"x_{m + 1}" if m else "x": math.exp(-t) * (m + 1) for m in range(params["family"])}
+        out["k_used"] = float(params["k"])
+        if self.wrong:
+            out["extra"] = 1.0
+        return out if params["shape"] == "exp" else None
+
+
+def test_frame_scalars_read_observe_one_where_the_lesson_has_it() -> None:
+    lesson = DecayOne()
+    for family in (1, 3):
+        for shape in ("exp", "sqrt"):
+            params = lesson.resolve({"family": family, "k": 2.5, "shape": shape})
+            for t in (0.0, 0.3, 0.9):
+                full = lesson.observation(params, [t], None)
+                fast = lesson.frame_scalars(params, t, None)
+                assert list(fast) == list(full) == list(lesson.series_names(params))
+                for k, v in fast.items():
+                    assert type(v) is float and v == pytest.approx(full[k][0], rel=1e-15)
+    # an observation at one time that differs from the declared series: the full one says so
+    params = lesson.resolve({"family": 2})
+    with pytest.raises(ObservationError, match="undeclared \\['extra'\\]"):
+        DecayOneBroken().frame_scalars(params, 0.3, None)
+
+
+class DecayOneBroken(DecayOne):
+    """observe_one and observe both with an undeclared series."""
+
+    wrong = True
+
+    def observe(self, params: Params, t: np.ndarray, state: Any) -> dict[str, Any]:
+        return {**super().observe(params, t, state), "extra": np.zeros(len(t))}
+
+
+class DecayKeyed(Decay):
+    """Decay whose series depend on the shape too (its series key says so)."""
+
+    id = "decay-keyed"
+
+    def series_for(self, params: Params) -> tuple[Series, ...]:
+        out = super().series_for(params)
+        return out if params["shape"] == "exp" else tuple(s for s in out if s.name != "k_used")
+
+    def series_key(self, params: Params) -> Any:
+        return super().series_key(params), params["shape"]
+
+    def observe(self, params: Params, t: np.ndarray, state: Any) -> dict[str, Any]:
+        out = super().observe(params, t, state)
+        if params["shape"] != "exp":
+            out.pop("k_used")
+        return out
+
+
+def test_series_names_are_kept_per_series_key() -> None:
+    lesson = DecayKeyed()
+    for shape in ("exp", "sqrt", "exp"):
+        params = lesson.resolve({"family": 2, "shape": shape})
+        names = lesson.series_names(params)
+        assert names == tuple(s.name for s in lesson.series_for(params))
+        assert list(lesson.frame_scalars(params, 0.25, None)) == list(names)
+    assert set(lesson._series_names) == {(2, "exp"), (2, "sqrt")}

@@ -17,6 +17,7 @@ The runs themselves are in :mod:`lessons.core.analyzer_run`.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from functools import lru_cache
@@ -97,10 +98,57 @@ class Controls:
         """``(3, *t.shape)`` control values."""
         t = np.asarray(t, dtype=float)
         out = np.empty((3, *t.shape))
-        for k, u in enumerate((self.u1, self.u2, self.u3)):
-            c = _constant_value(u)
-            out[k] = c if c is not None else u(t)  # type: ignore[operator]
+        plan = self.__dict__.get("_at")
+        if plan is None:
+            plan = self.__dict__["_at"] = self._plan((self.u1, self.u2, self.u3))
+        values, where, fn = plan
+        out[0], out[1], out[2] = values
+        if fn is not None:
+            with np.errstate(all="ignore"):
+                for k, v in zip(where, fn(t)):
+                    out[k] = v
         return out
+
+    def one(self, t: float) -> tuple[float, float, float, float]:
+        """u1, u2, u3 and V (0 without it) at one time, as plain numbers: :meth:`at` and
+        :meth:`speed` at ``[t]`` (the formulas of t are evaluated by one function, kept)."""
+        plan = self.__dict__.get("_one")
+        if plan is None:
+            plan = self.__dict__["_one"] = self._plan((self.u1, self.u2, self.u3, self.V))
+        values, where, fn = plan
+        if fn is None:
+            return values  # type: ignore[return-value]
+        out = list(values)
+        with np.errstate(all="ignore"):
+            for k, v in zip(where, fn(float(t))):
+                out[k] = float(v)
+        return out[0], out[1], out[2], out[3]
+
+    @staticmethod
+    def _plan(controls: tuple[Any, ...]) -> tuple[tuple[float, ...], list[int], Any]:
+        """The values of the constant ``controls`` (0 for None), the places of the formulas
+        of t and one function of t for them all (the same expressions each formula
+        evaluates; formulas of other variables evaluate themselves)."""
+        values = [0.0] * len(controls)
+        where: list[int] = []
+        formulas: list[Formula] = []
+        for k, u in enumerate(controls):
+            c = _constant_value(u)
+            if c is not None:
+                values[k] = c
+            else:
+                assert isinstance(u, Formula)
+                where.append(k)
+                formulas.append(u)
+        fn: Any = None
+        if formulas and all(tuple(u.variables) == ("t",) for u in formulas):
+            fn = sp.lambdify([t_symbol], [u.expr for u in formulas], modules="numpy")
+        elif formulas:  # not formulas of t alone: each evaluates itself
+
+            def fn(t: float) -> list[Any]:
+                return [u(t) for u in formulas]
+
+        return tuple(values), where, fn
 
     def constant(self) -> bool:
         """True when u1, u2, u3 (and V) do not depend on t."""
@@ -229,6 +277,66 @@ class AnalyzerModel:
         """The field at one time for points ``R (N, 3)`` (:meth:`velocities` at one sample)."""
         return self.velocities(np.atleast_1d(float(t)), np.atleast_2d(R)[None])[0]
 
+    def at_one(
+        self, t: float, R: np.ndarray
+    ) -> tuple[tuple[float, float, float, float], np.ndarray, np.ndarray]:
+        """A played frame's numbers in plain floats: the controls (u1, u2, u3, V), the field
+        (:meth:`velocities`, equal to round-off) and the half gradient (:meth:`half_gradient`)
+        at one time ``t`` for the points ``R (N, 3)``."""
+        u = u1, u2, u3, V = self.controls.one(t)
+        constant_speed = self.controls.V is not None
+        if constant_speed:
+            umax = max(abs(u1), abs(u2), abs(u3))
+            qn = self.__dict__.get("_qn")
+            if qn is None:
+                self.hold_size(R[:1])  # keeps _qn
+                qn = self.__dict__["_qn"]
+            speed = self.controls.sign * V
+        vel, grad = [], []
+        for (x, y, z), c in zip(R.tolist(), self._member_coeffs(len(R))):
+            a11, a12, a22, a31, a23, a33, a14, a24, a34 = c
+            gx = a11 * x + a12 * y + a31 * z + a14
+            gy = a12 * x + a22 * y + a23 * z + a24
+            gz = a31 * x + a23 * y + a33 * z + a34
+            n = [u1 * gy - u2 * gz, -u1 * gx + u3 * gz, u2 * gx - u3 * gy]  # (1.50)
+            if constant_speed:  # (1.58)-(1.59)
+                norm = math.sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2])
+                size = math.sqrt(gx * gx + gy * gy + gz * gz) + qn * math.sqrt(
+                    x * x + y * y + z * z
+                )
+                held = norm <= HOLD_TOL * (umax + 1e-300) * (size + 1e-300)
+                k = 0.0 if held else speed / (norm if norm > 0 else 1.0)
+                n = [n[0] * k, n[1] * k, n[2] * k]
+            vel.append(n)
+            grad.append([gx, gy, gz])
+        return u, np.array(vel), np.array(grad)
+
+    def _member_coeffs(self, n_points: int) -> list[list[float]]:
+        """a11, a12, a22, a31, a23, a33, a14, a24, a34 of each of ``n_points`` members (kept)."""
+        cache = self.__dict__.setdefault("_member_cache", {})
+        rows = cache.get(n_points)
+        if rows is None:
+            names = ("a11", "a12", "a22", "a31", "a23", "a33", "a14", "a24", "a34")
+            cols = [np.broadcast_to(np.asarray(self.coeffs[m], float), (n_points,)) for m in names]
+            rows = cache[n_points] = np.stack(cols, axis=1).tolist()
+        return rows
+
+    def F_one(self, R: np.ndarray) -> list[float]:
+        """:meth:`F` at the points ``R (N, 3)`` of one time, in plain floats."""
+        c = self._member_coeffs(len(R))
+        a44 = np.broadcast_to(np.asarray(self.coeffs["a44"], float), (len(R),)).tolist()
+        out = []
+        for (X, Y, Z), (a11, a12, a22, a31, a23, a33, a14, a24, a34), d in zip(R.tolist(), c, a44):
+            out.append(
+                a11 * X**2
+                + a22 * Y**2
+                + a33 * Z**2
+                + 2 * (a12 * X * Y + a23 * Y * Z + a31 * Z * X)
+                + 2 * (a14 * X + a24 * Y + a34 * Z)
+                + d
+            )
+        return out
+
     def hold_size(self, R: np.ndarray) -> np.ndarray:
         """The natural size ``|F_r/2| + |Q| |r|`` of the field per unit control at ``R (..., 3)``."""
         qn = self.__dict__.get("_qn")
@@ -245,3 +353,25 @@ class AnalyzerModel:
         ``HOLD_TOL`` of its natural size ``max|u| size`` (:meth:`hold_size`), so
         ``omega = V/|field|`` (1.58) divides by (almost) zero."""
         return norm <= HOLD_TOL * (umax + 1e-300) * (size + 1e-300)
+
+
+def observation_one(
+    u: tuple[float, ...],
+    R: np.ndarray,
+    v: np.ndarray,
+    F: list[float],
+    F0: list[float],
+    scale: float,
+) -> dict[str, float]:
+    """An analyzer lesson's series at one time in plain floats: the controls ``u``, the points
+    ``R (N, 3)``, their velocities ``v (N, 3)``, F there and at the start (the drift), the
+    scale of the drift (the lesson's observation at ``[t]``, equal to round-off)."""
+    out = {"u1": u[0], "u2": u[1], "u3": u[2]}
+    for k, ((x, y, z), (vx, vy, vz)) in enumerate(zip(R.tolist(), v.tolist())):
+        sfx = "" if k == 0 else f"_{k + 1}"
+        v2 = vx * vx + vy * vy + vz * vz
+        out["x" + sfx], out["y" + sfx], out["z" + sfx] = x, y, z
+        out["vx" + sfx], out["vy" + sfx], out["vz" + sfx] = vx, vy, vz
+        out["v2" + sfx], out["speed" + sfx] = v2, math.sqrt(v2)
+        out["drift" + sfx] = (F[k] - F0[k]) / scale
+    return out

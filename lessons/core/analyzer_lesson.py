@@ -25,6 +25,7 @@ from lessons.core.analyzer import (
     Controls,
     U,
     field_expr,
+    observation_one,
     quadric_expr,
 )
 from lessons.core.analyzer_params import (
@@ -261,6 +262,15 @@ class AnalyzerLesson(Lesson):
             out["speed" + suffix] = np.sqrt(v2[:, k])
             out["drift" + suffix] = drift[:, k]
         return out
+
+    def observe_one(self, params: Params, t: float, state: Any) -> dict[str, float] | None:
+        """A played frame's series from what the frame has computed (``v``, ``u``)."""
+        if "v" not in state or "u" not in state:
+            return None
+        prepared = self.prepare(params)
+        R, F0 = state["r"][0], np.broadcast_to(state["F0"][0], state["r"].shape[1:2])
+        F = prepared.model.F_one(R)
+        return observation_one(state["u"], R, state["v"][0], F, F0.tolist(), prepared.scale)
 
     def trajectory(
         self, params: Params, prepared: Prepared, t0: float = 0.0, r0: np.ndarray | None = None
@@ -542,11 +552,10 @@ class AnalyzerStepper(Stepper):
     def frame(self) -> Frame:
         model = self.prepared.model
         R = self.R
-        live = state(R[None], self.F0)
-        live["v"] = model.velocities(np.array([self._t]), live["r"])
-        v = live["v"][0]
+        u, v, g = model.at_one(self._t, R)  # (1.50)/(1.59) and F_r/2 in plain floats
+        live = {"r": R[None], "F0": self.F0.reshape(1, -1), "v": v[None], "u": u}
         message = ""
-        if np.any(np.linalg.norm(v, axis=-1) == 0):
+        if not np.all(v.any(axis=-1)):
             message = (
                 "the field vanishes here (grad F is parallel to (u3, u2, u1)): ω = V/|field|"
                 " (1.58) is undefined, the velocity is 0 at this instant"
@@ -556,10 +565,7 @@ class AnalyzerStepper(Stepper):
         return Frame(
             t=self._t,
             points={"point": R.copy()},
-            vectors={
-                "velocity": (R.copy(), v),
-                "gradient": (R.copy(), model.half_gradient(R)),
-            },
+            vectors={"velocity": (R.copy(), v), "gradient": (R.copy(), g)},
             scalars=self.lesson.frame_scalars(self.params, self._t, live),
             message=message,
         )

@@ -69,12 +69,33 @@ class CubicHermite:
         self.coef = np.stack([y[:-1], m[:-1], c2, c3])  # (4, n-1[, k])
 
     def __call__(self, x: np.ndarray) -> np.ndarray:
+        if type(x) is np.ndarray and x.shape == (1,):  # one point (a played frame)
+            one = self._one(float(x[0]))
+            if one is not None:
+                return one
         x = np.clip(np.asarray(x, dtype=float), self.nodes[0], self.nodes[-1])
         k = np.clip(np.searchsorted(self.nodes, x, side="right") - 1, 0, len(self.nodes) - 2)
         c0, c1, c2, c3 = self.coef[:, k]
         u = (x - self.nodes[k]).reshape(x.shape + (1,) * (c0.ndim - x.ndim))
         # at a node its value exactly (also when the next node is undefined)
         return np.where(u == 0, c0, c0 + u * (c1 + u * (c2 + u * c3)))
+
+    def _one(self, x: float) -> np.ndarray | None:
+        """:meth:`__call__` at ``[x]`` in plain floats (the same search and Horner scheme),
+        None for a non-finite ``x``."""
+        if not math.isfinite(x):
+            return None
+        nodes = self.nodes
+        lo, hi = float(nodes[0]), float(nodes[-1])
+        x = lo if x < lo else hi if x > hi else x
+        k = min(max(int(nodes.searchsorted(x, side="right")) - 1, 0), len(nodes) - 2)
+        u = x - float(nodes[k])
+        c0, c1, c2, c3 = self.coef[:, k].tolist()
+        if u == 0:
+            return np.array([c0])
+        if type(c0) is float:
+            return np.array([c0 + u * (c1 + u * (c2 + u * c3))])
+        return np.array([[a + u * (b + u * (c + u * d)) for a, b, c, d in zip(c0, c1, c2, c3)]])
 
 
 class ArcLengthCurve:
@@ -240,6 +261,13 @@ class ArcLengthCurve:
         """r'/|r'| at ``phi``; where it is undefined (an infinite or a zero derivative, e.g.
         at the ends of (1.4)) the limit from a nearby interior point (see below)."""
         phi = np.atleast_1d(np.asarray(phi, dtype=float))
+        if phi.shape == (1,):  # one point (a played frame): plain floats where defined
+            d = self.dr(phi)
+            if d.shape == (1, 3):
+                dx, dy, dz = d[0].tolist()
+                n = math.sqrt(dx * dx + dy * dy + dz * dz)
+                if n > 0 and math.isfinite(n):
+                    return np.array([[dx / n, dy / n, dz / n]])
         out = self._unit(phi)
         bad = ~np.all(np.isfinite(out), axis=1)
         if bad.any():

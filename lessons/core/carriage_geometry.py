@@ -60,6 +60,25 @@ class CarriageGeometry:
         ends = self.cg0 + q[:3] + self.body_pts @ R.T
         return self.anchors.copy(), ends - self.anchors
 
+    def drawn(
+        self, q: np.ndarray
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray, tuple[np.ndarray, np.ndarray]]:
+        """:meth:`pose`, :meth:`corner` and :meth:`spring_vectors` of one state at once
+        (one rotation matrix)."""
+        r = body_rotvec(q)
+        R = small_rotation_matrix(r)
+        o = self.cg0 + q[:3]
+        ends = o + self.body_pts @ R.T
+        return (
+            o,
+            rotvec_to_quaternion(r),
+            o + R @ self.corners[-1],
+            (
+                self.anchors.copy(),
+                ends - self.anchors,
+            ),
+        )
+
     def max_corner_displacement(self, q: np.ndarray) -> float:
         """Largest displacement of a box corner for the linearized motion q."""
         r = body_rotvec(q)

@@ -6,7 +6,9 @@ inputs, as :class:`lessons.core.constrained.ConstrainedSystem` keeps them) and l
 them once into one function of whole arrays of states.  The multipliers (2.33) and the
 accelerations (2.34) then come from stacked solves: one call serves the integrator (one
 state), a live frame (one state) and a headless run (every sample at once), with the
-same formulas.  Baumgarte stabilization (not in the source) replaces ``Phi`` by
+same formulas.  :meth:`ConstraintEval.accelerations` is (2.34) eliminated symbolically once
+and generated as code on plain floats, for the integrator's one state at a time.
+Baumgarte stabilization (not in the source) replaces ``Phi`` by
 ``Phi + 2 alpha (H q' + psi) + beta^2 f``.  The module also holds the algorithm as the
 page shows it (:func:`algorithm_steps`) with the source's slips corrected
 (:data:`CORRECTIONS`, each with one line of evidence).
@@ -14,6 +16,7 @@ page shows it (:func:`algorithm_steps`) with the source's slips corrected
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
@@ -57,6 +60,17 @@ class ConstraintEval:
         args = (system.q, system.qd, system.t, system.params, system.inputs)
         self._fn = sp.lambdify(args, flat, modules="numpy", cse=True)
         self._size = len(flat)
+        self._system = system
+        self._accelerations: Callable[..., list[float]] | None = None
+
+    def accelerations(self) -> Callable[..., list[float]]:
+        """(2.34) at one state on plain floats, ``fn(q, q', t, p, u, alpha, beta) -> q''``
+        (lists of floats): (2.31)-(2.33) eliminated symbolically, with Baumgarte's terms,
+        and generated once (common subexpressions shared).  The same numbers as
+        :meth:`solve` to round-off."""
+        if self._accelerations is None:
+            self._accelerations = _accelerations_code(self._system)
+        return self._accelerations
 
     def parts(self, t: Array, q: Array, qd: Array, p: Array, u: Array) -> Parts:
         """The matrices at the states ``q, qd`` of shape ``(n, N)`` and times ``t`` (N,);
@@ -91,6 +105,26 @@ class ConstraintEval:
         rhs = np.einsum("kij,kj->ki", P.H, AinvB) + Phi
         lam = -np.linalg.solve(S, rhs[:, :, None])[:, :, 0]  # (2.33)
         return AinvB + np.einsum("kij,kj->ki", AinvHT, lam), lam  # (2.31)/(2.34)
+
+
+def _accelerations_code(system: Any) -> Callable[..., list[float]]:
+    """(2.31)-(2.34) solved symbolically (LU) and lambdified on the ``math`` module."""
+    alpha, beta = sp.Dummy("alpha"), sp.Dummy("beta")
+    A, B, H = system.A, system.B, system.H
+    if H.rows == 0:
+        qdd = A.LUsolve(B)
+    else:
+        n_hol = int(system.n_hol)
+        f = [*system.f_hol, *[sp.S.Zero] * (H.rows - n_hol)]
+        c = H * sp.Matrix(system.qd) + system.psi  # H q' + psi
+        Phi = system.Phi + 2 * alpha * c + beta**2 * sp.Matrix(f)
+        X = A.LUsolve(B.row_join(H.T))  # A^-1 [B | H^T]
+        AinvB, AinvHT = X[:, 0], X[:, 1:]
+        lam = -(H * AinvHT).LUsolve(H * AinvB + Phi)  # (2.32), (2.33)
+        qdd = AinvB + AinvHT * lam  # (2.31)/(2.34)
+    args = (system.q, system.qd, system.t, system.params, system.inputs, alpha, beta)
+    fn: Callable[..., list[float]] = sp.lambdify(args, list(qdd), modules="math", cse=True)
+    return fn
 
 
 # ---------------------------------------------------------------- the algorithm as the page shows it

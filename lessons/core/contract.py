@@ -312,30 +312,47 @@ class Lesson(ABC):
             out[n] = np.array(v, dtype=float)
         return out
 
+    def series_key(self, params: Params) -> Any:
+        """What :meth:`series_for` depends on (the family size; a lesson whose series
+        depend on more of its values says so): the names are kept per key."""
+        return int(params[self.family]) if self.family is not None else 1
+
     def series_names(self, params: Params) -> tuple[str, ...]:
-        """The names of :meth:`series_for` (kept per family size: a frame reads them)."""
-        n = int(params[self.family]) if self.family is not None else 1
+        """The names of :meth:`series_for` (kept per :meth:`series_key`: a frame reads them)."""
+        key = self.series_key(params)
         cache = self.__dict__.setdefault("_series_names", {})
-        names = cache.get(n)
+        names = cache.get(key)
         if names is None:
-            names = cache[n] = tuple(s.name for s in self.series_for(params))
+            names = cache[key] = tuple(s.name for s in self.series_for(params))
         return names
+
+    def observe_one(self, params: Params, t: float, state: Any) -> Mapping[str, float] | None:
+        """The observation at one time as plain numbers, for a lesson with a faster way to
+        it than :meth:`observe` at ``[t]`` (the same values to round-off, which its tests
+        show); ``None`` (the default): :meth:`observe` at ``[t]`` is read."""
+        return None
 
     def frame_scalars(self, params: Params, t: float, state: Any) -> dict[str, float]:
         """The observation at one time (``state`` with a leading time axis of length 1).
 
-        The same values as :meth:`observation` at ``[t]``, read without its copies: the
-        names are checked against the cached declared ones, each value is one number or
-        one per time (anything else goes through :meth:`observation`, which says what
-        differs)."""
-        raw = self.observe(params, np.array([float(t)]), state)
+        The same values as :meth:`observation` at ``[t]``, read without its copies (from
+        :meth:`observe_one` where the lesson has it): the names are checked against the
+        cached declared ones, each value is one number or one per time (anything else goes
+        through :meth:`observation`, which says what differs)."""
+        raw = self.observe_one(params, t, state)
+        if raw is None:
+            raw = self.observe(params, np.array([float(t)]), state)
         names = self.series_names(params)
         out: dict[str, float] = {}
         if len(raw) == len(names):
             try:
                 for n in names:
                     v = raw[n]
-                    if isinstance(v, float) or np.ndim(v) == 0:
+                    if type(v) is float:
+                        out[n] = v
+                    elif type(v) is np.ndarray and v.shape == (1,):
+                        out[n] = float(v[0])
+                    elif isinstance(v, float) or np.ndim(v) == 0:
                         out[n] = float(v)
                     elif np.shape(v) == (1,):
                         out[n] = float(v[0])

@@ -38,6 +38,7 @@ x² + y² + Δxy exactly, a closed curve within ΔR/4 of the circle.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 
@@ -89,6 +90,21 @@ def _f1_f2(q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         big_f2 = np.where(pos, 1 - np.cos(s), np.cosh(s) - 1) / np.abs(np.where(small, 1.0, q))
         f2 = np.where(small, f2, big_f2)
     return f1, f2
+
+
+def _f1_f2_one(q: float) -> tuple[float, float]:
+    """:func:`_f1_f2` at one number (equal to round-off)."""
+    if abs(q) < 1e-2:
+        f1 = 1 - q / 6 * (1 - q / 20 * (1 - q / 42 * (1 - q / 72 * (1 - q / 110))))
+        f2 = 0.5 - q / 24 * (1 - q / 30 * (1 - q / 56 * (1 - q / 90 * (1 - q / 132))))
+        return f1, f2
+    s = math.sqrt(abs(q))
+    if q > 0:
+        return math.sin(s) / s, (1 - math.cos(s)) / abs(q)
+    try:
+        return math.sinh(s) / s, (math.cosh(s) - 1) / abs(q)
+    except OverflowError:
+        return math.inf, math.inf
 
 
 @dataclass
@@ -159,6 +175,75 @@ class PlanarModel:
         D = c["a11"] * c["a22"] - c["a12"] ** 2
         f1, f2 = _f1_f2(D[None, :, None] * th**2)
         return r0[None] + th * f1 * w0[None] + th**2 * f2 * Aw0[None]
+
+    def members(self) -> list[list[float]]:
+        """a11, a12, a22, a13, a23, a33 of each member as plain numbers (kept)."""
+        rows = self.__dict__.get("_members")
+        if rows is None:
+            cols = [
+                np.broadcast_to(np.asarray(self.coeffs[n], float), (self.size,))
+                for n in CONIC_NAMES
+            ]
+            rows = self.__dict__["_members"] = np.stack(cols, axis=1).tolist()
+        return rows
+
+    def gain_one(self, t: float) -> float:
+        """The gain k at one time (:func:`_gain_values` at ``[t]``)."""
+        if isinstance(self.gain, Formula):
+            return float(_gain_values(self.gain, np.array([t]))[0])
+        return float(self.gain)
+
+    def field_one(self, k: float, r: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """The field (:meth:`velocity`) at the gain ``k`` and the half gradient
+        (:meth:`half_gradient`) at the points ``r (N, 2)`` of one time, in plain floats."""
+        vel, grad = [], []
+        for (x, y), (a11, a12, a22, a13, a23, _) in zip(r.tolist(), self.members()):
+            gx, gy = a11 * x + a12 * y + a13, a12 * x + a22 * y + a23
+            vel.append([k * gy, -k * gx])
+            grad.append([gx, gy])
+        return np.array(vel), np.array(grad)
+
+    def drift_one(self, r: list[list[float]]) -> float:
+        """max |F| / :meth:`scale` over the points ``r`` (N x [x, y]) of one time."""
+        consts = self.__dict__.get("_scale_consts")
+        if consts is None:
+            c = self.coeffs
+            consts = self.__dict__["_scale_consts"] = (
+                max(float(np.max(np.abs(c[n]))) for n in ("a11", "a12", "a22")),
+                max(float(np.max(np.abs(c[n]))) for n in ("a13", "a23")),
+                float(np.max(np.abs(c["a33"]))),
+            )
+        q, lin, a33 = consts
+        if not math.isfinite(sum(x + y for x, y in r)):  # NaN as the arrays have it
+            R = np.array(r)[None]
+            return float(np.max(np.abs(self.F(R)), axis=1)[0] / self.scale(R)[0])
+        F = max(
+            abs(conic_expr(dict(zip(CONIC_NAMES, m)), x, y)) for (x, y), m in zip(r, self.members())
+        )
+        rr = max(max(abs(x), abs(y)) for x, y in r)
+        return F / max(q * rr * rr + 2 * lin * rr + a33, 1e-300)
+
+    def flow_one(self, r0: np.ndarray, theta: float) -> np.ndarray:
+        """:meth:`flow` after one argument ``theta``: ``(N, 2)``, equal to round-off; the
+        per-member constants w0, A w0, D of ``r0`` are kept."""
+        cache = self.__dict__.setdefault("_flow_one", {})
+        key = r0.tobytes()
+        rows = cache.get(key)
+        if rows is None:
+            rows = []
+            for (x, y), (a11, a12, a22, a13, a23, _) in zip(r0.tolist(), self.members()):
+                w = (a12 * x + a22 * y + a23, -(a11 * x + a12 * y + a13))  # A r0 + c
+                Aw = (a12 * w[0] + a22 * w[1], -a11 * w[0] - a12 * w[1])
+                rows.append((x, y, w, Aw, a11 * a22 - a12**2))
+            if len(cache) > 8:
+                cache.clear()
+            cache[key] = rows
+        out = []
+        for x, y, w, Aw, D in rows:
+            f1, f2 = _f1_f2_one(D * theta**2)
+            a, b = theta * f1, theta**2 * f2
+            out.append([x + a * w[0] + b * Aw[0], y + a * w[1] + b * Aw[1]])
+        return np.array(out)
 
     def equations(
         self, gain: sp.Expr | None = None, names: tuple[str, str] = ("x", "y")
@@ -353,6 +438,10 @@ class PlanarTrack:
         self.theta0 = float(self.theta(np.array([self.t0]))[0])
 
     def continuous(self, t: np.ndarray) -> np.ndarray:
+        if np.shape(t) == (1,):  # a played frame: plain floats (equal to round-off)
+            c = self.theta.constant
+            th = c * float(t[0]) if c is not None else float(self.theta(t)[0])
+            return self.model.flow_one(self.r0, th - self.theta0)[None]
         return self.model.flow(self.r0, self.theta(t) - self.theta0)
 
     def additions(self, t: np.ndarray) -> np.ndarray:

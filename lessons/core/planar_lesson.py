@@ -11,6 +11,7 @@ planar scene and the plots.  The scene is drawn in the plane ``xy`` (z = 0) or `
 
 from __future__ import annotations
 
+import math
 from abc import abstractmethod
 from dataclasses import dataclass
 
@@ -169,6 +170,10 @@ class PlanarLesson(Lesson):
             for s in out
             if s.name not in DIGITAL_NAMES and s.name.rsplit("_", 1)[0] not in DIGITAL_NAMES
         )
+
+    def series_key(self, params: Params) -> tuple[int, bool]:
+        """The series depend on the family size and on whether the digital analyzer is on."""
+        return int(super().series_key(params)), params["digital"] != "off"
 
     # -- the page -----------------------------------------------------------------
 
@@ -379,6 +384,23 @@ class PlanarLesson(Lesson):
         out["drift"] = np.max(np.abs(model.F(state.r)), axis=1) / model.scale(state.r)
         return out
 
+    def observe_one(self, params: Params, t: float, state: PlanarState) -> dict[str, float] | None:
+        """A played frame's series in plain floats (the continuous analyzer; with the
+        digital one on, :meth:`observe`)."""
+        if not isinstance(state, PlanarState) or state.v is None or state.digital is not None:
+            return None
+        xy = self.plane_of(params) == "xy"
+        r = state.r[0].tolist()
+        out: dict[str, float] = {}
+        for k, ((x, y), (vx, vy)) in enumerate(zip(r, state.v[0].tolist())):
+            sfx = "" if k == 0 else f"_{k + 1}"
+            out["x" + sfx], out["vx" + sfx] = x, vx
+            out["y" + sfx], out["vy" + sfx] = (y, vy) if xy else (0.0, 0.0)
+            out["z" + sfx], out["vz" + sfx] = (0.0, 0.0) if xy else (y, vy)
+            out["speed" + sfx] = math.sqrt(vx * vx + vy * vy)
+        out["drift"] = state.model.drift_one(r)
+        return out
+
     def simulate(self, params: Params, t_end: float | None = None) -> RunResult:
         t_end = self.t_end if t_end is None else float(t_end)
         track = self.track(params)
@@ -430,20 +452,17 @@ class PlanarLesson(Lesson):
     def make_frame(self, params: Params, t: float, state: PlanarState) -> Frame:
         plane, model = self.plane_of(params), state.model
         r = state.r[0]
-        state.v = model.velocity(np.array([t]), state.r)  # the observation reads it too
-        v = state.v[0]
+        v, g = model.field_one(model.gain_one(t), r)  # plain floats, equal to round-off
+        state.v = v[None]  # the observation reads it too
         p3 = embed(r, plane)
         points = {"point": p3}
         if state.digital is not None:
             points["digital"] = embed(state.digital[0], plane)
-        moving = np.any(np.linalg.norm(v, axis=-1) > 0)
+        moving = bool(np.any(np.abs(v) > 0))
         return Frame(
             t=t,
             points=points,
-            vectors={
-                "velocity": (p3, embed(v, plane)),
-                "gradient": (p3, embed(model.half_gradient(r), plane)),
-            },
+            vectors={"velocity": (p3, embed(v, plane)), "gradient": (p3, embed(g, plane))},
             scalars=self.frame_scalars(params, t, state),
             message="" if moving else "the analyzer field is zero here: the point does not move",
         )

@@ -190,22 +190,35 @@ def mode_character(p: Carriage, key: str) -> str:
     return "translation" if e[:3].sum() >= e[3:].sum() else "rotation"
 
 
+class ModalResponse:
+    """The free response of (2.42)-(2.44) from the state (q, v), by modal superposition:
+    the modes and the modal coordinates are computed once, ``at(dt)`` only propagates."""
+
+    def __init__(self, p: Carriage, q: np.ndarray, v: np.ndarray) -> None:
+        M, _ = p.matrices()
+        self.w, self.Phi = eigen_frequencies(p)
+        self.eta0 = self.Phi.T @ M @ np.asarray(q, dtype=float)
+        self.deta0 = self.Phi.T @ M @ np.asarray(v, dtype=float)
+        self._safe_w = np.where(self.w > 0, self.w, 1.0)
+
+    def at(self, dt: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(q, v) after the times ``dt`` (1-D): shapes ``(len(dt), 6)``."""
+        w = self.w
+        s = np.asarray(dt, dtype=float)[:, None]
+        wt = w[None, :] * s
+        sin, cos = np.sin(wt), np.cos(wt)
+        sinc = np.where(w[None, :] > 0, sin / self._safe_w[None, :], s)
+        eta = self.eta0 * cos + self.deta0 * sinc
+        deta = -self.eta0 * w * sin + self.deta0 * cos
+        return eta @ self.Phi.T, deta @ self.Phi.T
+
+
 def modal_propagate(
     p: Carriage, q: np.ndarray, v: np.ndarray, dt: float | np.ndarray
 ) -> tuple[np.ndarray, np.ndarray]:
     """Exact free response of (2.42)-(2.44) after ``dt`` from state (q, v), by modal
     superposition.  ``dt`` may be an array (then the results have shape (len(dt), 6))."""
-    M, _ = p.matrices()
-    w, Phi = eigen_frequencies(p)
-    eta0 = Phi.T @ M @ np.asarray(q, dtype=float)
-    deta0 = Phi.T @ M @ np.asarray(v, dtype=float)
-    s = np.atleast_1d(np.asarray(dt, dtype=float))[:, None]
-    wt = w[None, :] * s
-    safe_w = np.where(w > 0, w, 1.0)
-    sinc = np.where(w[None, :] > 0, np.sin(wt) / safe_w[None, :], s)
-    eta = eta0 * np.cos(wt) + deta0 * sinc
-    deta = -eta0 * w * np.sin(wt) + deta0 * np.cos(wt)
-    qs, vs = eta @ Phi.T, deta @ Phi.T
+    qs, vs = ModalResponse(p, q, v).at(np.atleast_1d(np.asarray(dt, dtype=float)))
     if np.ndim(dt) == 0:
         return qs[0], vs[0]
     return qs, vs

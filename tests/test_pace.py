@@ -1,0 +1,100 @@
+"""The finiteness check of a played frame: one sum, then quantity by quantity only when
+something is not finite (the same answer and message as checking each quantity)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from app.pace import first_non_finite, non_finite
+from app.session import Session
+from lessons.catalog import all_lessons
+from lessons.core.contract import Frame
+
+LESSONS = all_lessons()
+NAN, INF = float("nan"), float("inf")
+
+
+def frame(scalars=None, points=None, vectors=None) -> Frame:
+    return Frame(
+        t=1.25,
+        points=points if points is not None else {"point": np.array([[1.0, 2.0, 3.0]])},
+        vectors=vectors
+        if vectors is not None
+        else {"velocity": (np.zeros((1, 3)), np.ones((1, 3)))},
+        scalars=scalars if scalars is not None else {"x": 1.0, "speed": 2.0},
+    )
+
+
+CASES = [
+    frame(),
+    frame(scalars={"x": 1.0, "u11": NAN, "speed": 2.0}),
+    frame(scalars={"x": 1.0, "u11": NAN, "speed": INF}),
+    frame(scalars={"x": np.float64(-INF), "y": NAN}),
+    frame(scalars={"x": 1.0, "n": 3, "label": "text"}),  # not a number: not checked
+    frame(scalars={"x": 1e308, "y": 1e308}),  # the sum overflows, every value is finite
+    frame(points={"point": np.array([[1.0, NAN, 0.0]])}),
+    frame(points={"point": [[1.0, 2.0, 3.0]], "digital": np.array([[INF, 0.0, 0.0]])}),
+    frame(points={"point": np.full((200, 3), 1e307)}),  # large: summed by numpy
+    frame(points={"point": np.r_[np.zeros((199, 3)), [[0.0, -INF, 0.0]]]}),
+    frame(points={"p": np.array([[1, 2, 3]], dtype=np.int64)}),
+    frame(vectors={"velocity": (np.zeros((1, 3)), np.array([[INF, -INF, 0.0]]))}),
+    frame(vectors={"gradient": (np.array([[NAN, 0.0, 0.0]]), np.zeros((1, 3)))}),
+    frame(vectors={"velocity": (np.zeros(3), [1.0, 2.0, 3.0])}),
+]
+
+
+@pytest.mark.parametrize("case", range(len(CASES)))
+@pytest.mark.parametrize("allowed", [frozenset(), frozenset({"u11", "y"})])
+def test_one_sum_answers_as_each_quantity_does(case: int, allowed: frozenset[str]) -> None:
+    fr = CASES[case]
+    assert non_finite(fr, allowed) == first_non_finite(fr, allowed)
+
+
+def test_the_answers_name_the_first_bad_quantity() -> None:
+    assert non_finite(CASES[0]) is None and non_finite(CASES[5]) is None
+    assert non_finite(CASES[1]) == "u11" and non_finite(CASES[1], frozenset({"u11"})) is None
+    assert non_finite(CASES[2], frozenset({"u11"})) == "speed"
+    assert non_finite(CASES[6]) == "the point" and non_finite(CASES[7]) == "the digital"
+    assert non_finite(CASES[9]) == "the point" and non_finite(CASES[8]) is None
+    assert non_finite(CASES[11]) == "the velocity vector"
+    assert non_finite(CASES[12]) == "the gradient vector"
+
+
+@pytest.mark.parametrize(
+    ("lesson_id", "values"),
+    [("sphere", {"u1": "sqrt(101-t)"}), ("circle", {"u": "sqrt(101-t)"})],
+)
+def test_a_non_finite_played_frame_pauses_with_the_same_message(lesson_id, values) -> None:
+    """The frames of a run that becomes non-finite: each is judged as quantity by quantity,
+    and the session pauses naming the quantity and the time."""
+    s = Session(LESSONS, lesson_id)
+    s.set_values(values)
+    s.pause_at_end = False
+    s.set_speed(8)
+    s.go_to(100.0)
+    seen = []
+    step = s._step_piece
+
+    def judged(d: float):
+        fr, why = step(d)
+        seen.append((s.stepper.frame(), why))
+        return fr, why
+
+    s._step_piece = judged  # type: ignore[method-assign]
+    s.play()
+    with np.errstate(all="ignore"):
+        for _ in range(100):
+            s.tick(0.25)
+            if not s.playing:
+                break
+    assert not s.playing
+    allowed = s._allowed()
+    for fr, why in seen:
+        assert non_finite(fr, allowed) == first_non_finite(fr, allowed)
+    bad = [(fr, why) for fr, why in seen if why]
+    assert len(bad) == 1
+    fr, why = bad[0]
+    name = first_non_finite(fr, allowed)
+    assert name is not None and why.startswith(f"{name} is not finite (NaN or infinite) at t = ")
+    assert s.notices[-1] == ("error", why)
