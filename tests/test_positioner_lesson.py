@@ -121,8 +121,9 @@ def test_table_physical_values_are_shared_read_only() -> None:
 
 @pytest.mark.parametrize("lid", SMALL)
 def test_played_frames_read_the_numbers_of_the_grid(lid: str) -> None:
-    """A played frame's scalars (worked out on plain numbers for the forward problem)
-    are the observation of a grid run at the same times, and the general path's."""
+    """A played frame's scalars (worked out on floats, :meth:`observe_one`) are the
+    observation of a grid run at the same times, and that of the one time through the
+    arrays."""
     lesson = BY_ID[lid]
     for preset in lesson.presets:
         params = lesson.resolve(preset=preset.name)
@@ -132,8 +133,11 @@ def test_played_frames_read_the_numbers_of_the_grid(lid: str) -> None:
         states = lesson.solution(params)(t)
         grid = lesson.observation(params, t, states)
         for k, fr in enumerate(frames):
-            general = Lesson.frame_scalars(lesson, params, fr.t, states[k : k + 1])
+            general = Lesson.observation(lesson, params, np.array([fr.t]), states[k : k + 1])
+            general = {name: float(v[0]) for name, v in general.items()}
             assert list(fr.scalars) == list(general) == list(grid)
+            one = lesson.observe_one(params, fr.t, states[k : k + 1])
+            assert one == fr.scalars  # the frame read them on floats
             for name, v in fr.scalars.items():
                 for want in (grid[name][k], general[name]):
                     assert abs(v - want) <= 1e-12 * (abs(want) + 1.0), (preset.name, name, k)
@@ -171,3 +175,26 @@ def test_inputs_at_one_time_are_the_formulas_on_the_grid() -> None:
                 got = np.array(at(x))
                 assert np.allclose(got, grid[:, k], rtol=1e-14, atol=0.0, equal_nan=True), values
                 assert np.array_equal(np.isinf(got), np.isinf(grid[:, k]))
+
+
+@pytest.mark.parametrize("lid", SMALL)
+def test_inverse_inputs_on_plain_numbers_equal_the_least_squares(lid: str) -> None:
+    lesson = BY_ID[lid]
+    params = lesson.resolve({"problem": "inverse"})
+    model, p = lesson.model(params), lesson.pvec(params)  # type: ignore[attr-defined]
+    unknown = lesson.unknown  # type: ignore[attr-defined]
+    n, m = model.n, len(model.inputs)
+    rng = np.random.default_rng(4)
+    for _ in range(20):
+        q, qd, qdd = rng.normal(size=n), rng.normal(size=n), rng.normal(size=n)
+        u = 10 * rng.normal(size=m)
+        t = float(rng.uniform(0, 10))
+        want = model.solve_inputs(q, qd, qdd, t, p, u, unknown)
+        got = model.input_list(list(q), list(qd), list(qdd), t, list(p), list(u), unknown)
+        assert np.allclose(got, want, rtol=1e-12, atol=1e-12 * np.abs(want).max())
+    # more unknowns than equations: the least squares' minimum norm, as solve_inputs
+    every = list(range(m))
+    if m > n:
+        want = model.solve_inputs(q, qd, qdd, 0.5, p, u, every)
+        got = model.input_list(list(q), list(qd), list(qdd), 0.5, list(p), list(u), every)
+        assert np.allclose(got, want, rtol=1e-12, atol=1e-12 * np.abs(want).max())

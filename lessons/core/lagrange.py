@@ -127,6 +127,9 @@ class LagrangeModel:
         self._num["MF"] = sp.lambdify(
             args, [M.tolist(), list(F)], modules=["math", "numpy"], cse=True
         )
+        self._num["MFG"] = sp.lambdify(
+            args, [M.tolist(), list(F), G.tolist()], modules=["math", "numpy"], cse=True
+        )
 
     # -- numeric model ---------------------------------------------------------
 
@@ -198,6 +201,41 @@ class LagrangeModel:
         out = u0.copy()
         out[list(unknown)] = sol
         return out
+
+    def input_list(
+        self,
+        q: Sequence[float],
+        qd: Sequence[float],
+        qdd: Sequence[float],
+        t: float,
+        p: Sequence[float],
+        u_known: Sequence[float],
+        unknown: Sequence[int],
+    ) -> list[float]:
+        """:meth:`solve_inputs` on plain floats (one sample): ``M``, ``F`` and ``G`` from
+        one function with the ``math`` module; as many unknown inputs as equations are
+        solved by :func:`solve_small` (a singular or non-square system by least squares,
+        as :meth:`solve_inputs`).  NaN where the arrays would give inf or NaN."""
+        u0 = [float(v) for v in u_known]
+        for k in unknown:
+            u0[k] = 0.0
+        try:
+            M, F, G = self._num["MFG"](q, qd, t, p, u0)
+        except (ValueError, ZeroDivisionError, OverflowError):
+            return [math.nan] * len(u0)
+        n = self.n
+        resid = [sum(M[i][j] * qdd[j] for j in range(n)) - F[i] for i in range(n)]
+        Gu = [[G[i][k] for k in unknown] for i in range(n)]
+        try:
+            if len(unknown) != n:
+                raise np.linalg.LinAlgError("not square")
+            sol = solve_small(Gu, resid)
+        except np.linalg.LinAlgError:
+            A = np.array(Gu, dtype=float).reshape(n, len(unknown))
+            sol = np.linalg.lstsq(A, np.array(resid, dtype=float), rcond=None)[0].tolist()
+        for k, v in zip(unknown, sol):
+            u0[k] = v
+        return u0
 
 
 def solve_small(M: Sequence[Sequence[float]], b: Sequence[float]) -> list[float]:

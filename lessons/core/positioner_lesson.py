@@ -329,6 +329,10 @@ class PositionerLesson(DynamicsLesson):
             + [float(params[f"{c.name}_dot0"]) for c in self.coords]
         )
 
+    def law_at(self, params: Params) -> Callable[[Array | float], tuple[Array, Array, Array]]:
+        """:meth:`law` (once per parameter set)."""
+        return self.cached("law", params, lambda: self.law(params))
+
     def law(self, params: Params) -> Callable[[Array | float], tuple[Array, Array, Array]]:
         """The inverse problem's law: ``t -> (q, q', q'')`` by exact differentiation."""
         return formula_derivatives([params[f"{c.name}_t"].expr for c in self.coords], t_symbol)
@@ -354,7 +358,7 @@ class PositionerLesson(DynamicsLesson):
 
     def start(self, params: Params, t0: float, y: Array | None) -> Solution:
         if params["problem"] == "inverse":
-            ev = self.law(params)
+            ev = self.law_at(params)
             return ClosedForm(lambda t: np.vstack(ev(t)[:2]).T)
         n, p = len(self.coords), self.plain_p(params)
         acc, u_at = self.model(params).acceleration_list, self.inputs_at(params)
@@ -413,7 +417,7 @@ class PositionerLesson(DynamicsLesson):
 
     def motion(self, params: Params, t: Array, state: Array) -> tuple[Array, Array, Array, Array]:
         """``(q, q', q'', u)`` on the samples from the state ``[q, q']`` at those times."""
-        n, model, p = len(self.coords), self.model(params), self.pvec(params)
+        n, model = len(self.coords), self.model(params)
         q, qd = state[:, :n].T, state[:, n:].T
         ok = np.all(np.isfinite(state), axis=1)
         if params["problem"] == "forward":
@@ -426,13 +430,20 @@ class PositionerLesson(DynamicsLesson):
                 )
             return q, qd, qdd, U
         with np.errstate(all="ignore"):
-            qdd = self.law(params)(t)[2]
+            qdd = self.law_at(params)(t)[2]
         U = self.forces(params, t, known_only=True)
         good = ok & np.all(np.isfinite(qdd), axis=0) & np.all(np.isfinite(U), axis=0)
         U[:, ~good] = np.nan
+        solve, pl, unknown = model.input_list, self.plain_p(params), self.unknown
         for k in np.nonzero(good)[0]:
-            U[:, k] = model.solve_inputs(
-                q[:, k], qd[:, k], qdd[:, k], float(t[k]), p, U[:, k], self.unknown
+            U[:, k] = solve(
+                q[:, k].tolist(),
+                qd[:, k].tolist(),
+                qdd[:, k].tolist(),
+                float(t[k]),
+                pl,
+                U[:, k].tolist(),
+                unknown,
             )
         return q, qd, qdd, U
 
@@ -449,21 +460,30 @@ class PositionerLesson(DynamicsLesson):
         out.update(self.extra_series(params, q, qd, qdd))
         return out
 
-    def frame_scalars(self, params: Params, t: float, state: Any) -> dict[str, float]:
-        """A played frame of the forward problem: :meth:`observe`'s numbers at ``[t]``,
-        worked out on plain numbers (the same functions, no arrays of one sample)."""
+    def observe_one(self, params: Params, t: float, state: Any) -> dict[str, float] | None:
+        """A played frame: :meth:`observe`'s numbers at ``[t]``, worked out on floats (the
+        same functions sample by sample, no arrays of one sample)."""
         y = np.asarray(state, dtype=float)
-        if y.shape[0] != 1 or params["problem"] != "forward":
-            return super().frame_scalars(params, t, state)
-        n = len(self.coords)
-        u = self.inputs_at(params)(np.float64(t))  # numpy's scalar: 1/0 is inf, as on the grid
+        if y.shape[0] != 1:
+            return None
+        n, model, p = len(self.coords), self.model(params), self.plain_p(params)
+        x = np.float64(t)  # numpy's scalar: 1/0 is inf, as on the grid
+        u = self.inputs_at(params)(x)
         ys = y[0].tolist()
         q, qd = ys[:n], ys[n:]
-        if all(math.isfinite(v) for v in (*ys, *u)):
-            acc = self.model(params).acceleration_list
-            qdd = acc(q, qd, float(t), self.plain_p(params), u)
+        if params["problem"] == "forward":
+            if all(math.isfinite(v) for v in (*ys, *u)):
+                qdd = model.acceleration_list(q, qd, float(t), p, u)
+            else:
+                qdd = [math.nan] * n
         else:
-            qdd = [math.nan] * n
+            qdd = self.law_at(params)(np.array([x]))[2][:, 0].tolist()
+            for k in self.unknown:
+                u[k] = 0.0
+            if all(math.isfinite(v) for v in (*ys, *qdd, *u)):
+                u = model.input_list(q, qd, qdd, float(t), p, u, self.unknown)
+            else:
+                u = [math.nan] * len(u)
         out: dict[str, float] = {}
         for k, c in enumerate(self.coords):
             out[c.name], out[f"{c.name}_dot"], out[f"{c.name}_ddot"] = q[k], qd[k], qdd[k]
@@ -472,8 +492,6 @@ class PositionerLesson(DynamicsLesson):
         col = lambda v: np.array(v)[:, None]  # noqa: E731  (one sample of the grid's shape)
         extra = self.extra_series(params, col(q), col(qd), col(qdd))
         out.update({name: float(v[0]) for name, v in extra.items()})
-        if len(out) != len(self.series_names(params)):
-            return super().frame_scalars(params, t, state)
         return out
 
     def run_metrics(self, params: Params, series: dict[str, Array]) -> dict[str, Any]:
