@@ -4,6 +4,7 @@ the constant-speed analyzer holding only while its field is zero."""
 import numpy as np
 import pytest
 
+import lessons.core.analyzer_run as analyzer_run
 from lessons.core.analyzer import COEFF_NAMES, AnalyzerModel, Controls
 from lessons.core.analyzer_run import SHORT_GRAIN, SpeedStepper, Trajectory, integrate
 from lessons.core.formula import parse_formula
@@ -174,3 +175,34 @@ def test_speed_stages_from_the_step_before_converge_to_the_same_step_in_fewer_it
     assert abs(float(np.sum(b**2)) - 1.0) < 1e-14
     v = model.velocity(0.02, b)
     assert abs(float(np.linalg.norm(v)) - 1.0) < 1e-14
+
+
+def test_frames_in_a_step_cut_into_many_substeps_read_its_substep_ends(monkeypatch) -> None:
+    """Example 1.3's start, where the field is zero: any step from there is cut into ~200
+    substeps however short; a frame is one shortened substep from the kept substep ends,
+    the same state as the shortened step from the node to 1e-12."""
+    f = parse_formula
+    model = AnalyzerModel.of(
+        Quadric.sphere(1.0).coeffs(), Controls(f("sin(10*t)"), f("t"), 5.0, V=1.0)
+    )
+    rng = np.random.default_rng(0)
+    times = np.sort(
+        np.concatenate([np.arange(1, 30) / 600, rng.uniform(0, 3, 300), np.arange(61) * 0.05])
+    )
+    traj = Trajectory(model, [1.0, 0.0, 0.0], h=0.05)
+    got = traj.at(times)
+    with monkeypatch.context() as m:
+        m.setattr(analyzer_run, "KEEP_SUBSTEPS", 10**9)  # every frame a shortened step
+        ref = Trajectory(model, [1.0, 0.0, 0.0], h=0.05).at(times)
+    assert np.abs(got - ref).max() <= 1e-12
+    assert np.abs((got**2).sum(-1) - 1.0).max() <= 1e-14
+    # after the first frame in the first step, a frame takes a few substeps, not ~200
+    live = Trajectory(model, [1.0, 0.0, 0.0], h=0.05)
+    live.at(0.01)
+    speed = live._speed
+    assert speed is not None and live._substep_ends is not None
+    assert len(live._substep_ends[2]) > 100
+    before = speed.evaluations
+    state = live.at(0.04)[0]
+    assert speed.evaluations - before <= 3 * 30  # <= 3 substeps of <= 30 iterations
+    assert np.array_equal(state, Trajectory(model, [1.0, 0.0, 0.0], h=0.05).at([0.01, 0.04])[1])

@@ -236,7 +236,10 @@ class AnalyzerModel:
 
         (1.50) is linear in the controls: ``A = sum_k u_k(t) A_k`` and ``c = sum_k u_k(t)
         c_k`` with ``A_k``, ``c_k`` of the surface alone, built once per family size."""
-        uu = self.controls.at(np.asarray(t, dtype=float))  # (3, m)
+        return self._affine(self.controls.at(np.asarray(t, dtype=float)), n_points)
+
+    def _affine(self, uu: np.ndarray, n_points: int) -> tuple[np.ndarray, np.ndarray]:
+        """:meth:`linear_coeffs` from the control values ``uu (3, m)``."""
         Ak, ck = self._unit_fields(n_points)
         return np.einsum("km,knij->mnij", uu, Ak), np.einsum("km,kni->mni", uu, ck)
 
@@ -260,16 +263,20 @@ class AnalyzerModel:
         """The field at samples ``t (m,)``, ``R (m, N, 3)``: (1.50), or (1.59) where
         ``controls.V`` is set, zero where the field of (1.50) vanishes (see :meth:`holds`)."""
         t = np.asarray(t, dtype=float)
-        A, c = self.linear_coeffs(t, R.shape[1])
+        uu = self.controls.at(t)
+        A, c = self._affine(uu, R.shape[1])
         n = np.einsum("mnij,mnj->mni", A, R) + c
         if self.controls.V is None:
             return n
-        norm = np.linalg.norm(n, axis=-1)
-        umax = np.abs(self.controls.at(t)).max(axis=0)[:, None]
+        norm = np.sqrt((n * n).sum(-1))
+        umax = np.abs(uu).max(axis=0)[:, None]
+        Vs = self.controls.sign * self.controls.speed(t)[:, None]
+        # where |field| exceeds the hold bound at an upper bound of hold_size, no point holds
+        q, b = self._hold_bound()
+        if (norm > (umax + 1e-300) * (q * np.sqrt((R * R).sum(-1)) + b)).all():
+            return n * (Vs / norm)[..., None]
         scale = np.where(
-            self.holds(norm, self.hold_size(R), umax),
-            0.0,
-            self.controls.sign * self.controls.speed(t)[:, None] / np.where(norm > 0, norm, 1.0),
+            self.holds(norm, self.hold_size(R), umax), 0.0, Vs / np.where(norm > 0, norm, 1.0)
         )
         return n * scale[..., None]
 
@@ -339,13 +346,33 @@ class AnalyzerModel:
 
     def hold_size(self, R: np.ndarray) -> np.ndarray:
         """The natural size ``|F_r/2| + |Q| |r|`` of the field per unit control at ``R (..., 3)``."""
+        g = self.half_gradient(R)
+        return np.sqrt((g * g).sum(-1)) + self._q_max() * np.sqrt((R * R).sum(-1))
+
+    def _q_max(self) -> float:
+        """The surface's largest quadratic coefficient ``max |a_ij|``, once per model."""
         qn = self.__dict__.get("_qn")
-        if qn is None:  # the surface's largest quadratic coefficient, once per model
+        if qn is None:
             qn = self.__dict__["_qn"] = max(
                 float(np.max(np.abs(self.coeffs[n]))) for n in COEFF_NAMES[:6]
             )
-        g = self.half_gradient(R)
-        return np.sqrt((g * g).sum(-1)) + qn * np.sqrt((R * R).sum(-1))
+        return qn
+
+    def _hold_bound(self) -> tuple[np.ndarray, np.ndarray]:
+        """``q, b`` with ``HOLD_TOL (umax + 1e-300) (hold_size(r) + 1e-300)`` (the bound of
+        :meth:`holds`) at most ``(umax + 1e-300) (q |r| + b)``: hold_size is at most
+        ``(|Q|_F + max|a_ij|) |r| + |b|`` (Cauchy-Schwarz); a factor 2 covers round-off."""
+        cached = self.__dict__.get("_hold_bound_q_b")
+        if cached is None:
+            c = {k: np.asarray(v, dtype=float) for k, v in self.coeffs.items()}
+            square = (1.0 if k in ("a11", "a22", "a33") else 2.0 for k in COEFF_NAMES[:6])
+            qf = np.sqrt(sum(c[k] ** 2 * w for k, w in zip(COEFF_NAMES[:6], square)))
+            bn = np.sqrt(c["a14"] ** 2 + c["a24"] ** 2 + c["a34"] ** 2)
+            cached = self.__dict__["_hold_bound_q_b"] = (
+                2.0 * HOLD_TOL * (qf + self._q_max()),
+                2.0 * HOLD_TOL * (bn + 1e-300),
+            )
+        return cached
 
     @staticmethod
     def holds(norm: np.ndarray, size: np.ndarray, umax: np.ndarray) -> np.ndarray:

@@ -4,9 +4,12 @@ and live steppers.
 A :class:`Trajectory` integrates one analyzer (1.50) or its constant-speed form (1.59)
 from ``(t0, r0)``.  Gauss-Legendre runs take fixed steps on the grid ``t0 + k h`` (the
 nodes are computed in blocks of steps; for (1.50) each block's step maps in one batched
-solve, for (1.59) by :class:`SpeedStepper`); scipy's solvers run in pieces of
-:data:`PIECE` seconds and are read through their dense output.  Between two nodes the
-state is one shortened step from the earlier node.  So every time has one value however
+solve, for (1.59) by :class:`SpeedStepper`, or, with constant controls on a skew field, as
+the time change of (1.50) of :class:`lessons.core.speed_flow.UniformSpeed` by kept step
+maps); scipy's solvers run in pieces of :data:`PIECE` seconds and are read through their
+dense output.  Between two nodes the state is one shortened step from the earlier node (for
+(1.59), from the latest substep end where that step would be cut into many substeps, see
+:meth:`Trajectory._from_substep_ends`).  So every time has one value however
 the run is sampled: ``simulate`` on its grid and the live stepper frame by frame read the
 same trajectory.  :func:`integrate` samples one for the claims and the benchmark.
 """
@@ -23,6 +26,7 @@ import scipy.integrate
 from lessons.core.analyzer import HOLD_TOL, AnalyzerModel
 from lessons.core.budget import spent
 from lessons.core.integrators import apply_propagators, gauss_legendre, gl_propagators
+from lessons.core.speed_flow import UniformSpeed
 
 #: Gauss-Legendre steps per block of nodes: (1.50) (one batched solve), (1.59) (Newton).
 BLOCK = 256
@@ -33,6 +37,9 @@ PIECE = 10.0
 #: and at most SHORT_MAPS step maps are kept (see :meth:`Trajectory._short_map`).
 SHORT_GRAIN = 2**40
 SHORT_MAPS = 256
+#: (1.59): a shortened step cut into more substeps than this reads the kept substep ends
+#: of its whole step (see :meth:`Trajectory._from_substep_ends`).
+KEEP_SUBSTEPS = 16
 
 
 class SpeedStepper:
@@ -236,12 +243,19 @@ class Trajectory:
         N = len(self.r0)
         self._coeffs = lambda ts: model.linear_coeffs(ts, N)
         self._speed: SpeedStepper | None = None
+        self._uniform: UniformSpeed | None = None
         self._map: tuple[np.ndarray, np.ndarray] | None = None
         self._short_maps: dict[int, tuple[np.ndarray, np.ndarray]] = {}
         if method.startswith("gauss-legendre"):
             self.stages = int(method.rsplit("-", 1)[1])
             if model.controls.V is not None:
-                self._speed = SpeedStepper(model, self.stages)
+                # constant u, V and a skew A: (1.59) is (1.50) at a constant rate per point
+                self._uniform = UniformSpeed.of(model, self.r0, SpeedStepper.max_turn)
+                if self._uniform is None:
+                    self._speed = SpeedStepper(model, self.stages)
+                else:
+                    self._coeffs = self._uniform.coeffs
+                    self._map = self._uniform.step_map(self.h, self.stages)
             elif model.controls.constant():
                 # time-independent field: every full step has the same map
                 self._map = gl_propagators(self._coeffs, self.t0, self.h, 1, self.stages)
@@ -256,6 +270,8 @@ class Trajectory:
         self._steps: list[Any] = []  # their dense outputs
         #: (1.59): per node of the block, the slopes and length of the substep ending there
         self._incoming: list[tuple[np.ndarray, float] | None] = [None]
+        #: (1.59): node time, substep length, states and incoming slopes of one whole step
+        self._substep_ends: tuple[float, float, list[np.ndarray], list[Any]] | None = None
 
     @property
     def gauss_legendre(self) -> bool:
@@ -335,16 +351,22 @@ class Trajectory:
         self._k0, self._nodes = k0, nodes
 
     def _short_step(self, tk: float, r: np.ndarray, rest: float) -> np.ndarray:
-        """One Gauss-Legendre step of length ``rest < h`` from the node ``(tk, r)``."""
+        """One Gauss-Legendre step of length ``rest < h`` from the node ``(tk, r)``; for
+        (1.59), one cut into more than :data:`KEEP_SUBSTEPS` substeps reads the substep
+        ends of the whole step instead (:meth:`_from_substep_ends`)."""
         if self._speed is not None:
             warm = self._speed.K, self._speed.last
             # from the slopes of the step that ended at the node: a few iterations
             j = int(round((tk - self.t0) / self.h)) - self._k0
             before = self._incoming[j]
-            # the step from the node, if taken whole (its block is computed ahead)
-            nxt = self._incoming[j + 1] if j + 1 < len(self._incoming) else None
-            covering = nxt if nxt is not None and nxt[1] == self.h else None
-            out = self._speed.step_substeps(tk, r, rest, None, before, covering)
+            coeffs = tuple(x[0] for x in self._speed.coefficients(tk, rest, 1, len(r)))
+            if self._cuts(coeffs, r, rest) > KEEP_SUBSTEPS:
+                out = self._from_substep_ends(tk, r, rest, before)
+            else:
+                # the step from the node, if taken whole (its block is computed ahead)
+                nxt = self._incoming[j + 1] if j + 1 < len(self._incoming) else None
+                covering = nxt if nxt is not None and nxt[1] == self.h else None
+                out = self._speed.step_substeps(tk, r, rest, coeffs, before, covering)
             self._speed.K, self._speed.last = warm  # as if this step was not taken
             return out
         if self._map is not None:
@@ -353,17 +375,69 @@ class Trajectory:
             D, phi = gl_propagators(self._coeffs, tk, rest, 1, self.stages)
         return r + (D[0] @ r[:, :, None])[:, :, 0] + phi[0]
 
+    def _cuts(self, coeffs: tuple[np.ndarray, ...], r: np.ndarray, length: float) -> int:
+        """The substeps :meth:`SpeedStepper.step_substeps` cuts a step of ``length`` from
+        ``r`` into (its turning-rate bound ``V |A| / |A r + c|`` at the first stage)."""
+        assert self._speed is not None
+        A, cc, Vs, _ = coeffs
+        n0 = np.einsum("nij,nj->ni", A[0], r) + cc[0]
+        norm0 = np.sqrt((n0 * n0).sum(-1))
+        rate = (
+            np.abs(Vs).max() * np.sqrt((A[0] ** 2).sum(axis=(-1, -2))) / np.maximum(norm0, 1e-300)
+        )
+        turn = float(np.max(np.where(norm0 > 0, rate, 0.0))) * length / self._speed.max_turn
+        return min(max(int(np.ceil(turn - 1e-12)), 1), 10_000)
+
+    def _from_substep_ends(
+        self, tk: float, r: np.ndarray, rest: float, before: tuple[np.ndarray, float] | None
+    ) -> np.ndarray:
+        """(1.59) at ``tk + rest``, read from the ends of the ``m`` equal substeps of the whole
+        step from the node ``(tk, r)`` (kept for one node): one shortened substep from the
+        latest end.  Where the field is small at a node (Example 1.3's start) a shortened
+        step is cut into about as many substeps as the whole one, however short it is; a
+        frame then costs one substep, not all of them."""
+        assert self._speed is not None
+        kept = self._substep_ends
+        if kept is None or kept[0] != tk:
+            coeffs = tuple(x[0] for x in self._speed.coefficients(tk, self.h, 1, len(r)))
+            m = self._cuts(coeffs, r, self.h)
+            hs = self.h / m
+            batch = self._speed.coefficients(tk, hs, m, len(r))
+            ends, slopes = [r], [before]
+            comp = np.zeros_like(r)
+            for i in range(m):
+                step = self._speed.step(r, hs, tuple(x[i] for x in batch), slopes[-1])
+                slopes.append((self._speed.K, hs))
+                inc = (step - r) - comp
+                nxt = r + inc
+                comp = (nxt - r) - inc
+                r = nxt
+                ends.append(r)
+            kept = self._substep_ends = (tk, hs, ends, slopes)
+        _, hs, ends, slopes = kept
+        i = min(int(np.floor(rest / hs)), len(ends) - 2)
+        d = rest - i * hs
+        if d <= 1e-12 * max(1.0, abs(tk)):
+            return ends[i]
+        covering = slopes[i + 1]
+        return self._speed.step_substeps(tk + i * hs, ends[i], d, None, slopes[i], covering)
+
     def _short_map(self, rest: float) -> tuple[np.ndarray, np.ndarray]:
-        """The step map of a shortened step of a time-independent field (1.50), kept per
-        length: played frames fall on a few offsets from the nodes (the session's time
-        quanta), so a frame reads a kept map.  ``rest`` is rounded to ``h / 2**40`` first,
+        """The step map of a shortened step of a time-independent field (1.50), or of (1.59)
+        as its time change (:class:`UniformSpeed`), kept per length: played frames fall on
+        a few offsets from the nodes (the session's time quanta), so a frame reads a kept
+        map.  ``rest`` is rounded to ``h / 2**40`` first,
         so that a time has one value however often it is read."""
         key = round(rest / self.h * SHORT_GRAIN)
         hit = self._short_maps.get(key)
         if hit is None:
             if len(self._short_maps) >= SHORT_MAPS:
                 self._short_maps.clear()
-            hit = gl_propagators(self._coeffs, self.t0, key * self.h / SHORT_GRAIN, 1, self.stages)
+            length = key * self.h / SHORT_GRAIN
+            if self._uniform is not None:
+                hit = self._uniform.short_map(length, self.h, self.stages)
+            else:
+                hit = gl_propagators(self._coeffs, self.t0, length, 1, self.stages)
             self._short_maps[key] = hit
         return hit
 
