@@ -12,6 +12,7 @@ table moment.  The same mechanism with the loops opened is the third example of
 
 from __future__ import annotations
 
+import math
 from typing import Any
 
 import numpy as np
@@ -418,17 +419,19 @@ class Planar3Axis(PositionerLesson):
         )
 
     def pose(self, params: Params, fr: Frame, q: Array, u: Array, scale: float) -> None:
-        A, B = self._absolute(params, q)
         AB = float(params["AB"])
+        xA, yA, phi = float(q[0]), float(q[1]), float(q[2])
+        xB, yB = planar3_kinematics(xA, yA, phi, AB, math)
         h = 0.25 * AB * 0.3
+        A, B = np.array([xA, yA, 0.0]), np.array([xB - AB, yB, 0.0])  # as :meth:`_absolute`
+        mid = np.array([(xA + (xB - AB)) / 2, (yA + yB) / 2, h])  # the middle of AB, raised
         fr.poses["module A"] = (A, IDENTITY_Q.copy())
         fr.poses["module B"] = (B, IDENTITY_Q.copy())
-        mid = (A + B) / 2
-        fr.poses["table"] = (mid + [0, 0, h], quat_z(np.pi - float(q[2])))
-        fr.points["C (middle of AB)"] = (mid + [0, 0, h])[None, :]
-        fr.vectors["F_A"] = arrow(A + [0, 0, 2 * h], [scale * u[0], scale * u[1], 0])
-        fr.vectors["F_B"] = arrow(B + [0, 0, 2 * h], [scale * u[2], scale * u[3], 0])
-        fr.vectors["M_phi"] = arrow(mid + [0, 0, 2 * h], [0, 0, -scale * u[4]])
+        fr.poses["table"] = (mid, quat_z(np.pi - phi))
+        fr.points["C (middle of AB)"] = mid[None, :]
+        fr.vectors["F_A"] = arrow((xA, yA, 2 * h), (scale * u[0], scale * u[1], 0))
+        fr.vectors["F_B"] = arrow((xB - AB, yB, 2 * h), (scale * u[2], scale * u[3], 0))
+        fr.vectors["M_phi"] = arrow(mid + (0.0, 0.0, h), (0, 0, -scale * u[4]))
 
     def claims(self) -> list[Claim]:
         def eq_ok() -> bool:

@@ -280,13 +280,11 @@ class Table6DOF(DynamicsLesson):
             ),
         )
 
-    def frame_scalars(self, params: Params, t: float, state: Any) -> dict[str, float]:
+    def observe_one(self, params: Params, t: float, state: Any) -> dict[str, float] | None:
         """The inverse problem's played frames read their scalars from its table."""
         if params["problem"] == "inverse" and np.shape(state)[0] == 1:
-            row = self.inverse_table(params).scalars(float(t), np.asarray(state)[0])
-            if row is not None:
-                return row
-        return super().frame_scalars(params, t, state)
+            return self.inverse_table(params).scalars(float(t), np.asarray(state)[0])
+        return None
 
     def observe(self, params: Params, t: Array, state: Any) -> dict[str, Array]:
         state = np.asarray(state, dtype=float)

@@ -7,7 +7,12 @@ import pytest
 import sympy as sp
 from sympy.physics.mechanics import ReferenceFrame, dynamicsymbols
 
-from lessons.core.lagrange import LagrangeModel, formula_derivatives, numerical_second_derivative
+from lessons.core.lagrange import (
+    LagrangeModel,
+    formula_derivatives,
+    numerical_second_derivative,
+    solve_small,
+)
 
 T_ = dynamicsymbols._t
 
@@ -70,3 +75,28 @@ def test_one_time_equals_the_array_and_keeps_numpy_arithmetic() -> None:
             assert a.shape == (2, 1) and np.array_equal(a[:, 0], b[:, k])
     q, qd, qdd = ev(np.array([0.0]))  # 1/t at 0: inf as in an array, not an exception
     assert np.isinf(qd[0, 0]) and qd[1, 0] == 0.0
+
+
+def test_small_solve_on_plain_numbers_equals_lapack() -> None:
+    rng = np.random.default_rng(7)
+    for n in (1, 2, 3, 4):
+        for _ in range(200):
+            M, b = rng.normal(size=(n, n)), rng.normal(size=n)
+            want = np.linalg.solve(M, b)
+            got = solve_small(M.tolist(), b.tolist())
+            assert np.allclose(got, want, rtol=1e-10, atol=1e-10 * np.abs(want).max())
+    # a pivot of zero in the first column is swapped away; a singular matrix raises
+    assert solve_small([[0.0, 2.0], [4.0, 1.0]], [2.0, 9.0]) == [2.0, 1.0]
+    with pytest.raises(np.linalg.LinAlgError):
+        solve_small([[1.0, 2.0], [2.0, 4.0]], [1.0, 1.0])
+    with pytest.raises(np.linalg.LinAlgError):
+        solve_small([[0.0]], [1.0])
+
+
+def test_acceleration_list_equals_accelerations(pendulum_angle: LagrangeModel) -> None:
+    p = np.array([2.0, 0.5, 9.81])
+    for th, om, mz in ((0.3, 1.0, 0.7), (-2.0, 0.2, -5.0), (1e3, -7.0, 0.0)):
+        q, qd, u = np.array([th]), np.array([om]), np.array([mz])
+        want = pendulum_angle.accelerations(q, qd, 0.0, p, u)
+        got = pendulum_angle.acceleration_list(q, qd, 0.0, p, [mz])
+        assert np.allclose(got, want, rtol=1e-14, atol=0.0)

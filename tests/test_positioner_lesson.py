@@ -117,3 +117,84 @@ def test_table_physical_values_are_shared_read_only() -> None:
     assert TABLE.pvec(params) is p and not p.flags.writeable
     with pytest.raises(ValueError):
         p[0] = 1.0
+
+
+@pytest.mark.parametrize("lid", SMALL)
+def test_played_frames_read_the_numbers_of_the_grid(lid: str) -> None:
+    """A played frame's scalars (worked out on floats, :meth:`observe_one`) are the
+    observation of a grid run at the same times, and that of the one time through the
+    arrays."""
+    lesson = BY_ID[lid]
+    for preset in lesson.presets:
+        params = lesson.resolve(preset=preset.name)
+        st = lesson.stepper(params)
+        frames = [st.advance(dt) for dt in (0.013, 0.25, 1.0 / 36, 1.7, 0.4, 1.0 / 36)]
+        t = np.array([fr.t for fr in frames])
+        states = lesson.solution(params)(t)
+        grid = lesson.observation(params, t, states)
+        for k, fr in enumerate(frames):
+            general = Lesson.observation(lesson, params, np.array([fr.t]), states[k : k + 1])
+            general = {name: float(v[0]) for name, v in general.items()}
+            assert list(fr.scalars) == list(general) == list(grid)
+            one = lesson.observe_one(params, fr.t, states[k : k + 1])
+            assert one == fr.scalars  # the frame read them on floats
+            for name, v in fr.scalars.items():
+                for want in (grid[name][k], general[name]):
+                    assert abs(v - want) <= 1e-12 * (abs(want) + 1.0), (preset.name, name, k)
+
+
+@pytest.mark.parametrize("lid", SMALL)
+def test_accelerations_on_plain_numbers_equal_the_matrix_solve(lid: str) -> None:
+    lesson = BY_ID[lid]
+    params = lesson.resolve(preset=lesson.presets[0].name)
+    model, p = lesson.model(params), lesson.pvec(params)  # type: ignore[attr-defined]
+    n, m = model.n, len(model.inputs)
+    rng = np.random.default_rng(3)
+    for _ in range(20):
+        q, qd, u = rng.normal(size=n), rng.normal(size=n), 10 * rng.normal(size=m)
+        t = float(rng.uniform(0, 10))
+        want = model.accelerations(q, qd, t, p, u)
+        got = model.acceleration_list(q, qd, t, p, list(u))
+        assert np.allclose(got, want, rtol=1e-12, atol=1e-12 * np.abs(want).max())
+
+
+def test_inputs_at_one_time_are_the_formulas_on_the_grid() -> None:
+    """The force formulas read one time at a time on floats are the grid's values, with
+    its inf and NaN where a formula is singular or undefined."""
+    for values in (
+        {"F_dv": "1/(t-1)", "R_sopr": "sqrt(t - 2) + 3"},
+        {"F_dv": "2*sin(3*t) + t**2", "R_sopr": "0.5"},
+        {"F_dv": "4", "R_sopr": "-1.5"},
+    ):
+        params = LINEAR.resolve(values)
+        t = np.array([0.0, 0.5, 1.0, 1.0 + 1e-9, 2.0, 2.25, 3.7])
+        grid = LINEAR.forces(params, t)
+        at = LINEAR.inputs_at(params)
+        for k, tk in enumerate(t):
+            for x in (float(tk), np.float64(tk)):
+                got = np.array(at(x))
+                assert np.allclose(got, grid[:, k], rtol=1e-14, atol=0.0, equal_nan=True), values
+                assert np.array_equal(np.isinf(got), np.isinf(grid[:, k]))
+
+
+@pytest.mark.parametrize("lid", SMALL)
+def test_inverse_inputs_on_plain_numbers_equal_the_least_squares(lid: str) -> None:
+    lesson = BY_ID[lid]
+    params = lesson.resolve({"problem": "inverse"})
+    model, p = lesson.model(params), lesson.pvec(params)  # type: ignore[attr-defined]
+    unknown = lesson.unknown  # type: ignore[attr-defined]
+    n, m = model.n, len(model.inputs)
+    rng = np.random.default_rng(4)
+    for _ in range(20):
+        q, qd, qdd = rng.normal(size=n), rng.normal(size=n), rng.normal(size=n)
+        u = 10 * rng.normal(size=m)
+        t = float(rng.uniform(0, 10))
+        want = model.solve_inputs(q, qd, qdd, t, p, u, unknown)
+        got = model.input_list(list(q), list(qd), list(qdd), t, list(p), list(u), unknown)
+        assert np.allclose(got, want, rtol=1e-12, atol=1e-12 * np.abs(want).max())
+    # more unknowns than equations: the least squares' minimum norm, as solve_inputs
+    every = list(range(m))
+    if m > n:
+        want = model.solve_inputs(q, qd, qdd, 0.5, p, u, every)
+        got = model.input_list(list(q), list(qd), list(qdd), 0.5, list(p), list(u), every)
+        assert np.allclose(got, want, rtol=1e-12, atol=1e-12 * np.abs(want).max())

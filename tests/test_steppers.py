@@ -93,3 +93,25 @@ def test_one_time_read_by_bisection_equals_the_whole_grid_at_piece_ends() -> Non
     assert len(one._pieces) >= 5
     for k, tt in enumerate(t):
         assert np.array_equal(one(np.array([tt]))[0], whole[k])
+
+
+@pytest.mark.parametrize("method", ["DOP853", "RK45"])
+def test_one_time_read_equals_the_grid_inside_the_open_chunk(method: str) -> None:
+    """A frame's one-time read (the step found by bisection, DOP853 read at the time
+    itself) is the grid's number bit for bit, in the chunk being stepped and in pieces."""
+    rhs = lambda t, y: np.array([y[1], -y[0] - 0.1 * y[1] * abs(y[1])])  # noqa: E731
+    t = np.concatenate([np.linspace(0.0, 0.3 * CHUNK, 17), [1.0 / 3.0, 1.3 * CHUNK]])
+    one = DenseSolution(rhs, 0.0, np.array([1.0, 0.0]), method=method)
+    got = []
+    for tt in t:
+        got.append(one(np.array([tt]))[0])
+        if 0.0 < tt < CHUNK:
+            assert one._open is not None and not one._pieces  # read inside the open chunk
+    steps = one._open.ts if one._open is not None else []
+    whole = DenseSolution(rhs, 0.0, np.array([1.0, 0.0]), method=method)(t)
+    assert np.array_equal(np.array(got), whole)
+    for tt in [*steps[1:4], 0.5 * CHUNK]:  # step ends: the lower step, as OdeSolution picks
+        assert np.array_equal(one(np.array([tt])), one(np.array([tt, tt]))[:1])
+    assert np.isnan(one(np.array([-1.0]))).all() and np.array_equal(
+        one(np.array([0.0]))[0], [1.0, 0.0]
+    )

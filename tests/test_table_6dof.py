@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 import pytest
 
@@ -20,7 +22,7 @@ from lessons.core.table6dof import (
     program_states,
     table_joints,
 )
-from lessons.core.table6dof_frames import FRAME_GRAIN, TABLE_BLOCK, pose_row, pose_rows
+from lessons.core.table6dof_frames import CHUNK_FRAMES, FRAME_GRAIN, pose_row, pose_rows
 from lessons.table_6dof import Table6DOF
 
 
@@ -84,35 +86,47 @@ def test_vectorized_program_matches_one_time_at_a_time() -> None:
     assert not inverse_kinematics(np.array([0, 0, 0.5, 0, 0, 0.0]), 0.3, 0.1)[1]
 
 
-def test_inverse_table_serves_frames_and_rebuilds_per_block_and_parameters() -> None:
+def _frames_match_the_grid(lesson: Table6DOF, params: Any, frames: list[Frame]) -> None:
+    """Each frame's state and scalars are those of a grid run at its time."""
+    times = np.array([fr.t for fr in frames])
+    states = inverse_states(lesson.program(params), lesson.pvec(params), times)
+    grid_obs = lesson.observation(params, times, states)
+    table = lesson.inverse_table(params)
+    for k, fr in enumerate(frames):
+        assert np.allclose(table.states(times[k : k + 1])[0], states[k], rtol=1e-12, atol=1e-14)
+        for n in lesson.series_names(params):
+            want = grid_obs[n][k]
+            assert abs(fr.scalars[n] - want) <= 1e-9 * (abs(want) + 1e-3), (n, k)
+
+
+def test_inverse_table_evaluates_the_times_frames_read_in_chunks() -> None:
     lesson = Table6DOF()
-    params = lesson.resolve(preset="inverse-program")
+    params = lesson.resolve({**lesson.resolve(preset="inverse-program").raw(), "M_c": 11.25})
     table = lesson.inverse_table(params)
     st = lesson.stepper(params)
-    times, frames = [], []
-    for _ in range(TABLE_BLOCK // 17 - 1):
-        frames.append(st.advance(17 * FRAME_GRAIN))
-        times.append(st.t)
-    assert table.builds == 1  # frames inside one block: evaluated once
-    off = np.array(times[:3]) + 0.3 * FRAME_GRAIN  # off the grain: evaluated directly
+    step = lambda k: (16 if k % 3 == 2 else 17) * FRAME_GRAIN  # noqa: E731  (36 frames/s)
+    frames = [st.advance(step(k)) for k in range(100)]
+    assert table.builds <= 6 and table.rows_built < 17 * 100  # fewer than the grain times
+    builds, rows = table.builds, table.rows_built
+    frames += [st.advance(step(k)) for k in range(100, 300)]
+    # once the step is known, a chunk serves its frames with a few grain times each
+    assert table.builds - builds <= 1 + 200 // CHUNK_FRAMES
+    assert table.rows_built - rows < 3 * 200
+    _frames_match_the_grid(lesson, params, frames[::7])
+    builds = table.builds
+    off = np.array([fr.t for fr in frames[:3]]) + 0.3 * FRAME_GRAIN  # off the grain: direct
     want_off = inverse_states(lesson.program(params), lesson.pvec(params), off)
     got_off = np.vstack([table.states(off[k : k + 1]) for k in range(3)])
     assert np.allclose(got_off, want_off, rtol=1e-12, atol=1e-12)
-    assert table.builds == 1
-    names = lesson.series_names(params)
-    grid_obs = lesson.observation(
-        params,
-        np.array(times),
-        inverse_states(lesson.program(params), lesson.pvec(params), np.array(times)),
+    assert table.builds == builds
+    # a chunk's rows are the numbers a chunk of every grain time gives at those times
+    j = round(frames[-1].t / FRAME_GRAIN)
+    dense = inverse_states(
+        lesson.program(params), lesson.pvec(params), (j + np.arange(-40, 1)) * FRAME_GRAIN
     )
-    for k, fr in enumerate(frames):
-        for n in names:
-            want = grid_obs[n][k]
-            assert abs(fr.scalars[n] - want) <= 1e-9 * (abs(want) + 1e-3), (n, k)
-    # a time past the block builds the next one; a state that is not the table's is not served
-    st.advance(TABLE_BLOCK * FRAME_GRAIN)
-    assert table.builds == 2
-    t = st.t
+    assert np.array_equal(table.states(np.array([frames[-1].t]))[0], dense[-1])
+    # a state that is not the table's, or a time off the grain, is not served
+    t = frames[-1].t
     assert table.scalars(t, table.states(np.array([t]))[0] + 1e-6) is None
     assert table.scalars(t + 0.3 * FRAME_GRAIN, table.states(np.array([t]))[0]) is None
     # new parameters: a new table, built for them
@@ -124,6 +138,24 @@ def test_inverse_table_serves_frames_and_rebuilds_per_block_and_parameters() -> 
     assert abs(f2.scalars["F_Ax"] - frames[0].scalars["F_Ax"]) > 1e-6 * abs(
         frames[0].scalars["F_Ax"]
     )
+
+
+def test_inverse_table_follows_uneven_frames_jumps_and_speeds() -> None:
+    lesson = Table6DOF()
+    params = lesson.resolve({**lesson.resolve(preset="inverse-program").raw(), "M_c": 9.5})
+    table = lesson.inverse_table(params)
+    st = lesson.stepper(params)
+    rng = np.random.default_rng(5)
+    builds = table.builds
+    frames = [st.advance(int(rng.integers(13, 21)) * FRAME_GRAIN) for _ in range(150)]
+    assert table.builds - builds < 150 // 8  # frames that jitter still read chunks
+    assert st.reset().t == 0.0  # a jump back: served from a new chunk
+    frames += [st.advance(17 * FRAME_GRAIN) for _ in range(20)]
+    frames += [st.advance(67 * FRAME_GRAIN) for _ in range(60)]  # four times the speed
+    builds = table.builds
+    frames += [st.advance(67 * FRAME_GRAIN) for _ in range(60)]
+    assert table.builds - builds <= 2
+    _frames_match_the_grid(lesson, params, frames[::5])
 
 
 def test_table_frames_draw_as_the_direct_pose() -> None:

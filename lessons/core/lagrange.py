@@ -11,6 +11,7 @@ is differentiated numerically (:func:`recover_inputs`).
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from functools import lru_cache
@@ -121,6 +122,14 @@ class LagrangeModel:
         self._num["M"] = sp.lambdify(args, M, modules="numpy", cse=True)
         self._num["F"] = sp.lambdify(args, F, modules="numpy", cse=True)
         self._num["G"] = sp.lambdify(args, G, modules="numpy", cse=True)
+        # M and F as nested lists of plain floats from one function (shared subexpressions
+        # once): one sample at a time, as the integration and a played frame ask
+        self._num["MF"] = sp.lambdify(
+            args, [M.tolist(), list(F)], modules=["math", "numpy"], cse=True
+        )
+        self._num["MFG"] = sp.lambdify(
+            args, [M.tolist(), list(F), G.tolist()], modules=["math", "numpy"], cse=True
+        )
 
     # -- numeric model ---------------------------------------------------------
 
@@ -138,6 +147,25 @@ class LagrangeModel:
 
     def accelerations(self, q: Array, qd: Array, t: float, p: Array, u: Array) -> Array:
         return np.linalg.solve(self.M(q, qd, t, p, u), self.F(q, qd, t, p, u))
+
+    def acceleration_list(
+        self,
+        q: Sequence[float],
+        qd: Sequence[float],
+        t: float,
+        p: Sequence[float],
+        u: Sequence[float],
+    ) -> list[float]:
+        """``q''`` from ``M q'' = F`` on plain floats (one sample; lists are fastest): ``M``
+        and ``F`` from one function with the ``math`` module, solved by
+        :func:`solve_small`; equal to :meth:`accelerations` to round-off.  Where the
+        arrays would give inf or NaN (a math domain error, a division by zero) it gives
+        NaN."""
+        try:
+            M, F = self._num["MF"](q, qd, t, p, u)
+        except (ValueError, ZeroDivisionError, OverflowError):
+            return [math.nan] * self.n
+        return solve_small(M, F)
 
     def rhs(
         self, p: Array, u_of_t: Callable[[float, Array, Array], Array]
@@ -173,6 +201,75 @@ class LagrangeModel:
         out = u0.copy()
         out[list(unknown)] = sol
         return out
+
+    def input_list(
+        self,
+        q: Sequence[float],
+        qd: Sequence[float],
+        qdd: Sequence[float],
+        t: float,
+        p: Sequence[float],
+        u_known: Sequence[float],
+        unknown: Sequence[int],
+    ) -> list[float]:
+        """:meth:`solve_inputs` on plain floats (one sample): ``M``, ``F`` and ``G`` from
+        one function with the ``math`` module; as many unknown inputs as equations are
+        solved by :func:`solve_small` (a singular or non-square system by least squares,
+        as :meth:`solve_inputs`).  NaN where the arrays would give inf or NaN."""
+        u0 = [float(v) for v in u_known]
+        for k in unknown:
+            u0[k] = 0.0
+        try:
+            M, F, G = self._num["MFG"](q, qd, t, p, u0)
+        except (ValueError, ZeroDivisionError, OverflowError):
+            return [math.nan] * len(u0)
+        n = self.n
+        resid = [sum(M[i][j] * qdd[j] for j in range(n)) - F[i] for i in range(n)]
+        Gu = [[G[i][k] for k in unknown] for i in range(n)]
+        try:
+            if len(unknown) != n:
+                raise np.linalg.LinAlgError("not square")
+            sol = solve_small(Gu, resid)
+        except np.linalg.LinAlgError:
+            A = np.array(Gu, dtype=float).reshape(n, len(unknown))
+            sol = np.linalg.lstsq(A, np.array(resid, dtype=float), rcond=None)[0].tolist()
+        for k, v in zip(unknown, sol):
+            u0[k] = v
+        return u0
+
+
+def solve_small(M: Sequence[Sequence[float]], b: Sequence[float]) -> list[float]:
+    """``M x = b`` for a small dense system on plain numbers: Gaussian elimination with
+    partial pivoting (as LAPACK's ``gesv``, equal to it to round-off); a zero pivot
+    raises :class:`numpy.linalg.LinAlgError` as it does."""
+    n = len(b)
+    if n == 1:
+        if M[0][0] == 0:
+            raise np.linalg.LinAlgError("Singular matrix")
+        return [b[0] / M[0][0]]
+    A = [[*row, bi] for row, bi in zip(M, b)]
+    for k in range(n):
+        piv, big = k, abs(A[k][k])
+        for i in range(k + 1, n):
+            if abs(A[i][k]) > big:
+                piv, big = i, abs(A[i][k])
+        if A[piv][k] == 0:
+            raise np.linalg.LinAlgError("Singular matrix")
+        A[k], A[piv] = A[piv], A[k]
+        rk, d = A[k], A[k][k]
+        for i in range(k + 1, n):
+            ri = A[i]
+            f = ri[k] / d
+            for j in range(k + 1, n + 1):
+                ri[j] -= f * rk[j]
+    x = [0.0] * n
+    for k in range(n - 1, -1, -1):
+        rk = A[k]
+        acc = rk[n]
+        for j in range(k + 1, n):
+            acc -= rk[j] * x[j]
+        x[k] = acc / rk[k]
+    return x
 
 
 # ---------------------------------------------------------------- motion laws

@@ -13,6 +13,7 @@ observation and the round-trip claims from generalized coordinates and forces.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Any
@@ -328,6 +329,10 @@ class PositionerLesson(DynamicsLesson):
             + [float(params[f"{c.name}_dot0"]) for c in self.coords]
         )
 
+    def law_at(self, params: Params) -> Callable[[Array | float], tuple[Array, Array, Array]]:
+        """:meth:`law` (once per parameter set)."""
+        return self.cached("law", params, lambda: self.law(params))
+
     def law(self, params: Params) -> Callable[[Array | float], tuple[Array, Array, Array]]:
         """The inverse problem's law: ``t -> (q, q', q'')`` by exact differentiation."""
         return formula_derivatives([params[f"{c.name}_t"].expr for c in self.coords], t_symbol)
@@ -353,33 +358,92 @@ class PositionerLesson(DynamicsLesson):
 
     def start(self, params: Params, t0: float, y: Array | None) -> Solution:
         if params["problem"] == "inverse":
-            ev = self.law(params)
+            ev = self.law_at(params)
             return ClosedForm(lambda t: np.vstack(ev(t)[:2]).T)
-        model, p = self.model(params), self.pvec(params)
-        fs = [params[i.name] for i in self.inputs]
-        u_of_t = lambda tt, q, qd: np.array([float(f(tt)) for f in fs])  # noqa: E731
+        n, p = len(self.coords), self.plain_p(params)
+        acc, u_at = self.model(params).acceleration_list, self.inputs_at(params)
+
+        def rhs(tt: float, yy: Array) -> Array:
+            """``[q, q'] -> [q', q'']`` with ``q''`` from the Lagrange equations."""
+            ys = yy.tolist()
+            out = np.empty(2 * n)
+            out[:n] = yy[n:]
+            out[n:] = acc(ys[:n], ys[n:], tt, p, u_at(tt))
+            return out
+
         y_start = self.y0(params) if y is None else y
-        return DenseSolution(model.rhs(p, u_of_t), t0, y_start)
+        return DenseSolution(rhs, t0, y_start)
+
+    def plain_p(self, params: Params) -> list[float]:
+        """:meth:`pvec` as a list of floats (once per parameter set)."""
+        return self.cached("plain p", params, lambda: self.pvec(params).tolist())
+
+    def inputs_at(self, params: Params) -> Callable[[Any], list[float]]:
+        """``t -> [u_1(t), ...]``: the force formulas at one time as floats (once per
+        parameter set): the constant ones read once, the others in one function on
+        floats; where that fails (1/0, a root of a negative number) the formulas give
+        their inf or NaN as on the grid."""
+
+        def build() -> Callable[[Any], list[float]]:
+            fs = [params[i.name] for i in self.inputs]
+            base = [float(f.constant_value or 0.0) for f in fs]
+            varying = [k for k, f in enumerate(fs) if f.constant_value is None]
+            if not varying:
+                return lambda tt: list(base)
+            names = {fs[k].variables for k in varying}
+            fn = (
+                sp.lambdify(
+                    [sym(v) for v in next(iter(names))],
+                    [fs[k].expr for k in varying],
+                    modules=["math", "numpy"],
+                )
+                if len(names) == 1
+                else None
+            )
+
+            def at(tt: Any) -> list[float]:
+                out = list(base)
+                try:
+                    vals = [float(v) for v in fn(float(tt))]  # type: ignore[misc]
+                except (ValueError, ZeroDivisionError, OverflowError, TypeError):
+                    vals = [float(fs[k](np.float64(tt))) for k in varying]
+                for k, v in zip(varying, vals):
+                    out[k] = v
+                return out
+
+            return at
+
+        return self.cached("inputs at", params, build)
 
     def motion(self, params: Params, t: Array, state: Array) -> tuple[Array, Array, Array, Array]:
         """``(q, q', q'', u)`` on the samples from the state ``[q, q']`` at those times."""
-        n, model, p = len(self.coords), self.model(params), self.pvec(params)
+        n, model = len(self.coords), self.model(params)
         q, qd = state[:, :n].T, state[:, n:].T
         ok = np.all(np.isfinite(state), axis=1)
         if params["problem"] == "forward":
             U = self.forces(params, t)
             qdd = np.full_like(q, np.nan)
+            acc, pl = model.acceleration_list, self.plain_p(params)
             for k in np.nonzero(ok & np.all(np.isfinite(U), axis=0))[0]:
-                qdd[:, k] = model.accelerations(q[:, k], qd[:, k], float(t[k]), p, U[:, k])
+                qdd[:, k] = acc(
+                    q[:, k].tolist(), qd[:, k].tolist(), float(t[k]), pl, U[:, k].tolist()
+                )
             return q, qd, qdd, U
         with np.errstate(all="ignore"):
-            qdd = self.law(params)(t)[2]
+            qdd = self.law_at(params)(t)[2]
         U = self.forces(params, t, known_only=True)
         good = ok & np.all(np.isfinite(qdd), axis=0) & np.all(np.isfinite(U), axis=0)
         U[:, ~good] = np.nan
+        solve, pl, unknown = model.input_list, self.plain_p(params), self.unknown
         for k in np.nonzero(good)[0]:
-            U[:, k] = model.solve_inputs(
-                q[:, k], qd[:, k], qdd[:, k], float(t[k]), p, U[:, k], self.unknown
+            U[:, k] = solve(
+                q[:, k].tolist(),
+                qd[:, k].tolist(),
+                qdd[:, k].tolist(),
+                float(t[k]),
+                pl,
+                U[:, k].tolist(),
+                unknown,
             )
         return q, qd, qdd, U
 
@@ -394,6 +458,40 @@ class PositionerLesson(DynamicsLesson):
         for k, i in enumerate(self.inputs):
             out[i.name] = U[k]
         out.update(self.extra_series(params, q, qd, qdd))
+        return out
+
+    def observe_one(self, params: Params, t: float, state: Any) -> dict[str, float] | None:
+        """A played frame: :meth:`observe`'s numbers at ``[t]``, worked out on floats (the
+        same functions sample by sample, no arrays of one sample)."""
+        y = np.asarray(state, dtype=float)
+        if y.shape[0] != 1:
+            return None
+        n, model, p = len(self.coords), self.model(params), self.plain_p(params)
+        x = np.float64(t)  # numpy's scalar: 1/0 is inf, as on the grid
+        u = self.inputs_at(params)(x)
+        ys = y[0].tolist()
+        q, qd = ys[:n], ys[n:]
+        if params["problem"] == "forward":
+            if all(math.isfinite(v) for v in (*ys, *u)):
+                qdd = model.acceleration_list(q, qd, float(t), p, u)
+            else:
+                qdd = [math.nan] * n
+        else:
+            qdd = self.law_at(params)(np.array([x]))[2][:, 0].tolist()
+            for k in self.unknown:
+                u[k] = 0.0
+            if all(math.isfinite(v) for v in (*ys, *qdd, *u)):
+                u = model.input_list(q, qd, qdd, float(t), p, u, self.unknown)
+            else:
+                u = [math.nan] * len(u)
+        out: dict[str, float] = {}
+        for k, c in enumerate(self.coords):
+            out[c.name], out[f"{c.name}_dot"], out[f"{c.name}_ddot"] = q[k], qd[k], qdd[k]
+        for k, i in enumerate(self.inputs):
+            out[i.name] = u[k]
+        col = lambda v: np.array(v)[:, None]  # noqa: E731  (one sample of the grid's shape)
+        extra = self.extra_series(params, col(q), col(qd), col(qdd))
+        out.update({name: float(v[0]) for name, v in extra.items()})
         return out
 
     def run_metrics(self, params: Params, series: dict[str, Array]) -> dict[str, Any]:
@@ -422,8 +520,9 @@ class PositionerLesson(DynamicsLesson):
         return 1.0
 
     def pose_frame(self, params: Params, fr: Frame, state: Array) -> None:
-        u = np.array([fr.scalars[i.name] for i in self.inputs])
-        u = np.where(np.isfinite(u), u, 0.0)
+        u = np.array(
+            [v if math.isfinite(v) else 0.0 for v in (fr.scalars[i.name] for i in self.inputs)]
+        )
         self.pose(params, fr, state[: len(self.coords)], u, self.force_scale(params))
 
     def pose(self, params: Params, fr: Frame, q: Array, u: Array, scale: float) -> None:

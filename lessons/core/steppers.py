@@ -19,6 +19,7 @@ from typing import Any
 import numpy as np
 import scipy.integrate
 from scipy.integrate import OdeSolution, solve_ivp
+from scipy.integrate._ivp.rk import Dop853DenseOutput
 
 from lessons.core.budget import spent
 from lessons.core.contract import Frame, Params, Stepper
@@ -51,7 +52,8 @@ class DenseSolution:
     ) -> None:
         self._rhs, self._tol, self._method = rhs, (rtol, atol), method
         self._chunk = float(chunk)
-        self._pieces: list[tuple[float, float, Callable[[Array], Array]]] = []
+        #: finished pieces: first and last time, the solution on them
+        self._pieces: list[tuple[float, float, OdeSolution]] = []
         self._starts: list[float] = []  # the pieces' first times (ascending)
         self._t0, self._y0 = float(t0), np.array(y0, dtype=float)
         self._t_end, self._y_end = self._t0, self._y0
@@ -166,20 +168,12 @@ class DenseSolution:
 
     def __call__(self, t: Array) -> Array:
         tt = np.atleast_1d(np.asarray(t, dtype=float))
+        if len(tt) == 1:  # a frame: one lookup
+            return self._one(tt)
         self._extend(float(np.max(tt, initial=self._t_end)))
         out = np.full((len(tt), len(self._y0)), np.nan)
         out[tt == self._t0] = self._y0
         ch = self._open
-        if len(tt) == 1 and (self._pieces or ch is not None):  # a frame: one lookup
-            x = float(tt[0])
-            if ch is not None and ch.interpolants and ch.a <= x <= float(ch.solver.t):
-                out[:] = np.asarray(OdeSolution(ch.ts, ch.interpolants)(tt), dtype=float).T
-                return out
-            # pieces share their ends: the last that holds x, as the loop below leaves it
-            k = bisect.bisect_right(self._starts, x) - 1
-            if k >= 0 and self._pieces[k][0] <= x <= self._pieces[k][1]:
-                out[:] = np.asarray(self._pieces[k][2](tt), dtype=float).T
-            return out
         pieces = list(self._pieces)
         if ch is not None and ch.interpolants:
             pieces.append((ch.a, float(ch.solver.t), OdeSolution(ch.ts, ch.interpolants)))
@@ -188,6 +182,38 @@ class DenseSolution:
             if np.any(k):
                 out[k] = np.asarray(sol(tt[k]), dtype=float).T
         return out
+
+    def _one(self, tt: Array) -> Array:
+        """The state at the one time of ``tt`` (``(1, n)``): the step that holds it, as
+        :class:`~scipy.integrate.OdeSolution` picks it, read without building one."""
+        x = float(tt[0])
+        if x > self._t_end:
+            self._extend(x)
+        ch = self._open
+        if ch is not None and ch.interpolants and ch.a <= x <= float(ch.solver.t):
+            return _step_at(ch.ts, ch.interpolants, x, tt)
+        if self._pieces:
+            # pieces share their ends: the last that holds x, as the grid read leaves it
+            k = bisect.bisect_right(self._starts, x) - 1
+            if k >= 0 and self._pieces[k][0] <= x <= self._pieces[k][1]:
+                sol = self._pieces[k][2]
+                return _step_at(sol.ts, sol.interpolants, x, tt)
+        out = np.full((1, len(self._y0)), np.nan)
+        if x == self._t0:
+            out[0] = self._y0
+        return out
+
+
+def _step_at(ts: Any, interpolants: list[Any], x: float, tt: Array) -> Array:
+    """``OdeSolution(ts, interpolants)(tt).T`` for the one time ``x`` of ``tt``: the same
+    step (the lower one at a shared step end) and the same numbers.  DOP853's dense
+    output does the same elementwise arithmetic on one time as on an array of times, so
+    it is read at ``x`` itself (half the cost of an array of one)."""
+    k = min(max(bisect.bisect_left(ts, x) - 1, 0), len(interpolants) - 1)
+    step = interpolants[k]
+    if type(step) is Dop853DenseOutput:
+        return np.asarray(step(x), dtype=float)[None, :]
+    return np.asarray(step(tt), dtype=float).T
 
 
 class _Chunk:

@@ -1,13 +1,17 @@
-"""Played frames of the 6-DOF table's inverse problem, read from blocks evaluated at once.
+"""Played frames of the 6-DOF table's inverse problem, read from chunks evaluated at once.
 
-A played frame falls on the session's time quanta (:data:`FRAME_GRAIN`); the states,
-scalars and drawing of a block of :data:`TABLE_BLOCK` such times are evaluated in one
-vectorized call (:func:`lessons.core.table6dof.program_states` and the lesson's
-observation), so a frame reads a row.
+A played frame falls on the session's time quanta (:data:`FRAME_GRAIN`), about every
+sixteenth or seventeenth of them at speed 1.  The states, scalars and drawing of the grain
+times the next :data:`CHUNK_FRAMES` frames will read are evaluated in one vectorized call
+(:func:`lessons.core.table6dof.program_states` and the lesson's observation), so a frame
+reads a row.  The times are foreseen from the mean step between frames, each within the
+spread the frames showed about such foresight.
 """
 
 from __future__ import annotations
 
+import math
+from collections import deque
 from collections.abc import Callable
 
 import numpy as np
@@ -20,16 +24,31 @@ Array = np.ndarray
 
 #: lesson seconds between the times a played frame can fall on (the session's time quanta)
 FRAME_GRAIN = 1.0 / 600.0
-#: grain times evaluated at once for played frames (see :class:`InverseTable`)
-TABLE_BLOCK = 512
+#: played frames one evaluated chunk is planned for (see :class:`InverseTable`)
+CHUNK_FRAMES = 64
+#: most grain times evaluated at once (a chunk of every grain time in its span)
+MAX_ROWS = 512
+#: grain times evaluated from the first one read while no step between frames is known
+FIRST_CHUNK = 64
+#: frames whose offsets from their foreseen times set the windows of a chunk
+RECENT = 4 * CHUNK_FRAMES
+#: frames over which a mean step a quarter off the long one means a new speed
+SPEED_FRAMES = 8
 
 
 class InverseTable:
     """The inverse problem for played frames.  A time on the grain of played frames
-    (multiples of :data:`FRAME_GRAIN`) is read from a block of :data:`TABLE_BLOCK` grain
-    times, states and the lesson's observation (``observe(t, states)``, the scalars
-    ``names``) evaluated in one vectorized call when a frame first reaches it; any other
-    time is evaluated directly.  One table per parameter set."""
+    (multiples of :data:`FRAME_GRAIN`) is read from a chunk of grain times, states and
+    the lesson's observation (``observe(t, states)``, the scalars ``names``) evaluated in
+    one vectorized call when a frame reaches a time the chunk lacks; any other time is
+    evaluated directly.  One table per parameter set.
+
+    A chunk is planned when a frame needs it: the frames since the playing went on evenly
+    (no jump back, no new speed) give the mean step ``r`` and the line ``phase + r i``
+    about which frame ``i`` fell; the next :data:`CHUNK_FRAMES` frames are foreseen on it,
+    each within the ``spread`` of the recent frames about it.  When such windows would
+    cover most of their span, the chunk is every grain time of :data:`MAX_ROWS`.
+    """
 
     def __init__(
         self,
@@ -40,25 +59,87 @@ class InverseTable:
         draw: Callable[[Array, dict[str, Array]], dict[str, Array]] | None = None,
     ) -> None:
         self.ev, self.p, self.observe, self.names, self.draw = ev, p, observe, names, draw
-        #: (block, states (TABLE_BLOCK, 36), scalars (TABLE_BLOCK, len(names)), the rows
+        #: (grain time -> row, states (rows, 36), scalars (rows, len(names)), the rows
         #: ``draw(states, observation)`` gives (:func:`pose_rows`))
-        self.block: tuple[int, Array, Array, dict[str, Array]] | None = None
-        self.builds = 0  # blocks evaluated so far
+        self.block: tuple[dict[int, int], Array, Array, dict[str, Array]] | None = None
+        self.builds = 0  # chunks evaluated so far
+        self.rows_built = 0  # grain times evaluated so far
+        #: lowest and highest offset (grain times) of the recent frames from the line
+        #: they foresee, as the last chunk was planned with
+        self.spread = (0.0, 0.0)
+        self._last = -1  # the grain time of the last frame read
+        self._even = (-1, 0)  # (grain time, frames read since) where the playing went even
+        self._recent: deque[tuple[int, int]] = deque(maxlen=RECENT)  # (frame, grain time)
+
+    def _count(self, j: int) -> None:
+        """Count the frame at grain time ``j`` (not the last one read)."""
+        last, (a, n) = self._last, self._even
+        self._last = j
+        pts = self._recent
+        if last >= 0 and j > last:
+            self._even = (a, n + 1)
+            pts.append((n + 1, j))
+            if len(pts) <= SPEED_FRAMES:
+                return
+            mean = (j - a) / (n + 1)
+            lately = (j - pts[-SPEED_FRAMES - 1][1]) / SPEED_FRAMES
+            if 0.75 * mean <= lately <= 1.33 * mean:
+                return
+        # the first frame, a jump back or a new speed: the even playing starts again
+        self._even = (j, 0)
+        pts.clear()
+        pts.append((0, j))
+
+    def _grains(self, j: int) -> Array:
+        """The grain times of a new chunk from ``j``."""
+        a, n = self._even
+        if n < 1:  # no step between frames known yet
+            return j + np.arange(FIRST_CHUNK)
+        pts = self._recent
+        i_mean = sum(i for i, _ in pts) / len(pts)
+        g_mean = sum(g for _, g in pts) / len(pts)
+        var = sum((i - i_mean) ** 2 for i, _ in pts)
+        r = sum((i - i_mean) * (g - g_mean) for i, g in pts) / var  # least squares
+        offsets = [g - g_mean - r * (i - i_mean) for i, g in pts]
+        lo, hi = min(*offsets, 0.0), max(*offsets, 0.0)
+        if hi - lo > 1.0:  # frames that jitter: the rarer offsets a little beyond the recent
+            lo, hi = lo - 0.25 * (hi - lo), hi + 0.25 * (hi - lo)
+        self.spread = (lo, hi)
+        # the line is known within about a grain time over the recent frames: a window
+        # widens by that much per such span foreseen ahead
+        drift = (hi - lo + 1.0) / (pts[-1][0] - pts[0][0])
+        grains = {j}
+        for k in range(n + 1, n + CHUNK_FRAMES):
+            c, d = g_mean + r * (k - i_mean), drift * (k - n)
+            grains.update(range(math.ceil(c + lo - d - 1e-9), math.floor(c + hi + d + 1e-9) + 1))
+            if len(grains) >= MAX_ROWS:
+                break
+        rows = sorted(g for g in grains if g >= j)
+        if 4 * len(rows) > 3 * (rows[-1] - j + 1):  # windows that nearly meet: every time
+            return j + np.arange(MAX_ROWS)
+        return np.array(rows[:MAX_ROWS])
 
     def _row(self, t: float) -> int | None:
-        """Index of ``t`` in the (current or new) block, None off the grain."""
+        """Row of ``t`` in the (current or new) chunk, None off the grain."""
         j = round(t / FRAME_GRAIN)
         if j < 0 or abs(t / FRAME_GRAIN - j) > 1e-9:
             return None
-        b, i = divmod(j, TABLE_BLOCK)
-        if self.block is None or self.block[0] != b:
-            tt = (b * TABLE_BLOCK + np.arange(TABLE_BLOCK)) * FRAME_GRAIN
-            S = inverse_states(self.ev, self.p, tt)
-            obs = self.observe(tt, S)
-            rows = self.draw(S, obs) if self.draw is not None else {}
-            self.block = (b, S, np.column_stack([obs[n] for n in self.names]), rows)
-            self.builds += 1
-        return i
+        if j != self._last:
+            self._count(j)
+        if self.block is not None:
+            i = self.block[0].get(j)
+            if i is not None:
+                return i
+        grains = self._grains(j)
+        tt = grains * FRAME_GRAIN
+        S = inverse_states(self.ev, self.p, tt)
+        obs = self.observe(tt, S)
+        rows = self.draw(S, obs) if self.draw is not None else {}
+        index = {int(g): i for i, g in enumerate(grains)}
+        self.block = (index, S, np.column_stack([obs[n] for n in self.names]), rows)
+        self.builds += 1
+        self.rows_built += len(grains)
+        return 0
 
     def states(self, t: Array) -> Array:
         """States at the times ``t`` (``(len(t), 36)``)."""
@@ -149,4 +230,4 @@ def pose_row(fr: Frame, rows: dict[str, Array], i: int) -> None:
     fr.points["D"] = rows["D"][i : i + 1].copy()
 
 
-__all__ = ["FRAME_GRAIN", "TABLE_BLOCK", "InverseTable", "pose_row", "pose_rows"]
+__all__ = ["CHUNK_FRAMES", "FRAME_GRAIN", "MAX_ROWS", "InverseTable", "pose_row", "pose_rows"]
