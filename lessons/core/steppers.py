@@ -19,7 +19,6 @@ from typing import Any
 import numpy as np
 import scipy.integrate
 from scipy.integrate import OdeSolution, solve_ivp
-from scipy.integrate._ivp.rk import Dop853DenseOutput
 
 from lessons.core.budget import spent
 from lessons.core.contract import Frame, Params, Stepper
@@ -211,7 +210,7 @@ def _step_at(ts: Any, interpolants: list[Any], x: float, tt: Array) -> Array:
     it is read at ``x`` itself (half the cost of an array of one)."""
     k = min(max(bisect.bisect_left(ts, x) - 1, 0), len(interpolants) - 1)
     step = interpolants[k]
-    if type(step) is Dop853DenseOutput:
+    if type(step).__name__ == "Dop853DenseOutput":  # scipy's DOP853 (others: any time array)
         return np.asarray(step(x), dtype=float)[None, :]
     return np.asarray(step(tt), dtype=float).T
 
