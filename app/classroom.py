@@ -19,7 +19,7 @@ Hardening (DESIGN §5): the instructor code is compared with
 :func:`hmac.compare_digest`, wrong codes are rate-limited per page and across the
 server; every GUI input of every page passes a token bucket (formula edits cost
 more; an input over the limit is not dropped but coalesced: the newest value is
-applied when the bucket refills); incoming websocket messages are paced per
+applied when the bucket refills, :mod:`app.input_gate`); incoming websocket messages are paced per
 connection and oversized ones dropped before viser decodes them
 (:func:`app.viser_boundary.harden_websocket`).
 """
@@ -41,20 +41,11 @@ from typing import TYPE_CHECKING, Any
 from app import assignments_view
 from app.bus import Bus, LocalBus
 from app.classlink import REMOTE, ClassLink
+from app.input_gate import InputGate
 from app.instructor import InstructorPanel, Presenter
-from app.limits import (
-    INPUT_BURST,
-    INPUT_RATE,
-    MAX_NOTICE_LENGTH,
-    MIN_CODE_LENGTH,
-    TEXT_COST,
-    CodeGuard,
-    TokenBucket,
-    generate_code,
-    normalize_code,
-)
+from app.limits import MAX_NOTICE_LENGTH, MIN_CODE_LENGTH, CodeGuard, generate_code, normalize_code
 from app.session import LabError, Session, SharedClock
-from app.viser_boundary import client_address, submit_callback
+from app.viser_boundary import client_address
 
 #: Follower sync / camera pushes (Hz).
 SYNC_HZ = 20.0
@@ -88,8 +79,6 @@ class Classroom:
         self.followers: dict[int, SessionView] = {}
         self._synced: dict[int, tuple[Any, ...]] = {}
         self.camera_dirty = False
-        self.buckets: dict[int, TokenBucket] = {}
-        self.pending: dict[tuple[int, str], tuple[Callable[[Any], None], Any]] = {}
         self._refused_note: dict[int, float] = {}
         self.all_sessions: weakref.WeakSet[Session] = weakref.WeakSet()
         self.tokens: set[str] = set()  # instructor pages' reload tokens (this server's life)
@@ -100,6 +89,8 @@ class Classroom:
             "replayed": 0,
             "wrong_codes": 0,
         }
+        #: every page's token bucket and coalesced inputs
+        self.inputs = InputGate(self.stats, lambda: getattr(self.lab, "server", None))
         #: the other servers of the class (an in-process bus by default)
         self.link = ClassLink(self, bus if bus is not None else LocalBus(self.code))
         self._stop = threading.Event()
@@ -116,7 +107,7 @@ class Classroom:
         cid = view.client.client_id
         view.gate = self._gate  # type: ignore[attr-defined]
         self.all_sessions.add(view.session)
-        self.buckets[cid] = TokenBucket(INPUT_RATE, INPUT_BURST)
+        self.inputs.open(cid)
         gui = view.client.gui
         folder = gui.add_folder("Instructor", expand_by_default=False)
         with folder:
@@ -140,12 +131,10 @@ class Classroom:
             self.entries.pop(client_id, None)
             self.presenters.pop(client_id, None)
             assignments_view.detach(self, client_id)  # assignments hook
-            self.buckets.pop(client_id, None)
+            self.inputs.forget(client_id)
             self.codes.forget(client_id)
             self._refused_note.pop(client_id, None)
             self._synced.pop(client_id, None)
-            for key in [k for k in self.pending if k[0] == client_id]:
-                self.pending.pop(key, None)
             panel = self.instructors.pop(client_id, None)
             self.followers.pop(client_id, None)
             if panel is not None and self.broadcaster == client_id:
@@ -272,39 +261,7 @@ class Classroom:
             with view.session.lock:
                 view.sync_widgets(force=True)
             return False
-        bucket = self.buckets.get(cid)
-        if bucket is None:
-            return True
-        target = getattr(event, "target", None)
-        cost = TEXT_COST if type(target).__name__ == "GuiTextHandle" else 1.0
-        if bucket.take(cost):
-            self.stats["admitted"] += 1
-            return True
-        if again is not None and target is not None:
-            self.stats["coalesced"] += 1
-            self.pending[(cid, str(getattr(target, "id", id(target))))] = (again, event)
-        return False
-
-    def _replay_pending(self) -> None:
-        for key in list(self.pending):
-            cid = key[0]
-            bucket = self.buckets.get(cid)
-            if bucket is None:
-                self.pending.pop(key, None)
-                continue
-            if bucket.wait_time(TEXT_COST) > 0:
-                continue
-            item = self.pending.pop(key, None)
-            if item is not None:
-                self.stats["replayed"] += 1
-                # goes through the gate again, in the page's turn of the callback budget
-                if not submit_callback(
-                    getattr(self.lab, "server", None), ("replay", cid), item[0], item[1]
-                ):
-                    try:
-                        item[0](item[1])
-                    except Exception:
-                        traceback.print_exc()
+        return self.inputs.admit(cid, event, again)
 
     # ------------------------------------------------------------------ follow / release
 
@@ -585,7 +542,7 @@ class Classroom:
                     self.link.tick()
                     self._sync_followers()
                     self._push_camera()
-                self._replay_pending()
+                self.inputs.replay()
                 if k % 5 == 0:
                     for panel in list(self.instructors.values()):
                         panel.update()
@@ -611,8 +568,8 @@ class Classroom:
             "instructors": len(self.instructors),
             "presenters": len(self.presenters),
             "entries": len(self.entries),
-            "buckets": len(self.buckets),
-            "pending": len(self.pending),
+            "buckets": len(self.inputs.buckets),
+            "pending": len(self.inputs.pending),
         }
         print(
             "[classroom] " + " ".join(f"{k} {v}" for k, v in figures.items()),

@@ -150,6 +150,17 @@ def ray_mesh_hit(
     return o + t[k] * d
 
 
+#: The root of the nodes a played frame updates: moving points, their trails, the
+#: vectors and the posed bodies (everything else is drawn once per scene).
+LIVE_ROOT = "/lab/live"
+
+
+def live_node(kind: str, name: str = "") -> str:
+    """The node of one moving item: ``kind`` is ``point``, ``trail``, ``body`` or
+    ``vectors`` (one node for all arrows, no ``name``)."""
+    return f"{LIVE_ROOT}/{kind}/{_safe(name)}" if name else f"{LIVE_ROOT}/{kind}"
+
+
 #: Share of the canvas's shorter side the scene's bounding sphere fills when framed.
 FILL = 0.62
 DEFAULT_FOV = math.radians(50.0)
@@ -338,7 +349,7 @@ class SceneRenderer:
         self._body_handles = {}
         for body in spec.bodies:
             self._body_handles[body.name] = scene_api.add_mesh_simple(
-                f"/lab/live/body/{_safe(body.name)}",
+                live_node("body", body.name),
                 np.asarray(body.vertices, dtype=np.float32),
                 np.asarray(body.faces, dtype=np.uint32),
                 color=tuple(body.color),
@@ -436,7 +447,7 @@ class SceneRenderer:
                     if tr is None:
                         tr = self._trails[name] = Trail(
                             scene_api,
-                            f"/lab/live/trail/{_safe(name)}",
+                            live_node("trail", name),
                             tuple(color),
                             cfg.trail_chunk,
                             cfg.trail_max_points,
@@ -455,7 +466,7 @@ class SceneRenderer:
                 if h is not None:
                     _remove(h)
                 self._point_handles[name] = scene_api.add_point_cloud(
-                    f"/lab/live/point/{_safe(name)}",
+                    live_node("point", name),
                     pts,
                     tuple(color),
                     point_size=0.045 * self._size,
@@ -512,7 +523,7 @@ class SceneRenderer:
                 _remove(self._vector_handle)
             r = 0.006 * self._size
             self._vector_handle = self.client.scene.add_arrows(
-                "/lab/live/vectors",
+                live_node("vectors"),
                 pts,
                 np.asarray(colors, dtype=np.uint8),
                 shaft_radius=r,
@@ -545,4 +556,4 @@ def _nice(x: float) -> float:
     return m * 10**e
 
 
-__all__ = ["SceneRenderer", "Trail", "ray_mesh_hit"]
+__all__ = ["LIVE_ROOT", "SceneRenderer", "Trail", "live_node", "ray_mesh_hit"]

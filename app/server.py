@@ -37,9 +37,9 @@ from app.viser_boundary import (
     WakeBatch,
     dropped_types,
     event_loop,
-    guard_gui_updates,
     make_viser_server,
 )
+from app.viser_gui_guard import guard_gui_updates
 from lessons.core.contract import Lesson
 
 #: Frames per second of the live view: a little above 30 so that every page still gets

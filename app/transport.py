@@ -13,6 +13,9 @@ from lessons.core.formula import parse_number
 #: Frames of a jump ("go to t") drawn into the trail at most.
 MAX_DRAWN_FRAMES = 2000
 
+#: The label of the Run buttons and the button that plays.
+RUN, PLAY = "Run", "Play"
+
 Played = Callable[[list[Any], bool], None]
 
 
@@ -29,7 +32,7 @@ class Transport:
     ) -> None:
         self.session = session
         self.played = played
-        self.buttons = gui.add_button_group("Run", ("Play", "Pause", "Step", "Reset"))
+        self.buttons = gui.add_button_group(RUN, (PLAY, "Pause", "Step", "Reset"))
         self.buttons.on_click(guard(self._on_button))
         s = session()
         self.speed = gui.add_dropdown(
@@ -44,7 +47,7 @@ class Transport:
     def _on_button(self, event: Any) -> None:
         what = event.target.value
         s = self.session()
-        if what == "Play":
+        if what == PLAY:
             s.play()
             self.played([], False)
         elif what == "Pause":

@@ -46,6 +46,8 @@ if TYPE_CHECKING:
     import viser
 
 NO_PRESET = "(defaults)"
+#: Labels of the page's lesson and preset pickers and of the pause-at-t_end checkbox.
+LESSON_PICKER, PRESET_PICKER, PAUSE_AT_END = "Lesson", "Preset", "pause at t_end"
 RETIRE_DELAY = 1.5  # seconds a replaced GUI folder stays (hidden) before it is removed
 
 
@@ -207,11 +209,11 @@ class SessionView:
         self._labels = {lesson_label(lesson): lesson.id for lesson in s.lessons.values()}
         self._ids = {v: k for k, v in self._labels.items()}
         self.lesson_dd = gui.add_dropdown(
-            "Lesson", tuple(self._labels), initial_value=self._ids[s.lesson.id]
+            LESSON_PICKER, tuple(self._labels), initial_value=self._ids[s.lesson.id]
         )
         self.lesson_dd.on_update(self.guard(self._on_lesson))
         self.preset_dd = gui.add_dropdown(
-            "Preset", self._preset_options(), initial_value=s.preset or NO_PRESET
+            PRESET_PICKER, self._preset_options(), initial_value=s.preset or NO_PRESET
         )
         self.preset_dd.on_update(self.guard(self._on_preset))
         self.preset_note = gui.add_html("")
@@ -269,7 +271,7 @@ class SessionView:
             self._lesson_folders.append(folder)
             with folder:
                 self.pause_cb = gui.add_checkbox(
-                    "pause at t_end", initial_value=self.session.pause_at_end
+                    PAUSE_AT_END, initial_value=self.session.pause_at_end
                 )
                 self.pause_cb.on_update(self.guard(self._on_pause_at_end))
         with self.tab_plots:

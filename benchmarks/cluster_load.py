@@ -31,7 +31,7 @@ from collections import Counter
 from typing import Any
 
 from benchmarks.classroom_load import ProtoClient
-from benchmarks.loadtest import LabClient, free_port
+from benchmarks.loadtest import LabClient, count_window, free_port, page_plan
 
 CODE = "cluster-bench-6613"
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
@@ -147,31 +147,12 @@ def _cpu_text(door: float, workers: list[float], machine: float, clients: float 
 
 
 async def pages_scenario(port: int, n: int, seconds: float, cpu: CPU) -> str:
-    stop = asyncio.Event()
     urls = [page_url(port) for _ in range(n)]
-    clients = [LabClient(u, "example-1.1", None) for u in urls]
-    tasks = []
-    for c in clients:
-        tasks.append(asyncio.create_task(c.run(stop)))
-        await asyncio.sleep(0.02)
-    deadline = time.monotonic() + 90
-    while time.monotonic() < deadline and not all(
-        c.stats.playing_update or c.stats.error for c in clients
-    ):
-        await asyncio.sleep(0.2)
-    await asyncio.sleep(3.0)
-    cpu.start()
-    for c in clients:
-        c.measuring = True
-    t0 = time.monotonic()
-    await asyncio.sleep(seconds)
-    dt = time.monotonic() - t0
-    for c in clients:
-        c.measuring = False
-    door, workers, machine = cpu.read()
-    stop.set()
-    await asyncio.gather(*tasks, return_exceptions=True)
-    ok = [c.stats.point_updates / dt for c in clients if not c.stats.error]
+    clients = [LabClient(u, page_plan("sphere", "example-1.1")) for u in urls]
+    dt, (door, workers, machine) = await count_window(
+        clients, seconds, 3.0, cpu.start, cpu.read, ready_timeout=90.0
+    )
+    ok = [c.stats.updates / dt for c in clients if not c.stats.error]
     errors = [c.stats.error for c in clients if c.stats.error]
     spread = Counter(u.rsplit(":", 1)[1].strip("/") for u in urls)
     u = ok or [0.0]

@@ -1,12 +1,17 @@
 """Load test: N simultaneous sessions, each a real websocket client speaking viser's protocol.
 
-    python -m benchmarks.loadtest --sessions 1 10 30 50 [--seconds 10] [--lesson sphere --preset example-1.1]
+    python -m benchmarks.loadtest --sessions 1 10 30 50 [--seconds 10] [--lesson sphere] [--preset P]
+    python -m benchmarks.loadtest --all-lessons --sessions 50 [--seconds 10]
 
 The server runs as a subprocess (``python -m app serve``).  Each client connects with
 viser's subprotocol, sends a camera message (which makes it a connected client),
-picks the preset and presses Play through GUI update messages, then counts what it
-receives: websocket frames that carry an update of the moving point (updates/s)
-and bytes (MB/s).  Server CPU comes from psutil on the server process.
+selects the lesson and its preset (the lesson's first unless ``--preset``) in the
+page's pickers, unticks "pause at t_end" and presses Play through GUI update messages,
+then counts what it receives: websocket frames that carry an update of the lesson's
+live scene (any node under :data:`app.scene_render.LIVE_ROOT`: moving points, trails,
+vectors, posed bodies), once per frame (updates/s), and bytes (MB/s).  Server CPU
+comes from psutil on the server process.  ``--all-lessons`` measures every lesson of
+the catalog in turn, each on a fresh server, and prints one markdown table.
 
 Wire format of a server frame (viser ``_message_producer``): 8 bytes msgpack length,
 8 bytes compressed length, a zstd-compressed msgpack ``{"messages": [...]}``, then
@@ -23,10 +28,20 @@ import statistics
 import subprocess
 import sys
 import time
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, TypeVar
 
-POINT_NODE = "/lab/live/point/point"
+from app.scene_render import LIVE_ROOT, live_node
+from app.transport import PLAY, RUN
+from app.view import LESSON_PICKER, PAUSE_AT_END, PRESET_PICKER
+
+#: The moving point of the quadric lessons (sphere, example 1.1), as the classroom counts it.
+POINT_NODE = live_node("point", "point")
+#: Messages that change an existing scene node (besides the messages that create one).
+NODE_UPDATES = frozenset({"SceneNodeUpdateMessage", "SetPositionMessage", "SetOrientationMessage"})
+
+T = TypeVar("T")
 
 
 def free_port() -> int:
@@ -76,25 +91,58 @@ def decode_frame(raw: bytes, decompressor: Any = None) -> list[dict[str, Any]]:
     return list(msgspec.msgpack.decode(payload).get("messages", ()))
 
 
+def live_update(message: dict[str, Any]) -> bool:
+    """Does this message draw part of a played frame (create or update a node under
+    :data:`LIVE_ROOT`)?  Removals do not count."""
+    name = message.get("name")
+    if not isinstance(name, str) or not name.startswith(LIVE_ROOT + "/"):
+        return False
+    kind = message.get("type", "")
+    return kind in NODE_UPDATES or (
+        kind.endswith("Message") and isinstance(message.get("props"), dict)
+    )
+
+
+@dataclass(frozen=True)
+class PagePlan:
+    """What a page picks before it plays: the lesson (its picker label) and a preset."""
+
+    lesson: str
+    lesson_label: str
+    preset: str | None
+
+
+def page_plan(lesson_id: str, preset: str | None = None) -> PagePlan:
+    """The plan for a lesson of the catalog: ``preset`` or the lesson's first one."""
+    from app.session import lesson_label
+    from lessons.catalog import get_lesson
+
+    lesson = get_lesson(lesson_id)
+    if preset is None and lesson.presets:
+        preset = lesson.presets[0].name
+    return PagePlan(lesson.id, lesson_label(lesson), preset)
+
+
 @dataclass
 class ClientStats:
     frames: int = 0
     bytes: int = 0
-    point_updates: int = 0
+    updates: int = 0  # frames carrying an update of the live scene
+    nodes: set[str] = field(default_factory=set)  # live nodes updated while measuring
     gui: dict[str, str] = field(default_factory=dict)  # label -> uuid
+    values: dict[str, Any] = field(default_factory=dict)  # uuid -> value the server set
     connected: float = 0.0
     played: float = 0.0  # when Play was sent
-    playing_update: float = 0.0  # first point update well after Play
+    playing_update: float = 0.0  # first live update well after Play
     error: str = ""
 
 
 class LabClient:
     """One simulated student."""
 
-    def __init__(self, url: str, preset: str | None, lesson_label: str | None) -> None:
+    def __init__(self, url: str, plan: PagePlan) -> None:
         self.url = url
-        self.preset = preset
-        self.lesson_label = lesson_label
+        self.plan = plan
         self.stats = ClientStats()
         self.measuring = False
         self.ws: Any = None
@@ -116,7 +164,7 @@ class LabClient:
                 self.ws = ws
                 await ws.send(encode(camera_message()))
                 self.stats.connected = time.monotonic()
-                started = False
+                starting: asyncio.Task | None = None
                 stopping = asyncio.get_running_loop().create_task(stop.wait())
                 while not stop.is_set():
                     receiving = asyncio.get_running_loop().create_task(ws.recv())
@@ -127,55 +175,71 @@ class LabClient:
                     raw = receiving.result()
                     if not isinstance(raw, bytes):
                         continue
-                    point = False
+                    live = False
                     for m in decode_frame(raw, dec):
-                        t = m.get("type", "")
-                        if (
-                            t.startswith("Gui")
-                            and t.endswith("Message")
-                            and isinstance(m.get("props"), dict)
-                        ):
-                            label = m["props"].get("label")
-                            if isinstance(label, str) and "uuid" in m:
-                                self.stats.gui[label] = m["uuid"]
-                        elif (
-                            t == "SceneNodeUpdateMessage"
-                            and m.get("name") == POINT_NODE
-                            and "points" in m.get("updates", {})
-                        ):
-                            point = True
+                        live = self._read(m) or live
                     if self.measuring:
                         self.stats.frames += 1
                         self.stats.bytes += len(raw)
-                        self.stats.point_updates += point
+                        self.stats.updates += live
                     now = time.monotonic()
                     if (
-                        point
+                        live
                         and self.stats.played
                         and not self.stats.playing_update
                         and now > self.stats.played + 0.5
                     ):
                         self.stats.playing_update = now
-                    if not started and all(
-                        k in self.stats.gui for k in ("Run", "Preset", "pause at t_end")
+                    if starting is None and all(
+                        k in self.stats.gui for k in (RUN, PRESET_PICKER, PAUSE_AT_END)
                     ):
-                        started = True
-                        asyncio.get_running_loop().create_task(self._start(ws))
+                        starting = asyncio.get_running_loop().create_task(self._start(ws))
         except Exception as exc:  # reported in the table
             self.stats.error = f"{type(exc).__name__}: {exc}"
 
+    def _read(self, m: dict[str, Any]) -> bool:
+        """Note GUI elements and values; whether ``m`` updates the live scene."""
+        t = m.get("type", "")
+        if t == "GuiUpdateMessage":
+            updates = m.get("updates", {})
+            if "value" in updates:
+                self.stats.values[m.get("uuid", "")] = updates["value"]
+        elif t.startswith("Gui") and t.endswith("Message") and isinstance(m.get("props"), dict):
+            label = m["props"].get("label")
+            if isinstance(label, str) and "uuid" in m:
+                self.stats.gui[label] = m["uuid"]
+                if "value" in m:
+                    self.stats.values[m["uuid"]] = m["value"]
+        elif live_update(m):
+            if self.measuring:
+                self.stats.nodes.add(m["name"])
+            return True
+        return False
+
     async def _start(self, ws: Any) -> None:
-        if self.lesson_label and "Lesson" in self.stats.gui:
-            await ws.send(encode(gui_update(self.stats.gui["Lesson"], self.lesson_label)))
-            await asyncio.sleep(1.0)
-        if self.preset:
-            await ws.send(encode(gui_update(self.stats.gui["Preset"], self.preset)))
-            await asyncio.sleep(0.3)
-        # keep playing past the textbook's 10 s
-        await ws.send(encode(gui_update(self.stats.gui["pause at t_end"], False)))
-        await asyncio.sleep(0.1)
-        await ws.send(encode(gui_update(self.stats.gui["Run"], "Play")))
-        self.stats.played = time.monotonic()
+        """Pick the lesson and the preset as a page does, untick "pause at t_end", play."""
+        gui = self.stats.gui
+        try:
+            if self.stats.values.get(gui.get(LESSON_PICKER, "")) != self.plan.lesson_label:
+                before = gui[PAUSE_AT_END]
+                await ws.send(encode(gui_update(gui[LESSON_PICKER], self.plan.lesson_label)))
+                # the page rebuilds the lesson's controls: a new checkbox
+                deadline = time.monotonic() + 30
+                while gui[PAUSE_AT_END] == before:
+                    if time.monotonic() > deadline:
+                        raise TimeoutError(f"lesson {self.plan.lesson!r} was not selected")
+                    await asyncio.sleep(0.05)
+                await asyncio.sleep(0.3)
+            if self.plan.preset:
+                await ws.send(encode(gui_update(gui[PRESET_PICKER], self.plan.preset)))
+                await asyncio.sleep(0.3)
+            # keep playing past the textbook's t_end
+            await ws.send(encode(gui_update(gui[PAUSE_AT_END], False)))
+            await asyncio.sleep(0.1)
+            await ws.send(encode(gui_update(gui[RUN], PLAY)))
+            self.stats.played = time.monotonic()
+        except Exception as exc:
+            self.stats.error = f"{type(exc).__name__}: {exc}"
 
 
 @dataclass
@@ -187,6 +251,9 @@ class RunFigures:
     client_cpu: float
     machine_cpu: float
     errors: list[str]
+    plan: PagePlan | None = None
+    #: the live nodes the pages saw updated while measuring
+    nodes: set[str] = field(default_factory=set)
 
     def row(self) -> str:
         u = self.updates_per_s or [0.0]
@@ -196,35 +263,46 @@ class RunFigures:
             f" {self.cpu_percent:9.0f}% {self.client_cpu:9.0f}% {self.machine_cpu:8.0f}%  {len(self.errors)}"
         )
 
+    def markdown_row(self) -> str:
+        u = self.updates_per_s or [0.0]
+        b = self.mb_per_s or [0.0]
+        lesson = self.plan.lesson if self.plan else ""
+        preset = (self.plan.preset or "(defaults)") if self.plan else ""
+        return (
+            f"| {lesson} | {preset} | {self.sessions} | {statistics.mean(u):.1f} | {min(u):.1f} "
+            f"| {statistics.mean(b):.4f} | {self.cpu_percent:.0f}% | {len(self.errors)} |"
+        )
 
-async def measure(
-    url: str,
-    n: int,
+
+MARKDOWN_HEAD = (
+    "| lesson | preset | pages | updates/s per page (mean) | (min) | MB/s per page "
+    "| server CPU (1 core = 100%) | errors |\n|---|---|---:|---:|---:|---:|---:|---:|"
+)
+
+
+async def count_window(
+    clients: Sequence[LabClient],
     seconds: float,
-    preset: str | None,
-    lesson_label: str | None,
-    server_pid: int,
     settle: float,
-) -> RunFigures:
-    import psutil
-
+    start_cpu: Callable[[], None],
+    read_cpu: Callable[[], T],
+    ready_timeout: float = 60.0,
+) -> tuple[float, T]:
+    """Start the clients, wait until each plays (or failed) and ``settle`` seconds more,
+    count what they receive over ``seconds``; the window's length and ``read_cpu()``
+    taken at its end (``start_cpu()`` at its start)."""
     stop = asyncio.Event()
-    clients = [LabClient(url, preset, lesson_label) for _ in range(n)]
     tasks = []
     for c in clients:
         tasks.append(asyncio.create_task(c.run(stop)))
         await asyncio.sleep(0.02)
-    deadline = time.monotonic() + 60
+    deadline = time.monotonic() + ready_timeout
     while time.monotonic() < deadline and not all(
         c.stats.playing_update or c.stats.error for c in clients
     ):
         await asyncio.sleep(0.2)
     await asyncio.sleep(settle)
-    proc = psutil.Process(server_pid)
-    me = psutil.Process()
-    proc.cpu_percent(None)
-    me.cpu_percent(None)
-    psutil.cpu_percent(None)
+    start_cpu()
     for c in clients:
         c.measuring = True
     t0 = time.monotonic()
@@ -232,19 +310,47 @@ async def measure(
     dt = time.monotonic() - t0
     for c in clients:
         c.measuring = False
-    cpu = proc.cpu_percent(None)
-    client_cpu = me.cpu_percent(None)
-    machine = psutil.cpu_percent(None)
+    reading = read_cpu()
     stop.set()
     await asyncio.gather(*tasks, return_exceptions=True)
+    return dt, reading
+
+
+async def measure(
+    url: str,
+    n: int,
+    seconds: float,
+    plan: PagePlan,
+    server_pid: int,
+    settle: float,
+) -> RunFigures:
+    import psutil
+
+    clients = [LabClient(url, plan) for _ in range(n)]
+    procs = (psutil.Process(server_pid), psutil.Process())
+
+    def start_cpu() -> None:
+        for p in procs:
+            p.cpu_percent(None)
+        psutil.cpu_percent(None)
+
+    def read_cpu() -> tuple[float, float, float]:
+        return procs[0].cpu_percent(None), procs[1].cpu_percent(None), psutil.cpu_percent(None)
+
+    dt, (cpu, client_cpu, machine) = await count_window(
+        clients, seconds, settle, start_cpu, read_cpu
+    )
+    ok = [c for c in clients if not c.stats.error]
     return RunFigures(
         sessions=n,
-        updates_per_s=[c.stats.point_updates / dt for c in clients if not c.stats.error],
-        mb_per_s=[c.stats.bytes / dt / 1e6 for c in clients if not c.stats.error],
+        updates_per_s=[c.stats.updates / dt for c in ok],
+        mb_per_s=[c.stats.bytes / dt / 1e6 for c in ok],
         cpu_percent=cpu,
         client_cpu=client_cpu,
         machine_cpu=machine,
         errors=[c.stats.error for c in clients if c.stats.error],
+        plan=plan,
+        nodes=set().union(*(c.stats.nodes for c in ok)),
     )
 
 
@@ -291,6 +397,42 @@ def start_server(
     raise RuntimeError("the server did not answer within 30 s")
 
 
+def stop_server(proc: subprocess.Popen) -> None:
+    proc.terminate()
+    try:
+        proc.wait(5)
+    except subprocess.TimeoutExpired:
+        proc.kill()
+        proc.wait(5)
+
+
+def all_lessons_table(
+    sessions: Sequence[int], seconds: float, settle: float, fps: float | None, log: Any
+) -> None:
+    """Every lesson of the catalog with its first preset, each on a fresh server: one
+    markdown table (a row per lesson and number of pages)."""
+    from lessons.catalog import all_lessons
+
+    extra = ("--fps", str(fps)) if fps else ()
+    print(f"{os.cpu_count()} cores; {seconds:g} s per run" + (f"; {fps:g} frames/s" if fps else ""))
+    print(MARKDOWN_HEAD, flush=True)
+    for lesson in all_lessons():
+        plan = page_plan(lesson.id)
+        port = free_port()
+        proc = start_server(port, lesson.id, log, extra_args=extra)
+        try:
+            for n in sessions:
+                fig = asyncio.run(
+                    measure(f"ws://127.0.0.1:{port}/", n, seconds, plan, proc.pid, settle)
+                )
+                print(fig.markdown_row(), flush=True)
+                for e in fig.errors[:3]:
+                    print("   ", e, file=sys.stderr)
+                time.sleep(1.0)
+        finally:
+            stop_server(proc)
+
+
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(
         prog="python -m benchmarks.loadtest", description=__doc__.split("\n\n")[0]
@@ -301,7 +443,12 @@ def main(argv: list[str] | None = None) -> int:
         "--settle", type=float, default=3.0, help="seconds after the last client started playing"
     )
     ap.add_argument("--lesson", default="sphere")
-    ap.add_argument("--preset", default="example-1.1")
+    ap.add_argument("--preset", default=None, help="default: the lesson's first preset")
+    ap.add_argument(
+        "--all-lessons",
+        action="store_true",
+        help="every lesson in turn (its first preset), a fresh server each; one markdown table",
+    )
     ap.add_argument(
         "--fps",
         type=float,
@@ -320,6 +467,11 @@ def main(argv: list[str] | None = None) -> int:
     )
     ap.add_argument("--server-pid", type=int, default=0)
     args = ap.parse_args(argv)
+    log = open(args.server_log, "w") if args.server_log else subprocess.DEVNULL
+    if args.all_lessons:
+        all_lessons_table(args.sessions, args.seconds, args.settle, args.fps, log)
+        return 0
+    plan = page_plan(args.lesson, args.preset)
     if args.clients_only:
         for n in args.sessions:
             fig = asyncio.run(
@@ -327,8 +479,7 @@ def main(argv: list[str] | None = None) -> int:
                     f"ws://127.0.0.1:{args.clients_only}/",
                     n,
                     args.seconds,
-                    args.preset,
-                    None,
+                    plan,
                     args.server_pid or os.getpid(),
                     args.settle,
                 )
@@ -337,14 +488,13 @@ def main(argv: list[str] | None = None) -> int:
             print(sorted(round(u, 1) for u in fig.updates_per_s))
         return 0
     port = free_port()
-    log = open(args.server_log, "w") if args.server_log else subprocess.DEVNULL
     proc = start_server(
         port, args.lesson, log, extra_args=("--fps", str(args.fps)) if args.fps else ()
     )
     url = f"ws://127.0.0.1:{port}/"
     print(
-        f"server pid {proc.pid} on port {port}; lesson {args.lesson}, preset {args.preset}; {os.cpu_count()} cores"
-        + (f"; server at {args.fps:g} frames/s" if args.fps else "")
+        f"server pid {proc.pid} on port {port}; lesson {plan.lesson}, preset {plan.preset}; "
+        f"{os.cpu_count()} cores" + (f"; server at {args.fps:g} frames/s" if args.fps else "")
     )
     print(
         f"{'sessions':>8} {'updates/s':>10} {'min':>9} {'MB/s/client':>12} {'max MB/s':>11} "
@@ -355,19 +505,13 @@ def main(argv: list[str] | None = None) -> int:
     )
     try:
         for n in args.sessions:
-            fig = asyncio.run(
-                measure(url, n, args.seconds, args.preset, None, proc.pid, args.settle)
-            )
+            fig = asyncio.run(measure(url, n, args.seconds, plan, proc.pid, args.settle))
             print(fig.row(), flush=True)
             for e in fig.errors[:3]:
                 print("   ", e)
             time.sleep(1.0)
     finally:
-        proc.terminate()
-        try:
-            proc.wait(5)
-        except subprocess.TimeoutExpired:
-            proc.kill()
+        stop_server(proc)
     return 0
 
 

@@ -24,6 +24,7 @@ LIVE_FILES = {
     "test_frontdoor.py",
     "test_server.py",
     "test_attacks_transport.py",
+    "test_loadtest.py",
 }
 
 
