@@ -14,6 +14,7 @@ observation and the round-trip claims from generalized coordinates and forces.
 from __future__ import annotations
 
 import math
+import threading
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Any
@@ -62,6 +63,11 @@ PROBLEM = Param(
     group="mode",
     help="forward: forces given, motion found; inverse: motion law given, drive forces found",
 )
+
+#: The answers kept per parameter set are shared by every page of the server, whose pages
+#: are built and played on several threads.
+_CACHE_LOCK = threading.Lock()
+_MISSING = object()
 
 
 def sym(name: str, **kw: Any) -> sp.Symbol:
@@ -139,16 +145,24 @@ class DynamicsLesson(Lesson):
         if memo is not None and memo[0] is params and what in memo[1]:
             return memo[1][what]
         key = (f"{self.id}:{what}", repr(sorted(params.raw().items())))
-        if key not in self._cache:
-            if len(self._cache) > 64:
-                self._cache.clear()
-            self._cache[key] = build()
-        if memo is None or memo[0] is not params:
-            if len(self._by_object) > 64:
-                self._by_object.clear()
-            memo = self._by_object[id(params)] = (params, {})
-        memo[1][what] = self._cache[key]
-        return memo[1][what]
+        with _CACHE_LOCK:
+            hit = self._cache.get(key, _MISSING)
+        if hit is _MISSING:
+            built = build()  # outside the lock: a long build does not hold up other pages
+            with _CACHE_LOCK:  # the first built is the one every page shares
+                hit = self._cache.get(key, _MISSING)
+                if hit is _MISSING:
+                    if len(self._cache) > 64:
+                        self._cache.clear()
+                    hit = self._cache[key] = built
+        with _CACHE_LOCK:
+            memo = self._by_object.get(id(params))
+            if memo is None or memo[0] is not params:
+                if len(self._by_object) > 64:
+                    self._by_object.clear()
+                memo = self._by_object[id(params)] = (params, {})
+            memo[1][what] = hit
+        return hit
 
     def solution(self, params: Params) -> Solution:
         """The solution from t = 0 that runs and live frames share (once per parameter set)."""

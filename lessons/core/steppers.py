@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import bisect
 import math
+import threading
 from collections.abc import Callable
 from typing import Any
 
@@ -59,10 +60,16 @@ class DenseSolution:
         self._open: _Chunk | None = None  # the chunk being stepped, if any
         self.stopped_at = math.inf
         self.message = ""
+        #: one solution serves every page with these values, on several threads
+        self._lock = threading.RLock()
 
     def reach(self, t: float) -> float:
         """Solve towards ``t``; the time solved up to: ``t``, or less once the work budget
         (:mod:`lessons.core.budget`) is spent (at least one solver step is taken per call)."""
+        with self._lock:
+            return self._reach(t)
+
+    def _reach(self, t: float) -> float:
         self._extend(t, budget=True)
         if self.message:
             return t
@@ -166,6 +173,10 @@ class DenseSolution:
         return sol, (bad[0] if bad else None)
 
     def __call__(self, t: Array) -> Array:
+        with self._lock:
+            return self._at(t)
+
+    def _at(self, t: Array) -> Array:
         tt = np.atleast_1d(np.asarray(t, dtype=float))
         if len(tt) == 1:  # a frame: one lookup
             return self._one(tt)
