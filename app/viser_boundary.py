@@ -483,6 +483,32 @@ def fast_set(handle: Any, name: str, value: Any) -> None:
     handle._queue_update(name, value)
 
 
+def _moved(current: Any, value: tuple[float, ...]) -> bool:
+    """Whether ``value`` differs from ``current`` beyond ``np.allclose`` (viser's test
+    for an unchanged pose), compared number by number."""
+    return any(abs(v - c) > 1e-8 + 1e-5 * abs(c) for v, c in zip(value, current.tolist()))
+
+
+def set_pose(handle: Any, pos: Any, wxyz: Any) -> None:
+    """Set a posed body's position and orientation as its ``position`` and ``wxyz``
+    setters do (one message each, none for a part that did not move), without their
+    generic casting and array comparison on the hot path."""
+    from viser import _messages
+
+    impl = handle._impl
+    if impl.removed:
+        return
+    queue = impl.api._queue_scene_message
+    p = tuple(map(float, pos))
+    if _moved(impl.position, p):
+        impl.position[:] = p
+        queue(_messages.SetPositionMessage(impl.name, p))
+    q = tuple(map(float, wxyz))
+    if _moved(impl.wxyz, q):
+        impl.wxyz[:] = q
+        queue(_messages.SetOrientationMessage(impl.name, q))
+
+
 class _NullBuffer:
     """Message buffer that drops everything (the recording keeps its own copy)."""
 

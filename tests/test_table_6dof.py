@@ -22,7 +22,13 @@ from lessons.core.table6dof import (
     program_states,
     table_joints,
 )
-from lessons.core.table6dof_frames import CHUNK_FRAMES, FRAME_GRAIN, pose_row, pose_rows
+from lessons.core.table6dof_frames import (
+    CHUNK_FRAMES,
+    DENSE_ROWS,
+    FRAME_GRAIN,
+    pose_row,
+    pose_rows,
+)
 from lessons.table_6dof import Table6DOF
 
 
@@ -156,6 +162,37 @@ def test_inverse_table_follows_uneven_frames_jumps_and_speeds() -> None:
     frames += [st.advance(67 * FRAME_GRAIN) for _ in range(60)]
     assert table.builds - builds <= 2
     _frames_match_the_grid(lesson, params, frames[::5])
+
+
+def test_inverse_table_serves_sessions_that_read_it_in_turn() -> None:
+    """Several sessions with the same values share one table; their uneven frames come
+    interleaved, so none plays evenly for the table: they read aligned chunks of every
+    grain time, a few grain times evaluated per frame, the direct path's numbers."""
+    lesson = Table6DOF()
+    params = lesson.resolve({**lesson.resolve(preset="inverse-program").raw(), "M_c": 10.5})
+    table = lesson.inverse_table(params)
+    steppers = [lesson.stepper(params) for _ in range(12)]
+    rng = np.random.default_rng(11)
+    for k, st in enumerate(steppers):  # sessions started at different times
+        st.advance((1 + 37 * k) * FRAME_GRAIN)
+    builds, rows = table.builds, table.rows_built
+    frames: list[Frame] = []
+    for _ in range(60):
+        for st in steppers:
+            frames.append(st.advance(int(rng.integers(14, 21)) * FRAME_GRAIN))
+    span = max(fr.t for fr in frames) - min(fr.t for fr in frames)
+    # every grain time the sessions crossed, about once: not a chunk per frame
+    assert table.builds - builds <= 2 + span / (DENSE_ROWS * FRAME_GRAIN) + len(steppers)
+    assert table.rows_built - rows < 5 * len(frames)
+    _frames_match_the_grid(lesson, params, frames[::9])
+    for fr in frames[-len(steppers) :]:  # the drawing is the direct pose's
+        state = table.states(np.array([fr.t]))[0]
+        direct = Frame(t=fr.t, scalars=fr.scalars)
+        F = np.array([fr.scalars[f] for f in FORCES])
+        pose_table(direct, state[:12], lesson.arrow_scale(params) * F, float(params["r_t"]))
+        for name, (pos, quat) in direct.poses.items():
+            assert np.allclose(pos, fr.poses[name][0], rtol=1e-12, atol=1e-15)
+            assert np.allclose(quat, fr.poses[name][1], rtol=1e-12, atol=1e-15)
 
 
 def test_table_frames_draw_as_the_direct_pose() -> None:

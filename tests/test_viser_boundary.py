@@ -237,3 +237,34 @@ def test_a_value_of_the_wrong_type_is_named(current: Any, value: Any, ok: bool) 
     assert (why is None) == ok, why
     if not ok:
         assert why.startswith("expected ")
+
+
+def test_set_pose_sends_what_the_setters_send() -> None:
+    """The hot path of a posed body: the same state and messages as viser's setters
+    (none for a part that did not move beyond ``np.allclose``)."""
+    poses = [
+        ((0.0, 0.0, 0.0), (1.0, 0.0, 0.0, 0.0)),  # unchanged from the start: nothing sent
+        ((0.1, -0.2, 0.3), (1.0, 0.0, 0.0, 0.0)),  # moved only
+        ((0.1, -0.2, 0.3), (0.8, 0.6, 0.0, 0.0)),  # turned only
+        ((0.1 + 1e-10, -0.2, 0.3), (0.8, 0.6, 0.0, 0.0)),  # within allclose: nothing
+        ((0.5, 0.5, 0.5), (0.0, 0.0, 0.6, 0.8)),  # both
+    ]
+    sent: list[list[tuple[str, str, tuple[float, ...]]]] = []
+    handles = []
+    for fast in (False, True):
+        scene, _ = vb.recording_scene()
+        h = scene.add_box("/body", color=(1, 0, 0), dimensions=(1, 1, 1))
+        log: list[tuple[str, str, tuple[float, ...]]] = []
+        scene._queue_scene_message = lambda m, log=log: log.append(  # type: ignore[method-assign]
+            (type(m).__name__, m.name, tuple(m.position if hasattr(m, "position") else m.wxyz))
+        )
+        for pos, wxyz in poses:
+            if fast:
+                vb.set_pose(h, np.array(pos), np.array(wxyz))
+            else:
+                h.position, h.wxyz = pos, wxyz
+        sent.append(log)
+        handles.append(h)
+    assert sent[0] == sent[1] and len(sent[0]) == 4
+    assert np.array_equal(handles[0].position, handles[1].position)
+    assert np.array_equal(handles[0].wxyz, handles[1].wxyz)

@@ -5,13 +5,15 @@ sixteenth or seventeenth of them at speed 1.  The states, scalars and drawing of
 times the next :data:`CHUNK_FRAMES` frames will read are evaluated in one vectorized call
 (:func:`lessons.core.table6dof.program_states` and the lesson's observation), so a frame
 reads a row.  The times are foreseen from the mean step between frames, each within the
-spread the frames showed about such foresight.
+spread the frames showed about such foresight.  Frames that do not play evenly (the first
+ones, or several sessions reading one table in turn) read aligned chunks of every grain
+time instead, the latest :data:`DENSE_CHUNKS` of them kept.
 """
 
 from __future__ import annotations
 
 import math
-from collections import deque
+from collections import OrderedDict, deque
 from collections.abc import Callable
 
 import numpy as np
@@ -28,12 +30,18 @@ FRAME_GRAIN = 1.0 / 600.0
 CHUNK_FRAMES = 64
 #: most grain times evaluated at once (a chunk of every grain time in its span)
 MAX_ROWS = 512
-#: grain times evaluated from the first one read while no step between frames is known
-FIRST_CHUNK = 64
 #: frames whose offsets from their foreseen times set the windows of a chunk
 RECENT = 4 * CHUNK_FRAMES
 #: frames over which a mean step a quarter off the long one means a new speed
 SPEED_FRAMES = 8
+#: grain times of an aligned chunk of every grain time (read while the playing is not even)
+DENSE_ROWS = 128
+#: aligned chunks kept (the latest read), e.g. one per session playing the parameter set
+DENSE_CHUNKS = 96
+
+#: a chunk: (grain time -> row, states (rows, 36), scalars (rows, len(names)), the rows
+#: ``draw(states, observation)`` gives (:func:`pose_rows`))
+Block = tuple[dict[int, int], Array, Array, dict[str, Array]]
 
 
 class InverseTable:
@@ -47,7 +55,11 @@ class InverseTable:
     (no jump back, no new speed) give the mean step ``r`` and the line ``phase + r i``
     about which frame ``i`` fell; the next :data:`CHUNK_FRAMES` frames are foreseen on it,
     each within the ``spread`` of the recent frames about it.  When such windows would
-    cover most of their span, the chunk is every grain time of :data:`MAX_ROWS`.
+    cover most of their span, the chunk is every grain time of :data:`MAX_ROWS`.  Until
+    :data:`SPEED_FRAMES` frames played evenly (after a jump, or while the frames of several
+    sessions sharing the table interleave), a frame reads the aligned chunk of every grain
+    time :data:`DENSE_ROWS` that holds it (``j // DENSE_ROWS``), kept among the latest
+    :data:`DENSE_CHUNKS` of them.
     """
 
     def __init__(
@@ -59,9 +71,8 @@ class InverseTable:
         draw: Callable[[Array, dict[str, Array]], dict[str, Array]] | None = None,
     ) -> None:
         self.ev, self.p, self.observe, self.names, self.draw = ev, p, observe, names, draw
-        #: (grain time -> row, states (rows, 36), scalars (rows, len(names)), the rows
-        #: ``draw(states, observation)`` gives (:func:`pose_rows`))
-        self.block: tuple[dict[int, int], Array, Array, dict[str, Array]] | None = None
+        self.block: Block | None = None  # the chunk planned for the frames foreseen
+        self.dense: OrderedDict[int, Block] = OrderedDict()  # aligned chunks, latest last
         self.builds = 0  # chunks evaluated so far
         self.rows_built = 0  # grain times evaluated so far
         #: lowest and highest offset (grain times) of the recent frames from the line
@@ -92,9 +103,7 @@ class InverseTable:
 
     def _grains(self, j: int) -> Array:
         """The grain times of a new chunk from ``j``."""
-        a, n = self._even
-        if n < 1:  # no step between frames known yet
-            return j + np.arange(FIRST_CHUNK)
+        n = self._even[1]  # at least SPEED_FRAMES frames played evenly
         pts = self._recent
         i_mean = sum(i for i, _ in pts) / len(pts)
         g_mean = sum(g for _, g in pts) / len(pts)
@@ -119,8 +128,20 @@ class InverseTable:
             return j + np.arange(MAX_ROWS)
         return np.array(rows[:MAX_ROWS])
 
-    def _row(self, t: float) -> int | None:
-        """Row of ``t`` in the (current or new) chunk, None off the grain."""
+    def _build(self, grains: Array) -> Block:
+        """The chunk of the grain times ``grains``, evaluated in one vectorized call."""
+        tt = grains * FRAME_GRAIN
+        S = inverse_states(self.ev, self.p, tt)
+        obs = self.observe(tt, S)
+        rows = self.draw(S, obs) if self.draw is not None else {}
+        self.builds += 1
+        self.rows_built += len(grains)
+        index = {int(g): i for i, g in enumerate(grains)}
+        return index, S, np.column_stack([obs[n] for n in self.names]), rows
+
+    def _row(self, t: float) -> tuple[Block, int] | None:
+        """The chunk holding ``t`` (the current, a kept or a new one) and its row, None
+        off the grain."""
         j = round(t / FRAME_GRAIN)
         if j < 0 or abs(t / FRAME_GRAIN - j) > 1e-9:
             return None
@@ -129,46 +150,44 @@ class InverseTable:
         if self.block is not None:
             i = self.block[0].get(j)
             if i is not None:
-                return i
+                return self.block, i
+        c = j // DENSE_ROWS
+        block = self.dense.get(c)
+        if block is not None:
+            self.dense.move_to_end(c)
+            return block, j - c * DENSE_ROWS
+        if self._even[1] < SPEED_FRAMES:  # no even playing to foresee frames on
+            block = self.dense[c] = self._build(c * DENSE_ROWS + np.arange(DENSE_ROWS))
+            if len(self.dense) > DENSE_CHUNKS:
+                self.dense.popitem(last=False)
+            return block, j - c * DENSE_ROWS
         grains = self._grains(j)
-        tt = grains * FRAME_GRAIN
-        S = inverse_states(self.ev, self.p, tt)
-        obs = self.observe(tt, S)
-        rows = self.draw(S, obs) if self.draw is not None else {}
-        index = {int(g): i for i, g in enumerate(grains)}
-        self.block = (index, S, np.column_stack([obs[n] for n in self.names]), rows)
-        self.builds += 1
-        self.rows_built += len(grains)
-        return 0
+        self.block = self._build(grains)
+        return self.block, 0
 
     def states(self, t: Array) -> Array:
         """States at the times ``t`` (``(len(t), 36)``)."""
         if len(t) == 1:
-            i = self._row(float(t[0]))
-            if i is not None and self.block is not None:
-                return self.block[1][i : i + 1].copy()
+            hit = self._row(float(t[0]))
+            if hit is not None:
+                return hit[0][1][hit[1] : hit[1] + 1].copy()
         return inverse_states(self.ev, self.p, t)
 
     def scalars(self, t: float, state: Array) -> dict[str, float] | None:
         """The observation of ``state`` at ``t`` from the table, or None when ``t`` is off
         the grain or ``state`` is not the table's state at ``t``."""
-        i = self._row(t)
-        if i is None or self.block is None or not np.array_equal(self.block[1][i], state):
+        hit = self._row(t)
+        if hit is None or not np.array_equal(hit[0][1][hit[1]], state):
             return None
-        return dict(zip(self.names, self.block[2][i].tolist()))
+        return dict(zip(self.names, hit[0][2][hit[1]].tolist()))
 
     def drawn(self, t: float, state: Array) -> tuple[dict[str, Array], int] | None:
-        """The drawing rows of the block and the row of ``state`` at ``t``, or None as
+        """The drawing rows of the chunk and the row of ``state`` at ``t``, or None as
         :meth:`scalars` (or when the table draws nothing)."""
-        i = self._row(t)
-        if (
-            i is None
-            or self.block is None
-            or not self.block[3]
-            or not np.array_equal(self.block[1][i], state)
-        ):
+        hit = self._row(t)
+        if hit is None or not hit[0][3] or not np.array_equal(hit[0][1][hit[1]], state):
             return None
-        return self.block[3], i
+        return hit[0][3], hit[1]
 
 
 def pose_rows(q: Array, arrows: Array, r_t: float) -> dict[str, Array]:
@@ -230,4 +249,12 @@ def pose_row(fr: Frame, rows: dict[str, Array], i: int) -> None:
     fr.points["D"] = rows["D"][i : i + 1].copy()
 
 
-__all__ = ["CHUNK_FRAMES", "FRAME_GRAIN", "MAX_ROWS", "InverseTable", "pose_row", "pose_rows"]
+__all__ = [
+    "CHUNK_FRAMES",
+    "DENSE_ROWS",
+    "FRAME_GRAIN",
+    "MAX_ROWS",
+    "InverseTable",
+    "pose_row",
+    "pose_rows",
+]
