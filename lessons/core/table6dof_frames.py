@@ -13,6 +13,7 @@ time instead, the latest :data:`DENSE_CHUNKS` of them kept.
 from __future__ import annotations
 
 import math
+import threading
 from collections import OrderedDict, deque
 from collections.abc import Callable
 
@@ -81,6 +82,9 @@ class InverseTable:
         self._last = -1  # the grain time of the last frame read
         self._even = (-1, 0)  # (grain time, frames read since) where the playing went even
         self._recent: deque[tuple[int, int]] = deque(maxlen=RECENT)  # (frame, grain time)
+        #: the pages with these values read the table on several threads; a chunk, once
+        #: built, is never changed
+        self._lock = threading.Lock()
 
     def _count(self, j: int) -> None:
         """Count the frame at grain time ``j`` (not the last one read)."""
@@ -142,6 +146,10 @@ class InverseTable:
     def _row(self, t: float) -> tuple[Block, int] | None:
         """The chunk holding ``t`` (the current, a kept or a new one) and its row, None
         off the grain."""
+        with self._lock:
+            return self._row_unlocked(t)
+
+    def _row_unlocked(self, t: float) -> tuple[Block, int] | None:
         j = round(t / FRAME_GRAIN)
         if j < 0 or abs(t / FRAME_GRAIN - j) > 1e-9:
             return None
