@@ -15,7 +15,7 @@ from typing import Any
 
 import numpy as np
 
-from app.viser_boundary import fast_set
+from app.viser_boundary import fast_pose, fast_set
 from lessons.core.contract import Frame, SceneSpec
 
 
@@ -479,8 +479,7 @@ class SceneRenderer:
         for name, (pos, wxyz) in last.poses.items():
             h = self._body_handles.get(name)
             if h is not None:
-                h.position = tuple(map(float, pos))
-                h.wxyz = tuple(map(float, wxyz))
+                fast_pose(h, pos, wxyz)
         if frame_count % cfg.trail_every == 0 or len(frames) > 1 or not playing:
             for tr in self._trails.values():
                 tr.flush()

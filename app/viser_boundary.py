@@ -14,6 +14,7 @@ viser whose internals were not checked:
 * :func:`client_address`: the network address a page connected from;
 * :class:`WakeBatch`: the messages of one frame-loop tick wake viser's loop once;
 * :func:`fast_set`: one property of a handle set on the hot path;
+* :func:`fast_pose`: a scene node's position and orientation set on the hot path;
 * :func:`recording_scene`: a scene API whose messages are only recorded (HTML replay);
 * :func:`event_loop`: the server's own event loop (the frame loop runs in it).
 
@@ -481,6 +482,35 @@ def fast_set(handle: Any, name: str, value: Any) -> None:
         return
     setattr(impl.props, name, value)
     handle._queue_update(name, value)
+
+
+def _close(new: tuple[float, ...], current: Any) -> bool:
+    """``numpy.allclose(new, current)`` (its default tolerances) for a few floats."""
+    for a, b in zip(new, current.tolist(), strict=True):
+        if a != b and not abs(a - b) <= 1e-8 + 1e-5 * abs(b):
+            return False
+    return True
+
+
+def fast_pose(handle: Any, position: Any, wxyz: Any) -> None:
+    """Set a scene node's ``position`` (3 floats) and ``wxyz`` (4) on the hot path: what
+    viser's two setters do (a value equal to the current one within ``numpy.allclose``
+    sends nothing; otherwise the node's state is written and one message queued), without
+    their generic casting and numpy comparison.  A removed node is left alone."""
+    from viser import _messages
+
+    impl = handle._impl
+    if impl.removed:
+        return
+    pos = (float(position[0]), float(position[1]), float(position[2]))
+    quat = (float(wxyz[0]), float(wxyz[1]), float(wxyz[2]), float(wxyz[3]))
+    queue = impl.api._queue_scene_message
+    if not _close(pos, impl.position):
+        impl.position[:] = pos
+        queue(_messages.SetPositionMessage(impl.name, pos))
+    if not _close(quat, impl.wxyz):
+        impl.wxyz[:] = quat
+        queue(_messages.SetOrientationMessage(impl.name, quat))
 
 
 class _NullBuffer:
