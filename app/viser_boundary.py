@@ -485,8 +485,12 @@ def fast_set(handle: Any, name: str, value: Any) -> None:
 
 def _moved(current: Any, value: tuple[float, ...]) -> bool:
     """Whether ``value`` differs from ``current`` beyond ``np.allclose`` (viser's test
-    for an unchanged pose), compared number by number."""
-    return any(abs(v - c) > 1e-8 + 1e-5 * abs(c) for v, c in zip(value, current.tolist()))
+    for an unchanged pose, its default tolerances), compared number by number: equal
+    infinities are unchanged, a NaN always moved."""
+    for v, c in zip(value, current.tolist(), strict=True):
+        if v != c and not abs(v - c) <= 1e-8 + 1e-5 * abs(c):
+            return True
+    return False
 
 
 def set_pose(handle: Any, pos: Any, wxyz: Any) -> None:

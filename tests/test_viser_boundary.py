@@ -4,6 +4,7 @@ against the installed viser: a viser update that moves one of them fails here fi
 from __future__ import annotations
 
 import asyncio
+import copy
 import time
 import urllib.request
 from collections.abc import Iterator
@@ -195,6 +196,44 @@ def test_fast_set_updates_a_handle_like_an_assignment(server: Any) -> None:
     assert np.array_equal(h.points, new)
     h.remove()
     vb.fast_set(h, "points", np.zeros((2, 3), np.float32))  # removed: ignored, no error
+
+
+def test_set_pose_matches_viser_setters_on_edge_cases(server: Any) -> None:
+    """The same node state and the same messages as ``h.position = ...; h.wxyz = ...``,
+    unchanged values (within numpy.allclose) sending nothing, on a run of poses."""
+    poses = [
+        ((1.0, 2.0, 3.0), (1.0, 0.0, 0.0, 0.0)),  # wxyz: the default, not sent
+        ((1.0, 2.0, 3.0), (1.0, 0.0, 0.0, 0.0)),  # unchanged: nothing sent
+        ((1.0 + 1e-9, 2.0, 3.0), (0.6, 0.8, 0.0, 0.0)),  # position within tolerance
+        ((1.0 + 1e-3, 2.0, 3.0), (0.6, 0.8, 0.0, 0.0)),  # orientation unchanged
+        ((0.0, 0.0, 0.0), (0.6, 0.8 * (1 + 2e-5), 0.0, 0.0)),  # just beyond rtol
+        ((float("inf"), 0.0, 0.0), (0.0, 0.0, 0.0, 1.0)),
+        ((float("inf"), 0.0, 0.0), (0.0, 0.0, 0.0, 1.0)),  # inf equals inf: nothing
+        ((float("nan"), 0.0, 0.0), (0.0, 0.0, 0.0, 1.0)),
+        ((float("nan"), 0.0, 0.0), (0.0, 0.0, 0.0, 1.0)),  # nan: sent again, like viser
+    ]
+    sent: dict[str, list[tuple[str, tuple[float, ...]]]] = {"old": [], "new": []}
+    handles = {}
+    for key in sent:
+        h = server.scene.add_frame(f"/t/pose_{key}")
+        handles[key] = h
+        log = sent[key]
+        h._impl.api = copy.copy(h._impl.api)
+        h._impl.api._queue_scene_message = lambda m, log=log: log.append(
+            (type(m).__name__, tuple(getattr(m, "position", getattr(m, "wxyz", ()))))
+        )
+    for pos, wxyz in poses:
+        old = handles["old"]
+        old.position = pos
+        old.wxyz = wxyz
+        vb.set_pose(handles["new"], np.array(pos), np.array(wxyz))
+        for name in ("position", "wxyz"):
+            a, b = getattr(old, name), getattr(handles["new"], name)
+            assert np.array_equal(a, b, equal_nan=True)
+    assert len(sent["old"]) == 9
+    assert str(sent["new"]) == str(sent["old"])  # nan == nan as text
+    handles["new"].remove()
+    vb.set_pose(handles["new"], np.zeros(3), np.array([1.0, 0.0, 0.0, 0.0]))  # ignored
 
 
 def test_recording_scene_serializes_to_html() -> None:
