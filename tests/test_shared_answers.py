@@ -51,7 +51,9 @@ def test_one_solution_read_from_many_threads_is_the_solution_read_from_one() -> 
         assert np.array_equal(g, want)
 
 
-@pytest.mark.parametrize("lesson_id", ["linear-positioner", "rotary-positioner", "planar-3axis", "table-6dof"])
+@pytest.mark.parametrize(
+    "lesson_id", ["linear-positioner", "rotary-positioner", "planar-3axis", "table-6dof"]
+)
 def test_pages_built_and_played_at_once_share_one_run(lesson_id: str) -> None:
     lesson = get_lesson(lesson_id)
     preset = lesson.presets[0].name
