@@ -307,3 +307,18 @@ def test_set_pose_sends_what_the_setters_send() -> None:
     assert sent[0] == sent[1] and len(sent[0]) == 4
     assert np.array_equal(handles[0].position, handles[1].position)
     assert np.array_equal(handles[0].wxyz, handles[1].wxyz)
+
+
+def test_prop_hints_are_worked_out_once_per_class(server: Any) -> None:
+    from typing import get_type_hints
+
+    a = server.scene.add_line_segments("/t/hints_a", np.zeros((1, 2, 3)), (1, 2, 3))
+    b = server.scene.add_line_segments("/t/hints_b", np.zeros((2, 2, 3)), (4, 5, 6))
+    assert a._prop_hints is b._prop_hints  # one dict for the class
+    assert a._prop_hints == get_type_hints(type(a._impl.props))
+    # writes still cast and check as viser does
+    b.colors = np.full((2, 2, 3), 7, np.uint8)
+    assert b.colors.dtype == np.uint8 and np.all(b.colors == 7)
+    a.remove()
+    with pytest.raises(RuntimeError):
+        a.colors = np.zeros((1, 2, 3), np.uint8)
