@@ -20,6 +20,9 @@ from lessons.core.formula import plain_number as plain
 #: 36 fps; the sphere at 8x needs 1.2 ms): a run that needs more plays slower, its own
 #: clock only, and says so on its page.
 STEP_BUDGET = 0.004
+#: Lesson seconds: the grain of a played tick (a piece of a tick is whole grains when it can
+#: be, so that frames land on the times lessons keep tables for).
+TIME_QUANTUM = 1.0 / 600.0
 #: Wall seconds of stepping per tick in the live server (a busy machine steps less).
 STEP_WALL_BUDGET = 0.006
 #: The share of the asked speed below which a page says it runs slower (and above which
@@ -106,10 +109,14 @@ class Pacing:
 
     def _piece_size(self, piece: float, left: float) -> float:
         """The next piece of lesson time: ``piece``, less if the recent cost per lesson
-        second says it would not fit into the budget ``left`` (CPU seconds)."""
+        second says it would not fit into the budget ``left`` (CPU seconds); whole
+        :data:`TIME_QUANTUM` grains where it is longer than one."""
+        q = TIME_QUANTUM * self.lesson.time_scale
         if self._cost > 0.0 and self._cost * piece > left:
-            return max(left / self._cost, 1e-9)
-        return piece
+            piece = max(left / self._cost, 1e-9)
+            return math.floor(piece / q + 1e-9) * q if piece >= q else piece
+        # whole grains (rounded up: the pieces of a tick of whole grains stay whole)
+        return math.ceil(piece / q - 1e-9) * q if piece > q else piece
 
     def _step_piece(self, d: float) -> tuple[Frame | None, str]:
         """One stepper call of lesson time ``d``: the frame, or None and why it stopped."""

@@ -22,7 +22,7 @@ from typing import Any
 
 import numpy as np
 
-from app.pace import STEP_BUDGET, STEP_WALL_BUDGET, Pacing
+from app.pace import STEP_BUDGET, STEP_WALL_BUDGET, TIME_QUANTUM, Pacing
 from app.runlog import RunLog, lesson_scene, raw_value, scenes_equal
 from app.state import LabError, SessionState
 from lessons.core.budget import clock, left, work_budget
@@ -44,7 +44,6 @@ STEP_DT = 1.0 / 30.0
 #: Longest lesson-time piece a frame advances in one stepper call (the trail gets a
 #: point per piece); a frame makes at most MAX_SUBSTEPS pieces.
 SUBSTEP_DT = 1.0 / 30.0
-TIME_QUANTUM = 1.0 / 600.0  # lesson seconds: the grain of a played tick
 MAX_SUBSTEPS = 8
 #: Seconds after a "live" change before the scene is redrawn (debounced).
 SCENE_DEBOUNCE = 0.3
@@ -588,6 +587,7 @@ class SharedClock:
 
 
 __all__ = [
+    "TIME_QUANTUM",
     "LabError",
     "SPEEDS",
     "STEP_BUDGET",

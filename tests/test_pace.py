@@ -98,3 +98,19 @@ def test_a_non_finite_played_frame_pauses_with_the_same_message(lesson_id, value
     name = first_non_finite(fr, allowed)
     assert name is not None and why.startswith(f"{name} is not finite (NaN or infinite) at t = ")
     assert s.notices[-1] == ("error", why)
+
+
+@pytest.mark.parametrize("ticks", [[21], [19, 25, 17, 40, 21], [60, 150]])
+def test_pieces_of_a_long_tick_are_whole_grains(ticks: list[int]) -> None:
+    """A tick longer than one piece (1/30 s) is cut into pieces of whole grains, so every
+    frame lands on a grain time (the times lessons keep tables for)."""
+    from app.pace import TIME_QUANTUM
+
+    s = Session(LESSONS, "table-6dof", "inverse-program")
+    s.play()
+    times = []
+    for k in ticks:
+        times += [f.t for f in s.advance_wall(k * TIME_QUANTUM)]
+    grains = np.array(times) / TIME_QUANTUM
+    assert len(times) > len(ticks)  # some ticks were cut into pieces
+    assert np.abs(grains - np.round(grains)).max() < 1e-6
