@@ -15,6 +15,15 @@ from typing import Any
 
 import numpy as np
 
+from app.scene_bodies import (
+    LIVE_ROOT,
+    BodyGroup,
+    _safe,
+    body_groups,
+    body_node,
+    instance_colors,
+    live_node,
+)
 from app.viser_boundary import fast_set, set_pose
 from lessons.core.contract import Frame, SceneSpec
 
@@ -150,17 +159,6 @@ def ray_mesh_hit(
     return o + t[k] * d
 
 
-#: The root of the nodes a played frame updates: moving points, their trails, the
-#: vectors and the posed bodies (everything else is drawn once per scene).
-LIVE_ROOT = "/lab/live"
-
-
-def live_node(kind: str, name: str = "") -> str:
-    """The node of one moving item: ``kind`` is ``point``, ``trail``, ``body`` or
-    ``vectors`` (one node for all arrows, no ``name``)."""
-    return f"{LIVE_ROOT}/{kind}/{_safe(name)}" if name else f"{LIVE_ROOT}/{kind}"
-
-
 #: Share of the canvas's shorter side the scene's bounding sphere fills when framed.
 FILL = 0.62
 DEFAULT_FOV = math.radians(50.0)
@@ -212,6 +210,8 @@ class SceneRenderer:
         self._vector_names: tuple[str, ...] = ()
         self._vector_scale: dict[str, float] = {}
         self._body_handles: dict[str, Any] = {}
+        #: bodies of one mesh drawn as one batched node (the 6-DOF table's three legs)
+        self._body_groups: list[BodyGroup] = []
         self.meshes_for_click: list[tuple[np.ndarray, np.ndarray]] = []
         self._size = 1.0
         self._visible_cache: set[str] | None = None
@@ -346,17 +346,40 @@ class SceneRenderer:
         self._point_handles = {}
         for b in self._body_handles.values():
             _remove(b)
-        self._body_handles = {}
-        for body in spec.bodies:
-            self._body_handles[body.name] = scene_api.add_mesh_simple(
-                live_node("body", body.name),
-                np.asarray(body.vertices, dtype=np.float32),
-                np.asarray(body.faces, dtype=np.uint32),
-                color=tuple(body.color),
-                opacity=float(body.opacity),
+        for g in self._body_groups:
+            _remove(g.handle)
+        self._body_handles, self._body_groups = {}, []
+        for names, bodies in body_groups(spec).items():
+            first = bodies[0]
+            vertices = np.asarray(first.vertices, dtype=np.float32)
+            faces = np.asarray(first.faces, dtype=np.uint32)
+            if len(bodies) == 1:
+                self._body_handles[first.name] = scene_api.add_mesh_simple(
+                    live_node("body", first.name),
+                    vertices,
+                    faces,
+                    color=tuple(first.color),
+                    opacity=float(first.opacity),
+                    cast_shadow=False,
+                    receive_shadow=False,
+                )
+                continue
+            n = len(bodies)
+            group = BodyGroup(names, np.zeros((n, 3), np.float32), np.zeros((n, 4), np.float32))
+            group.wxyzs[:, 0] = 1.0
+            group.handle = scene_api.add_batched_meshes_simple(
+                body_node(names),
+                vertices,
+                faces,
+                batched_wxyzs=group.wxyzs.copy(),
+                batched_positions=group.positions.copy(),
+                batched_colors=instance_colors([b.color for b in bodies]),
+                lod="off",
+                opacity=None if float(first.opacity) >= 1.0 else float(first.opacity),
                 cast_shadow=False,
                 receive_shadow=False,
             )
+            self._body_groups.append(group)
         if self._vector_handle is not None:
             _remove(self._vector_handle)
             self._vector_handle = None
@@ -480,6 +503,8 @@ class SceneRenderer:
             h = self._body_handles.get(name)
             if h is not None:
                 set_pose(h, pos, wxyz)
+        for group in self._body_groups:
+            group.pose(last.poses)
         if frame_count % cfg.trail_every == 0 or len(frames) > 1 or not playing:
             for tr in self._trails.values():
                 tr.flush()
@@ -541,10 +566,6 @@ def _remove(handle: Any) -> None:
         pass
 
 
-def _safe(name: str) -> str:
-    return "".join(ch if ch.isalnum() or ch in "-_" else "_" for ch in str(name))[:60] or "item"
-
-
 def _nice(x: float) -> float:
     """A round number near ``x`` (1, 2, 5 times a power of ten)."""
     if not math.isfinite(x) or x <= 0:
@@ -555,4 +576,10 @@ def _nice(x: float) -> float:
     return m * 10**e
 
 
-__all__ = ["LIVE_ROOT", "SceneRenderer", "Trail", "live_node", "ray_mesh_hit"]
+__all__ = [
+    "LIVE_ROOT",
+    "SceneRenderer",
+    "Trail",
+    "live_node",
+    "ray_mesh_hit",
+]

@@ -8,6 +8,7 @@ import asyncio
 
 import pytest
 
+from app.scene_bodies import body_groups, body_node
 from app.scene_render import live_node
 from app.server import DEFAULT_FPS
 from benchmarks.loadtest import (
@@ -69,6 +70,6 @@ def test_pages_of_a_lesson_receive_its_played_frames(server, lesson: str) -> Non
     # the pages play this lesson (picked in the page), not the server's first one
     spec = get_lesson(lesson).scene(get_lesson(lesson).resolve(preset=plan.preset))
     moved = {live_node("point", name) for name in spec.moving_points}
-    moved |= {live_node("body", body.name) for body in spec.bodies}
+    moved |= {body_node(names) for names in body_groups(spec)}
     assert moved and moved <= fig.nodes, moved - fig.nodes
     assert POINT_NODE not in fig.nodes  # the sphere's point
