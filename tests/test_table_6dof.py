@@ -225,3 +225,18 @@ def test_table_frames_draw_as_the_direct_pose() -> None:
         pose_row(b, rows, i)
         for name in a.poses:
             assert np.allclose(a.poses[name][1], b.poses[name][1], atol=1e-12), name
+
+
+def test_rotation_is_rz_ry_rx_at_one_and_many_orientations() -> None:
+    from lessons.core.table6dof import rotation, rotations
+
+    rng = np.random.default_rng(3)
+    angles = rng.uniform(-np.pi, np.pi, (3, 20))
+    many = rotations(*angles)
+    for k, (a, b, p) in enumerate(angles.T):
+        ca, sa, cb, sb, cp, sp_ = np.cos(a), np.sin(a), np.cos(b), np.sin(b), np.cos(p), np.sin(p)
+        Rz = np.array([[cp, -sp_, 0], [sp_, cp, 0], [0, 0, 1]])
+        Ry = np.array([[cb, 0, sb], [0, 1, 0], [-sb, 0, cb]])
+        Rx = np.array([[1, 0, 0], [0, ca, -sa], [0, sa, ca]])
+        assert np.abs(rotation(a, b, p) - Rz @ Ry @ Rx).max() <= 1e-15
+        assert np.array_equal(rotation(a, b, p), many[k])

@@ -60,19 +60,8 @@ VERTEX_ANGLES = (np.pi / 2, np.pi / 2 + 2 * np.pi / 3, np.pi / 2 + 4 * np.pi / 3
 
 
 def rotation(alpha: Any, beta: Any, phi: Any) -> Array:
-    """``R = Rz(phi) Ry(beta) Rx(alpha)`` (numeric; broadcasting over samples not needed)."""
-    ca, sa, cb, sb, cp, sp_ = (
-        np.cos(alpha),
-        np.sin(alpha),
-        np.cos(beta),
-        np.sin(beta),
-        np.cos(phi),
-        np.sin(phi),
-    )
-    Rz = np.array([[cp, -sp_, 0], [sp_, cp, 0], [0, 0, 1]])
-    Ry = np.array([[cb, 0, sb], [0, 1, 0], [-sb, 0, cb]])
-    Rx = np.array([[1, 0, 0], [0, ca, -sa], [0, sa, ca]])
-    return Rz @ Ry @ Rx
+    """``R = Rz(phi) Ry(beta) Rx(alpha)`` at one orientation (:func:`rotations`)."""
+    return rotations(np.atleast_1d(alpha), np.atleast_1d(beta), np.atleast_1d(phi))[0]
 
 
 def joints_body(r_t: float) -> Array:
@@ -235,7 +224,7 @@ def program_state(
 
 
 def rotations(alpha: Array, beta: Array, phi: Array) -> Array:
-    """:func:`rotation` at ``N`` orientations at once: ``(N, 3, 3)``."""
+    """``R = Rz(phi) Ry(beta) Rx(alpha)`` at ``N`` orientations at once: ``(N, 3, 3)``."""
     ca, sa, cb, sb, cp, sp_ = (
         np.cos(alpha),
         np.sin(alpha),
