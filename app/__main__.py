@@ -1,5 +1,5 @@
 """``python -m app`` is ``analyzer-lab``."""
 
-from app.cli import main
+from analyzer_lab.serve.cli import main
 
 raise SystemExit(main())

@@ -25,7 +25,9 @@ import time
 from collections.abc import Iterator
 from typing import Any
 
-from app.session import lesson_label
+from analyzer_lab.lessons.catalog import get_lesson
+from analyzer_lab.session.session import lesson_label
+
 from benchmarks.loadtest import (
     POINT_NODE,
     camera_message,
@@ -35,7 +37,6 @@ from benchmarks.loadtest import (
     gui_update,
     start_server,
 )
-from lessons.catalog import get_lesson
 
 #: Texts that only the attacker's actions produce.
 ATTACK_WORDS = (
@@ -254,7 +255,7 @@ def run_cli(args: tuple[str, ...]) -> tuple[int, float, float, str]:
     env["PYTHONPATH"] = root + os.pathsep + env.get("PYTHONPATH", "")
     t0 = time.monotonic()
     proc = subprocess.Popen(
-        [sys.executable, "-m", "app", "run", *args],
+        [sys.executable, "-m", "analyzer_lab", "run", *args],
         stdout=subprocess.DEVNULL,
         stderr=subprocess.PIPE,
         text=True,

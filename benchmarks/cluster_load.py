@@ -64,7 +64,7 @@ def start_front_door(port: int, workers: int, bus: str, log: Any) -> subprocess.
     env = dict(os.environ, PYTHONPATH=ROOT + os.pathsep + os.environ.get("PYTHONPATH", ""))
     env.setdefault("ANALYZER_LAB_STATS", "5")
     proc = subprocess.Popen(
-        [sys.executable, "-m", "app", "serve", "--no-browser", "--port", str(port)]
+        [sys.executable, "-m", "analyzer_lab", "serve", "--no-browser", "--port", str(port)]
         + ["--workers", str(workers), "--bus", bus, "--instructor-code", CODE],
         stdout=log,
         stderr=log,

@@ -2,9 +2,9 @@
 
     python -m benchmarks.frame_cost [--frames 360] [--lesson ID ...]
 
-Each lesson is played in a real :class:`app.session.Session` (the object the server's
+Each lesson is played in a real :class:`analyzer_lab.session.session.Session` (the object the server's
 frame loop ticks): ``tick(1/36 s)`` advances the lesson time in the session's quanta
-(:data:`app.session.TIME_QUANTUM`) through the stepper, which steps and observes (the
+(:data:`analyzer_lab.session.session.TIME_QUANTUM`) through the stepper, which steps and observes (the
 frame's points, vectors, poses and the scalars the view reads), and keeps the frame in
 the run log; this is the time the server counts as stepping (``step_seconds``).  The
 session is warmed up for one second of frames (tables, dense output and factorizations
@@ -12,7 +12,7 @@ are built once per parameter set), then ``--frames`` frames are timed three time
 the least of the three: other processes on the machine do not count).  "50 x 36 fps" is
 the share of one core that 50 pages playing that lesson would take for stepping alone.
 "stepper only" is the same frames without the session (the lesson's own part).  The math
-libraries run one thread per call, as in the server (:mod:`app.threads`).
+libraries run one thread per call, as in the server (:mod:`analyzer_lab.serve.threads`).
 """
 
 from __future__ import annotations
@@ -20,12 +20,12 @@ from __future__ import annotations
 import argparse
 import time
 
-from app.threads import one_math_thread
+from analyzer_lab.serve.threads import one_math_thread
 
 one_math_thread()  # as the server runs (before numpy loads)
 
-from app.session import Session  # noqa: E402
-from lessons.catalog import all_lessons  # noqa: E402
+from analyzer_lab.lessons.catalog import all_lessons  # noqa: E402
+from analyzer_lab.session.session import Session  # noqa: E402
 
 FRAME = 1.0 / 36.0
 #: timed runs of ``--frames`` frames each; the least CPU time is reported

@@ -18,11 +18,10 @@ import time
 from dataclasses import dataclass
 
 import numpy as np
-
-from lessons.core.analyzer import AnalyzerModel, Controls
-from lessons.core.analyzer_run import integrate
-from lessons.core.formula import parse_formula
-from lessons.core.quadric import Quadric
+from analyzer_lab.lessons.analyzers.field.analyzer import AnalyzerModel, Controls
+from analyzer_lab.lessons.analyzers.field.run import integrate
+from analyzer_lab.lessons.analyzers.surfaces.quadric import Quadric
+from analyzer_lab.lessons.kit.formula import parse_formula
 
 
 @dataclass

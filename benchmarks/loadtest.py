@@ -8,7 +8,7 @@ viser's subprotocol, sends a camera message (which makes it a connected client),
 selects the lesson and its preset (the lesson's first unless ``--preset``) in the
 page's pickers, unticks "pause at t_end" and presses Play through GUI update messages,
 then counts what it receives: websocket frames that carry an update of the lesson's
-live scene (any node under :data:`app.scene_render.LIVE_ROOT`: moving points, trails,
+live scene (any node under :data:`analyzer_lab.view.scene.LIVE_ROOT`: moving points, trails,
 vectors, posed bodies), once per frame (updates/s), and bytes (MB/s).  Server CPU
 comes from psutil on the server process.  ``--all-lessons`` measures every lesson of
 the catalog in turn, each on a fresh server, and prints one markdown table.
@@ -32,9 +32,9 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from typing import Any, TypeVar
 
-from app.scene_render import LIVE_ROOT, live_node
-from app.transport import PLAY, RUN
-from app.view import LESSON_PICKER, PAUSE_AT_END, PRESET_PICKER
+from analyzer_lab.view.page import LESSON_PICKER, PAUSE_AT_END, PRESET_PICKER
+from analyzer_lab.view.scene import LIVE_ROOT, live_node
+from analyzer_lab.view.transport import PLAY, RUN
 
 #: The moving point of the quadric lessons (sphere, example 1.1), as the classroom counts it.
 POINT_NODE = live_node("point", "point")
@@ -114,8 +114,8 @@ class PagePlan:
 
 def page_plan(lesson_id: str, preset: str | None = None) -> PagePlan:
     """The plan for a lesson of the catalog: ``preset`` or the lesson's first one."""
-    from app.session import lesson_label
-    from lessons.catalog import get_lesson
+    from analyzer_lab.lessons.catalog import get_lesson
+    from analyzer_lab.session.session import lesson_label
 
     lesson = get_lesson(lesson_id)
     if preset is None and lesson.presets:
@@ -411,7 +411,7 @@ def all_lessons_table(
 ) -> None:
     """Every lesson of the catalog with its first preset, each on a fresh server: one
     markdown table (a row per lesson and number of pages)."""
-    from lessons.catalog import all_lessons
+    from analyzer_lab.lessons.catalog import all_lessons
 
     extra = ("--fps", str(fps)) if fps else ()
     print(f"{os.cpu_count()} cores; {seconds:g} s per run" + (f"; {fps:g} frames/s" if fps else ""))

@@ -3,8 +3,7 @@
 import numpy as np
 import pytest
 import sympy as sp
-
-from lessons.core.analyzer import (
+from analyzer_lab.lessons.analyzers.field.analyzer import (
     AnalyzerModel,
     Controls,
     field_expr,
@@ -13,8 +12,8 @@ from lessons.core.analyzer import (
     y,
     z,
 )
-from lessons.core.formula import parse_formula
-from lessons.core.quadric import Quadric
+from analyzer_lab.lessons.analyzers.surfaces.quadric import Quadric
+from analyzer_lab.lessons.kit.formula import parse_formula
 
 SURFACES = {
     "sphere": (Quadric.sphere(1.0), (1.0, 0.0, 0.0)),

@@ -1,15 +1,20 @@
 """The analyzer's trajectory: one step sequence however it is read, F kept to round-off,
 the constant-speed analyzer holding only while its field is zero."""
 
+import analyzer_lab.lessons.analyzers.field.run as analyzer_run
 import numpy as np
 import pytest
+from analyzer_lab.lessons.analyzers.field.analyzer import COEFF_NAMES, AnalyzerModel, Controls
+from analyzer_lab.lessons.analyzers.field.run import (
+    SHORT_GRAIN,
+    SpeedStepper,
+    Trajectory,
+    integrate,
+)
+from analyzer_lab.lessons.analyzers.surfaces.quadric import Quadric
+from analyzer_lab.lessons.kit.formula import parse_formula
+from analyzer_lab.lessons.kit.integrators import gl_propagators
 
-import lessons.core.analyzer_run as analyzer_run
-from lessons.core.analyzer import COEFF_NAMES, AnalyzerModel, Controls
-from lessons.core.analyzer_run import SHORT_GRAIN, SpeedStepper, Trajectory, integrate
-from lessons.core.formula import parse_formula
-from lessons.core.integrators import gl_propagators
-from lessons.core.quadric import Quadric
 from tests.test_analyzer import SURFACES
 
 

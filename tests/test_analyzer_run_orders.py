@@ -6,13 +6,13 @@ from functools import cache
 
 import numpy as np
 import pytest
+from analyzer_lab.lessons.analyzers.field.analyzer import AnalyzerModel, Controls
+from analyzer_lab.lessons.analyzers.field.params import METHODS
+from analyzer_lab.lessons.analyzers.field.run import MAX_TURNS, SpeedStepper, Trajectory, integrate
+from analyzer_lab.lessons.analyzers.surfaces.quadric import Quadric
+from analyzer_lab.lessons.kit.formula import parse_formula
 
 from benchmarks.integrators import problems
-from lessons.core.analyzer import AnalyzerModel, Controls
-from lessons.core.analyzer_params import METHODS
-from lessons.core.analyzer_run import MAX_TURNS, SpeedStepper, Trajectory, integrate
-from lessons.core.formula import parse_formula
-from lessons.core.quadric import Quadric
 
 
 def benchmark_problem(k: int) -> tuple[AnalyzerModel, np.ndarray, float]:

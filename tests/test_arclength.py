@@ -6,8 +6,7 @@ import math
 
 import numpy as np
 import pytest
-
-from lessons.core.arclength import ArcLengthCurve, CubicHermite
+from analyzer_lab.lessons.analyzers.curves.arclength import ArcLengthCurve, CubicHermite
 
 
 def vec(*fs):

@@ -6,8 +6,7 @@ import csv
 import io
 
 import pytest
-
-from app.assignment_roster import Roster, clean_name
+from analyzer_lab.classroom.roster import Roster, clean_name
 
 
 class Clock:

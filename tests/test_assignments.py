@@ -7,8 +7,7 @@ import json
 from pathlib import Path
 
 import pytest
-
-from lessons.assignments import (
+from analyzer_lab.lessons.assignments import (
     AssignmentError,
     draft,
     grade,
@@ -18,8 +17,8 @@ from lessons.assignments import (
     parse_assignment,
     ready_assignments,
 )
-from lessons.assignments.spec import MAX_CHECKS, MAX_FILE_BYTES
-from lessons.catalog import all_lessons
+from analyzer_lab.lessons.assignments.spec import MAX_CHECKS, MAX_FILE_BYTES
+from analyzer_lab.lessons.catalog import all_lessons
 
 READY = ready_assignments()
 

@@ -23,8 +23,8 @@ TASK = "circle-speed-10"
 @pytest.fixture(scope="module")
 def lab() -> Iterator[Any]:
     _require_browser()
-    from app.server import LabServer
-    from lessons.catalog import get_lesson
+    from analyzer_lab.lessons.catalog import get_lesson
+    from analyzer_lab.serve.server import LabServer
 
     server = LabServer(
         host="127.0.0.1",
@@ -59,7 +59,7 @@ def _sign_in(p: Page) -> None:
 
 
 def _panel(lab: Any, p: Page) -> Any:
-    from app.assignments_view import board_of
+    from analyzer_lab.classroom.assignments import board_of
 
     return board_of(lab.classroom).students[p.view.client.client_id]
 
@@ -110,7 +110,7 @@ def test_push_two_students_right_and_wrong_live_table(lab: Any, browser: Any) ->
         # a second, now right, attempt of Bob updates his row live
         _answer(s2, "Bob", "2")
         wait_until(lambda: s2.session.raw_values()["u"] == "2", 10, "Bob's new value")
-        from app.assignments_view import board_of
+        from analyzer_lab.classroom.assignments import board_of
 
         roster = board_of(lab.classroom).roster
         wait_until(lambda: roster.rows(TASK)[-1].attempts == 2, 15, "Bob's second attempt")
@@ -159,7 +159,7 @@ def test_student_opens_from_list_and_sees_refusal_next_to_button(lab: Any, brows
 
 
 def test_instructor_authors_an_assignment_from_the_state(lab: Any, browser: Any) -> None:
-    from lessons.assignments import grade, parse_assignment
+    from analyzer_lab.lessons.assignments import grade, parse_assignment
 
     inst = Page(lab, browser)
     try:

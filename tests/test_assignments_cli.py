@@ -8,13 +8,12 @@ import sys
 from pathlib import Path
 
 import pytest
-
-from lessons.assignments import ready_assignments
+from analyzer_lab.lessons.assignments import ready_assignments
 
 
 def cli(*args: str) -> subprocess.CompletedProcess:
     return subprocess.run(
-        [sys.executable, "-m", "app", *args], capture_output=True, text=True, timeout=300
+        [sys.executable, "-m", "analyzer_lab", *args], capture_output=True, text=True, timeout=300
     )
 
 

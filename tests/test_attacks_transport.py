@@ -138,9 +138,10 @@ async def _guessers(url: str, seconds: float) -> dict[str, Any]:
 
 async def _lesson_flood(url: str, seconds: float) -> dict[str, Any]:
     """Twenty pages each changing the lesson 500 times a second."""
-    from app.session import lesson_label
+    from analyzer_lab.lessons.catalog import all_lessons
+    from analyzer_lab.session.session import lesson_label
+
     from benchmarks.loadtest import encode, gui_update
-    from lessons.catalog import all_lessons
 
     labels = [lesson_label(x) for x in all_lessons()[:2]]
     pages = list(await asyncio.gather(*(_connect_page(url) for _ in range(20))))

@@ -4,8 +4,7 @@ import re
 import xml.etree.ElementTree as ET
 
 import sympy as sp
-
-from lessons.core.block_diagram import block_diagram, label_of
+from analyzer_lab.lessons.analyzers.field.block_diagram import block_diagram, label_of
 
 x, y, z, u, u1, u2, u3, w = sp.symbols("x y z u u1 u2 u3 ω", real=True)
 a11, a12, a22, a13, a23 = sp.symbols("a11 a12 a22 a13 a23")
@@ -94,8 +93,8 @@ def test_svg_is_self_contained_and_escaped():
 
 
 def test_lessons_expose_the_diagram():
-    from lessons.ellipsoid import LESSON as E
-    from lessons.parabola import LESSON as P
+    from analyzer_lab.lessons.analyzers.ellipsoid import LESSON as E
+    from analyzer_lab.lessons.analyzers.parabola import LESSON as P
 
     p = E.resolve(preset="example")
     assert E.block_diagram(p).counts()["integrator"] == 3

@@ -1,12 +1,11 @@
-"""Tests of lessons.core.bodies: quaternions, segment poses, meshes and bounds."""
+"""Tests of analyzer_lab.lessons.kit.bodies: quaternions, segment poses, meshes and bounds."""
 
 from __future__ import annotations
 
 import numpy as np
+from analyzer_lab.lessons.kit.bodies import bounds_of, box, quat_z, quat_zyx, segment_pose
+from analyzer_lab.lessons.mechanics.table.model import rotation
 from scipy.spatial.transform import Rotation
-
-from lessons.core.bodies import bounds_of, box, quat_z, quat_zyx, segment_pose
-from lessons.core.table6dof import rotation
 
 
 def test_poses() -> None:

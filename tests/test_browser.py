@@ -66,7 +66,7 @@ def wait_until(cond: Callable[[], Any], timeout: float = 15.0, what: str = "cond
 @pytest.fixture(scope="module")
 def lab() -> Iterator[Any]:
     _require_browser()
-    from app.server import LabServer
+    from analyzer_lab.serve.server import LabServer
 
     server = LabServer(host="127.0.0.1", port=0, lesson="sphere")
     yield server
@@ -185,7 +185,7 @@ def tab(lab: Any, browser: Any) -> Iterator[Page]:
 
 
 def _label_of(lesson: Any) -> str:
-    from app.session import lesson_label
+    from analyzer_lab.session.session import lesson_label
 
     return lesson_label(lesson)
 
@@ -201,7 +201,7 @@ def test_page_loads_with_title_math_and_no_console_errors(tab: Page) -> None:
 
 
 def test_picker_lists_every_lesson_and_preset(tab: Page) -> None:
-    from lessons.catalog import all_lessons
+    from analyzer_lab.lessons.catalog import all_lessons
 
     options = tab.options("Lesson")
     assert options == [_label_of(l) for l in all_lessons()]
@@ -245,7 +245,7 @@ def test_sphere_example_plays_slider_changes_motion_and_plots_update(tab: Page) 
 def test_switching_lessons_while_charts_update_logs_no_error(tab: Page) -> None:
     """Lessons switched again and again while playing with the Plots tab open: the page
     never reports an update of a chart that is gone, and the replaced charts are removed."""
-    from lessons.catalog import get_lesson
+    from analyzer_lab.lessons.catalog import get_lesson
 
     tab.tab("Plots")
     order = ["sphere", "ellipsoid", "sphere-constant-speed", "quadric"] * 3
@@ -313,7 +313,7 @@ def test_csv_exports_on_the_textbook_grid_and_of_the_frames(tab: Page) -> None:
     """Example 1.2 played to t_end: the grid CSV has |v|² at t = 0, 1, ..., 10 as the
     textbook tabulates it; the frames CSV has every played frame; both carry the lesson's
     declared series."""
-    from lessons.sphere import V2_TABLE
+    from analyzer_lab.lessons.analyzers.sphere import V2_TABLE
 
     tab.load(_label_of(tab.session.lesson), "example-1.2")
     tab.select("Speed", "8x")
@@ -356,7 +356,7 @@ def test_reload_restores_lesson_and_parameters(tab: Page) -> None:
 
 
 def _catalog_cases() -> list[tuple[str, str]]:
-    from lessons.catalog import all_lessons
+    from analyzer_lab.lessons.catalog import all_lessons
 
     return [(l.id, p) for l in all_lessons() for p in ["(defaults)", *(q.name for q in l.presets)]]
 
@@ -371,7 +371,7 @@ def shared_tab(lab: Any, browser: Any) -> Iterator[Page]:
 
 @pytest.mark.parametrize("lesson_id, preset", _catalog_cases())
 def test_every_lesson_and_preset_plays(shared_tab: Page, lesson_id: str, preset: str) -> None:
-    from lessons.catalog import get_lesson
+    from analyzer_lab.lessons.catalog import get_lesson
 
     tab = shared_tab
     tab.errors.clear()

@@ -74,7 +74,7 @@ def coverage(camera: Any, bounds: Any) -> float:
 
 
 def _cases() -> list[tuple[str, str]]:
-    from lessons.catalog import all_lessons
+    from analyzer_lab.lessons.catalog import all_lessons
 
     return [(lesson.id, p.name) for lesson in all_lessons() for p in lesson.presets]
 
@@ -82,7 +82,7 @@ def _cases() -> list[tuple[str, str]]:
 @pytest.fixture(scope="module")
 def lab() -> Iterator[Any]:
     _require_browser()
-    from app.server import LabServer
+    from analyzer_lab.serve.server import LabServer
 
     server = LabServer(host="127.0.0.1", port=0, lesson="sphere")
     yield server
@@ -110,8 +110,8 @@ def sized(request: Any, lab: Any, browser: Any) -> Iterator[tuple[str, Page]]:
 
 
 def _choose(tab: Page, lesson_id: str, preset: str) -> None:
-    from app.session import lesson_label
-    from lessons.catalog import get_lesson
+    from analyzer_lab.lessons.catalog import get_lesson
+    from analyzer_lab.session.session import lesson_label
 
     if tab.session.lesson.id != lesson_id:
         tab.input_for("Lesson").click()

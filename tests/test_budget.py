@@ -5,11 +5,10 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from analyzer_lab.lessons.catalog import all_lessons, get_lesson
+from analyzer_lab.lessons.kit.budget import clock, spent, work_budget
+from analyzer_lab.lessons.kit.steppers import DenseSolution
 from scipy.integrate import solve_ivp
-
-from lessons.catalog import all_lessons, get_lesson
-from lessons.core.budget import clock, spent, work_budget
-from lessons.core.steppers import DenseSolution
 
 BUDGET = 0.01
 #: one indivisible piece of work beyond the budget (a block of steps, one solver step)

@@ -7,8 +7,7 @@ import json
 import time
 
 import pytest
-
-from app.bus import (
+from analyzer_lab.classroom.bus import (
     MAX_MESSAGE_BYTES,
     BusError,
     LocalBus,
@@ -20,6 +19,7 @@ from app.bus import (
     parse_redis_url,
     wait_until,
 )
+
 from tests.helpers import RedisServer
 
 KEY = bus_key("code-1234")

@@ -1,11 +1,10 @@
-"""The claim checks of §2.3: lessons/core/carriage_claims.py."""
+"""The claim checks of §2.3: lessons/vibration/carriage/claims.py."""
 
 from __future__ import annotations
 
+import analyzer_lab.lessons.vibration.carriage.claims as cc
 import numpy as np
-
-from lessons.core import carriage_claims as cc
-from lessons.core.vibration import Carriage, box_inertia
+from analyzer_lab.lessons.vibration.carriage.model import Carriage, box_inertia
 
 # the strong-coupling carriage of Problem 2.6: C_x/m close to K_y/I_y
 _I = box_inertia(20.0, 0.4, 0.5, 0.06)

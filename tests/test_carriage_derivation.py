@@ -1,17 +1,16 @@
-"""The derivation steps of §2.3: lessons/core/carriage_derivation.py."""
+"""The derivation steps of §2.3: lessons/vibration/carriage/derivation.py."""
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
 import sympy as sp
-
-from lessons.core.carriage_derivation import (
+from analyzer_lab.lessons.vibration.carriage.derivation import (
     carriage_lagrange_matrices,
     forced_vibration_steps,
     free_vibration_steps,
 )
-from lessons.core.vibration import (
+from analyzer_lab.lessons.vibration.carriage.model import (
     Carriage,
     ForcedOscillator,
     carriage_lagrange,

@@ -1,12 +1,14 @@
-"""Problem 2.7: lessons/carriage_forced_vibration.py."""
+"""Problem 2.7: lessons/vibration/carriage_forced_vibration.py."""
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
-
-from lessons.carriage_forced_vibration import CarriageForcedVibration, oscillator_from_params
-from lessons.catalog import get_lesson
+from analyzer_lab.lessons.catalog import get_lesson
+from analyzer_lab.lessons.vibration.carriage_forced_vibration import (
+    CarriageForcedVibration,
+    oscillator_from_params,
+)
 
 FORCED = CarriageForcedVibration()
 

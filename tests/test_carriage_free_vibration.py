@@ -1,4 +1,4 @@
-"""Problem 2.6: lessons/carriage_free_vibration.py."""
+"""Problem 2.6: lessons/vibration/carriage_free_vibration.py."""
 
 from __future__ import annotations
 
@@ -6,19 +6,18 @@ import math
 
 import numpy as np
 import pytest
-
-from lessons.carriage_free_vibration import (
-    CarriageFreeVibration,
-    carriage_from_params,
-    geometry_from_params,
-)
-from lessons.catalog import get_lesson
-from lessons.core.contract import DerivationStep, ParamError
-from lessons.core.vibration import (
+from analyzer_lab.lessons.catalog import get_lesson
+from analyzer_lab.lessons.kit.contract import DerivationStep, ParamError
+from analyzer_lab.lessons.vibration.carriage.model import (
     MODE_KEYS,
     closed_form_frequencies,
     eigen_frequencies,
     mode_shape,
+)
+from analyzer_lab.lessons.vibration.carriage_free_vibration import (
+    CarriageFreeVibration,
+    carriage_from_params,
+    geometry_from_params,
 )
 
 FREE = CarriageFreeVibration()

@@ -1,11 +1,10 @@
-"""The drawn carriage: lessons/core/carriage_geometry.py."""
+"""The drawn carriage: lessons/vibration/carriage/geometry.py."""
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
-
-from lessons.core.carriage_geometry import CarriageGeometry, body_rotvec
+from analyzer_lab.lessons.vibration.carriage.geometry import CarriageGeometry, body_rotvec
 
 GEOM = CarriageGeometry(a=0.4, b=0.5, H=0.06, h=0.02)
 

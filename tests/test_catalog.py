@@ -4,9 +4,8 @@ import json
 
 import numpy as np
 import pytest
-
-from lessons.catalog import all_lessons, get_lesson
-from lessons.core.contract import DerivationStep, Frame, RunResult, SceneSpec
+from analyzer_lab.lessons.catalog import all_lessons, get_lesson
+from analyzer_lab.lessons.kit.contract import DerivationStep, Frame, RunResult, SceneSpec
 
 LESSONS = all_lessons()
 CASES = [(l.id, None) for l in LESSONS] + [(l.id, p.name) for l in LESSONS for p in l.presets]

@@ -2,9 +2,8 @@
 
 import numpy as np
 import pytest
-
-from lessons.circle import LESSON, RADIUS_MODES
-from lessons.core.contract import ParamError
+from analyzer_lab.lessons.analyzers.circle import LESSON, RADIUS_MODES
+from analyzer_lab.lessons.kit.contract import ParamError
 
 
 @pytest.mark.parametrize("preset", [p.name for p in LESSON.presets])

@@ -196,8 +196,7 @@ def test_a_dead_instructor_worker_releases_its_followers_elsewhere(pair: Pair) -
 
 def _publish(url: str, raw: bytes) -> None:
     import redis
-
-    from app.bus import CHANNEL
+    from analyzer_lab.classroom.bus import CHANNEL
 
     port = int(url.rsplit(":", 1)[1])
     client = redis.Redis(host="127.0.0.1", port=port)
@@ -206,7 +205,7 @@ def _publish(url: str, raw: bytes) -> None:
 
 
 def test_forged_messages_from_the_bus_are_refused(pair: Pair) -> None:
-    from app.bus import bus_key, encode_message
+    from analyzer_lab.classroom.bus import bus_key, encode_message
 
     async def run() -> None:
         inst, local, remote = await _demo(pair)
@@ -285,7 +284,7 @@ def test_serve_reports_an_unreachable_bus_at_start() -> None:
 
     port = free_port()
     proc = subprocess.Popen(
-        [sys.executable, "-m", "app", "serve", "--no-browser", "--port", str(free_port())]
+        [sys.executable, "-m", "analyzer_lab", "serve", "--no-browser", "--port", str(free_port())]
         + ["--bus", f"redis://127.0.0.1:{port}", "--lesson", "sphere"],
         stdout=subprocess.PIPE,
         stderr=subprocess.STDOUT,
@@ -310,11 +309,11 @@ def test_serve_reports_an_unreachable_bus_at_start() -> None:
 def test_two_servers_in_one_process_share_the_in_process_bus() -> None:
     """The embedded default: a demo crosses a LocalBus hub; the mirror is rebuilt only
     when the demo's state changes (not at every heartbeat) and follows its time."""
-    from app.bus import LocalBus
-    from app.classlink import REMOTE
-    from app.server import LabServer
-    from app.session import Session
-    from lessons.catalog import get_lesson
+    from analyzer_lab.classroom.bus import LocalBus
+    from analyzer_lab.classroom.link import REMOTE
+    from analyzer_lab.lessons.catalog import get_lesson
+    from analyzer_lab.serve.server import LabServer
+    from analyzer_lab.session.session import Session
 
     hub: list[LocalBus] = []
     lessons = [get_lesson("sphere"), get_lesson("ellipsoid")]

@@ -93,8 +93,8 @@ def browser(servers: tuple[str, str]) -> Iterator[Any]:
 def test_a_student_on_worker_2_follows_the_instructor_on_worker_1(
     servers: tuple[str, str], browser: Any
 ) -> None:
-    from app.session import lesson_label
-    from lessons.catalog import get_lesson
+    from analyzer_lab.lessons.catalog import get_lesson
+    from analyzer_lab.session.session import lesson_label
 
     inst = RemotePage(browser, servers[0])
     student = RemotePage(browser, servers[1])

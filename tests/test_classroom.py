@@ -14,13 +14,13 @@ from collections.abc import Iterator
 from typing import Any
 
 import pytest
+from analyzer_lab.classroom.room import Classroom
+from analyzer_lab.lessons.analyzers.sphere import LESSON as SPHERE
+from analyzer_lab.serve.limits import normalize_code
+from analyzer_lab.session.session import LabError
 
-from app.classroom import Classroom
-from app.limits import normalize_code
-from app.session import LabError
 from benchmarks.classroom_load import ProtoClient
 from benchmarks.loadtest import gui_update
-from lessons.sphere import LESSON as SPHERE
 from tests.helpers import until
 
 CODE = "test-code-4271"
@@ -29,7 +29,7 @@ pytestmark = pytest.mark.timeout(120)
 
 @pytest.fixture(scope="module")
 def lab() -> Iterator[Any]:
-    from app.server import LabServer
+    from analyzer_lab.serve.server import LabServer
 
     server = LabServer(
         host="127.0.0.1",
@@ -116,7 +116,7 @@ def test_wrong_codes_are_rate_limited_per_page_and_address(lab: Any) -> None:
 
 
 def test_a_short_chosen_code_is_refused() -> None:
-    from app.classroom import Classroom
+    from analyzer_lab.classroom.room import Classroom
 
     with pytest.raises(LabError, match="at least 12"):
         Classroom(object(), "short-code")  # type: ignore[arg-type]

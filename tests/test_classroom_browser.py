@@ -22,8 +22,8 @@ INSTRUCTOR_BUTTONS = ("Follow me", "Release", "Push preset to all", "Notify all"
 @pytest.fixture(scope="module")
 def lab() -> Iterator[Any]:
     _require_browser()
-    from app.server import LabServer
-    from lessons.catalog import get_lesson
+    from analyzer_lab.lessons.catalog import get_lesson
+    from analyzer_lab.serve.server import LabServer
 
     server = LabServer(
         host="127.0.0.1",
@@ -49,8 +49,8 @@ def browser(lab: Any) -> Iterator[Any]:
 
 
 def _label(lesson_id: str) -> str:
-    from app.session import lesson_label
-    from lessons.catalog import get_lesson
+    from analyzer_lab.lessons.catalog import get_lesson
+    from analyzer_lab.session.session import lesson_label
 
     return lesson_label(get_lesson(lesson_id))
 

@@ -12,7 +12,10 @@ import pytest
 
 def cli(*args, timeout=300):
     return subprocess.run(
-        [sys.executable, "-m", "app", *args], capture_output=True, text=True, timeout=timeout
+        [sys.executable, "-m", "analyzer_lab", *args],
+        capture_output=True,
+        text=True,
+        timeout=timeout,
     )
 
 

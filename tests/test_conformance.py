@@ -12,9 +12,8 @@ import math
 
 import numpy as np
 import pytest
-
-from lessons.catalog import all_lessons
-from lessons.core.contract import Lesson
+from analyzer_lab.lessons.catalog import all_lessons
+from analyzer_lab.lessons.kit.contract import Lesson
 
 FRAME = 1.0 / 36.0
 CASES = [(lesson, preset.name) for lesson in all_lessons() for preset in lesson.presets]

@@ -1,14 +1,13 @@
-"""Tests of lessons.core.constrained: the §2.2 algorithm, (2.17)-(2.34)."""
+"""Tests of analyzer_lab.lessons.mechanics.lagrange.constrained: the §2.2 algorithm, (2.17)-(2.34)."""
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
 import sympy as sp
+from analyzer_lab.lessons.mechanics.lagrange.constrained import ConstrainedSystem
 from scipy.integrate import solve_ivp
 from sympy.physics.mechanics import dynamicsymbols
-
-from lessons.core.constrained import ConstrainedSystem
 
 T_ = dynamicsymbols._t
 

@@ -1,12 +1,19 @@
-"""Tests of lessons.constrained_dynamics and lessons.constrained_examples (§2.2)."""
+"""Tests of analyzer_lab.lessons.mechanics.constrained_dynamics and
+analyzer_lab.lessons.mechanics.lagrange.examples (§2.2).
+"""
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
-
-from lessons.constrained_dynamics import LESSON, pendulum_drift, rheonomic_drift_numbers
-from lessons.constrained_examples import (
+from analyzer_lab.lessons.kit.dense_solution import DenseSolution
+from analyzer_lab.lessons.mechanics.constrained_dynamics import (
+    LESSON,
+    pendulum_drift,
+    rheonomic_drift_numbers,
+)
+from analyzer_lab.lessons.mechanics.lagrange.constraint_eval import CORRECTIONS
+from analyzer_lab.lessons.mechanics.lagrange.examples import (
     ExampleRun,
     PendulumReference,
     evaluator,
@@ -15,8 +22,6 @@ from lessons.constrained_examples import (
     planar3_acceleration_difference,
     system,
 )
-from lessons.core.constraint_eval import CORRECTIONS
-from lessons.core.dense_solution import DenseSolution
 
 
 def test_drift_numbers() -> None:

@@ -8,8 +8,7 @@ from typing import Any
 
 import numpy as np
 import pytest
-
-from lessons.core.contract import (
+from analyzer_lab.lessons.kit.contract import (
     MODE,
     Group,
     Lesson,

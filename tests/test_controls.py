@@ -7,9 +7,8 @@ from collections.abc import Iterator
 from typing import Any
 
 import pytest
-
-from app.controls import ParamControls
-from lessons.catalog import get_lesson
+from analyzer_lab.lessons.catalog import get_lesson
+from analyzer_lab.view.controls import ParamControls
 
 
 @pytest.fixture(scope="module")

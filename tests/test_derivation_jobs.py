@@ -6,8 +6,8 @@ from __future__ import annotations
 import time
 from typing import Any
 
-from app import derivation_jobs as dj
-from lessons.catalog import all_lessons
+import analyzer_lab.serve.derivation_jobs as dj
+from analyzer_lab.lessons.catalog import all_lessons
 
 SLOW = "(sin(t)+cos(t)+t)**64"
 

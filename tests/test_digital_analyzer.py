@@ -2,8 +2,11 @@
 
 import numpy as np
 import pytest
-
-from lessons.core.planar import DigitalAnalyzer, PlanarModel, radius_growth_per_turn
+from analyzer_lab.lessons.analyzers.plane.conic import (
+    DigitalAnalyzer,
+    PlanarModel,
+    radius_growth_per_turn,
+)
 
 CIRCLE = PlanarModel.of({"a11": 1.0, "a22": 1.0}, 1.0)
 
@@ -52,7 +55,7 @@ def test_error_shrinks_with_delta():
 
 
 def test_lessons_expose_dda_series():
-    from lessons.circle import LESSON
+    from analyzer_lab.lessons.analyzers.circle import LESSON
 
     res = LESSON.run("digital-staircase")
     for k in ("x_dda", "y_dda", "z_dda", "nx", "ny", "dda_error"):

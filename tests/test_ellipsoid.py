@@ -2,8 +2,7 @@
 
 import numpy as np
 import pytest
-
-from lessons.ellipsoid import EXTENTS, LESSON, R_END
+from analyzer_lab.lessons.analyzers.ellipsoid import EXTENTS, LESSON, R_END
 
 
 def test_params():

@@ -8,11 +8,10 @@ import io
 
 import numpy as np
 import pytest
-
-from app.export import export_run, grid_run, parse_step
-from app.session import LabError, Session
-from lessons.catalog import all_lessons
-from lessons.sphere import V2_TABLE
+from analyzer_lab.lessons.analyzers.sphere import V2_TABLE
+from analyzer_lab.lessons.catalog import all_lessons
+from analyzer_lab.session.session import LabError, Session
+from analyzer_lab.view.export import export_run, grid_run, parse_step
 
 
 def _session(lesson: str, preset: str) -> Session:
@@ -86,7 +85,7 @@ def test_replay_is_titled_captioned_and_capped() -> None:
 
 
 def test_a_long_family_run_is_thinned_to_the_value_cap_and_says_so() -> None:
-    from app.export import MAX_EXPORT_VALUES, paced_csv, thinned
+    from analyzer_lab.view.export import MAX_EXPORT_VALUES, paced_csv, thinned
 
     s = _session("sphere", "example-1.1")
     s.set_values({"family": 24})
@@ -121,7 +120,7 @@ def test_a_grid_with_too_many_values_is_refused_naming_the_smallest_step() -> No
 def test_the_pacer_rests_after_its_share_of_work() -> None:
     import time
 
-    from app.limits import Pacer
+    from analyzer_lab.serve.limits import Pacer
 
     pace = Pacer(work=0.002, rest=0.004)
     t0 = time.monotonic()

@@ -4,8 +4,7 @@ import time
 
 import numpy as np
 import pytest
-
-from lessons.core.formula import FormulaError, parse_formula, parse_number
+from analyzer_lab.lessons.kit.formula import FormulaError, parse_formula, parse_number
 
 HOSTILE = [
     "__import__('os').system('id')",

@@ -6,11 +6,8 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-
-from lessons.catalog import all_lessons
-from lessons.core.arclength import CubicHermite
-from lessons.core.formula import parse_formula
-from lessons.core.planar import (
+from analyzer_lab.lessons.analyzers.curves.arclength import CubicHermite
+from analyzer_lab.lessons.analyzers.plane.conic import (
     PlanarModel,
     PlanarState,
     PlanarTrack,
@@ -18,6 +15,8 @@ from lessons.core.planar import (
     _f1_f2_one,
     embed,
 )
+from analyzer_lab.lessons.catalog import all_lessons
+from analyzer_lab.lessons.kit.formula import parse_formula
 
 LESSONS = {x.id: x for x in all_lessons()}
 

@@ -40,7 +40,15 @@ class Door:
         self.port = free_port()
         env = dict(os.environ, PYTHONPATH=str(ROOT))
         self.proc = subprocess.Popen(
-            [sys.executable, "-m", "app", "serve", "--no-browser", "--port", str(self.port)]
+            [
+                sys.executable,
+                "-m",
+                "analyzer_lab",
+                "serve",
+                "--no-browser",
+                "--port",
+                str(self.port),
+            ]
             + ["--workers", str(workers), "--bus", bus, "--instructor-code", CODE],
             stdout=subprocess.PIPE,
             stderr=subprocess.STDOUT,
@@ -177,7 +185,15 @@ def test_workers_stop_with_the_front_door(redis_url: str) -> None:
 
 def test_one_worker_needs_no_redis_and_several_need_a_bus() -> None:
     env = dict(os.environ, PYTHONPATH=str(ROOT))
-    cmd = [sys.executable, "-m", "app", "serve", "--no-browser", "--port", str(free_port())]
+    cmd = [
+        sys.executable,
+        "-m",
+        "analyzer_lab",
+        "serve",
+        "--no-browser",
+        "--port",
+        str(free_port()),
+    ]
     out = subprocess.run(cmd + ["--workers", "2"], capture_output=True, text=True, env=env)
     assert out.returncode == 2 and "add --bus redis://HOST:PORT" in out.stderr
     out = subprocess.run(

@@ -1,8 +1,7 @@
 """Gauss-Legendre on a fixed grid: any reader gets the same state at the same time."""
 
 import numpy as np
-
-from lessons.core.grid_flow import GridFlow
+from analyzer_lab.lessons.analyzers.field.grid_flow import GridFlow
 
 
 def rotation(ts):

@@ -2,8 +2,7 @@
 
 import numpy as np
 import pytest
-
-from lessons.core.integrators import (
+from analyzer_lab.lessons.kit.integrators import (
     MAX_STAGES,
     apply_propagators,
     gauss_legendre,

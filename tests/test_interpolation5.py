@@ -1,4 +1,4 @@
-"""Tests for lessons/core/interpolation5.py: moves and controllers along one segment."""
+"""Tests for lessons/laser5/interpolation.py: moves and controllers along one segment."""
 
 from __future__ import annotations
 
@@ -6,8 +6,7 @@ import math
 
 import numpy as np
 import pytest
-
-from lessons.core.interpolation5 import (
+from analyzer_lab.lessons.laser5.interpolation import (
     Move,
     angle_between,
     bisect_segment,
@@ -21,7 +20,7 @@ from lessons.core.interpolation5 import (
     point_speed_ratio,
     segment_distance,
 )
-from lessons.core.prototype5 import study
+from analyzer_lab.lessons.laser5.prototype import study
 
 
 def test_segment_distance_broadcasts() -> None:

@@ -1,4 +1,4 @@
-"""Tests for lessons/core/kinematics5.py: the LSP-2000 kinematics (1a), (1b), (2), (3)."""
+"""Tests for lessons/laser5/kinematics.py: the LSP-2000 kinematics (1a), (1b), (2), (3)."""
 
 from __future__ import annotations
 
@@ -6,9 +6,8 @@ import math
 
 import numpy as np
 import pytest
-
-from lessons.core.kinematics5 import LimitError, Machine5, translate_poses
-from lessons.core.task5 import Paraboloid, make_task
+from analyzer_lab.lessons.laser5.kinematics import LimitError, Machine5, translate_poses
+from analyzer_lab.lessons.laser5.task import Paraboloid, make_task
 
 
 @pytest.mark.parametrize("limits", ["original", "improved"])

@@ -1,18 +1,17 @@
-"""Tests of lessons.core.lagrange: the Lagrange model, motion laws, the inverse problem."""
+"""Tests of analyzer_lab.lessons.mechanics.lagrange.model: the Lagrange model, motion laws, the inverse problem."""
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
 import sympy as sp
-from sympy.physics.mechanics import ReferenceFrame, dynamicsymbols
-
-from lessons.core.lagrange import (
+from analyzer_lab.lessons.mechanics.lagrange.model import (
     LagrangeModel,
     formula_derivatives,
     numerical_second_derivative,
     solve_small,
 )
+from sympy.physics.mechanics import ReferenceFrame, dynamicsymbols
 
 T_ = dynamicsymbols._t
 
@@ -64,8 +63,8 @@ def test_formula_derivatives_and_differences() -> None:
 
 
 def test_one_time_equals_the_array_and_keeps_numpy_arithmetic() -> None:
-    from lessons.core.formula import parse_formula, t_symbol
-    from lessons.core.lagrange import formula_derivatives
+    from analyzer_lab.lessons.kit.formula import parse_formula, t_symbol
+    from analyzer_lab.lessons.mechanics.lagrange.model import formula_derivatives
 
     ev = formula_derivatives([parse_formula("log(t)").expr, parse_formula("t**3").expr], t_symbol)
     grid = ev(np.array([0.5, 2.0]))

@@ -1,4 +1,4 @@
-"""Tests for the LSP-2000 lesson (lessons/laser_5axis.py): values, runs, frames, page."""
+"""Tests for the LSP-2000 lesson (lessons/laser5/__init__.py): values, runs, frames, page."""
 
 from __future__ import annotations
 
@@ -6,9 +6,8 @@ import json
 
 import numpy as np
 import pytest
-
-from lessons.core.contract import ParamError
-from lessons.laser_5axis import LESSON
+from analyzer_lab.lessons.kit.contract import ParamError
+from analyzer_lab.lessons.laser5 import LESSON
 
 SERIES = (
     "x y z deviation tolerance speed feed off_normal travel_linear travel_tool"

@@ -1,11 +1,10 @@
-"""Tests of lessons.linear_positioner: Problem 2.1, eq. (2.2)."""
+"""Tests of analyzer_lab.lessons.mechanics.linear_positioner: Problem 2.1, eq. (2.2)."""
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
-
-from lessons.linear_positioner import LESSON
+from analyzer_lab.lessons.mechanics.linear_positioner import LESSON
 
 
 def test_linear_numbers() -> None:

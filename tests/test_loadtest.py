@@ -7,10 +7,11 @@ from __future__ import annotations
 import asyncio
 
 import pytest
+from analyzer_lab.lessons.catalog import all_lessons, get_lesson
+from analyzer_lab.serve.server import DEFAULT_FPS
+from analyzer_lab.view.bodies import body_groups, body_node
+from analyzer_lab.view.scene import live_node
 
-from app.scene_bodies import body_groups, body_node
-from app.scene_render import live_node
-from app.server import DEFAULT_FPS
 from benchmarks.loadtest import (
     POINT_NODE,
     free_port,
@@ -20,7 +21,6 @@ from benchmarks.loadtest import (
     start_server,
     stop_server,
 )
-from lessons.catalog import all_lessons, get_lesson
 
 pytestmark = pytest.mark.timeout(300)
 

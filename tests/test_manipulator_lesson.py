@@ -1,12 +1,11 @@
-"""Runs, frames and scene of the manipulator lesson: lessons/core/manipulator_lesson.py."""
+"""Runs, frames and scene of the manipulator lesson: lessons/mechanics/manipulators/lesson.py."""
 
 from __future__ import annotations
 
 import time
 
 import numpy as np
-
-from lessons.self_study_2 import LESSON
+from analyzer_lab.lessons.mechanics.self_study_2 import LESSON
 
 
 def test_run_on_the_sampling_grid_with_units_and_notes() -> None:

@@ -1,10 +1,10 @@
-"""Derivation pages of C2.1-C2.6: lessons/core/manipulator_pages.py."""
+"""Derivation pages of C2.1-C2.6: lessons/mechanics/manipulators/pages.py."""
 
 from __future__ import annotations
 
-from lessons.core.manipulator_pages import caveat, derivation_steps, source_of
-from lessons.core.manipulator_tasks import model_of
-from lessons.self_study_2 import LESSON
+from analyzer_lab.lessons.mechanics.manipulators.pages import caveat, derivation_steps, source_of
+from analyzer_lab.lessons.mechanics.manipulators.tasks import model_of
+from analyzer_lab.lessons.mechanics.self_study_2 import LESSON
 
 
 def test_each_reading_has_its_own_caveat_and_law() -> None:

@@ -1,15 +1,14 @@
-"""Bodies and poses of C2.1-C2.6: lessons/core/manipulator_scene.py."""
+"""Bodies and poses of C2.1-C2.6: lessons/mechanics/manipulators/scene.py."""
 
 from __future__ import annotations
 
 import math
 
+import analyzer_lab.lessons.mechanics.manipulators.tasks as tasks
 import numpy as np
 import pytest
-
-from lessons.core import manipulator_tasks as tasks
-from lessons.core.manipulator_scene import drawing, moving_points, poses
-from lessons.self_study_2 import LESSON
+from analyzer_lab.lessons.mechanics.manipulators.scene import drawing, moving_points, poses
+from analyzer_lab.lessons.mechanics.self_study_2 import LESSON
 
 
 @pytest.mark.parametrize("task", tasks.TASKS)

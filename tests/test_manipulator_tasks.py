@@ -1,14 +1,13 @@
-"""Numbers, solution and stepper of C2.1-C2.6: lessons/core/manipulator_tasks.py."""
+"""Numbers, solution and stepper of C2.1-C2.6: lessons/mechanics/manipulators/tasks.py."""
 
 from __future__ import annotations
 
 import math
 
+import analyzer_lab.lessons.mechanics.manipulators.tasks as tasks
 import numpy as np
 import pytest
-
-from lessons.core import manipulator_tasks as tasks
-from lessons.self_study_2 import LESSON
+from analyzer_lab.lessons.mechanics.self_study_2 import LESSON
 
 
 def _solution(preset: str, **values: object) -> tasks.Solution:

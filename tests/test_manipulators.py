@@ -1,12 +1,11 @@
-"""Lagrangian models of C2.1-C2.6: lessons/core/manipulators.py."""
+"""Lagrangian models of C2.1-C2.6: lessons/mechanics/manipulators/models.py."""
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
 import sympy as sp
-
-from lessons.core.manipulators import by_hand, model_for
+from analyzer_lab.lessons.mechanics.manipulators.models import by_hand, model_for
 
 CASES = [
     ("C2.1a", "xyz"),

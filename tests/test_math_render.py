@@ -3,9 +3,8 @@
 from __future__ import annotations
 
 import sympy as sp
-
-from app.math_render import derivation_to_html, expr_to_mathml, sanitize_mathml, step_to_html
-from lessons.core.contract import DerivationStep
+from analyzer_lab.lessons.kit.contract import DerivationStep
+from analyzer_lab.view.math import derivation_to_html, expr_to_mathml, sanitize_mathml, step_to_html
 
 
 def test_sympy_equation_becomes_math_element() -> None:
@@ -61,7 +60,7 @@ def test_step_without_reconstruction_has_no_tag() -> None:
 
 
 def test_sphere_derivation_renders() -> None:
-    from lessons.sphere import LESSON
+    from analyzer_lab.lessons.analyzers.sphere import LESSON
 
     params = LESSON.resolve(preset="example-1.2")
     out = derivation_to_html(LESSON.derivation(params))
@@ -71,8 +70,8 @@ def test_sphere_derivation_renders() -> None:
 
 
 def test_block_diagram_svg_is_rendered_and_sanitized():
-    from app.math_render import sanitize_svg, step_to_html
-    from lessons.catalog import get_lesson
+    from analyzer_lab.lessons.catalog import get_lesson
+    from analyzer_lab.view.math import sanitize_svg, step_to_html
 
     lesson = get_lesson("sphere")
     step = lesson.block_diagram_step(lesson.resolve(), lesson.prepare(lesson.resolve()))
@@ -104,7 +103,7 @@ def test_block_diagram_svg_is_rendered_and_sanitized():
 
 
 def test_symbol_names_never_show_tex() -> None:
-    from app.math_render import plain_name
+    from analyzer_lab.view.math import plain_name
 
     assert plain_name(r"z_{z\,pr}") == "z_z pr"
     assert plain_name("varphi") == "φ"
@@ -121,7 +120,7 @@ def test_time_derivative_uses_an_ordinary_d() -> None:
 
 
 def test_long_equation_is_broken_into_lines_that_fit() -> None:
-    from app.math_render import LINE_GLYPHS, MAX_LINE_GLYPHS, math_width
+    from analyzer_lab.view.math import LINE_GLYPHS, MAX_LINE_GLYPHS, math_width
 
     xs = sp.symbols("x1:13")
     eq = sp.Eq(sp.Symbol("y"), sum(sp.Symbol(f"a{k}") * x**2 for k, x in enumerate(xs)))
@@ -134,7 +133,7 @@ def test_long_equation_is_broken_into_lines_that_fit() -> None:
 
 
 def test_figures_scale_to_the_panel_width() -> None:
-    from app.math_render import step_to_html
+    from analyzer_lab.view.math import step_to_html
 
     svg = '<svg width="660" height="300"><rect x="0" y="0" width="660" height="300"/></svg>'
     out = step_to_html(DerivationStep("diagram", svg=svg))
@@ -149,7 +148,7 @@ def test_no_lesson_shows_raw_tex() -> None:
     import html as html_lib
     import re
 
-    from lessons.catalog import all_lessons
+    from analyzer_lab.lessons.catalog import all_lessons
 
     for lesson in all_lessons():
         seen: set[str] = set()
@@ -170,7 +169,7 @@ def test_no_lesson_shows_raw_tex() -> None:
 
 
 def test_a_corrected_misprint_is_tagged_corrected() -> None:
-    from app.math_render import step_to_html
+    from analyzer_lab.view.math import step_to_html
 
     out = step_to_html(DerivationStep("(2.19)", reconstructed="corrected: (2.18) names g_i"))
     assert ">corrected</span>" in out and "corrected: (2.18) names g_i" in out

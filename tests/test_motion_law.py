@@ -6,9 +6,13 @@ import math
 
 import numpy as np
 import pytest
+from analyzer_lab.lessons.analyzers.curves.motion_law import (
+    controls_residuals,
+    motion_program,
+    solve_15,
+    step_grid,
+)
 from scipy.integrate import solve_ivp
-
-from lessons.core.motion_law import controls_residuals, motion_program, solve_15, step_grid
 
 HELIX = ("sin(phi)", "cos(phi)", "phi", 0.0, math.pi)
 

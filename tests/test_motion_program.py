@@ -7,12 +7,9 @@ import math
 
 import numpy as np
 import pytest
-
-from lessons.catalog import get_lesson
-from lessons.core.contract import Formula, ParamError
-from lessons.core.motion_law import motion_program
-from lessons.core.space_curve import CurveFormulaParam
-from lessons.motion_program import (
+from analyzer_lab.lessons.analyzers.curves.motion_law import motion_program
+from analyzer_lab.lessons.analyzers.curves.space_curve import CurveFormulaParam
+from analyzer_lab.lessons.analyzers.motion_program import (
     HELIX_12,
     HELIX_13,
     HELIX_14,
@@ -22,6 +19,8 @@ from lessons.motion_program import (
     helix_hausdorff,
     helix_reversal_gap,
 )
+from analyzer_lab.lessons.catalog import get_lesson
+from analyzer_lab.lessons.kit.contract import Formula, ParamError
 
 S_HELIX = math.pi * math.sqrt(2.0)
 SERIES = ("x", "y", "z", "vx", "vy", "vz", "speed", "v_limit", "s", "x_analyzer")

@@ -5,11 +5,10 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-
-from app.pace import first_non_finite, non_finite
-from app.session import Session
-from lessons.catalog import all_lessons
-from lessons.core.contract import Frame
+from analyzer_lab.lessons.catalog import all_lessons
+from analyzer_lab.lessons.kit.contract import Frame
+from analyzer_lab.session.pace import first_non_finite, non_finite
+from analyzer_lab.session.session import Session
 
 LESSONS = all_lessons()
 NAN, INF = float("nan"), float("inf")
@@ -104,7 +103,7 @@ def test_a_non_finite_played_frame_pauses_with_the_same_message(lesson_id, value
 def test_pieces_of_a_long_tick_are_whole_grains(ticks: list[int]) -> None:
     """A tick longer than one piece (1/30 s) is cut into pieces of whole grains, so every
     frame lands on a grain time (the times lessons keep tables for)."""
-    from app.pace import TIME_QUANTUM
+    from analyzer_lab.session.pace import TIME_QUANTUM
 
     s = Session(LESSONS, "table-6dof", "inverse-program")
     s.play()

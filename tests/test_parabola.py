@@ -4,9 +4,8 @@ import json
 
 import numpy as np
 import pytest
-
-from lessons.core.contract import ParamError
-from lessons.parabola import LESSON, TABLE
+from analyzer_lab.lessons.analyzers.parabola import LESSON, TABLE
+from analyzer_lab.lessons.kit.contract import ParamError
 
 
 def test_params_are_the_textbooks():

@@ -2,10 +2,9 @@
 
 import numpy as np
 import pytest
+from analyzer_lab.lessons.analyzers.plane.conic import ArgumentIntegral, PlanarModel, PlanarTrack
+from analyzer_lab.lessons.kit.formula import parse_formula
 from scipy.integrate import solve_ivp
-
-from lessons.core.formula import parse_formula
-from lessons.core.planar import ArgumentIntegral, PlanarModel, PlanarTrack
 
 
 @pytest.mark.parametrize(

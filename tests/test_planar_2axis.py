@@ -1,11 +1,10 @@
-"""Tests of lessons.planar_2axis: Problem 2.3, eqs (2.5)-(2.11)."""
+"""Tests of analyzer_lab.lessons.mechanics.planar_2axis: Problem 2.3, eqs (2.5)-(2.11)."""
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
-
-from lessons.planar_2axis import LESSON
+from analyzer_lab.lessons.mechanics.planar_2axis import LESSON
 
 
 def test_planar2_layouts_differ() -> None:

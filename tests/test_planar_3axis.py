@@ -1,14 +1,18 @@
-"""Tests of lessons.planar_3axis: Problem 2.4, eqs (2.12)-(2.16)."""
+"""Tests of analyzer_lab.lessons.mechanics.planar_3axis: Problem 2.4, eqs (2.12)-(2.16)."""
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
 import sympy as sp
-
-from lessons.core.bodies import quat_z
-from lessons.core.contract import Frame
-from lessons.planar_3axis import LESSON, Planar3Axis, planar3_kinematics, planar3_phi
+from analyzer_lab.lessons.kit.bodies import quat_z
+from analyzer_lab.lessons.kit.contract import Frame
+from analyzer_lab.lessons.mechanics.planar_3axis import (
+    LESSON,
+    Planar3Axis,
+    planar3_kinematics,
+    planar3_phi,
+)
 
 
 def test_planar3_kinematics_and_equations() -> None:

@@ -1,17 +1,16 @@
-"""Tests of lessons.core.positioner_lesson: what Problems 2.1-2.5 share."""
+"""Tests of analyzer_lab.lessons.mechanics.positioners.lesson: what Problems 2.1-2.5 share."""
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
-
-from lessons.catalog import all_lessons
-from lessons.core.contract import Lesson
-from lessons.linear_positioner import LESSON as LINEAR
-from lessons.planar_2axis import LESSON as PLANAR2
-from lessons.planar_3axis import LESSON as PLANAR3
-from lessons.rotary_positioner import LESSON as ROTARY
-from lessons.table_6dof import LESSON as TABLE
+from analyzer_lab.lessons.catalog import all_lessons
+from analyzer_lab.lessons.kit.contract import Lesson
+from analyzer_lab.lessons.mechanics.linear_positioner import LESSON as LINEAR
+from analyzer_lab.lessons.mechanics.planar_2axis import LESSON as PLANAR2
+from analyzer_lab.lessons.mechanics.planar_3axis import LESSON as PLANAR3
+from analyzer_lab.lessons.mechanics.rotary_positioner import LESSON as ROTARY
+from analyzer_lab.lessons.mechanics.table_6dof import LESSON as TABLE
 
 LESSONS = [LINEAR, ROTARY, PLANAR2, PLANAR3, TABLE]
 BY_ID = {l.id: l for l in LESSONS}

@@ -7,8 +7,7 @@ import math
 import numpy as np
 import pytest
 import sympy as sp
-
-from lessons.core.profiles import (
+from analyzer_lab.lessons.analyzers.curves.profiles import (
     check_covers,
     check_join,
     check_numbers,
@@ -18,7 +17,7 @@ from lessons.core.profiles import (
     triangle_1_9,
     triangle_symbolic,
 )
-from lessons.core.profiles import integral_of_v as area
+from analyzer_lab.lessons.analyzers.curves.profiles import integral_of_v as area
 
 S_HELIX = math.pi * math.sqrt(2.0)
 

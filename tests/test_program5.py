@@ -1,14 +1,13 @@
-"""Tests for lessons/core/program5.py: the executed CNC program and its playhead."""
+"""Tests for lessons/laser5/program.py: the executed CNC program and its playhead."""
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
-
-from lessons.core.kinematics5 import Machine5
-from lessons.core.program5 import build_program, program_metrics
-from lessons.core.prototype5 import SEGMENTS
-from lessons.core.task5 import Paraboloid, make_task
+from analyzer_lab.lessons.laser5.kinematics import Machine5
+from analyzer_lab.lessons.laser5.program import build_program, program_metrics
+from analyzer_lab.lessons.laser5.prototype import SEGMENTS
+from analyzer_lab.lessons.laser5.task import Paraboloid, make_task
 
 
 def _program(method: str, segment: str = "S1", **more):

@@ -1,12 +1,11 @@
-"""Tests for lessons/core/prototype5.py: the four segments S1-S4 measured, the claims' checks."""
+"""Tests for lessons/laser5/prototype.py: the four segments S1-S4 measured, the claims' checks."""
 
 from __future__ import annotations
 
 import math
 
 import pytest
-
-from lessons.core.interpolation5 import (
+from analyzer_lab.lessons.laser5.interpolation import (
     axis_path_length,
     bisect_uniform,
     move_deviation,
@@ -15,7 +14,13 @@ from lessons.core.interpolation5 import (
     point_speed_ratio,
     sagitta_estimate,
 )
-from lessons.core.prototype5 import CLAIMS, adaptive, near_vertical, study, uniform_levels
+from analyzer_lab.lessons.laser5.prototype import (
+    CLAIMS,
+    adaptive,
+    near_vertical,
+    study,
+    uniform_levels,
+)
 
 
 def test_linear_interpolation_deviates() -> None:

@@ -3,11 +3,16 @@
 import numpy as np
 import pytest
 import sympy as sp
-
-from lessons.core.contract import ParamError
-from lessons.core.quadric import CONSTRUCTORS
-from lessons.core.tangent_fields import MONOMIALS, UNKNOWNS, analyze, field_150_vectors, system_147
-from lessons.quadric_lesson import GENERAL, LESSON
+from analyzer_lab.lessons.analyzers.field.tangent_fields import (
+    MONOMIALS,
+    UNKNOWNS,
+    analyze,
+    field_150_vectors,
+    system_147,
+)
+from analyzer_lab.lessons.analyzers.quadric import GENERAL, LESSON
+from analyzer_lab.lessons.analyzers.surfaces.quadric import CONSTRUCTORS
+from analyzer_lab.lessons.kit.contract import ParamError
 
 
 def test_147_rows_match_the_source():
@@ -128,7 +133,7 @@ def test_claims_pass():
 
 
 def test_groups_separate_type_shape_and_coefficients():
-    from lessons.quadric_lesson import LESSON
+    from analyzer_lab.lessons.analyzers.quadric import LESSON
 
     assert [g.name for g in LESSON.groups] == [
         *("mode", "shape", "coefficients", "controls", "initial", "method")

@@ -1,12 +1,11 @@
-"""Tests of lessons.rotary_positioner: Problem 2.2, eqs (2.3)-(2.4)."""
+"""Tests of analyzer_lab.lessons.mechanics.rotary_positioner: Problem 2.2, eqs (2.3)-(2.4)."""
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
-
-from lessons.core.contract import ParamError
-from lessons.rotary_positioner import LESSON
+from analyzer_lab.lessons.kit.contract import ParamError
+from analyzer_lab.lessons.mechanics.rotary_positioner import LESSON
 
 
 def test_rotary_inertia_and_validation() -> None:

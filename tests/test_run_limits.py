@@ -8,16 +8,18 @@ import sys
 import time
 
 import pytest
-
-from app.run_limits import MAX_CPU_SECONDS, MAX_POINT_STEPS, MAX_VALUES, refusal
-from lessons.catalog import all_lessons, get_lesson
-from lessons.core.formula import plain_number
-from lessons.core.params import ParamError
+from analyzer_lab.lessons.catalog import all_lessons, get_lesson
+from analyzer_lab.lessons.kit.formula import plain_number
+from analyzer_lab.lessons.kit.params import ParamError
+from analyzer_lab.serve.run_limits import MAX_CPU_SECONDS, MAX_POINT_STEPS, MAX_VALUES, refusal
 
 
 def cli(*args: str, timeout: float = 300) -> subprocess.CompletedProcess:
     return subprocess.run(
-        [sys.executable, "-m", "app", *args], capture_output=True, text=True, timeout=timeout
+        [sys.executable, "-m", "analyzer_lab", *args],
+        capture_output=True,
+        text=True,
+        timeout=timeout,
     )
 
 
@@ -68,7 +70,7 @@ def test_the_limits_are_stated_in_help() -> None:
 
 
 def test_the_memory_limit_counts_samples_times_series(monkeypatch: pytest.MonkeyPatch) -> None:
-    import app.run_limits as limits
+    import analyzer_lab.serve.run_limits as limits
 
     lesson = get_lesson("sphere")
     params = lesson.resolve({"family": 24})

@@ -4,9 +4,8 @@ one array per name (names in any order, missing ones NaN, new ones added)."""
 from __future__ import annotations
 
 import numpy as np
-
-from app.runlog import RunLog
-from lessons.core.contract import Frame
+from analyzer_lab.lessons.kit.contract import Frame
+from analyzer_lab.session.runlog import RunLog
 
 NAN = float("nan")
 

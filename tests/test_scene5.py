@@ -1,14 +1,13 @@
-"""Tests for lessons/core/scene5.py: the machine drawn and the program played."""
+"""Tests for lessons/laser5/scene.py: the machine drawn and the program played."""
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
+from analyzer_lab.lessons.laser5 import LESSON, machine_of
+from analyzer_lab.lessons.laser5.kinematics import Machine5
+from analyzer_lab.lessons.laser5.scene import FRAME_GRAIN, body_poses, to_view
 from scipy.spatial.transform import Rotation
-
-from lessons.core.kinematics5 import Machine5
-from lessons.core.scene5 import FRAME_GRAIN, body_poses, to_view
-from lessons.laser_5axis import LESSON, machine_of
 
 
 def test_posed_b_lever_ends_at_the_working_point() -> None:
@@ -83,6 +82,6 @@ def test_played_frames_read_one_table_per_block_of_grain_times() -> None:
 
 
 def test_frame_grain_is_the_sessions_time_quantum() -> None:
-    from app.session import TIME_QUANTUM
+    from analyzer_lab.session.session import TIME_QUANTUM
 
     assert FRAME_GRAIN == TIME_QUANTUM

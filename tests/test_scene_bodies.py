@@ -1,17 +1,16 @@
-"""Posed bodies of one mesh drawn as one batched node (app/scene_bodies.py)."""
+"""Posed bodies of one mesh drawn as one batched node (app/view/bodies.py)."""
 
 from __future__ import annotations
 
 from collections.abc import Iterator
 from typing import Any
 
+import analyzer_lab.viser_boundary as vb
 import numpy as np
 import pytest
-
-import app.viser_boundary as vb
-from app.scene_bodies import BodyGroup, body_groups, body_node
-from app.session import Session
-from lessons.catalog import all_lessons
+from analyzer_lab.lessons.catalog import all_lessons
+from analyzer_lab.session.session import Session
+from analyzer_lab.view.bodies import BodyGroup, body_groups, body_node
 
 pytestmark = pytest.mark.quick
 
@@ -73,7 +72,7 @@ def test_a_group_sends_its_members_poses_once_per_change(server: Any) -> None:
 
 
 def test_instance_colors_undo_the_srgb_curve() -> None:
-    from app.scene_bodies import instance_colors
+    from analyzer_lab.view.bodies import instance_colors
 
     got = instance_colors([(0, 255, 90), (10, 128, 200)])
     assert got.dtype == np.uint8

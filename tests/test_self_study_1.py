@@ -4,8 +4,13 @@ import json
 
 import numpy as np
 import pytest
-
-from lessons.self_study_1 import LESSON, READING_NAMES, SURFACE_TASKS, TASKS, semi_axes
+from analyzer_lab.lessons.analyzers.self_study_1 import (
+    LESSON,
+    READING_NAMES,
+    SURFACE_TASKS,
+    TASKS,
+    semi_axes,
+)
 
 
 @pytest.mark.parametrize("preset", [p.name for p in LESSON.presets])

@@ -1,4 +1,4 @@
-"""Self-study tasks C2.1-C2.6: lessons/self_study_2.py."""
+"""Self-study tasks C2.1-C2.6: lessons/mechanics/self_study_2.py."""
 
 from __future__ import annotations
 
@@ -6,11 +6,15 @@ import math
 
 import numpy as np
 import pytest
-
-from lessons.catalog import get_lesson
-from lessons.core.contract import DerivationStep, ParamError
-from lessons.core.manipulator_tasks import MG_READINGS, TASKS, c21_moments, model_of
-from lessons.self_study_2 import LESSON
+from analyzer_lab.lessons.catalog import get_lesson
+from analyzer_lab.lessons.kit.contract import DerivationStep, ParamError
+from analyzer_lab.lessons.mechanics.manipulators.tasks import (
+    MG_READINGS,
+    TASKS,
+    c21_moments,
+    model_of,
+)
+from analyzer_lab.lessons.mechanics.self_study_2 import LESSON
 
 PRESETS = [p.name for p in LESSON.presets]
 

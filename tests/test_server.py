@@ -1,7 +1,7 @@
 """The server: frame loop on viser's event loop, callbacks of one page in arrival order.
 
 Pages are real websocket clients speaking viser's protocol against an in-process
-:class:`app.server.LabServer`.
+:class:`analyzer_lab.serve.server.LabServer`.
 """
 
 from __future__ import annotations
@@ -14,11 +14,11 @@ from concurrent.futures import ThreadPoolExecutor
 from typing import Any
 
 import pytest
+from analyzer_lab.lessons.analyzers.sphere import LESSON as SPHERE
+from analyzer_lab.viser_boundary import CONNECTION, OrderedExecutor
 
-from app.viser_boundary import CONNECTION, OrderedExecutor
 from benchmarks.classroom_load import ProtoClient
 from benchmarks.loadtest import gui_update
-from lessons.sphere import LESSON as SPHERE
 from tests.helpers import until
 
 pytestmark = pytest.mark.timeout(120)
@@ -26,7 +26,7 @@ pytestmark = pytest.mark.timeout(120)
 
 @pytest.fixture(scope="module")
 def lab() -> Iterator[Any]:
-    from app.server import LabServer
+    from analyzer_lab.serve.server import LabServer
 
     server = LabServer(
         host="127.0.0.1", port=0, lessons=[SPHERE], lesson="sphere", warm_up=False, restore=False

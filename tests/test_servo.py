@@ -1,13 +1,12 @@
-"""Tests of lessons/core/servo.py: the channel model and the exact two-axis solution."""
+"""Tests of lessons/servo/model.py: the channel model and the exact two-axis solution."""
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
+from analyzer_lab.lessons.servo.model import Channel, TwoAxisServo
+from analyzer_lab.lessons.servo.paths import power_program
 from scipy import linalg, signal
-
-from lessons.core.servo import Channel, TwoAxisServo
-from lessons.core.servo_paths import power_program
 
 
 @pytest.mark.filterwarnings("ignore::scipy.signal.BadCoefficients")

@@ -1,4 +1,4 @@
-"""Tests of the servo-errors lesson (Leppik 1960) and lessons/core/servo.py."""
+"""Tests of the servo-errors lesson (Leppik 1960) and lessons/servo/model.py."""
 
 from __future__ import annotations
 
@@ -6,10 +6,9 @@ import math
 
 import numpy as np
 import pytest
-
-from lessons.core.contract import ParamError, Params
-from lessons.core.servo_paths import CURVES
-from lessons.servo_errors import LESSON
+from analyzer_lab.lessons.kit.contract import ParamError, Params
+from analyzer_lab.lessons.servo import LESSON
+from analyzer_lab.lessons.servo.paths import CURVES
 
 SERIES = [s.name for s in LESSON.series]
 

@@ -1,4 +1,4 @@
-"""Tests of lessons/core/servo_formulas.py: the article's closed forms with numbers."""
+"""Tests of lessons/servo/formulas.py: the article's closed forms with numbers."""
 
 from __future__ import annotations
 
@@ -7,8 +7,7 @@ import math
 import numpy as np
 import pytest
 import sympy as sp
-
-from lessons.core.servo_formulas import (
+from analyzer_lab.lessons.servo.formulas import (
     circle_axes_29_30,
     curve_19,
     delta_parabola_13,

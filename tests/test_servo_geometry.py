@@ -1,4 +1,4 @@
-"""Tests of lessons/core/servo_geometry.py: signed contour distances and the ellipse fit."""
+"""Tests of lessons/servo/geometry.py: signed contour distances and the ellipse fit."""
 
 from __future__ import annotations
 
@@ -6,8 +6,7 @@ import math
 
 import numpy as np
 import pytest
-
-from lessons.core.servo_geometry import (
+from analyzer_lab.lessons.servo.geometry import (
     ellipse_distance,
     fit_centred_ellipse,
     line_distance,

@@ -1,12 +1,11 @@
-"""Tests of lessons/core/servo_paths.py: the programming devices and the contour error."""
+"""Tests of lessons/servo/paths.py: the programming devices and the contour error."""
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
-
-from lessons.core.servo import Channel, TwoAxisServo
-from lessons.core.servo_paths import CURVES, horizontal_parabola_program, make_path
+from analyzer_lab.lessons.servo.model import Channel, TwoAxisServo
+from analyzer_lab.lessons.servo.paths import CURVES, horizontal_parabola_program, make_path
 
 NUMBERS = {"x0": 0.0, "y0": -30.0, "xc": 1.0, "yc": 2.0, "p": 20.0, "omega": 5.0, "v": 50.0}
 NUMBERS.update({"angle": 30.0, "a": 15.0, "b": 6.0})

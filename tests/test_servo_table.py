@@ -1,12 +1,11 @@
-"""Tests of lessons/core/servo_table.py: the article's parabola table three ways."""
+"""Tests of lessons/servo/table.py: the article's parabola table three ways."""
 
 from __future__ import annotations
 
 import math
 
 import pytest
-
-from lessons.core.servo_table import parabola_table, table_ratio_interval, table_row
+from analyzer_lab.lessons.servo.table import parabola_table, table_ratio_interval, table_row
 
 
 def test_parabola_table_three_ways() -> None:

@@ -7,11 +7,10 @@ import math
 
 import numpy as np
 import pytest
-
-from app.runlog import RunLog, scenes_equal
-from app.session import LabError, Session, SessionState
-from lessons.core.contract import Frame, ParamError
-from lessons.sphere import LESSON as SPHERE
+from analyzer_lab.lessons.analyzers.sphere import LESSON as SPHERE
+from analyzer_lab.lessons.kit.contract import Frame, ParamError
+from analyzer_lab.session.runlog import RunLog, scenes_equal
+from analyzer_lab.session.session import LabError, Session, SessionState
 
 
 @pytest.fixture()
@@ -237,7 +236,7 @@ def test_run_log_keeps_missing_values_as_nan_and_grows_by_doubling() -> None:
 def test_run_log_memory_at_its_cap_for_a_playing_sphere(session: Session) -> None:
     """A session that plays for ever keeps at most MAX_LOG rows: for the sphere's point
     and its 12 declared series that is about 2.6 MB (it was 18.6 MB as a list of dicts)."""
-    from app.runlog import MAX_LOG
+    from analyzer_lab.session.runlog import MAX_LOG
 
     log = RunLog()
     frame = session.frame
@@ -259,7 +258,7 @@ def test_control_changes_defer_the_scene(session: Session) -> None:
 
 
 def test_trail_colours_segments_by_scalar():
-    from app.scene_render import Trail
+    from analyzer_lab.view.scene import Trail
 
     class Recorder:
         def __init__(self):
@@ -285,7 +284,7 @@ def test_trail_colours_segments_by_scalar():
 def test_played_time_follows_the_wall_clock_in_quanta(session: Session) -> None:
     """Wall-clock ticks jitter; lesson time advances in whole TIME_QUANTUM pieces with the
     remainder carried over, so it stays within half a quantum of the wall time played."""
-    from app.session import TIME_QUANTUM
+    from analyzer_lab.session.session import TIME_QUANTUM
 
     rng = np.random.default_rng(3)
     session.play()

@@ -5,13 +5,12 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-
-from app.persistence import restore_state
-from app.readout import readout_html
-from app.session import STEP_BUDGET, Session
-from app.state import SessionState
-from lessons.catalog import all_lessons
-from lessons.core.budget import clock
+from analyzer_lab.lessons.catalog import all_lessons
+from analyzer_lab.lessons.kit.budget import clock
+from analyzer_lab.session.session import STEP_BUDGET, Session
+from analyzer_lab.session.state import SessionState
+from analyzer_lab.view.persistence import restore_state
+from analyzer_lab.view.readout import readout_html
 
 LESSONS = all_lessons()
 TICK = 1 / 36

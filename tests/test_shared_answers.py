@@ -7,9 +7,8 @@ import threading
 
 import numpy as np
 import pytest
-
-from lessons.catalog import get_lesson
-from lessons.core.steppers import DenseSolution
+from analyzer_lab.lessons.catalog import get_lesson
+from analyzer_lab.lessons.kit.steppers import DenseSolution
 
 pytestmark = pytest.mark.quick
 

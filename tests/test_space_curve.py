@@ -6,9 +6,13 @@ import math
 
 import numpy as np
 import pytest
-
-from lessons.core.contract import ParamError
-from lessons.core.space_curve import curve_model, hausdorff, nearest_distance, vector_fn
+from analyzer_lab.lessons.analyzers.curves.space_curve import (
+    curve_model,
+    hausdorff,
+    nearest_distance,
+    vector_fn,
+)
+from analyzer_lab.lessons.kit.contract import ParamError
 
 HELIX = ("sin(phi)", "cos(phi)", "phi", 0.0, math.pi)
 

@@ -1,16 +1,15 @@
 """(1.59) with constant controls and a skew field as a time change of (1.50): the same
 trajectory as the stage-by-stage Gauss-Legendre solve, F kept, one value per time."""
 
+import analyzer_lab.lessons.analyzers.field.run as analyzer_run
 import numpy as np
 import pytest
-
-import lessons.core.analyzer_run as analyzer_run
-from lessons.core.analyzer import COEFF_NAMES, AnalyzerModel, Controls
-from lessons.core.analyzer_run import MAX_TURNS, Trajectory
-from lessons.core.formula import parse_formula
-from lessons.core.integrators import apply_propagators, gl_propagators
-from lessons.core.quadric import Quadric
-from lessons.core.speed_flow import UniformSpeed, compose_power
+from analyzer_lab.lessons.analyzers.field.analyzer import COEFF_NAMES, AnalyzerModel, Controls
+from analyzer_lab.lessons.analyzers.field.run import MAX_TURNS, Trajectory
+from analyzer_lab.lessons.analyzers.field.speed_flow import UniformSpeed, compose_power
+from analyzer_lab.lessons.analyzers.surfaces.quadric import Quadric
+from analyzer_lab.lessons.kit.formula import parse_formula
+from analyzer_lab.lessons.kit.integrators import apply_propagators, gl_propagators
 
 SPHERE = AnalyzerModel.of(Quadric.sphere(1.0).coeffs(), Controls(5.0, 5.0, 5.0, V=1.0))
 

@@ -2,9 +2,8 @@
 
 import numpy as np
 import pytest
-
-from lessons.core.contract import ParamError
-from lessons.sphere import LESSON, V2_TABLE
+from analyzer_lab.lessons.analyzers.sphere import LESSON, V2_TABLE
+from analyzer_lab.lessons.kit.contract import ParamError
 
 
 def test_example_1_1_speed_and_circle():
@@ -130,7 +129,7 @@ def test_projection_is_a_note():
 
 
 def test_a_bad_control_is_refused_naming_itself() -> None:
-    from lessons.core.contract import ParamError
+    from analyzer_lab.lessons.kit.contract import ParamError
 
     for name in ("u1", "u2", "u3"):
         with pytest.raises(ParamError, match=f"^{name}: '1/\\(t-3\\)' is not finite at t = 3"):

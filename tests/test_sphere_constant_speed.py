@@ -2,8 +2,7 @@
 
 import numpy as np
 import pytest
-
-from lessons.sphere_constant_speed import LESSON
+from analyzer_lab.lessons.analyzers.sphere_constant_speed import LESSON
 
 
 def test_params():

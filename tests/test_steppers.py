@@ -1,12 +1,11 @@
-"""Tests of lessons.core.steppers: dense solutions in chunks, closed forms, live steppers."""
+"""Tests of analyzer_lab.lessons.kit.steppers: dense solutions in chunks, closed forms, live steppers."""
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
-
-from lessons.core.contract import Frame
-from lessons.core.steppers import (
+from analyzer_lab.lessons.kit.contract import Frame
+from analyzer_lab.lessons.kit.steppers import (
     CHUNK,
     ClosedForm,
     DenseSolution,

@@ -1,11 +1,10 @@
-"""Tests of lessons.core.table6dof: the reconstructed mechanism of Problem 2.5."""
+"""Tests of analyzer_lab.lessons.mechanics.table.model: the reconstructed mechanism of Problem 2.5."""
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
-
-from lessons.core.table6dof import inverse_kinematics, table_joints
+from analyzer_lab.lessons.mechanics.table.model import inverse_kinematics, table_joints
 
 
 def test_table_inverse_kinematics_geometry() -> None:

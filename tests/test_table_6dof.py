@@ -1,4 +1,4 @@
-"""Tests of lessons.table_6dof: Problem 2.5 (reconstructed geometry)."""
+"""Tests of analyzer_lab.lessons.mechanics.table_6dof: Problem 2.5 (reconstructed geometry)."""
 
 from __future__ import annotations
 
@@ -6,9 +6,15 @@ from typing import Any
 
 import numpy as np
 import pytest
-
-from lessons.core.contract import Frame, ParamError
-from lessons.core.table6dof import (
+from analyzer_lab.lessons.kit.contract import Frame, ParamError
+from analyzer_lab.lessons.mechanics.table.frames import (
+    CHUNK_FRAMES,
+    DENSE_ROWS,
+    FRAME_GRAIN,
+    pose_row,
+    pose_rows,
+)
+from analyzer_lab.lessons.mechanics.table.model import (
     FORCES,
     constraint_residual,
     constraint_residuals,
@@ -22,14 +28,7 @@ from lessons.core.table6dof import (
     program_states,
     table_joints,
 )
-from lessons.core.table6dof_frames import (
-    CHUNK_FRAMES,
-    DENSE_ROWS,
-    FRAME_GRAIN,
-    pose_row,
-    pose_rows,
-)
-from lessons.table_6dof import Table6DOF
+from analyzer_lab.lessons.mechanics.table_6dof import Table6DOF
 
 
 def test_table_static_and_validation() -> None:
@@ -228,7 +227,7 @@ def test_table_frames_draw_as_the_direct_pose() -> None:
 
 
 def test_rotation_is_rz_ry_rx_at_one_and_many_orientations() -> None:
-    from lessons.core.table6dof import rotation, rotations
+    from analyzer_lab.lessons.mechanics.table.model import rotation, rotations
 
     rng = np.random.default_rng(3)
     angles = rng.uniform(-np.pi, np.pi, (3, 20))

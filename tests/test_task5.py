@@ -1,4 +1,4 @@
-"""Tests for lessons/core/task5.py: workpieces and task paths."""
+"""Tests for lessons/laser5/task.py: workpieces and task paths."""
 
 from __future__ import annotations
 
@@ -6,8 +6,7 @@ import math
 
 import numpy as np
 import pytest
-
-from lessons.core.task5 import Paraboloid, SphereCap, make_task
+from analyzer_lab.lessons.laser5.task import Paraboloid, SphereCap, make_task
 
 
 def test_workpieces_points_and_normals() -> None:

@@ -1,4 +1,4 @@
-"""The server's math libraries run one thread per call (app/threads.py)."""
+"""The server's math libraries run one thread per call (app/serve/threads.py)."""
 
 from __future__ import annotations
 
@@ -8,16 +8,15 @@ import sys
 import textwrap
 
 import pytest
-
-from app.cli import main
-from app.threads import THREAD_VARIABLES
+from analyzer_lab.serve.cli import main
+from analyzer_lab.serve.threads import THREAD_VARIABLES
 
 pytestmark = pytest.mark.quick
 
 PROBE = textwrap.dedent(
     """
     import ctypes, glob, os, sys
-    from app.threads import one_math_thread
+    from analyzer_lab.serve.threads import one_math_thread
     print(one_math_thread())
     import numpy
     libs = glob.glob(os.path.join(os.path.dirname(numpy.__file__), os.pardir, "numpy.libs", "*openblas*"))

@@ -1,4 +1,4 @@
-"""Shared vibration maths: lessons/core/vibration.py."""
+"""Shared vibration maths: lessons/vibration/carriage/model.py."""
 
 from __future__ import annotations
 
@@ -7,9 +7,7 @@ import math
 import numpy as np
 import pytest
 import sympy as sp
-from scipy.integrate import solve_ivp
-
-from lessons.core.vibration import (
+from analyzer_lab.lessons.vibration.carriage.model import (
     MODE_KEYS,
     Carriage,
     ForcedOscillator,
@@ -31,6 +29,7 @@ from lessons.core.vibration import (
     rotvec_to_quaternion,
     small_rotation_matrix,
 )
+from scipy.integrate import solve_ivp
 
 
 def random_carriage(rng: np.random.Generator) -> Carriage:

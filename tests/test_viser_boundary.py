@@ -1,4 +1,4 @@
-"""Each patch of viser's private internals (app/viser_boundary.py), checked on its own
+"""Each patch of viser's private internals (app/viser_boundary/__init__.py), checked on its own
 against the installed viser: a viser update that moves one of them fails here first."""
 
 from __future__ import annotations
@@ -10,10 +10,9 @@ import urllib.request
 from collections.abc import Iterator
 from typing import Any
 
+import analyzer_lab.viser_boundary as vb
 import numpy as np
 import pytest
-
-from app import viser_boundary as vb
 
 
 @pytest.fixture(scope="module")

@@ -1,14 +1,19 @@
 """Assignments: a task over one lesson, an answer checked by the lesson's own model.
 
-:mod:`~lessons.assignments.spec` is the file format and its validation,
-:mod:`~lessons.assignments.grading` runs an answer and measures the checks,
-:mod:`~lessons.assignments.library` loads folders and drafts assignments from a state.
+:mod:`~analyzer_lab.lessons.assignments.spec` is the file format and its validation,
+:mod:`~analyzer_lab.lessons.assignments.grading` runs an answer and measures the checks,
+:mod:`~analyzer_lab.lessons.assignments.library` loads folders and drafts assignments from a state.
 The model side only: nothing here imports the view.
 """
 
-from lessons.assignments.grading import CheckOutcome, Grade, grade, load_answer
-from lessons.assignments.library import READY_DIR, draft, load_folder, ready_assignments
-from lessons.assignments.spec import (
+from analyzer_lab.lessons.assignments.grading import CheckOutcome, Grade, grade, load_answer
+from analyzer_lab.lessons.assignments.library import (
+    READY_DIR,
+    draft,
+    load_folder,
+    ready_assignments,
+)
+from analyzer_lab.lessons.assignments.spec import (
     FORMAT,
     VERSION,
     Assignment,

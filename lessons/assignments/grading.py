@@ -14,8 +14,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
-
-from lessons.assignments.spec import (
+from analyzer_lab.lessons.assignments.spec import (
     MAX_ANSWER_BYTES,
     Assignment,
     AssignmentError,
@@ -23,7 +22,7 @@ from lessons.assignments.spec import (
     Quantity,
     decode_json,
 )
-from lessons.core.contract import ParamError, RunResult
+from analyzer_lab.lessons.kit.contract import ParamError, RunResult
 
 
 @dataclass
@@ -99,7 +98,7 @@ def check_answer_values(a: Assignment, values: Any, where: str = "answer") -> di
 
 
 def _known(a: Assignment, name: str) -> bool:
-    from lessons.catalog import get_lesson
+    from analyzer_lab.lessons.catalog import get_lesson
 
     return any(p.name == name for p in get_lesson(a.lesson).params)
 
@@ -111,7 +110,7 @@ def load_answer(text: str | bytes, a: Assignment, where: str) -> dict[str, Any]:
 
 def run_answer(a: Assignment, values: Mapping[str, Any], where: str = "answer") -> RunResult:
     """Resolve the answer over the assignment's start and simulate (refusals name the value)."""
-    from lessons.catalog import get_lesson
+    from analyzer_lab.lessons.catalog import get_lesson
 
     lesson = get_lesson(a.lesson)
     try:

@@ -8,8 +8,7 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
-
-from lessons.assignments.spec import (
+from analyzer_lab.lessons.assignments.spec import (
     FORMAT,
     VERSION,
     Assignment,
@@ -32,7 +31,7 @@ def load_folder(folder: str | Path) -> list[Assignment]:
 
     The first invalid file raises :class:`AssignmentError` naming it; two files with one
     id are refused too."""
-    from lessons.catalog import all_lessons
+    from analyzer_lab.lessons.catalog import all_lessons
 
     d = Path(folder)
     if not d.is_dir():
@@ -78,7 +77,7 @@ def draft(
     within a tolerance of the current run's value" at its end and "its largest size stays
     at most the current one (plus ``margin``)".  The result is validated like any file.
     """
-    from lessons.catalog import get_lesson
+    from analyzer_lab.lessons.catalog import get_lesson
 
     lesson = get_lesson(lesson_id)
     known = {p.name for p in lesson.params}

@@ -7,7 +7,7 @@ An assignment is plain JSON data (see the README section "Assignments"):
 * ``unlocked``: the parameters the student may change (every other one is locked);
 * ``checks``: declared checks over the run (``within``, ``at-most``, ``at-least``,
   ``in-plane``, ``on-circle``, ``reaches``); expressions go through the formula whitelist
-  of :mod:`lessons.core.formula` with ``t`` and the lesson's series as variables;
+  of :mod:`analyzer_lab.lessons.kit.formula` with ``t`` and the lesson's series as variables;
 * ``task``, ``hint``, ``reference`` (text), ``answers`` (``correct``/``wrong`` values).
 
 Loading validates everything; the first problem raises :class:`AssignmentError`, whose
@@ -26,9 +26,15 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from lessons.core.contract import Lesson, ParamError, Params
-from lessons.core.formula import CONSTANTS, FUNCTIONS, Formula, FormulaError, parse_formula
-from lessons.core.formula import parse_number as _parse_number
+from analyzer_lab.lessons.kit.contract import Lesson, ParamError, Params
+from analyzer_lab.lessons.kit.formula import (
+    CONSTANTS,
+    FUNCTIONS,
+    Formula,
+    FormulaError,
+    parse_formula,
+)
+from analyzer_lab.lessons.kit.formula import parse_number as _parse_number
 
 FORMAT = "analyzer-lab assignment"
 VERSION = 1
@@ -388,7 +394,7 @@ def _values(v: Any, r: _Reader, fld: str, lesson: Lesson) -> dict[str, Any]:
 
 def parse_assignment(data: Any, where: str = "") -> Assignment:
     """Validate decoded JSON as an assignment; raise :class:`AssignmentError`."""
-    from lessons.catalog import get_lesson
+    from analyzer_lab.lessons.catalog import get_lesson
 
     r = _Reader(where)
     if not isinstance(data, dict):

@@ -1,0 +1,471 @@
+"""Assignments in the browser: a student opens one, answers with the allowed controls
+and presses "Check my answer"; the instructor pushes one to every page, follows the
+class in a live table (CSV download) and authors new ones from the current state.
+
+One :class:`AssignmentBoard` per classroom (``board_of(room)``) holds the assignments
+(the ready ones plus ``serve --assignments DIR``), the pushed one and the
+:class:`~analyzer_lab.classroom.roster.Roster`.  Each page gets a :class:`StudentPanel`; the
+instructor's page also an :class:`AuthorPanel`-equipped :class:`TeacherPanel`.  The
+classroom attaches them with three calls (:func:`attach`, :func:`detach`,
+:func:`grant`).  Checks run the lesson's own model on the session's values of the
+unlocked parameters (the locked ones come from the assignment), so a locked field
+cannot change a verdict even if a hand-made client sends it.
+"""
+
+from __future__ import annotations
+
+import html
+import json
+import os
+import sys
+import threading
+import time
+import traceback
+from typing import TYPE_CHECKING, Any
+
+from analyzer_lab.classroom.roster import Roster, clean_name
+from analyzer_lab.lessons.assignments import (
+    Assignment,
+    AssignmentError,
+    Grade,
+    grade,
+    load_folder,
+    ready_assignments,
+)
+from analyzer_lab.lessons.assignments import draft as draft_assignment
+from analyzer_lab.session.session import LabError
+
+if TYPE_CHECKING:
+    from analyzer_lab.classroom.room import Classroom
+    from analyzer_lab.view.page import SessionView
+
+NONE = "(none)"
+ENV_FOLDER = "ANALYZER_LAB_ASSIGNMENTS"  # analyzer_lab.serve.cli_assignments.ENV_FOLDER
+esc = html.escape
+
+
+def _box(body: str, colour: str = "#333", cls: str = "") -> str:
+    return (
+        f'<div class="{cls}" style="font-size:0.88em;color:{colour};line-height:1.35">{body}</div>'
+    )
+
+
+def task_html(a: Assignment) -> str:
+    """The task as the student sees it (every text escaped)."""
+    checks = "".join(f"<li>{esc(c.describe())}</li>" for c in a.checks)
+    return _box(
+        f"<b>{esc(a.title)}</b> <span style='color:#555'>({esc(a.lesson)})</span><br>"
+        f"{esc(a.task)}<br><b>You may change:</b> {esc(', '.join(a.unlocked))}"
+        " (the other fields are locked)<br><b>Goal:</b>"
+        f"<ul style='margin:2px 0 2px 1.1em;padding:0'>{checks}</ul>"
+        + (f"<i>Hint:</i> {esc(a.hint)}<br>" if a.hint else "")
+        + (f"<span style='color:#555'>{esc(a.reference)}</span>" if a.reference else ""),
+        cls="al-assignment-task",
+    )
+
+
+def verdict_html(g: Grade) -> str:
+    """Which checks pass and by how much the others miss."""
+    items = []
+    for c in g.checks:
+        mark, colour = ("✓ pass", "#1b7a2e") if c.passed else ("✗ fail", "#a61b1b")
+        items.append(
+            f"<li class='al-check' data-check='{esc(c.id)}' data-pass='{'yes' if c.passed else 'no'}'>"
+            f"<b style='color:{colour}'>{mark}</b> {esc(c.text)}<br>"
+            f"<span style='color:#555'>{esc(c.message)}</span></li>"
+        )
+    head = (
+        "<b style='color:#1b7a2e'>All checks pass.</b>"
+        if g.passed
+        else f"<b style='color:#a61b1b'>{len(g.failed)} of {len(g.checks)} checks fail.</b>"
+    )
+    return _box(
+        f"{head}<ul style='margin:2px 0 0 1.1em;padding:0'>{''.join(items)}</ul>",
+        cls="al-assignment-result",
+    )
+
+
+def error_html(message: str) -> str:
+    return _box(esc(message), "#a61b1b", "al-field-error al-assignment-error")
+
+
+class AssignmentBoard:
+    """The classroom's assignments, the pushed one and the roster."""
+
+    def __init__(self, room: Classroom) -> None:
+        self.room = room
+        self.lock = threading.RLock()
+        ids = {l.id for l in room.lab.lessons}
+        found: dict[str, Assignment] = {}
+        folder = os.environ.get(ENV_FOLDER)
+        for load in (ready_assignments, lambda: load_folder(folder) if folder else []):
+            try:
+                for a in load():
+                    found[a.id] = a
+            except AssignmentError as exc:  # a page must open even without them
+                print(f"analyzer-lab: assignments ignored: {exc}", file=sys.stderr)
+        self.assignments = {k: a for k, a in found.items() if a.lesson in ids}
+        self.pushed: str | None = None
+        self.roster = Roster()
+        self.students: dict[int, StudentPanel] = {}
+        self.teachers: dict[int, TeacherPanel] = {}
+
+    def choices(self) -> tuple[str, ...]:
+        return (NONE, *self.assignments)
+
+    def push(self, aid: str) -> int:
+        """Open ``aid`` on every student page (not the instructors'); returns how many.
+        Pages following a demo show the instructor's session: they get it on release."""
+        if aid not in self.assignments:
+            raise LabError("choose one of the assignments")
+        self.pushed = aid
+        reached = 0
+        for cid, panel in list(self.students.items()):
+            if self.room.is_instructor(cid) or panel.view.closed:
+                continue
+            if cid in self.room.followers:
+                panel.pending = aid
+                continue
+            try:
+                with panel.view.session.lock:
+                    panel.open(aid, pushed=True)
+                    panel.view.refresh(heavy=True)
+                reached += 1
+            except Exception:
+                traceback.print_exc()
+        self.changed()
+        return reached
+
+    def changed(self) -> None:
+        for t in list(self.teachers.values()):
+            t.update()
+
+
+_BOARD_LOCK = threading.Lock()
+
+
+def board_of(room: Classroom) -> AssignmentBoard:
+    """The classroom's board (made on first use)."""
+    with _BOARD_LOCK:
+        board = getattr(room, "_assignment_board", None)
+        if board is None:
+            board = AssignmentBoard(room)
+            room._assignment_board = board  # type: ignore[attr-defined]
+        return board
+
+
+def attach(room: Classroom, view: SessionView) -> None:
+    """Classroom hook: a page connected (after its gate is set)."""
+    board = board_of(room)
+    board.students[view.client.client_id] = StudentPanel(board, view)
+
+
+def detach(room: Classroom, client_id: int) -> None:
+    """Classroom hook: a page left."""
+    board = board_of(room)
+    board.students.pop(client_id, None)
+    board.teachers.pop(client_id, None)
+    board.roster.forget_page(client_id)
+
+
+def released(room: Classroom, view: SessionView) -> None:
+    """Classroom hook: a follower has its own session again (caller holds its lock): an
+    assignment pushed during the demo opens now; an open one keeps its locks."""
+    panel = board_of(room).students.get(view.client.client_id)
+    if panel is None:
+        return
+    if panel.pending is not None and panel.pending in panel.board.assignments:
+        panel.open(panel.pending, pushed=True)
+    elif panel.active is not None:
+        view.controls.set_locked(panel.locked(), view.session.params)
+        panel._pickers_disabled(True)
+
+
+def grant(room: Classroom, view: SessionView) -> None:
+    """Classroom hook: the page became the instructor."""
+    board = board_of(room)
+    cid = view.client.client_id
+    student = board.students.get(cid)
+    if student is not None:
+        student.close()
+    board.teachers[cid] = TeacherPanel(board, view)
+
+
+class StudentPanel:
+    """The "Assignment" folder of one page."""
+
+    def __init__(self, board: AssignmentBoard, view: SessionView) -> None:
+        self.board = board
+        self.view = view
+        self.active: Assignment | None = None
+        self.pending: str | None = None
+        gui = view.client.gui
+        order = float(view.status.order) + 0.5
+        self.folder = gui.add_folder("Assignment", order=order, expand_by_default=True)
+        with self.folder:
+            self.picker = gui.add_dropdown("Assignment", board.choices(), initial_value=NONE)
+            self.task = gui.add_html("")
+            self.name = gui.add_text("Your name", initial_value="", hint="shown to the instructor")
+            self.check_btn = gui.add_button("Check my answer")
+            self.result = gui.add_html("")
+        self.picker.on_update(view.guard(self._on_pick))
+        self.check_btn.on_click(view.guard(lambda e: self.check()))
+        inner = view.gate
+        view.gate = lambda v, event, again: self._gate(v, event, again, inner)  # type: ignore[assignment]
+        self._shown_visible(False)
+
+    # -- opening and closing
+
+    def _shown_visible(self, on: bool) -> None:
+        for w in (self.task, self.name, self.check_btn, self.result):
+            w.visible = on
+
+    def _on_pick(self, event: Any) -> None:
+        value = event.target.value
+        if value == NONE:
+            self.close()
+            return
+        if value not in self.board.assignments:
+            raise LabError(f"unknown assignment {str(value)[:60]!r}")
+        self.open(value)
+
+    def open(self, aid: str, pushed: bool = False) -> None:
+        """Load the assignment's lesson, preset and start values, lock the other fields
+        (caller holds the session lock)."""
+        a = self.board.assignments[aid]
+        s = self.view.session
+        self.active = None  # the lesson picker must not be refused while switching
+        if s.lesson.id != a.lesson:
+            s.select_lesson(a.lesson, a.preset)
+        else:
+            s.apply_preset(a.preset)
+        if a.start:
+            s.set_values(dict(a.start))
+        self.active = a
+        self.pending = None
+        self.board.roster.open(self.view.client.client_id, aid)
+        self.view.after_state_change()
+        self.view.refresh(heavy=True)
+        self.view.controls.set_locked(self.locked(), s.params)
+        self._pickers_disabled(True)
+        if self.picker.value != aid:
+            self.picker.value = aid
+        self.task.content = task_html(a)
+        self.result.content = ""
+        self._shown_visible(True)
+        s.notify(f"{'the instructor pushed' if pushed else 'opened'} assignment {a.id}: {a.title}")
+        if pushed:
+            try:
+                self.view.client.add_notification(
+                    "Assignment", f"the instructor gave you: {a.title}", auto_close_seconds=6.0
+                )
+            except Exception:
+                pass
+
+    def close(self) -> None:
+        self.active = None
+        self.view.controls.set_locked(frozenset(), self.view.session.params)
+        self._pickers_disabled(self.view.following)
+        if self.picker.value != NONE:
+            self.picker.value = NONE
+        self.task.content = ""
+        self.result.content = ""
+        self._shown_visible(False)
+
+    def _pickers_disabled(self, on: bool) -> None:
+        """The lesson and preset pickers are off while an assignment is open."""
+        for w in (self.view.lesson_dd, self.view.preset_dd):
+            if w.disabled != on:
+                w.disabled = on
+
+    def locked(self) -> frozenset[str]:
+        a = self.active
+        if a is None:
+            return frozenset()
+        return frozenset(p.name for p in self.view.session.lesson.params) - set(a.unlocked)
+
+    # -- refusing locked inputs
+
+    def _gate(self, view: SessionView, event: Any, again: Any, inner: Any) -> bool:
+        a = self.active
+        if a is not None and view.session.lesson.id == a.lesson:
+            target = getattr(event, "target", None)
+            refused = None
+            if target is view.lesson_dd or target is view.preset_dd:
+                refused = "choose (none) under Assignment first to leave the assignment"
+            elif target is None and hasattr(event, "ray_origin"):
+                start = view.session.lesson.start_point or ()
+                if any(n in self.locked() for n in start):
+                    refused = "the start point is locked in this assignment"
+            else:
+                for name, widgets in view.controls.widgets.items():
+                    if name in self.locked() and any(w is target for w in widgets):
+                        refused = f"{name} is locked in this assignment"
+                        break
+            if refused is not None:
+                try:
+                    view.client.add_notification(
+                        "Assignment", refused, auto_close_seconds=4.0, color="yellow"
+                    )
+                    with view.session.lock:
+                        view.sync_widgets(force=True)
+                except Exception:
+                    pass
+                return False
+        return True if inner is None else bool(inner(view, event, again))
+
+    # -- checking
+
+    def check(self) -> None:
+        """Grade the session's values of the unlocked parameters (caller holds the lock)."""
+        a = self.active
+        if a is None:
+            self.result.content = error_html("choose an assignment first")
+            return
+        try:
+            name = clean_name(self.name.value)
+        except ValueError as exc:
+            self.result.content = error_html(str(exc))
+            return
+        s = self.view.session
+        if s.lesson.id != a.lesson:
+            self.result.content = error_html(f"this assignment is about the lesson {a.lesson}")
+            return
+        raw = s.raw_values()
+        values = {n: raw[n] for n in a.unlocked}
+        try:
+            g = grade(a, values, "your answer")
+        except AssignmentError as exc:
+            self.result.content = error_html(str(exc))
+            field = exc.field if exc.field in self.view.controls.widgets else None
+            if field is not None:
+                self.view.controls.show_error(field, str(exc))
+            return
+        self.result.content = verdict_html(g)
+        last = "pass" if g.passed else "; ".join(f"{c.id}: miss {c.miss:.3g}" for c in g.failed)
+        self.board.roster.attempt(self.view.client.client_id, name, a.id, g.passed, last)
+        self.board.changed()
+
+
+class TeacherPanel:
+    """The instructor's "Assignments" folder: push, the live table, CSV, authoring."""
+
+    def __init__(self, board: AssignmentBoard, view: SessionView) -> None:
+        self.board = board
+        self.view = view
+        gui = view.client.gui
+        self.folder = gui.add_folder("Assignments (class)", order=-999.0)
+        with self.folder:
+            self.picker = gui.add_dropdown(
+                "Assignment for all", board.choices(), initial_value=NONE
+            )
+            self.push_btn = gui.add_button("Push assignment to all")
+            self.table = gui.add_html("")
+            self.csv_btn = gui.add_button("Download results (CSV)")
+            self.author = gui.add_folder("Author from this state", expand_by_default=False)
+            with self.author:
+                gui.add_html(
+                    _box(
+                        "The current lesson and values become the assignment; its goal: the"
+                        " chosen series end where they end now and stay as small as now, the"
+                        " chosen metrics (e.g. A0, T, deviation_max_um) stay at their values."
+                    )
+                )
+                self.a_id = gui.add_text("Id", initial_value="my-assignment")
+                self.a_title = gui.add_text("Title", initial_value="My assignment")
+                self.a_task = gui.add_text("Task", initial_value="", multiline=True)
+                self.a_unlocked = gui.add_text("Unlocked", initial_value="")
+                self.a_series = gui.add_text("Series to check", initial_value="")
+                self.a_metrics = gui.add_text("Metrics to check", initial_value="")
+                self.a_btn = gui.add_button("Download assignment")
+                self.a_error = gui.add_html("")
+        self.push_btn.on_click(self._cb(self._push))
+        self.csv_btn.on_click(self._cb(self._csv))
+        self.a_btn.on_click(self._cb(self._draft))
+        self.suggest()
+        self.update()
+
+    def _cb(self, fn: Any) -> Any:
+        def wrapped(event: Any) -> None:
+            client = getattr(event, "client", None)
+            if client is None or client.client_id != self.view.client.client_id:
+                return
+            if not self.board.room.is_instructor(client.client_id):
+                return
+            try:
+                fn()
+            except (LabError, AssignmentError, ValueError) as exc:
+                self.view.client.add_notification(
+                    "Assignments", f"refused: {exc}", auto_close_seconds=6.0, color="red"
+                )
+            except Exception as exc:
+                traceback.print_exc()
+                self.view.client.add_notification(
+                    "Assignments", f"internal error: {exc}", auto_close_seconds=6.0, color="red"
+                )
+
+        return wrapped
+
+    def _push(self) -> None:
+        aid = self.picker.value
+        n = self.board.push(aid)
+        self.view.client.add_notification(
+            "Assignments", f"pushed {aid} to {n} page(s)", auto_close_seconds=4.0, color="green"
+        )
+
+    def _csv(self) -> None:
+        data = self.board.roster.to_csv(self.board.pushed).encode("utf-8")
+        stamp = time.strftime("%Y%m%d-%H%M%S")
+        self.view.client.send_file_download(
+            f"assignment-results-{stamp}.csv", data, save_immediately=True
+        )
+
+    def suggest(self) -> None:
+        """Prefill the authoring fields from the instructor's lesson."""
+        lesson = self.view.session.lesson
+        controls = [p.name for p in lesson.params if p.group == "controls"]
+        self.a_unlocked.value = ", ".join(controls or [lesson.params[0].name])
+        self.a_series.value = ", ".join(lesson.readout[:2] or [s.name for s in lesson.series[:1]])
+
+    def _draft(self) -> None:
+        s = self.view.session
+
+        def names(text: Any) -> list[str]:
+            if not isinstance(text, str):
+                return []
+            return [n.strip() for n in text.split(",") if n.strip()][:24]
+
+        try:
+            with s.lock:
+                lesson, values, preset = s.lesson, s.raw_values(), s.preset
+            data = draft_assignment(
+                lesson.id,
+                values,
+                names(self.a_unlocked.value),
+                names(self.a_series.value),
+                assignment_id=str(self.a_id.value).strip(),
+                title=str(self.a_title.value).strip(),
+                task=str(self.a_task.value).strip() or f"Reproduce this run of {lesson.title}.",
+                preset=preset,
+                t_end=s.t_end,
+                metrics=names(self.a_metrics.value),
+            )
+        except (AssignmentError, LabError, ValueError) as exc:
+            self.a_error.content = error_html(str(exc))
+            return
+        self.a_error.content = _box(f"downloaded {esc(data['id'])}.json", "#1b7a2e")
+        text = json.dumps(data, indent=1, ensure_ascii=False) + "\n"
+        self.view.client.send_file_download(
+            f"{data['id']}.json", text.encode("utf-8"), save_immediately=True
+        )
+
+    def update(self) -> None:
+        pushed = self.board.pushed
+        title = (
+            f"Pushed: <b>{esc(pushed)}</b>"
+            if pushed
+            else "No assignment pushed: every answer checked"
+        )
+        content = _box(title) + self.board.roster.to_html(pushed)
+        if self.table.content != content:
+            self.table.content = content

@@ -1,0 +1,263 @@
+"""The instructor's side of the classroom: presenter mode and the instructor panel.
+
+Both live in the instructor page's own ``client.gui`` (private to that page).
+"""
+
+from __future__ import annotations
+
+import html
+import time
+import traceback
+from collections.abc import Callable
+from typing import TYPE_CHECKING, Any
+
+from analyzer_lab.serve.limits import MAX_NOTICE_LENGTH
+from analyzer_lab.session.session import LabError
+
+if TYPE_CHECKING:
+    from analyzer_lab.classroom.room import Classroom
+    from analyzer_lab.view.page import SessionView
+
+
+#: Presenter mode: the panel's width (px; the scene keeps >= 60 % of a 1280 px
+#: projector) and the size of the scene's labels.
+PANEL_WIDTH = 440
+LABEL_SCALE = 1.8
+
+
+class Presenter:
+    """Presenter mode of one page: large fonts, docked (collapsible) panel, the
+    lesson's presets as bookmarks stepped with "◀ Previous" / "Next ▶" and with the
+    PageUp/PageDown keys (a presentation clicker) or P/N (viser commands with
+    hotkeys; viser ignores them while a text field has focus)."""
+
+    CSS = (
+        "<style>html{font-size:135%!important}:root{--mantine-scale:1.3}"
+        ".al-readout{font-size:1.0em!important}</style>"
+    )
+
+    def __init__(self, room: Classroom, view: SessionView) -> None:
+        self.room = room
+        self.view = view
+        gui = view.client.gui
+        self.folder = gui.add_folder("Presenter", expand_by_default=False)
+        with self.folder:
+            self.toggle = gui.add_checkbox(
+                "Presenter mode",
+                initial_value=False,
+                hint="large fonts for a projector; presets become bookmarks",
+            )
+            self.bookmarks = gui.add_html("")
+            gui.add_html(
+                '<div style="font-size:0.8em;color:#555">Keys: PageDown / N = next, PageUp / P = previous '
+                "(also in the command palette).</div>"
+            )
+        self.style = gui.add_html("")
+        # projected: Previous/Next above everything (the readout moves up beside them)
+        self.top_prev = gui.add_button("◀ Previous", order=-3000.0, visible=False)
+        self.top_next = gui.add_button("Next ▶", order=-2999.0, visible=False)
+        self.top_prev.on_click(view.guard(lambda e: self.step(-1)))
+        self.top_next.on_click(view.guard(lambda e: self.step(+1)))
+        self._readout_order = view.readout.order
+        self.commands: list[Any] = []
+        self.toggle.on_update(view.guard(self._on_toggle))
+        self.on = False
+        self.update_bookmarks()
+
+    def _on_toggle(self, event: Any) -> None:
+        if getattr(event, "client", None) is None:
+            return
+        self.set_mode(bool(self.toggle.value))
+
+    def set_mode(self, on: bool) -> None:
+        gui = self.view.client.gui
+        self.on = on
+        self.style.content = self.CSS if on else ""
+        for c in self.commands:
+            try:
+                c.remove()
+            except Exception:
+                pass
+        self.commands = []
+        if on:
+            for label, key, step in (
+                ("Next bookmark", "pagedown", 1),
+                ("Previous bookmark", "pageup", -1),
+                ("Next bookmark (N)", "N", 1),
+                ("Previous bookmark (P)", "P", -1),
+            ):
+                cmd = gui.add_command(
+                    label,
+                    hotkey=key,
+                    description="presenter mode: step through the lesson's presets",
+                )
+                cmd.on_trigger(self.view.guard(lambda e, s=step: self.step(s)))
+                self.commands.append(cmd)
+            try:
+                gui.main_panel.dock_right()
+                gui.main_panel.set_width(PANEL_WIDTH)
+            except Exception:
+                pass
+            self.folder.expand_by_default = True
+        else:
+            try:
+                gui.main_panel.float()
+            except Exception:
+                pass
+        self.top_prev.visible = on
+        self.top_next.visible = on
+        self.view.readout.order = -2998.0 if on else self._readout_order
+        self.room.project(self.view, on)
+        self.view.renderer.label_scale = LABEL_SCALE if on else 1.0
+        self.view.redraw(scene=True)
+        self.update_bookmarks()
+
+    def step(self, direction: int) -> None:
+        """Next/previous preset of the page's lesson (caller holds the session lock)."""
+        s = self.view.session
+        names = [p.name for p in s.lesson.presets]
+        if not names:
+            raise LabError("this lesson has no presets to step through")
+        k = names.index(s.preset) if s.preset in names else (-1 if direction > 0 else len(names))
+        k = min(max(k + direction, 0), len(names) - 1)
+        if names[k] != s.preset:
+            s.apply_preset(names[k])
+            s.notify(f"bookmark {k + 1}/{len(names)}: {names[k]}")
+            self.view.after_state_change()
+        self.update_bookmarks()
+
+    def update_bookmarks(self) -> None:
+        s = self.view.session
+        items = []
+        for k, p in enumerate(s.lesson.presets):
+            cur = p.name == s.preset
+            style = "font-weight:bold;color:#1c4f8a" if cur else "color:#444"
+            items.append(
+                f'<li class="al-bookmark{" al-current" if cur else ""}" style="{style}">'
+                f"{html.escape(p.name)}: {html.escape(p.title)}</li>"
+            )
+        content = (
+            f'<ol class="al-bookmarks" style="font-size:0.85em;padding-left:1.4em">{"".join(items)}</ol>'
+            if items
+            else '<div class="al-bookmarks" style="font-size:0.85em">(this lesson has no presets)</div>'
+        )
+        if self.bookmarks.content != content:
+            self.bookmarks.content = content
+
+
+class InstructorPanel:
+    """The instructor's controls, in that page's ``client.gui`` only."""
+
+    def __init__(self, room: Classroom, view: SessionView) -> None:
+        self.room = room
+        self.view = view
+        gui = view.client.gui
+        self.folder = gui.add_folder("Instructor panel", order=-1000.0)
+        with self.folder:
+            self.counts = gui.add_html("")
+            self.follow_btn = gui.add_button(
+                "Follow me",
+                hint="every student sees this page's lesson, values, play state and camera",
+            )
+            self.release_btn = gui.add_button(
+                "Release", hint="students get their own session back, from where the demo is"
+            )
+            self.push_dd = gui.add_dropdown("Preset for all", ("(choose)",))
+            self.push_btn = gui.add_button("Push preset to all")
+            self.message = gui.add_text("Message", initial_value="")
+            self.notify_btn = gui.add_button("Notify all")
+        self.follow_btn.on_click(self._cb(lambda: room.start_follow(view)))
+        self.release_btn.on_click(self._cb(lambda: room.release(everywhere=True)))
+        self.push_btn.on_click(self._cb(self._push))
+        self.notify_btn.on_click(self._cb(self._notify))
+        self.camera: tuple[Any, ...] | None = None
+        self.camera_t = 0.0  # when the instructor's browser last reported its camera
+        self.lesson_t = (
+            time.monotonic()
+        )  # when the instructor's lesson last changed (the view framed it)
+        self._lesson = view.session.lesson.id
+        view.client.camera.on_update(self._on_camera)
+        self.update()
+
+    def _cb(self, fn: Callable[[], None]) -> Callable[[Any], None]:
+        def wrapped(event: Any) -> None:
+            if (
+                getattr(event, "client", None) is None
+                or event.client.client_id != self.view.client.client_id
+            ):
+                return
+            try:
+                fn()
+            except LabError as exc:
+                self.view.client.add_notification(
+                    "Instructor", f"refused: {exc}", auto_close_seconds=5.0, color="red"
+                )
+            except Exception as exc:
+                traceback.print_exc()
+                self.view.client.add_notification(
+                    "Instructor", f"internal error: {exc}", auto_close_seconds=5.0, color="red"
+                )
+            self.update()
+
+        return wrapped
+
+    def _on_camera(self, cam: Any) -> None:
+        try:
+            self.camera = (
+                tuple(map(float, cam.position)),
+                tuple(map(float, cam.look_at)),
+                tuple(map(float, cam.up_direction)),
+            )
+        except Exception:
+            return
+        self.camera_t = time.monotonic()
+        self.room.camera_dirty = True
+
+    def fresh_camera(self) -> tuple[Any, ...] | None:
+        """The instructor's camera if it was reported after the last lesson change
+        (before that, each follower frames the same lesson the same way itself)."""
+        if self.view.session.lesson.id != self._lesson:
+            self._lesson = self.view.session.lesson.id
+            self.lesson_t = time.monotonic()
+        return self.camera if self.camera is not None and self.camera_t > self.lesson_t else None
+
+    def _push(self) -> None:
+        name = self.push_dd.value
+        s = self.view.session
+        if name not in {p.name for p in s.lesson.presets}:
+            raise LabError("choose one of this lesson's presets")
+        self.room.push_preset(s.lesson.id, name)
+
+    def _notify(self) -> None:
+        text = self.message.value
+        if not isinstance(text, str) or not text.strip():
+            raise LabError("type a message first")
+        self.room.notify_all(text.strip()[:MAX_NOTICE_LENGTH])
+        self.message.value = ""
+
+    def update(self) -> None:
+        """Counts and the preset list (cheap; called a few times a second)."""
+        students, following = self.room.counts()
+        mode = (
+            "following you"
+            if self.room.broadcaster == self.view.client.client_id
+            else "exploring on their own"
+        )
+        servers = self.room.link.remote_totals()[2]
+        where = f" on {servers + 1} servers" if servers else ""
+        content = (
+            f'<div class="al-class-counts" style="font-size:0.9em"><b>{students}</b> student(s) connected{where}, '
+            f'<b class="al-following">{following}</b> following; mode: {mode}</div>'
+            + self.room.link.panel_note()
+        )
+        if self.counts.content != content:
+            self.counts.content = content
+        opts = ("(choose)", *(p.name for p in self.view.session.lesson.presets))
+        if tuple(self.push_dd.options) != opts:
+            self.push_dd.options = opts
+
+    def remove(self) -> None:
+        try:
+            self.folder.remove()
+        except Exception:
+            pass

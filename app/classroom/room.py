@@ -1,0 +1,593 @@
+"""Classroom: the instructor code, "follow me", release, push preset, notify all.
+
+The instructor is the page that typed the code.  Everything instructor-only lives in
+that page's ``client.gui`` (private to it); ``server.gui`` holds nothing of the
+classroom, so no other page can see or press an instructor control, and a hand-made
+client cannot address one (viser routes a client's GUI messages to that client's
+own widgets only).
+
+"Follow me" does not step one copy per student: every follower's
+:class:`~analyzer_lab.view.page.SessionView` is pointed at the instructor's :class:`Session`; the
+frame loop advances that session once per tick (:class:`~analyzer_lab.session.session.SharedClock`) and every
+follower view draws the same frames.  Followers' own controls are refused while
+following (the view's ``gate`` hook), their widgets show the demo's values, their
+camera follows the instructor's.  "Release" gives every follower a fresh session
+that continues from where the demo was (same lesson, preset, values, speed and
+integrator state).
+
+Hardening (DESIGN §5): the instructor code is compared with
+:func:`hmac.compare_digest`, wrong codes are rate-limited per page and across the
+server; every GUI input of every page passes a token bucket (formula edits cost
+more; an input over the limit is not dropped but coalesced: the newest value is
+applied when the bucket refills, :mod:`analyzer_lab.serve.input_gate`); incoming websocket messages are paced per
+connection and oversized ones dropped before viser decodes them
+(:func:`analyzer_lab.viser_boundary.harden_websocket`).
+"""
+
+from __future__ import annotations
+
+import copy
+import gc
+import hmac
+import secrets
+import sys
+import threading
+import time
+import traceback
+import weakref
+from collections.abc import Callable
+from typing import TYPE_CHECKING, Any
+
+import analyzer_lab.classroom.assignments as assignments_view
+from analyzer_lab.classroom.bus import Bus, LocalBus
+from analyzer_lab.classroom.instructor import InstructorPanel, Presenter
+from analyzer_lab.classroom.link import REMOTE, ClassLink
+from analyzer_lab.serve.input_gate import InputGate
+from analyzer_lab.serve.limits import (
+    MAX_NOTICE_LENGTH,
+    MIN_CODE_LENGTH,
+    CodeGuard,
+    generate_code,
+    normalize_code,
+)
+from analyzer_lab.session.session import LabError, Session, SharedClock
+from analyzer_lab.viser_boundary import client_address
+
+#: Follower sync / camera pushes (Hz).
+SYNC_HZ = 20.0
+#: Where an instructor page keeps its role token (its own browser storage).
+ROLE_KEY = "analyzer-lab-instructor"
+
+if TYPE_CHECKING:
+    from analyzer_lab.serve.server import LabServer
+    from analyzer_lab.view.page import SessionView
+
+
+class Classroom:
+    """Instructor sign-in, follow/release, push, notify and presenter mode for a
+    :class:`~analyzer_lab.serve.server.LabServer` (``lab.classroom``)."""
+
+    def __init__(self, lab: LabServer, code: str | None = None, bus: Bus | None = None) -> None:
+        self.lab = lab
+        self.code = code if code else generate_code()
+        if len(normalize_code(self.code)) < MIN_CODE_LENGTH:
+            raise LabError(
+                f"the instructor code must have at least {MIN_CODE_LENGTH} letters or digits"
+                " (a shorter one could be guessed)"
+            )
+        self.codes = CodeGuard(self.code)
+        self.lock = threading.RLock()
+        self.instructors: dict[int, InstructorPanel] = {}
+        self.presenters: dict[int, Presenter] = {}
+        self.entries: dict[int, tuple[Any, Any, Any]] = {}  # code folder, text, button
+        self.broadcaster: int | None = None
+        self.demo: Session | None = None
+        self.followers: dict[int, SessionView] = {}
+        self._synced: dict[int, tuple[Any, ...]] = {}
+        self.camera_dirty = False
+        self._refused_note: dict[int, float] = {}
+        self.all_sessions: weakref.WeakSet[Session] = weakref.WeakSet()
+        self.tokens: set[str] = set()  # instructor pages' reload tokens (this server's life)
+        self.stats = {
+            "refused_follower": 0,
+            "admitted": 0,
+            "coalesced": 0,
+            "replayed": 0,
+            "wrong_codes": 0,
+        }
+        #: every page's token bucket and coalesced inputs
+        self.inputs = InputGate(self.stats, lambda: getattr(self.lab, "server", None))
+        #: the other servers of the class (an in-process bus by default)
+        self.link = ClassLink(self, bus if bus is not None else LocalBus(self.code))
+        self._stop = threading.Event()
+        self.wake = threading.Event()  # set by the bus: apply at once, not at the next period
+        self._thread = threading.Thread(
+            target=self._run, name="analyzer-lab-classroom", daemon=True
+        )
+        self._thread.start()
+
+    # ------------------------------------------------------------------ pages
+
+    def attach(self, view: SessionView) -> None:
+        """A page connected (its view is built): gate, code entry, presenter, follow."""
+        cid = view.client.client_id
+        view.gate = self._gate  # type: ignore[attr-defined]
+        self.all_sessions.add(view.session)
+        self.inputs.open(cid)
+        gui = view.client.gui
+        folder = gui.add_folder("Instructor", expand_by_default=False)
+        with folder:
+            text = gui.add_text(
+                "Instructor code", initial_value="", hint="the code printed when the lab started"
+            )
+            btn = gui.add_button("Become instructor")
+        btn.on_click(lambda e: self._on_code(view, e))
+        self.entries[cid] = (folder, text, btn)
+        self.presenters[cid] = Presenter(self, view)
+        assignments_view.attach(self, view)  # assignments hook
+        if self.tokens and self._restore_role(view):
+            return
+        with self.lock:
+            if self.broadcaster is not None and self.demo is not None:
+                self._follow(view)
+
+    def detach(self, client_id: int, view: SessionView | None) -> None:
+        """A page left: forget it; if it was the broadcasting instructor, release."""
+        with self.lock:
+            self.entries.pop(client_id, None)
+            self.presenters.pop(client_id, None)
+            assignments_view.detach(self, client_id)  # assignments hook
+            self.inputs.forget(client_id)
+            self.codes.forget(client_id)
+            self._refused_note.pop(client_id, None)
+            self._synced.pop(client_id, None)
+            panel = self.instructors.pop(client_id, None)
+            self.followers.pop(client_id, None)
+            if panel is not None and self.broadcaster == client_id:
+                self.release()
+
+    def is_instructor(self, client_id: int) -> bool:
+        return client_id in self.instructors
+
+    def local_counts(self) -> tuple[int, int]:
+        """(students, following) on this server."""
+        with self.lab._views_lock:
+            ids = list(self.lab.views)
+        students = sum(1 for c in ids if c not in self.instructors)
+        return students, len(self.followers)
+
+    def counts(self) -> tuple[int, int]:
+        """(students, following) on every server of the class."""
+        students, following = self.local_counts()
+        more_students, more_following, _ = self.link.remote_totals()
+        return students + more_students, following + more_following
+
+    # ------------------------------------------------------------------ the code
+
+    def _on_code(self, view: SessionView, event: Any) -> None:
+        client = getattr(event, "client", None)
+        if client is None or client.client_id != view.client.client_id:
+            return
+        cid = client.client_id
+        if cid in self.instructors:
+            return
+        entry = self.entries.get(cid)
+        if entry is None:
+            return
+        ok, message = self.check_code(
+            cid, entry[1].value, client_address(getattr(self.lab, "server", None), cid)
+        )
+        entry[1].value = ""
+        if not ok:
+            client.add_notification("Instructor code", message, auto_close_seconds=5.0, color="red")
+            return
+        self._grant(view)
+        token = secrets.token_urlsafe(24)
+        self.tokens.add(token)
+        try:  # the role survives a reload of this page (never another page's)
+            client.local_storage.set_item(ROLE_KEY, token)
+        except Exception:
+            pass
+        client.add_notification(
+            "Instructor",
+            "you are the instructor: the Instructor panel is at the top",
+            auto_close_seconds=5.0,
+            color="green",
+        )
+
+    def project(self, view: SessionView, on: bool) -> None:
+        """Presenter mode on a page: its instructor panel and code entry are hidden while
+        it is projected (the class sees the lesson, not the controls of the class)."""
+        cid = view.client.client_id
+        panel = self.instructors.get(cid)
+        if panel is not None:
+            panel.folder.visible = not on
+        entry = self.entries.get(cid)
+        if entry is not None:
+            entry[0].visible = not on
+
+    def _grant(self, view: SessionView) -> None:
+        """Make the page the instructor: its panel replaces the code entry."""
+        cid = view.client.client_id
+        with self.lock:
+            entry = self.entries.pop(cid, None)
+            if entry is not None:
+                try:
+                    entry[0].remove()
+                except Exception:
+                    pass
+            self.instructors[cid] = InstructorPanel(self, view)
+            self.followers.pop(cid, None)
+        assignments_view.grant(self, view)  # assignments hook
+
+    def _restore_role(self, view: SessionView) -> bool:
+        """A page reloaded by the instructor gets the role back from the token it keeps."""
+        try:
+            token = view.client.local_storage.get_item(ROLE_KEY, timeout=2.0)
+        except Exception:
+            return False
+        if not isinstance(token, str) or not any(
+            hmac.compare_digest(token, known) for known in list(self.tokens)
+        ):
+            return False
+        self._grant(view)
+        return True
+
+    def check_code(self, client_id: int, text: Any, address: str = "") -> tuple[bool, str]:
+        """Compare in constant time; refuse while this page (or, for a page that gave a
+        wrong code, its address) must wait."""
+        ok, message = self.codes.check(client_id, text, address)
+        if not ok:
+            self.stats["wrong_codes"] += 1
+        return ok, message
+
+    # ------------------------------------------------------------------ input gate
+
+    def _gate(self, view: SessionView, event: Any, again: Callable[[Any], None] | None) -> bool:
+        """Called by the view before any GUI callback: refuse followers' inputs,
+        rate-limit (coalescing the newest value of a limited input)."""
+        client = getattr(event, "client", None)
+        cid = view.client.client_id
+        if client is not None and client.client_id != cid:
+            return False
+        if cid in self.followers:
+            self.stats["refused_follower"] += 1
+            now = time.monotonic()
+            if now - self._refused_note.get(cid, 0.0) > 3.0:
+                self._refused_note[cid] = now
+                try:
+                    view.client.add_notification(
+                        "Following the instructor",
+                        "your controls are paused while you follow the demo; they return on release",
+                        auto_close_seconds=4.0,
+                        color="blue",
+                    )
+                except Exception:
+                    pass
+            with view.session.lock:
+                view.sync_widgets(force=True)
+            return False
+        return self.inputs.admit(cid, event, again)
+
+    # ------------------------------------------------------------------ follow / release
+
+    def start_follow(self, instructor: SessionView) -> None:
+        cid = instructor.client.client_id
+        if cid not in self.instructors:
+            raise LabError("only the instructor can start a demo")
+        with self.lock:
+            if self.broadcaster is not None and self.broadcaster != cid:
+                self.release()
+            demo = instructor.session
+            if self.broadcaster != cid:
+                self.broadcaster = cid
+                self.demo = demo
+                demo.shared_clock = SharedClock(demo, lambda: self.lab.stats.ticks, self.lab.fps)
+                self.link.broadcast_started()
+            self.follow_everyone()
+            panel = self.instructors.get(cid)
+            if panel is not None and panel.camera is not None:
+                self.camera_dirty = True
+
+    def follow_everyone(self) -> None:
+        """Every page of this server that is not an instructor follows the demo."""
+        with self.lab._views_lock:
+            views = list(self.lab.views.values())
+        for v in views:
+            if (
+                v.client.client_id not in self.instructors
+                and v.client.client_id not in self.followers
+            ):
+                self._follow(v)
+
+    def _follow(self, view: SessionView) -> None:
+        demo = self.demo
+        if demo is None or view.closed:
+            return
+        own = view.session
+        if own is demo or view.client.client_id in self.instructors:
+            return
+        with own.lock:
+            with demo.lock:
+                # the page's own session is dropped: release makes a fresh one
+                view.show_session(demo)
+                view.set_following(True)
+                self.followers[view.client.client_id] = view
+                self._synced[view.client.client_id] = self._signature(demo)
+        self.camera_dirty = True
+        try:
+            view.client.add_notification(
+                "Following the instructor",
+                "you now see the instructor's demo",
+                auto_close_seconds=4.0,
+                color="blue",
+            )
+        except Exception:
+            pass
+        presenter = self.presenters.get(view.client.client_id)
+        if presenter is not None:
+            presenter.update_bookmarks()
+
+    def release(self, note: str = "", everywhere: bool = False) -> None:
+        """Every follower gets its own session back, continuing from the demo;
+        ``everywhere``: an instructor's "Release" (every server of the class)."""
+        with self.lock:
+            demo = self.demo
+            followers = list(self.followers.values())
+            self.followers.clear()
+            self._synced.clear()
+            if everywhere or self.broadcaster not in (None, REMOTE):
+                self.link.broadcast_released(everywhere)
+            self.broadcaster = None
+            self.demo = None
+            if demo is not None:
+                demo.shared_clock = None
+        if demo is None:
+            return
+        for view in followers:
+            if view.closed:
+                continue
+            own = self._copy_of(demo)
+            with demo.lock, own.lock:
+                view.show_session(own)
+                view.set_following(False)
+                assignments_view.released(self, view)  # assignments hook
+            try:
+                view.client.add_notification(
+                    "Released",
+                    (note + ": " if note else "")
+                    + "your own session continues from where the demo was",
+                    auto_close_seconds=4.0,
+                    color="green",
+                )
+            except Exception:
+                pass
+            presenter = self.presenters.get(view.client.client_id)
+            if presenter is not None:
+                presenter.update_bookmarks()
+
+    def _copy_of(self, demo: Session) -> Session:
+        """A new session with the demo's state and, if it can be copied, its run
+        position (integrator state and time)."""
+        with demo.lock:
+            state = demo.state()
+            stepper, frame, playing = demo.stepper, demo.frame, demo.playing
+            try:
+                stepper = copy.deepcopy(stepper)
+            except Exception:
+                stepper = None
+        own = Session(tuple(self.lab.lessons), state.lesson)
+        own.apply_state(state)
+        own.notices.clear()
+        if stepper is not None:
+            own.stepper = stepper
+            own.frame = frame
+            own.log.clear()
+            own.log.add(frame)
+            own.playing = playing
+        self.all_sessions.add(own)
+        return own
+
+    def push_preset(self, lesson_id: str, preset: str, relay: bool = True) -> None:
+        """Every student (followers see it through the demo) gets lesson + preset;
+        ``relay``: the other servers of the class too."""
+        if relay:
+            self.link.bus.publish("push", {"lesson": lesson_id, "preset": preset})
+        with self.lab._views_lock:
+            views = list(self.lab.views.values())
+        for v in views:
+            cid = v.client.client_id
+            if cid in self.followers or v.closed:
+                continue
+            with v.session.lock:
+                try:
+                    if v.session.lesson.id != lesson_id:
+                        v.session.select_lesson(lesson_id, preset)
+                    else:
+                        v.session.apply_preset(preset)
+                    v.session.notify(f"the instructor pushed preset {preset}")
+                    v.after_state_change()
+                    v.refresh(heavy=True)
+                except Exception as exc:
+                    v.session.notify(f"the pushed preset could not be loaded: {exc}", "warning")
+            p = self.presenters.get(cid)
+            if p is not None:
+                p.update_bookmarks()
+
+    def notify_all(self, text: str, relay: bool = True) -> None:
+        if relay:
+            self.link.bus.publish("notice", {"text": text[:MAX_NOTICE_LENGTH]})
+        with self.lab._views_lock:
+            views = list(self.lab.views.values())
+        for v in views:
+            try:
+                v.client.add_notification(
+                    "Instructor", text[:MAX_NOTICE_LENGTH], auto_close_seconds=20.0, color="blue"
+                )
+            except Exception:
+                pass
+
+    # ------------------------------------------------------------------ the sync thread
+
+    @staticmethod
+    def _signature(s: Session) -> tuple[Any, ...]:
+        vis = tuple(sorted(s.visible_vectors)) if s.visible_vectors is not None else None
+        return (
+            s.revision,
+            s.lesson.id,
+            s.preset,
+            s.speed,
+            s.pause_at_end,
+            vis,
+            s.playing,
+            None if s.playing else id(s.frame),
+        )
+
+    def _sync_followers(self) -> None:
+        """Bring every follower in line with the demo after a change.  All followers
+        are done under ONE acquisition of the demo's lock, and their derivation is
+        rendered once, here (the frame loop skips a view whose lock is taken: many
+        short holds of the one shared lock would make it skip followers often).  The
+        widgets go out first; the derivation (tens of ms when new) follows."""
+        demo = self.demo
+        if demo is None:
+            return
+        sig = self._signature(demo)
+        stale = [
+            (cid, v)
+            for cid, v in list(self.followers.items())
+            if self._synced.get(cid) != sig and not v.closed
+        ]
+        if not stale:
+            return
+        redrawn = []
+        changed_bookmarks = []
+        with demo.lock:
+            for cid, view in stale:
+                old = self._synced.get(cid)
+                if view.session is not demo:
+                    continue
+                if old is None or old[1] != sig[1]:
+                    panel = self.instructors.get(self.broadcaster or -1)
+                    if panel is not None:
+                        panel.fresh_camera()  # a new lesson: the followers' views frame it themselves
+                if old is None or old[:6] != sig[:6]:
+                    view.redraw()
+                    view.derivation_due = None  # rendered once below, for every follower
+                    redrawn.append(view)
+                view.mark_dirty()
+                self._synced[cid] = sig
+                if old is None or old[1:3] != sig[1:3]:
+                    changed_bookmarks.append(cid)
+        derivation = self._derivation_of(demo) if redrawn else None
+        if redrawn:
+            with demo.lock:
+                for view in redrawn:
+                    if view.session is demo and not view.closed:
+                        if derivation is None:
+                            view.derivation_due = time.monotonic()  # the server's slow loop
+                        else:
+                            view.set_derivation(derivation)
+        for cid in changed_bookmarks:
+            p = self.presenters.get(cid)
+            if p is not None:
+                p.update_bookmarks()
+
+    @staticmethod
+    def _derivation_of(demo: Session) -> str | None:
+        """The demo's derivation as HTML (shared cache with the server), outside the lock."""
+        try:
+            from analyzer_lab.serve.server import DERIVATION_CACHE
+            from analyzer_lab.session.runlog import params_key
+            from analyzer_lab.view.math import derivation_to_html
+
+            with demo.lock:
+                lesson, params = demo.lesson, demo.params
+            return DERIVATION_CACHE.get_or_make(
+                params_key(lesson, params), lambda: derivation_to_html(lesson.derivation(params))
+            )
+        except Exception:
+            return None
+
+    def _push_camera(self) -> None:
+        if not self.camera_dirty or self.broadcaster is None:
+            return
+        panel = self.instructors.get(self.broadcaster)
+        camera = panel.fresh_camera() if panel is not None else None
+        if self.broadcaster == REMOTE:
+            camera = self.link.remote_camera
+        if camera is None:
+            return
+        self.camera_dirty = False
+        pos, look, up = camera
+        for view in list(self.followers.values()):
+            try:
+                with view.client.atomic():
+                    cam = view.client.camera
+                    cam.up_direction = up
+                    cam.position = pos
+                    cam.look_at = look
+            except Exception:
+                pass
+
+    def _run(self) -> None:
+        period = 1.0 / SYNC_HZ
+        k = 0
+        every = (
+            self.lab._report_every / self.lab.fps if getattr(self.lab, "_report_every", 0) else 0.0
+        )
+        last_report = time.monotonic()
+        while not self._stop.is_set():
+            self.wake.wait(period)
+            self.wake.clear()
+            if self._stop.is_set():
+                break
+            k += 1
+            try:
+                with self.lock:
+                    self.link.tick()
+                    self._sync_followers()
+                    self._push_camera()
+                self.inputs.replay()
+                if k % 5 == 0:
+                    for panel in list(self.instructors.values()):
+                        panel.update()
+                    for cid, p in list(self.presenters.items()):
+                        if cid not in self.followers:
+                            p.update_bookmarks()
+                if every and time.monotonic() - last_report >= max(every, 10.0):
+                    last_report = time.monotonic()
+                    self.report()
+            except Exception:
+                traceback.print_exc()
+            panel = p = None  # type: ignore[assignment]  # no stale reference to a page that left
+
+    def report(self) -> dict[str, int]:
+        """Figures for the soak test (printed on stderr when ANALYZER_LAB_STATS is set)."""
+        gc.collect()
+        with self.lab._views_lock:
+            views = len(self.lab.views)
+        figures = {
+            "views": views,
+            "sessions_alive": len(self.all_sessions),
+            "followers": len(self.followers),
+            "instructors": len(self.instructors),
+            "presenters": len(self.presenters),
+            "entries": len(self.entries),
+            "buckets": len(self.inputs.buckets),
+            "pending": len(self.inputs.pending),
+        }
+        print(
+            "[classroom] " + " ".join(f"{k} {v}" for k, v in figures.items()),
+            file=sys.stderr,
+            flush=True,
+        )
+        return figures
+
+    def stop(self) -> None:
+        self._stop.set()
+        self.wake.set()
+        self.link.close()
+
+
+__all__ = ["Classroom"]

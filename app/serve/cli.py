@@ -1,0 +1,290 @@
+"""``analyzer-lab``: the command line (``serve``, ``lessons``, ``run``, ``check``,
+``assignments``, ``grade``).
+
+Headless commands import no view code; ``serve`` imports the viser app lazily.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+import time
+from collections.abc import Sequence
+
+EXIT_USAGE = 2
+
+
+def _fail(message: str) -> int:
+    print(f"analyzer-lab: error: {message}", file=sys.stderr)
+    return EXIT_USAGE
+
+
+def cmd_lessons(args: argparse.Namespace) -> int:
+    from analyzer_lab.lessons.catalog import all_lessons
+
+    items = all_lessons()
+    if args.json:
+        print(json.dumps([l.describe() for l in items], indent=1, default=str))
+        return 0
+    for l in items:
+        print(f"{l.id:28s} {l.problem:18s} {l.title}")
+        print(f"{'':28s} {l.source}")
+        print(f"{'':28s} params: {', '.join(p.name for p in l.params)}")
+        if l.presets:
+            print(f"{'':28s} presets: {', '.join(p.name for p in l.presets)}")
+    return 0
+
+
+def _parse_sets(items: Sequence[str]) -> dict[str, str]:
+    out: dict[str, str] = {}
+    for item in items:
+        if "=" not in item:
+            raise ValueError(f"--set expects NAME=VALUE, got {item[:60]!r}")
+        name, value = item.split("=", 1)
+        out[name.strip()] = value.strip()
+    return out
+
+
+def cmd_run(args: argparse.Namespace) -> int:
+    import math
+
+    from analyzer_lab.lessons.catalog import get_lesson
+    from analyzer_lab.lessons.kit.contract import ParamError
+
+    try:
+        lesson = get_lesson(args.lesson)
+    except KeyError as exc:
+        return _fail(str(exc.args[0]))
+    try:
+        values = _parse_sets(args.set or [])
+        params = lesson.resolve(values, args.preset)
+    except (ParamError, ValueError) as exc:
+        return _fail(str(exc))
+    t_end = lesson.preset_t_end(args.preset) if args.t_end is None else args.t_end
+    if not math.isfinite(t_end) or t_end <= 0 or t_end > 1e5:
+        return _fail(f"--t-end must be a finite number in (0, 1e5], got {t_end}")
+    import warnings
+
+    import numpy as np
+    from analyzer_lab.serve.run_limits import first_non_finite, may_be_undefined, refusal
+
+    # overflow and tolerance warnings are summed up in one line below, not printed
+    with warnings.catch_warnings(), np.errstate(all="ignore"):
+        warnings.simplefilter("ignore")
+        why = refusal(lesson, params, t_end)
+        if why is not None:
+            return _fail(why)
+        try:
+            result = lesson.simulate(params, t_end)
+        except (ParamError, ValueError, ArithmeticError, RuntimeError) as exc:
+            return _fail(str(exc))
+    bad = first_non_finite(result, may_be_undefined(lesson, params))
+    if bad is not None:
+        name, at = bad
+        return _fail(
+            f"{name} is not finite (NaN or infinite) from t = {at:.6g} s on:"
+            " the run is not defined there (shorten --t-end or change the values)"
+        )
+    result.preset = args.preset
+    text = json.dumps(result.to_json_dict()) if args.format == "json" else result.to_csv()
+    for m in result.messages:
+        print(f"note: {m}", file=sys.stderr)
+    if args.out:
+        with open(args.out, "w", encoding="utf-8") as fh:
+            fh.write(text)
+    else:
+        sys.stdout.write(text)
+        if not text.endswith("\n"):
+            sys.stdout.write("\n")
+    return 0
+
+
+def cmd_check(args: argparse.Namespace) -> int:
+    from analyzer_lab.lessons.catalog import all_lessons, get_lesson
+
+    try:
+        chosen = [get_lesson(i) for i in args.lessons] if args.lessons else list(all_lessons())
+    except KeyError as exc:
+        return _fail(str(exc.args[0]))
+    rows = []
+    failed = 0
+    jobs = [(l, c) for l in chosen for c in l.claims()]
+    for k, (lesson, claim) in enumerate(jobs, 1):
+        print(f"[{k}/{len(jobs)}] {lesson.id}: {claim.id} ...", end="", file=sys.stderr, flush=True)
+        t0 = time.perf_counter()
+        try:
+            res = claim.check()
+            ok, expected, got = res.passed, res.expected, res.got
+        except Exception as exc:  # a claim that crashes is a failed claim, reported
+            ok, expected, got = False, "(no exception)", f"{type(exc).__name__}: {exc}"
+        dt = time.perf_counter() - t0
+        print(f" {'pass' if ok else 'FAIL'} ({dt:.1f} s)", file=sys.stderr, flush=True)
+        failed += not ok
+        rows.append(
+            {
+                "lesson": lesson.id,
+                "claim": claim.id,
+                "statement": claim.statement,
+                "source": claim.source,
+                "expected": expected,
+                "got": got,
+                "pass": ok,
+            }
+        )
+    if args.json:
+        print(json.dumps(rows, indent=1))
+    else:
+        for r in rows:
+            print(
+                f"{'PASS' if r['pass'] else 'FAIL'}  {r['lesson']}: {r['statement']}  [{r['source']}]"
+            )
+            print(f"      expected {r['expected']}; got {r['got']}")
+        print(f"{len(rows) - failed}/{len(rows)} claims pass")
+    return 1 if failed else 0
+
+
+def cmd_serve(args: argparse.Namespace) -> int:
+    from analyzer_lab.serve.threads import one_math_thread
+
+    one_math_thread()  # before numpy loads; the workers inherit it
+    from analyzer_lab.serve.cli_assignments import use_folder_for_serve
+
+    problem = use_folder_for_serve(getattr(args, "assignments", None))
+    if problem:
+        return _fail(problem)
+    workers = getattr(args, "workers", 1)  # the workers inherit the assignments folder
+    bus = getattr(args, "bus", None)
+    if not 1 <= workers <= 64:
+        return _fail(f"--workers must be in 1..64, got {workers}")
+    if bus is not None and bus != "local":
+        from analyzer_lab.classroom.bus import BusError, parse_redis_url
+
+        try:
+            parse_redis_url(bus)
+        except BusError as exc:
+            return _fail(str(exc))
+    if workers > 1:
+        if bus is None or bus == "local":
+            return _fail(
+                "several workers share the classroom through Redis: add --bus redis://HOST:PORT "
+                "(Debian: apt-get install redis-server, then --bus redis://127.0.0.1:6379)"
+            )
+        from analyzer_lab.serve.frontdoor import serve_workers
+
+        return serve_workers(
+            args.host,
+            args.port,
+            workers,
+            bus,
+            args.instructor_code,
+            args.lesson,
+            args.fps,
+            not args.no_browser,
+        )
+    from analyzer_lab.serve.server import serve
+
+    return serve(
+        host=args.host,
+        port=args.port,
+        lesson=args.lesson,
+        instructor_code=getattr(args, "instructor_code", None),
+        open_browser=not args.no_browser,
+        fps=getattr(args, "fps", 36.0),
+        bus_url=bus,
+        worker_name=getattr(args, "worker_name", None),
+    )  # fps: classroom hook
+
+
+def build_parser() -> argparse.ArgumentParser:
+    p = argparse.ArgumentParser(
+        prog="analyzer-lab", description="Analyzer Lab: programmed motion of mechatronic systems."
+    )
+    sub = p.add_subparsers(dest="command", required=True)
+
+    s = sub.add_parser("serve", help="start the browser lab")
+    s.add_argument(
+        "--host",
+        default="127.0.0.1",
+        help="interface to bind (default loopback; 0.0.0.0 = every interface)",
+    )
+    s.add_argument("--port", type=int, default=8080)
+    s.add_argument("--lesson", default="sphere", help="lesson shown first")
+    s.add_argument(
+        "--instructor-code",
+        default=None,
+        help="code that makes a page the instructor (generated if omitted)",
+    )
+    s.add_argument("--no-browser", action="store_true", help="do not open a browser window")
+    s.add_argument(
+        "--fps",
+        type=float,
+        default=36.0,
+        help="frames per second of the live view (default 36: every page gets 30 updates/s or more)",
+    )
+    s.add_argument(
+        "--workers",
+        type=int,
+        default=1,
+        help="worker processes (default 1: this process serves every page); N > 1 starts N "
+        "workers on the next ports and a front door on --port that sends each page to the "
+        "least-loaded one (needs --bus redis://...)",
+    )
+    s.add_argument(
+        "--bus",
+        default=None,
+        metavar="URL",
+        help="the class bus shared by the servers of a class: 'local' (default, in-process) "
+        "or redis://HOST:PORT",
+    )
+    s.add_argument(
+        "--worker-name",
+        default=None,
+        help="this server's name on the bus (default: random; unique within a class)",
+    )
+    s.add_argument("--assignments", metavar="DIR", help="also offer the assignment files in DIR")
+    s.set_defaults(func=cmd_serve)
+
+    s = sub.add_parser("lessons", help="list the lessons")
+    s.add_argument("--json", action="store_true")
+    s.set_defaults(func=cmd_lessons)
+
+    from analyzer_lab.serve.run_limits import LIMITS_TEXT
+
+    s = sub.add_parser(
+        "run",
+        help="run one lesson headless",
+        description=f"Run one lesson headless; {LIMITS_TEXT}.",
+    )
+    s.add_argument("lesson")
+    s.add_argument("--preset")
+    s.add_argument(
+        "--set", action="append", metavar="NAME=VALUE", help="set a parameter (repeatable)"
+    )
+    s.add_argument("--t-end", type=float)
+    s.add_argument("--format", choices=("json", "csv"), default="json")
+    s.add_argument("--out")
+    s.set_defaults(func=cmd_run)
+
+    s = sub.add_parser("check", help="check the lessons against the textbook's claims")
+    s.add_argument("lessons", nargs="*")
+    s.add_argument("--json", action="store_true")
+    s.set_defaults(func=cmd_check)
+
+    from analyzer_lab.serve.cli_assignments import add_parsers
+
+    add_parsers(sub)
+    return p
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    parser = build_parser()
+    try:
+        args = parser.parse_args(argv)
+    except SystemExit as exc:
+        return int(exc.code or 0)
+    return int(args.func(args))
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

@@ -1,0 +1,80 @@
+"""The input gate of every page: one token bucket per page (DESIGN §5).
+
+Every GUI input of a page takes tokens from that page's bucket (a text edit, which may
+be a formula to parse, costs :data:`~analyzer_lab.serve.limits.TEXT_COST`).  An input over the limit
+is not dropped but coalesced: the newest value of each widget waits and is applied when
+the page's bucket has refilled, through the page's callbacks again (in its turn of the
+callback budget, :func:`analyzer_lab.viser_boundary.submit_callback`).
+"""
+
+from __future__ import annotations
+
+import traceback
+from collections.abc import Callable
+from typing import Any
+
+from analyzer_lab.serve.limits import INPUT_BURST, INPUT_RATE, TEXT_COST, TokenBucket
+from analyzer_lab.viser_boundary import submit_callback
+
+Callback = Callable[[Any], None]
+
+
+class InputGate:
+    """Token buckets and coalesced inputs of the pages of one server.  ``stats`` gets
+    the counts ``admitted``, ``coalesced`` and ``replayed``; ``server()`` is the viser
+    server whose callback queue replays an input (``None``: replayed in place)."""
+
+    def __init__(self, stats: dict[str, int], server: Callable[[], Any]) -> None:
+        self.stats = stats
+        self.server = server
+        self.buckets: dict[int, TokenBucket] = {}
+        #: (page, widget) -> the newest coalesced input: its callback and event
+        self.pending: dict[tuple[int, str], tuple[Callback, Any]] = {}
+
+    def open(self, client_id: int) -> None:
+        """A page connected: a full bucket."""
+        self.buckets[client_id] = TokenBucket(INPUT_RATE, INPUT_BURST)
+
+    def forget(self, client_id: int) -> None:
+        """A page left: its bucket and waiting inputs go."""
+        self.buckets.pop(client_id, None)
+        for key in [k for k in self.pending if k[0] == client_id]:
+            self.pending.pop(key, None)
+
+    def admit(self, client_id: int, event: Any, again: Callback | None) -> bool:
+        """Whether the input may run now; if not and ``again`` is given, it is kept
+        (replacing an older input of the same widget) for :meth:`replay`."""
+        bucket = self.buckets.get(client_id)
+        if bucket is None:
+            return True
+        target = getattr(event, "target", None)
+        cost = TEXT_COST if type(target).__name__ == "GuiTextHandle" else 1.0
+        if bucket.take(cost):
+            self.stats["admitted"] += 1
+            return True
+        if again is not None and target is not None:
+            self.stats["coalesced"] += 1
+            self.pending[(client_id, str(getattr(target, "id", id(target))))] = (again, event)
+        return False
+
+    def replay(self) -> None:
+        """Send the waiting inputs of every page whose bucket has refilled."""
+        for key in list(self.pending):
+            bucket = self.buckets.get(key[0])
+            if bucket is None:
+                self.pending.pop(key, None)
+                continue
+            if bucket.wait_time(TEXT_COST) > 0:
+                continue
+            item = self.pending.pop(key, None)
+            if item is not None:
+                self.stats["replayed"] += 1
+                # goes through the gate again, in the page's turn of the callback budget
+                if not submit_callback(self.server(), ("replay", key[0]), item[0], item[1]):
+                    try:
+                        item[0](item[1])
+                    except Exception:
+                        traceback.print_exc()
+
+
+__all__ = ["InputGate"]

@@ -1,0 +1,509 @@
+"""``analyzer-lab serve``: the viser server, one session per browser tab, one frame loop.
+
+:class:`LabServer` owns the :class:`viser.ViserServer` (loopback by default, share
+tunnel disabled, page titled "Analyzer Lab"), creates a :class:`~analyzer_lab.session.session.Session`
+and a :class:`~analyzer_lab.view.page.SessionView` for every tab that connects (restoring the
+state the tab saved before a reload) and frees them when the tab closes.
+
+ONE loop thread steps every session at a fixed rate (``fps``) and pushes the
+frames; a second, slow thread computes deferred scene updates outside the session
+locks, so a slider drag never stalls the animation, and starts each page's derivation
+in a child process with time and size limits (:mod:`analyzer_lab.serve.derivation_jobs`), so a slow
+derivation never delays another page's.
+"""
+
+from __future__ import annotations
+
+import html
+import math
+import os
+import sys
+import threading
+import time
+import traceback
+from collections.abc import Sequence
+from concurrent.futures import ThreadPoolExecutor
+from dataclasses import dataclass, field
+from typing import Any
+
+from analyzer_lab.lessons.kit.contract import Lesson
+from analyzer_lab.serve.derivation_jobs import DerivationJobs, build
+from analyzer_lab.serve.limits import prefer_returned_memory
+from analyzer_lab.session.runlog import LRUCache, lesson_scene, params_key
+from analyzer_lab.session.session import STEP_WALL_BUDGET, LabError, Session
+from analyzer_lab.view.page import SessionView, ViewConfig
+from analyzer_lab.view.persistence import restore_state
+from analyzer_lab.viser_boundary import (
+    PAGE_TITLE,
+    WakeBatch,
+    dropped_types,
+    event_loop,
+    make_viser_server,
+)
+from analyzer_lab.viser_boundary._gui_guard import guard_gui_updates
+
+#: Frames per second of the live view: a little above 30 so that every page still gets
+#: 30 updates a second when a tick comes late (measured: 50 pages get 34/s at 36 fps,
+#: 28.7/s at 30 fps).
+DEFAULT_FPS = 36.0
+DERIVATION_CACHE = LRUCache(64)
+
+
+@dataclass
+class LoopStats:
+    """Frame-loop figures (for the load test and the log)."""
+
+    ticks: int = 0
+    busy: float = 0.0  # seconds spent stepping/drawing
+    load: float = 0.0  # moving average of busy / period
+    skipped: int = 0  # session frames skipped because a callback held the session
+    started: float = field(default_factory=time.monotonic)
+
+
+class LabServer:
+    """The lab: viser server, sessions by client id, the frame loop."""
+
+    def __init__(
+        self,
+        host: str = "127.0.0.1",
+        port: int = 8080,
+        lesson: str | None = None,
+        fps: float = DEFAULT_FPS,
+        lessons: Sequence[Lesson] | None = None,
+        verbose: bool = False,
+        restore: bool = True,
+        config: ViewConfig | None = None,
+        warm_up: bool = True,
+        instructor_code: str | None = None,
+        bus: Any = None,
+    ) -> None:
+        prefer_returned_memory()
+        self.fps = float(fps)
+        self.restore = restore
+        self.config = config or ViewConfig(fps=self.fps)
+        self.host = host
+        self.requested_port = port
+        # HTTP first (a browser gets the page while the lessons are imported)
+        self.server = make_viser_server(host, port, verbose)
+        self.port: int = int(self.server.get_port())
+        if lessons is None:
+            from analyzer_lab.lessons.catalog import all_lessons
+
+            lessons = all_lessons()
+        self.lessons = tuple(lessons)
+        ids = {l.id for l in self.lessons}
+        if lesson is not None and lesson not in ids:
+            self.server.stop()
+            raise LabError(f"unknown lesson {lesson[:60]!r}; known: {', '.join(sorted(ids))}")
+        self.default_lesson = lesson
+        self.views: dict[int, SessionView] = {}
+        self._views_lock = threading.Lock()
+        self.stats = LoopStats()
+        self._stop = threading.Event()
+        self.duty = 0.85  # share of each frame period the loop may spend on sessions
+        self._rr = 0
+        # shorter interpreter switch interval: the frame loop and viser's event loop
+        # (which sends the frames) alternate often enough for smooth delivery
+        if sys.getswitchinterval() > 0.002:
+            sys.setswitchinterval(0.002)
+        every = os.environ.get("ANALYZER_LAB_STATS", "")
+        self._report_every = (
+            int(float(every) * self.fps) if every.replace(".", "", 1).isdigit() else 0
+        )
+        self._report_t, self._report_busy, self._report_steps, self._report_ticks = (
+            time.monotonic(),
+            0.0,
+            0.0,
+            0,
+        )
+        self._report_draws = 0.0
+        from analyzer_lab.classroom.room import Classroom  # classroom hook
+
+        self.classroom = Classroom(self, instructor_code, bus)
+        # pages are built and freed on a pool of their own (building one waits up to 2 s
+        # for the browser's saved state), not in the turns of the page callbacks
+        self._gone: set[int] = set()  # pages that left while being built
+        self._page_pool = ThreadPoolExecutor(max_workers=16, thread_name_prefix="analyzer-lab-page")
+
+        async def connect(client: Any) -> None:
+            self._page_pool.submit(self._guarded, self._on_connect, client)
+
+        async def disconnect(client: Any) -> None:
+            self._page_pool.submit(self._guarded, self._on_disconnect, client)
+
+        self.server.on_client_connect(connect)
+        self.server.on_client_disconnect(disconnect)
+        self._loop_done = threading.Event()
+        loop = event_loop(self.server)
+        if loop is None:
+            self.server.stop()
+            raise LabError("the web server's event loop is not available: cannot run frames")
+        import asyncio
+
+        asyncio.run_coroutine_threadsafe(self._async_loop(), loop)
+        self.derivations = DerivationJobs()
+        self._deriving: dict[
+            int, tuple[SessionView, int, Any]
+        ] = {}  # id(view) -> (view, revision, key)
+        self._slow_thread = threading.Thread(
+            target=self._slow_loop, name="analyzer-lab-slow", daemon=True
+        )
+        self._slow_thread.start()
+        if warm_up:
+            threading.Thread(target=self._warm_up, name="analyzer-lab-warmup", daemon=True).start()
+
+    @property
+    def url(self) -> str:
+        host = (
+            "127.0.0.1"
+            if self.host in ("0.0.0.0", "")
+            else ("[::1]" if self.host == "::" else self.host)
+        )
+        return f"http://{host}:{self.port}/"
+
+    # -- sessions ---------------------------------------------------------------------
+
+    @staticmethod
+    def _guarded(fn: Any, client: Any) -> None:
+        try:
+            fn(client)
+        except Exception:
+            traceback.print_exc()
+
+    def _on_connect(self, client: Any) -> None:
+        cid = client.client_id
+        guard_gui_updates(client.gui, self.server)  # wrong-typed values: one message
+        session = Session(self.lessons, self.default_lesson)
+        if self.restore:
+            restore_state(client, session)
+        view = SessionView(client, session, self.config)
+        view.last_tick = time.monotonic()  # type: ignore[attr-defined]
+        with self._views_lock:
+            gone = cid in self._gone  # the page left while it was being built
+            self._gone.discard(cid)
+            if not gone:
+                self.views[cid] = view
+        if gone:
+            view.close()
+            return
+        self.classroom.attach(view)  # classroom hook
+        with self._views_lock:
+            left = cid not in self.views
+        if left:  # left while the classroom attached it
+            self.classroom.detach(cid, view)
+
+    def _on_disconnect(self, client: Any) -> None:
+        with self._views_lock:
+            view = self.views.pop(client.client_id, None)
+            if view is None:
+                self._gone.add(client.client_id)
+        self.classroom.detach(client.client_id, view)  # classroom hook
+        if view is not None:
+            view.close()
+
+    def sessions(self) -> list[Session]:
+        with self._views_lock:
+            return [v.session for v in self.views.values()]
+
+    def view_of(self, client_id: int) -> SessionView | None:
+        with self._views_lock:
+            return self.views.get(client_id)
+
+    # -- loops ------------------------------------------------------------------------
+
+    async def _async_loop(self) -> None:
+        """The frame loop inside viser's event loop: stepping, drawing and sending run on
+        one thread, one after the other, instead of two threads handing the interpreter
+        lock back and forth for every websocket write."""
+        import asyncio
+
+        period = 1.0 / self.fps
+        next_t = time.monotonic()
+        while not self._stop.is_set():
+            try:
+                self._tick_all(period)
+            except Exception:
+                traceback.print_exc()
+            # a late tick is followed by the next after a short gap, not at once: a frame
+            # pushed right behind another would replace it in the send buffer unsent
+            now = time.monotonic()
+            next_t += period
+            if next_t < now - period:
+                next_t = now  # far behind: do not try to catch up with a burst
+            await asyncio.sleep(max(next_t - now, 0.25 * period))
+        self._loop_done.set()
+
+    def _tick_all(self, period: float) -> None:
+        """One frame for every session (round-robin, within the time budget)."""
+        start = time.monotonic()
+        with self._views_lock:
+            views = list(self.views.values())
+        substeps = 8 if self.stats.load < 0.5 else 4 if self.stats.load < 0.8 else 1
+        batch = WakeBatch(self.server)
+        # round-robin with a time budget: under overload every session still gets
+        # its turn and viser's sending keeps its share of the interpreter
+        budget = start + self.duty * period
+        n = len(views)
+        offset = self._rr % n if n else 0
+        done = 0
+        for k in range(n):
+            view = views[(offset + k) % n]
+            if k and time.monotonic() > budget:
+                break
+            done += 1
+            session = view.session
+            if not session.lock.acquire(blocking=False):
+                self.stats.skipped += 1
+                continue
+            if view.session is not session:  # classroom hook: switched (follow/release) meanwhile
+                session.lock.release()
+                continue
+            try:
+                now = time.monotonic()
+                dt = now - getattr(view, "last_tick", now)
+                view.last_tick = now  # type: ignore[attr-defined]
+                session.max_substeps = substeps
+                session.wall_budget = STEP_WALL_BUDGET
+                grouped = batch.hold(view.client)
+                view.tick(dt, atomic=not grouped)
+            except Exception as exc:
+                traceback.print_exc()
+                session.playing = False
+                session.notify(
+                    f"internal error, playback paused: {type(exc).__name__}: {exc}", "error"
+                )
+            finally:
+                session.lock.release()
+        self._rr = (offset + done) % n if n else 0
+        batch.release()
+        view = session = None  # type: ignore[assignment]  # classroom hook: no stale reference once every tab left
+        busy = time.monotonic() - start
+        if self._report_every and self.stats.ticks % self._report_every == 0 and self.stats.ticks:
+            self._report(views)
+        self.stats.ticks += 1
+        self.stats.busy += busy
+        self.stats.load = 0.9 * self.stats.load + 0.1 * (busy / period)
+
+    def _report(self, views: list[SessionView]) -> None:
+        """One line of loop figures on stderr (ANALYZER_LAB_STATS=seconds)."""
+        now = time.monotonic()
+        span = now - self._report_t
+        steps = sum(v.step_seconds for v in views)
+        draws = sum(v.draw_seconds for v in views)
+        busy = self.stats.busy - self._report_busy
+        print(
+            f"[loop] sessions {len(views)} ticks/s {(self.stats.ticks - self._report_ticks) / span:.1f} "
+            f"busy {busy / span:.0%} stepping {(steps - self._report_steps) / span:.0%} "
+            f"drawing {(draws - self._report_draws) / span:.0%} load {self.stats.load:.2f} "
+            f"skipped {self.stats.skipped} dropped {dropped_types() or '-'}",
+            file=sys.stderr,
+            flush=True,
+        )
+        self._report_t, self._report_busy, self._report_steps, self._report_ticks = (
+            now,
+            self.stats.busy,
+            steps,
+            self.stats.ticks,
+        )
+        self._report_draws = draws
+
+    def _slow_loop(self) -> None:
+        """Derivations and deferred scenes, computed outside the session locks."""
+        while not self._stop.wait(0.15):
+            with self._views_lock:
+                views = list(self.views.values())
+            now = time.monotonic()
+            for owner in [k for k, v in self._deriving.items() if v[0].closed]:
+                self._deriving.pop(owner, None)
+                self.derivations.cancel(owner)
+            for view in views:
+                try:
+                    self._slow_work(view, now)
+                    self._derivation_work(view, now)
+                except Exception:
+                    traceback.print_exc()
+            views = view = None  # type: ignore[assignment]  # classroom hook: no stale reference
+        self.derivations.stop()
+        self._deriving.clear()
+
+    def _slow_work(self, view: SessionView, now: float) -> None:
+
+        session = view.session
+        if session.scene_due is not None and now >= session.scene_due:
+            with session.lock:
+                lesson, params, rev = session.lesson, session.params, session.revision
+            try:
+                spec = lesson_scene(lesson, params)
+            except Exception as exc:
+                spec = None
+                with session.lock:
+                    session.notify(f"the scene could not be drawn: {exc}", "warning")
+            with session.lock:
+                if session.revision == rev:
+                    session.scene_due = None
+                    if spec is not None:
+                        session.accept_scene(spec)
+
+    def _derivation_work(self, view: SessionView, now: float) -> None:
+        """Show a finished derivation, or start the page's next one (cached, in a child
+        process, or here for a lesson outside the catalog)."""
+        session = view.session
+        owner = id(view)
+        running = self._deriving.get(owner)
+        if running is not None:
+            content = self.derivations.poll(owner)
+            if content is None:
+                return
+            del self._deriving[owner]
+            _, rev, key = running
+            DERIVATION_CACHE.put(key, content)
+            with session.lock:
+                if session.revision == rev and not view.closed:
+                    view.derivation_due = None
+                    view.set_derivation(content)
+            return
+        if view.derivation_due is None or now < view.derivation_due or view.closed:
+            return
+        with session.lock:
+            lesson, params, rev = session.lesson, session.params, session.revision
+            values = session.raw_values()
+        key = params_key(lesson, params)
+        content = DERIVATION_CACHE.get(key)
+        if content is None and DerivationJobs.can_run(lesson):
+            if not self.derivations.full():
+                self.derivations.start(owner, lesson.id, values)
+                self._deriving[owner] = (view, rev, key)
+            return
+        if content is None:
+            try:
+                content = DERIVATION_CACHE.get_or_make(key, lambda: build(lesson, values))
+            except Exception as exc:
+                content = f'<div class="al-error">The derivation could not be built: {html.escape(str(exc))}</div>'
+        with session.lock:
+            if session.revision == rev and not view.closed:
+                view.derivation_due = None
+                view.set_derivation(content)
+
+    def _warm_up(self) -> None:
+        """Build each lesson once (lambdify caches, meshes) so the first tab is quick."""
+        try:
+            self.derivations.warm()
+        except Exception:
+            traceback.print_exc()
+        for lesson in self.lessons:
+            if self._stop.is_set():
+                return
+            try:
+                params = lesson.resolve()
+                st = lesson.stepper(params)
+                st.advance(0.01)
+                lesson_scene(lesson, params)
+                DERIVATION_CACHE.get_or_make(params_key(lesson, params), lambda: build(lesson, {}))
+            except Exception:
+                pass
+
+    def stop(self) -> None:
+        self._stop.set()
+        self.classroom.stop()  # classroom hook
+        with self._views_lock:
+            views = list(self.views.values())
+            self.views.clear()
+        for v in views:
+            v.close()
+        self._loop_done.wait(timeout=2.0)
+        self._page_pool.shutdown(wait=False, cancel_futures=True)
+        try:
+            self.server.stop()
+        except Exception:
+            pass
+
+
+def serve(
+    host: str = "127.0.0.1",
+    port: int = 8080,
+    lesson: str | None = None,
+    instructor_code: str | None = None,
+    open_browser: bool = True,
+    fps: float = DEFAULT_FPS,
+    bus_url: str | None = None,
+    worker_name: str | None = None,
+) -> int:
+    """Run the lab until interrupted; returns the exit code.  ``bus_url``: the class bus
+    shared with other servers (``redis://HOST:PORT``; default in-process)."""
+    if not (0 <= int(port) <= 65535):
+        print(f"analyzer-lab: error: port must be in 0..65535, got {port}", file=sys.stderr)
+        return 2
+    if not (math.isfinite(fps) and 1.0 <= fps <= 120.0):  # classroom hook (serve --fps)
+        print(f"analyzer-lab: error: --fps must be in 1..120, got {fps}", file=sys.stderr)
+        return 2
+    t0 = time.perf_counter()
+    from analyzer_lab.classroom.bus import BusError, make_bus
+    from analyzer_lab.serve.limits import generate_code
+
+    code = instructor_code or os.environ.get("ANALYZER_LAB_INSTRUCTOR_CODE") or generate_code()
+    try:
+        bus = make_bus(bus_url, code, worker_name)
+    except BusError as exc:
+        print(f"analyzer-lab: error: {exc}", file=sys.stderr)
+        return 2
+    try:
+        lab = LabServer(host=host, port=port, lesson=lesson, fps=fps, instructor_code=code, bus=bus)
+    except LabError as exc:
+        print(f"analyzer-lab: error: {exc}", file=sys.stderr)
+        return 2
+    except OSError as exc:
+        print(f"analyzer-lab: error: cannot listen on {host}:{port}: {exc}", file=sys.stderr)
+        return 2
+    if lab.port != port and port != 0:
+        print(f"analyzer-lab: port {port} is in use; using {lab.port}", flush=True)
+    where = "every interface" if host in ("0.0.0.0", "::", "") else host
+    print(
+        f"Analyzer Lab: {lab.url}  (listening on {where}, port {lab.port}; "
+        f"ready in {time.perf_counter() - t0:.1f} s; Ctrl-C stops)",
+        flush=True,
+    )
+    print(
+        f"Instructor code: {lab.classroom.code}  (type it in a page's Instructor folder)",
+        flush=True,
+    )  # classroom hook
+    _report_bus(bus)
+    if host in ("0.0.0.0", "::", ""):
+        print(
+            "analyzer-lab: note: bound to every interface: anyone on your network can open the lab",
+            flush=True,
+        )
+    if open_browser:
+        import webbrowser
+
+        threading.Thread(target=lambda: webbrowser.open(lab.url), daemon=True).start()
+    parent = os.environ.get("ANALYZER_LAB_FRONT_DOOR_PID", "")
+    try:
+        while True:
+            time.sleep(1.0)
+            if parent and str(os.getppid()) != parent:  # a worker outlives no front door
+                print("analyzer-lab: the front door stopped; stopping", flush=True)
+                break
+    except KeyboardInterrupt:
+        print("analyzer-lab: stopping", flush=True)
+    finally:
+        lab.stop()
+    return 0
+
+
+def _report_bus(bus: Any) -> None:
+    """Say at start whether the class bus is there (a Redis bus connects meanwhile)."""
+    wait = getattr(bus, "wait_connected", None)
+    if wait is None:
+        return
+    wait(3.0)
+    if bus.up:
+        print(f"Class bus: {bus.url} (connected; this server is {bus.name})", flush=True)
+    else:
+        print(
+            f"analyzer-lab: warning: the class bus {bus.url} is unreachable ({bus.reason}): "
+            "serving this server's own pages; reconnecting in the background",
+            flush=True,
+        )
+
+
+__all__ = ["LabServer", "PAGE_TITLE", "serve"]

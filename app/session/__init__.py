@@ -1,0 +1,1 @@
+"""One page's session, independent of the view: lesson, values, stepper, playback and its pace."""

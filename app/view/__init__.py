@@ -1,0 +1,1 @@
+"""What one page shows: controls, scene, plots, readout, derivation, export and replay."""

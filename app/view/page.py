@@ -1,0 +1,587 @@
+"""The generic view: one browser tab's GUI and scene, drawn from a lesson's declarations.
+
+:class:`SessionView` renders a :class:`~analyzer_lab.session.session.Session` into one viser client
+(``client.gui`` / ``client.scene``, private to that tab) from a few parts with one job
+each: the lesson and preset pickers, transport and readout (here), the controls built
+from the lesson's declared groups and modes (:mod:`analyzer_lab.view.controls`), the scene
+(:mod:`analyzer_lab.view.scene`), the plots (:mod:`analyzer_lab.view.plots`), the derivation, export and
+the state saved in the browser.  The live frames come from the server's loop through
+:meth:`SessionView.tick`.
+
+The classroom attaches through the public interface: :attr:`SessionView.gate` (refuse
+an input), :meth:`show_session` (show another session, e.g. the instructor's demo),
+:meth:`redraw`, :meth:`sync_widgets`, :meth:`after_state_change` and :meth:`guard`.
+
+Cost per frame is kept small (DESIGN §5): one assignment for the moving points,
+one for all vectors, the newest trail chunk every other frame, the readout and
+one plot at a few Hz, all inside one ``client.atomic()`` (one wake-up of the
+event loop).
+"""
+
+from __future__ import annotations
+
+import contextlib
+import html
+import math
+import time
+import traceback
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
+
+from analyzer_lab.lessons.kit.contract import Param, ParamError
+from analyzer_lab.lessons.kit.formula import Formula, plain_number
+from analyzer_lab.session.session import LabError, Session, lesson_label
+from analyzer_lab.view.controls import ParamControls
+from analyzer_lab.view.export import ExportPanel
+from analyzer_lab.view.math import derivation_to_html
+from analyzer_lab.view.persistence import save_state
+from analyzer_lab.view.plots import PlotPanel
+from analyzer_lab.view.readout import preset_note_html, readout_html, speed_label, status_html
+from analyzer_lab.view.scene import SceneRenderer
+from analyzer_lab.view.transport import MAX_DRAWN_FRAMES, Transport
+from analyzer_lab.viser_boundary import fast_set
+
+if TYPE_CHECKING:
+    import viser
+
+NO_PRESET = "(defaults)"
+#: Labels of the page's lesson and preset pickers and of the pause-at-t_end checkbox.
+LESSON_PICKER, PRESET_PICKER, PAUSE_AT_END = "Lesson", "Preset", "pause at t_end"
+RETIRE_DELAY = 1.5  # seconds a replaced GUI folder stays (hidden) before it is removed
+
+
+@dataclass
+class ViewConfig:
+    """Rates of the view (per session)."""
+
+    fps: float = 36.0  # analyzer_lab.serve.server.DEFAULT_FPS
+    trail_every: int = 2  # frames between trail uploads
+    trail_chunk: int = 24  # points per trail chunk
+    trail_max_points: int = 3000  # per moving point family member
+    plot_every: int = 3  # frames between plot samples (12 Hz at 36 fps)
+    plot_window: int = 400  # samples of the whole run kept per plot (decimated)
+    plot_send_every: int = 6  # frames between plot uploads (round-robin over plots)
+    readout_every: int = 6  # frames between time readouts
+
+
+class SessionView:
+    """One browser tab: its GUI, its scene, and the frames of its session."""
+
+    def __init__(
+        self,
+        client: viser.ClientHandle,
+        session: Session,
+        config: ViewConfig | None = None,
+    ) -> None:
+        self.client = client
+        self.session = session
+        self.config = config or ViewConfig()
+        self.closed = False
+        self.frame_count = 0
+        self.derivation_due: float | None = None
+        self._drawn_lesson: str | None = None
+        self._drawn_scene_rev = -1
+        self._drawn_reset_rev = -1
+        self._drawn_camera_rev = -1
+        self._shown_notice: tuple[str, str] | None = None
+        self._shown_frame_message = ""
+        self._last_readout = ""
+        self._retired: list[tuple[float, Any]] = []  # (when to remove, hidden GUI folder)
+        self._current_target: Any = None  # the widget whose callback runs now
+        self._lesson_folders: list[Any] = []
+        self._frame_dirty = True
+        self.following = False
+        self.step_seconds = 0.0  # time spent in the lesson's stepper (frame loop)
+        self.draw_seconds = 0.0  # time spent queueing the frame's updates
+        self.renderer = SceneRenderer(client, self.config)
+        self.renderer.on_surface_click = self._on_surface_click
+        self.plots = PlotPanel(client.gui, self.config.plot_window)
+        self.controls = ParamControls(
+            client.gui, self.guard, self._on_slider, self._on_text, self._on_value, self._on_snap
+        )
+        #: classroom hook: ``gate(view, event, retry)`` returning False refuses an input
+        self.gate: Callable[[SessionView, Any, Callable[[Any], None] | None], bool] | None = None
+        with session.lock:  # a callback of an early click waits until the page is built
+            self._build_gui()
+
+    # ------------------------------------------------------------------ public interface
+
+    def guard(self, fn: Callable[..., None]) -> Callable[..., None]:
+        """Wrap a GUI callback: ignore programmatic updates, serialize on the session
+        lock, turn refusals into visible messages, never let an error escape."""
+
+        def wrapped(event: Any) -> None:
+            if self.closed or getattr(event, "client", None) is None:
+                return
+            if self.gate is not None and not self.gate(self, event, wrapped):
+                return
+            with self.session.lock:
+                self._current_target = getattr(event, "target", None)
+                try:
+                    fn(event)
+                except ParamError as exc:
+                    field = self._field_of(exc)
+                    if field is None or not self.controls.show_error(field, str(exc)):
+                        self.session.notify(f"refused: {exc}", "error")
+                    self.sync_widgets()
+                except LabError as exc:
+                    self.session.notify(f"refused: {exc}", "error")
+                    self.sync_widgets()
+                except Exception as exc:  # a bug must not take the session down
+                    traceback.print_exc()
+                    self.session.notify(f"internal error: {type(exc).__name__}: {exc}", "error")
+                    self.sync_widgets()
+                finally:
+                    self._current_target = None
+                self.refresh(heavy=True)
+
+        return wrapped
+
+    def _field_of(self, exc: ParamError) -> str | None:
+        """The field a refusal belongs to: the one being edited (a cross-field check
+        names the other field in its message), else the one the error names."""
+        for name, widgets in self.controls.widgets.items():
+            if any(w is self._current_target for w in widgets):
+                return name
+        return exc.name if exc.name in self.controls.widgets else None
+
+    def show_session(self, session: Session) -> None:
+        """Show another session (e.g. the instructor's demo); caller holds both locks.
+        The lesson's GUI is rebuilt only when the lesson differs: the widgets are
+        re-synced instead (rebuilding plots while frames stream to them leaves updates
+        for removed components in flight)."""
+        self.session = session
+        if self._drawn_lesson != session.lesson.id:
+            self._drawn_lesson = None
+        self._drawn_scene_rev = -1
+        self._drawn_reset_rev = -1
+        self._drawn_camera_rev = -1
+        self._shown_notice = session.notices[-1] if session.notices else None
+        self.redraw()
+
+    def redraw(self, scene: bool = False) -> None:
+        """Bring everything in line with the session now (caller holds its lock);
+        ``scene``: draw the static scene again too (e.g. larger labels)."""
+        if scene:
+            self._drawn_scene_rev = -1
+        self.renderer.vectors_changed()
+        self._frame_dirty = True
+        self.refresh(heavy=True)
+        self.sync_widgets(force=True)
+        self.derivation_due = time.monotonic()
+
+    def set_following(self, on: bool) -> None:
+        """Show the persistent "following the instructor" banner and make every control
+        read-only (or end both)."""
+        self.following = on
+        self.banner.content = (
+            '<div class="al-following-banner" style="background:#1c4f8a;color:#fff;padding:4px 8px;'
+            'border-radius:4px;font-weight:600">Following the instructor: the controls are'
+            " read-only until the demo ends.</div>"
+            if on
+            else ""
+        )
+        self.banner.visible = on
+        self.transport.visible = not on  # (viser's button groups cannot be disabled)
+        for w in (self.lesson_dd, self.preset_dd, self.speed_dd):
+            if w.disabled != on:
+                w.disabled = on
+        self.controls.set_read_only(on, self.session.params)
+
+    def mark_dirty(self) -> None:
+        """Draw the session's current frame at the next tick."""
+        self._frame_dirty = True
+
+    # ------------------------------------------------------------------ GUI
+
+    def _build_gui(self) -> None:
+        gui = self.client.gui
+        gui.configure_theme(
+            control_width="large",
+            show_share_button=False,
+            show_logo=False,
+            brand_color=(40, 90, 160),
+        )
+        gui.set_panel_label("Analyzer Lab")
+        s = self.session
+        self.banner = gui.add_html("", visible=False)
+        self._labels = {lesson_label(lesson): lesson.id for lesson in s.lessons.values()}
+        self._ids = {v: k for k, v in self._labels.items()}
+        self.lesson_dd = gui.add_dropdown(
+            LESSON_PICKER, tuple(self._labels), initial_value=self._ids[s.lesson.id]
+        )
+        self.lesson_dd.on_update(self.guard(self._on_lesson))
+        self.preset_dd = gui.add_dropdown(
+            PRESET_PICKER, self._preset_options(), initial_value=s.preset or NO_PRESET
+        )
+        self.preset_dd.on_update(self.guard(self._on_preset))
+        self.preset_note = gui.add_html("")
+        self.clock = Transport(gui, self.guard, lambda: self.session, self._played)
+        self.transport, self.speed_dd = self.clock.buttons, self.clock.speed
+        self.readout = gui.add_html(readout_html(self.session))
+        self.status = gui.add_html(status_html(self.session))
+        self.tabs = gui.add_tab_group()
+        self.tab_lesson = self.tabs.add_tab("Lesson")
+        self.tab_controls = self.tabs.add_tab("Controls")
+        self.tab_plots = self.tabs.add_tab("Plots")
+        self.tab_export = self.tabs.add_tab("Export")
+        with self.tab_lesson:
+            self.lesson_head = gui.add_html("")
+            self.derivation_html = gui.add_html("")
+        with self.tab_export:
+            self.exports = ExportPanel(gui, self.guard, lambda: self.session, self.client)
+        with self.session.lock:
+            self.refresh(heavy=True)
+
+    def _preset_options(self) -> tuple[str, ...]:
+        return (NO_PRESET, *(p.name for p in self.session.lesson.presets))
+
+    def _build_lesson_gui(self) -> None:
+        """(Re)build everything that depends on the lesson: controls, plots, header."""
+        gui = self.client.gui
+        # The old folders are hidden now and removed a little later: the page applies the
+        # property updates of a batch of messages after the batch's removals, so a chart
+        # update that is already on its way must still find its chart.
+        self.plots.plots = []
+        due = time.monotonic() + RETIRE_DELAY
+        for f in self._lesson_folders:
+            try:
+                f.visible = False
+            except Exception:
+                pass
+            self._retired.append((due, f))
+        lesson = self.session.lesson
+        with self.tab_controls:
+            self._lesson_folders = self.controls.build(lesson, self.session.params)
+            vec_names = tuple(self.session.scene.moving_vectors)
+            if vec_names:
+                folder = gui.add_folder("Vectors")
+                self._lesson_folders.append(folder)
+                self.renderer.chosen_vectors = self.session.visible_vectors
+                self.renderer.spec = self.session.scene
+                visible = self.renderer.visible_vectors()
+                with folder:
+                    for name in vec_names:
+                        cb = gui.add_checkbox(f"show {name}", initial_value=name in visible)
+                        cb.on_update(
+                            self.guard(lambda e, n=name: self._on_vector_toggle(n, e.target.value))
+                        )
+            folder = gui.add_folder("Playback")
+            self._lesson_folders.append(folder)
+            with folder:
+                self.pause_cb = gui.add_checkbox(
+                    PAUSE_AT_END, initial_value=self.session.pause_at_end
+                )
+                self.pause_cb.on_update(self.guard(self._on_pause_at_end))
+        with self.tab_plots:
+            folder = gui.add_folder("Live plots (the whole run)")
+            self._lesson_folders.append(folder)
+            with folder:
+                self.plots.build(lesson)
+        self.exports.show_default_step(lesson, self.session.t_end)
+        esc = html.escape
+        self.lesson_head.content = (
+            f'<div style="font-size:0.95em"><b>{esc(lesson.problem)} · {esc(lesson.title)}</b><br>'
+            f'<span style="color:#555">{esc(lesson.source)}</span><br>{esc(lesson.summary)}</div>'
+        )
+        self._drawn_lesson = lesson.id
+
+    def sync_widgets(self, force: bool = False) -> None:
+        """Show the session's values in the widgets (programmatic: callbacks ignore it).
+
+        ``force``: every widget, also those whose session value did not change."""
+        s = self.session
+        put, current = self.controls.put, self._current_target
+        try:
+            put(self.lesson_dd, self._ids[s.lesson.id], force, current)
+            opts = self._preset_options()
+            if tuple(self.preset_dd.options) != opts:
+                self.preset_dd.options = opts
+            put(self.preset_dd, s.preset or NO_PRESET, force, current)
+            put(self.speed_dd, speed_label(s.speed), force, current)
+            if hasattr(self, "pause_cb"):
+                put(self.pause_cb, bool(s.pause_at_end), force, current)
+        except Exception:
+            traceback.print_exc()
+        self.controls.sync(s.lesson, s.params, force, current)
+
+    # ------------------------------------------------------------------ callbacks
+
+    def _on_lesson(self, event: Any) -> None:
+        lesson_id = self._labels.get(event.target.value)
+        if lesson_id is None:
+            raise LabError(f"unknown lesson {str(event.target.value)[:60]!r}")
+        if lesson_id == self.session.lesson.id:
+            return
+        self.session.select_lesson(lesson_id)
+        self.session.notify(f"lesson: {lesson_label(self.session.lesson)}")
+        self.after_state_change()
+
+    def _on_preset(self, event: Any) -> None:
+        name = event.target.value
+        if name == NO_PRESET:
+            self.session.apply_preset(None)
+        else:
+            if name not in {p.name for p in self.session.lesson.presets}:
+                raise LabError(f"unknown preset {str(name)[:60]!r}")
+            self.session.apply_preset(name)
+            self.session.notify(f"preset {name}: {self.session.lesson.preset(name).title}")
+        self.after_state_change()
+
+    def _played(self, frames: list[Any], reframe: bool) -> None:
+        """Frames the transport made outside the loop (a step, a jump, a reset)."""
+        s = self.session
+        if reframe:
+            s.camera_revision += 1  # the student asked for the start: frame the scene too
+        if frames:
+            self.renderer.push_frames(frames[-MAX_DRAWN_FRAMES:], s.playing, self.frame_count)
+            self.plots.add(s.frame)
+        self._frame_dirty = True
+        self._save_state()
+
+    def _on_pause_at_end(self, event: Any) -> None:
+        self.session.pause_at_end = bool(event.target.value)
+        self._save_state()
+
+    def _on_vector_toggle(self, name: str, value: Any) -> None:
+        visible = self.renderer.visible_vectors()
+        if value:
+            visible.add(name)
+        else:
+            visible.discard(name)
+        self.session.visible_vectors = visible
+        self.renderer.chosen_vectors = visible
+        self.renderer.vectors_changed()
+        self._frame_dirty = True
+        self._save_state()
+
+    def _on_slider(self, p: Param, value: Any) -> None:
+        current = self.session.params.get(p.name)
+        if isinstance(current, Formula) and not current.is_constant:
+            raise ParamError(
+                p.name, f"is the formula {current.text}; type a number to use the slider"
+            )
+        if isinstance(value, bool) or not isinstance(value, (int, float)):
+            raise ParamError(p.name, f"expected a number, got {type(value).__name__}")
+        v = float(value)
+        if not math.isfinite(v):
+            raise ParamError(p.name, f"must be a finite number, got {v!r}")
+        if v < float(p.min) or v > float(p.max):
+            raise ParamError(
+                p.name,
+                f"{plain_number(v)} is outside the slider range"
+                f" [{plain_number(p.min)}, {plain_number(p.max)}]",
+            )
+        v = float(f"{v:.12g}")  # slider round-off, kept in significant digits (1e-14 stays)
+        self.session.set_value(p.name, repr(v) if not v.is_integer() else str(int(v)))
+        self.controls.clear_error(p.name)
+        self._param_changed()
+
+    def _on_text(self, p: Param, value: Any) -> None:
+        if not isinstance(value, str):
+            raise ParamError(p.name, "expected text")
+        self.session.set_value(p.name, value)
+        self.controls.clear_error(p.name)
+        self._param_changed()
+
+    def _on_value(self, p: Param, value: Any) -> None:
+        self.session.set_value(p.name, value)
+        self.controls.clear_error(p.name)
+        self._param_changed()
+
+    def _on_snap(self, event: Any) -> None:
+        pt = self.session.snap_start()
+        if pt is not None:
+            self.session.notify(
+                "start point snapped to the surface: (" + ", ".join(f"{v:.6g}" for v in pt) + ")"
+            )
+        self._param_changed()
+
+    def _on_surface_click(self, event: Any) -> None:
+        if self.closed:
+            return
+        if self.gate is not None and not self.gate(self, event, None):  # classroom hook
+            return
+        with self.session.lock:
+            try:
+                hit = self.renderer.hit(event.ray_origin, event.ray_direction)
+                if hit is None:
+                    raise LabError("the click did not hit the surface")
+                self.session.set_start(hit)
+                self.session.notify(
+                    "start point set by click: (" + ", ".join(f"{v:.4g}" for v in hit) + ")"
+                )
+                self._param_changed()
+            except (ParamError, LabError) as exc:
+                self.session.notify(f"refused: {exc}", "error")
+            except Exception as exc:
+                traceback.print_exc()
+                self.session.notify(f"internal error: {exc}", "error")
+            self.refresh(heavy=True)
+
+    def _param_changed(self) -> None:
+        self.sync_widgets()
+        self._frame_dirty = True
+        self.derivation_due = time.monotonic() + 0.4
+        self._save_state()
+
+    def after_state_change(self) -> None:
+        self.sync_widgets()
+        self._frame_dirty = True
+        self.derivation_due = time.monotonic()
+        self._save_state()
+
+    def _save_state(self) -> None:
+        save_state(self.client, self.session)
+
+    # ------------------------------------------------------------------ per frame
+
+    def refresh(self, heavy: bool = False) -> None:
+        """Bring GUI and scene in line with the session (caller holds the session lock).
+
+        ``heavy``: also rebuild lesson-dependent GUI (from GUI callbacks, not the loop).
+        """
+        s = self.session
+        if self.closed:
+            return
+        if heavy and self._drawn_lesson != s.lesson.id:
+            self._build_lesson_gui()
+            self.sync_widgets()
+            self.derivation_due = time.monotonic()
+            new_lesson = True
+        else:
+            new_lesson = False
+        if self._drawn_scene_rev != s.scene_revision:
+            self.renderer.chosen_vectors = s.visible_vectors
+            frame = new_lesson or self._drawn_camera_rev != s.camera_revision
+            self.renderer.draw_static(s.scene, frame_camera=frame)
+            self._drawn_camera_rev = s.camera_revision
+            self._drawn_scene_rev = s.scene_revision
+            self._frame_dirty = True
+        if self._drawn_camera_rev != s.camera_revision:
+            self.renderer.frame_scene()
+            self._drawn_camera_rev = s.camera_revision
+        if self._drawn_reset_rev != s.reset_revision:
+            self.renderer.reset_live()
+            self.plots.clear()
+            self._drawn_reset_rev = s.reset_revision
+            self._frame_dirty = True
+        if heavy:
+            content = preset_note_html(s)
+            if self.preset_note.content != content:
+                self.preset_note.content = content
+        if self._frame_dirty:
+            self._frame_dirty = False
+            self.renderer.push_frames([s.frame], s.playing, self.frame_count)
+            self.plots.add(s.frame)
+            self.plots.send(all_plots=True)
+        self._update_texts()
+
+    def render_derivation(self) -> None:
+        """The derivation with the current parameters, as MathML (caller holds the lock;
+        the server renders it off the lock and calls :meth:`set_derivation`)."""
+        s = self.session
+        self.derivation_due = None
+        try:
+            content = derivation_to_html(s.lesson.derivation(s.params))
+        except Exception as exc:
+            content = (
+                '<div class="al-error">The derivation could not be built: '
+                f"{html.escape(str(exc))}</div>"
+            )
+        self.set_derivation(content)
+
+    def set_derivation(self, content: str) -> None:
+        if self.derivation_html.content != content:
+            self.derivation_html.content = content
+
+    def _update_texts(self) -> None:
+        ro = readout_html(self.session)
+        if ro != self._last_readout:
+            fast_set(self.readout, "content", ro)
+            self._last_readout = ro
+        notice = self.session.notices[-1] if self.session.notices else None
+        fmsg = self.session.frame.message
+        if notice != self._shown_notice or fmsg != self._shown_frame_message:
+            if (
+                notice is not None
+                and notice != self._shown_notice
+                and notice[0] in ("warning", "error")
+            ):
+                try:
+                    self.client.add_notification(
+                        "Analyzer Lab",
+                        notice[1],
+                        auto_close_seconds=6.0,
+                        color="red" if notice[0] == "error" else "yellow",
+                    )
+                except Exception:
+                    pass
+            self._shown_notice = notice
+            self._shown_frame_message = fmsg
+            self.status.content = status_html(self.session)
+
+    def tick(self, wall_dt: float, atomic: bool = True) -> None:
+        """One frame of the server loop (caller holds the session lock).
+
+        ``atomic=False``: the caller groups the messages (and wakes the event loop once
+        for all sessions, see :class:`analyzer_lab.serve.server.LabServer`)."""
+        if self.closed:
+            return
+        if self._retired and time.monotonic() >= self._retired[0][0]:
+            self._remove_retired()
+        s = self.session
+        was_playing = s.playing
+        t0 = time.perf_counter()
+        frames = s.tick(wall_dt) if s.playing else []
+        self.step_seconds += time.perf_counter() - t0
+        self.frame_count += 1
+        cfg = self.config
+        if (
+            not frames
+            and not self._frame_dirty
+            and s.scene_revision == self._drawn_scene_rev
+            and s.reset_revision == self._drawn_reset_rev
+            and s.camera_revision == self._drawn_camera_rev
+        ):
+            if was_playing != s.playing or self.frame_count % cfg.readout_every == 0:
+                self._update_texts()
+            return
+        t1 = time.perf_counter()
+        with self.client.atomic() if atomic else contextlib.nullcontext():
+            if (
+                s.scene_revision != self._drawn_scene_rev
+                or s.reset_revision != self._drawn_reset_rev
+                or s.camera_revision != self._drawn_camera_rev
+                or self._frame_dirty
+            ):
+                self.refresh()
+            if frames:
+                self.renderer.push_frames(frames, s.playing, self.frame_count)
+                if self.frame_count % cfg.plot_every == 0 or not s.playing:
+                    self.plots.add(frames[-1], always=True)
+                if self.frame_count % cfg.plot_send_every == 0 or not s.playing:
+                    self.plots.send(all_plots=not s.playing)
+            if self.frame_count % cfg.readout_every == 0 or not s.playing:
+                self._update_texts()
+        self.draw_seconds += time.perf_counter() - t1
+
+    def _remove_retired(self) -> None:
+        """Remove the hidden folders whose delay has passed."""
+        now = time.monotonic()
+        while self._retired and now >= self._retired[0][0]:
+            _, folder = self._retired.pop(0)
+            try:
+                folder.remove()
+            except Exception:
+                pass
+
+    def close(self) -> None:
+        self.closed = True
+        self._retired = []
+
+    # ------------------------------------------------------------------ export
+
+
+__all__ = ["SessionView", "ViewConfig"]

@@ -1,0 +1,38 @@
+"""Persistence: a page's state saved in its browser and restored after a reload."""
+
+from __future__ import annotations
+
+from typing import Any
+
+from analyzer_lab.session.session import Session, SessionState
+
+STORAGE_KEY = "analyzer-lab-state"
+
+
+def save_state(client: Any, session: Session) -> None:
+    """Save the session's state (lesson, preset, values, playback) in the page."""
+    try:
+        client.local_storage.set_item(STORAGE_KEY, session.state().to_json())
+    except Exception:
+        pass  # a page that closed meanwhile
+
+
+def restore_state(client: Any, session: Session, timeout: float = 2.0) -> None:
+    """Apply the state the page saved before a reload, if any; a stale or hand-made
+    state is ignored with a message."""
+    try:
+        saved = client.local_storage.get_item(STORAGE_KEY, timeout=timeout)
+    except Exception:
+        return
+    if not saved:
+        return
+    try:
+        problems = session.apply_state(SessionState.from_json(saved))
+        restored = f"restored your last lesson and parameters ({session.lesson.id})"
+        if problems:
+            # one notice with both: the newest notice is the one the page shows
+            session.notify(f"{restored}, but: {'; '.join(problems)}", "warning")
+        else:
+            session.notify(restored)
+    except Exception as exc:
+        session.notify(f"saved state ignored: {exc}", "warning")

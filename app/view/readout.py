@@ -1,0 +1,79 @@
+"""The readout: time, play state and the lesson's key quantities; notices."""
+
+from __future__ import annotations
+
+import html
+
+from analyzer_lab.session.session import Session
+
+LEVEL_COLORS = {"info": "#1c4f8a", "warning": "#8a5a00", "error": "#a61b1b"}
+
+
+def speed_label(s: float) -> str:
+    return f"{s:g}x"
+
+
+def readout_html(s: Session) -> str:
+    """Time, speed, play state and the lesson's declared readout quantities."""
+    state = "playing" if s.playing else "paused"
+    if s.playing and s.slowed:
+        state = f'playing <span class="al-slow" style="color:#8a5a00">({html.escape(s.slow_text())})</span>'
+    units = {x.name: x.unit for x in s.lesson.series}
+    values = []
+    for name in s.lesson.readout:
+        v = s.frame.scalars.get(name)
+        if v is None:
+            continue
+        unit = f" {units.get(name, '')}" if units.get(name) else ""
+        values.append(f"{html.escape(name)} = {v:.6g}{html.escape(unit)}")
+    quantities = (
+        f'<div class="al-readout-values" style="font-size:0.9em">{" &nbsp; ".join(values)}</div>'
+        if values
+        else ""
+    )
+    return (
+        '<div class="al-readout" style="font-family:monospace;font-size:1.05em">'
+        f"t = {s.frame.t:8.3f} s &nbsp; {speed_label(s.speed)} &nbsp; {state}{quantities}</div>"
+    )
+
+
+def status_html(s: Session) -> str:
+    """The newest notice and the frame's message."""
+    parts = []
+    if s.notices:
+        level, text = s.notices[-1]
+        color = LEVEL_COLORS.get(level, "#333")
+        parts.append(
+            f'<div class="al-message al-{level}" style="color:{color};font-size:0.9em">{html.escape(text)}</div>'
+        )
+    if s.frame.message:
+        parts.append(
+            '<div class="al-frame-message" style="color:#8a5a00;font-size:0.9em">'
+            f"{html.escape(s.frame.message)}</div>"
+        )
+    return "".join(parts) or '<div class="al-message"></div>'
+
+
+def preset_note_html(s: Session) -> str:
+    """The preset's title and note, or "custom (from ...)" with what differs once the
+    student changed a value."""
+    esc = html.escape
+    edits = s.edits()
+    origin = s.preset or "the defaults"
+    if edits:
+        rows = "".join(
+            f"<li><code>{esc(k)}</code> = {esc(str(now))} "
+            f'<span style="color:#777">(was {esc(str(was))})</span></li>'
+            for k, (was, now) in list(edits.items())[:8]
+        )
+        more = f"<li>... and {len(edits) - 8} more</li>" if len(edits) > 8 else ""
+        body = (
+            f'<b class="al-custom">custom (from {esc(origin)})</b>'
+            f'<ul style="margin:2px 0 0 1em;padding:0">{rows}{more}</ul>'
+        )
+    elif s.preset:
+        pr = s.lesson.preset(s.preset)
+        body = f"<b>{esc(pr.title)}</b>" + (f"<br>{esc(pr.note)}" if pr.note else "")
+    else:
+        body = ""
+    return f'<div class="al-preset-note" style="font-size:0.85em">{body}</div>'

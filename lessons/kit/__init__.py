@@ -1,0 +1,1 @@
+"""The lesson kit: the contract every lesson implements and what every lesson uses."""
