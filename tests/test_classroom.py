@@ -16,7 +16,7 @@ from typing import Any
 import pytest
 from analyzer_lab.classroom.room import Classroom
 from analyzer_lab.lessons.analyzers.sphere import LESSON as SPHERE
-from analyzer_lab.serve.limits import normalize_code
+from analyzer_lab.limits import normalize_code
 from analyzer_lab.session.session import LabError
 
 from benchmarks.classroom_load import ProtoClient

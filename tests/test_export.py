@@ -120,7 +120,7 @@ def test_a_grid_with_too_many_values_is_refused_naming_the_smallest_step() -> No
 def test_the_pacer_rests_after_its_share_of_work() -> None:
     import time
 
-    from analyzer_lab.serve.limits import Pacer
+    from analyzer_lab.limits import Pacer
 
     pace = Pacer(work=0.002, rest=0.004)
     t0 = time.monotonic()

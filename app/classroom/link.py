@@ -29,7 +29,7 @@ from typing import TYPE_CHECKING, Any
 
 from analyzer_lab.classroom.bus import Bus, Message
 from analyzer_lab.lessons.kit.contract import ParamError
-from analyzer_lab.serve.limits import MAX_NOTICE_LENGTH
+from analyzer_lab.limits import MAX_NOTICE_LENGTH
 from analyzer_lab.session.session import SPEEDS, LabError, Session, SessionState, SharedClock
 
 if TYPE_CHECKING:

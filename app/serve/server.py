@@ -27,8 +27,8 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from analyzer_lab.lessons.kit.contract import Lesson
+from analyzer_lab.limits import prefer_returned_memory
 from analyzer_lab.serve.derivation_jobs import DerivationJobs, build
-from analyzer_lab.serve.limits import prefer_returned_memory
 from analyzer_lab.session.runlog import LRUCache, lesson_scene, params_key
 from analyzer_lab.session.session import STEP_WALL_BUDGET, LabError, Session
 from analyzer_lab.view.page import SessionView, ViewConfig
@@ -38,9 +38,9 @@ from analyzer_lab.viser_boundary import (
     WakeBatch,
     dropped_types,
     event_loop,
+    guard_gui_updates,
     make_viser_server,
 )
-from analyzer_lab.viser_boundary._gui_guard import guard_gui_updates
 
 #: Frames per second of the live view: a little above 30 so that every page still gets
 #: 30 updates a second when a tick comes late (measured: 50 pages get 34/s at 36 fps,
@@ -438,7 +438,7 @@ def serve(
         return 2
     t0 = time.perf_counter()
     from analyzer_lab.classroom.bus import BusError, make_bus
-    from analyzer_lab.serve.limits import generate_code
+    from analyzer_lab.limits import generate_code
 
     code = instructor_code or os.environ.get("ANALYZER_LAB_INSTRUCTOR_CODE") or generate_code()
     try:

@@ -23,10 +23,11 @@ LIVE_ROOT = "/lab/live"
 def live_node(kind: str, name: str = "") -> str:
     """The node of one moving item: ``kind`` is ``point``, ``trail``, ``body`` or
     ``vectors`` (one node for all arrows, no ``name``)."""
-    return f"{LIVE_ROOT}/{kind}/{_safe(name)}" if name else f"{LIVE_ROOT}/{kind}"
+    return f"{LIVE_ROOT}/{kind}/{node_name(name)}" if name else f"{LIVE_ROOT}/{kind}"
 
 
-def _safe(name: str) -> str:
+def node_name(name: str) -> str:
+    """A scene node's name part: letters, digits, "-" and "_" only, at most 60 characters."""
     return "".join(ch if ch.isalnum() or ch in "-_" else "_" for ch in str(name))[:60] or "item"
 
 

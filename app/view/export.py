@@ -17,7 +17,7 @@ from typing import Any
 import numpy as np
 from analyzer_lab.lessons.kit.contract import Lesson, RunResult
 from analyzer_lab.lessons.kit.formula import parse_number
-from analyzer_lab.serve.limits import Pacer, return_free_memory
+from analyzer_lab.limits import Pacer, return_free_memory
 from analyzer_lab.session.runlog import MAX_LOG
 from analyzer_lab.session.session import LabError, Session
 from analyzer_lab.view.replay import MAX_REPLAY_FRAMES
@@ -132,7 +132,7 @@ def thinned(result: RunResult) -> RunResult:
 
 
 def paced_csv(result: RunResult) -> str:
-    """``result.to_csv()``, written with pauses (:class:`~analyzer_lab.serve.limits.Pacer`)."""
+    """``result.to_csv()``, written with pauses (:class:`~analyzer_lab.limits.Pacer`)."""
     names = [k for k, v in result.series.items() if np.ndim(v) == 1 and len(v) == len(result.t)]
     buf = io.StringIO()
     w = csv.writer(buf, lineterminator="\n")

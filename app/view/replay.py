@@ -16,9 +16,9 @@ import re
 from typing import Any
 
 import numpy as np
-from analyzer_lab.serve.limits import Pacer
+from analyzer_lab.limits import Pacer
 from analyzer_lab.session.session import Session
-from analyzer_lab.view.scene import _bounds_info, _nice, _safe
+from analyzer_lab.view.scene import nice_step, node_name, scene_bounds
 from analyzer_lab.viser_boundary import recording_scene
 
 #: Frames per second of the replay animation and its longest duration.
@@ -39,7 +39,7 @@ def replay_html(session: Session) -> str:
     (decimated; the caption says so)."""
     scene_api, ser = recording_scene()
     spec = session.scene
-    lo, hi, size = _bounds_info(spec)
+    lo, hi, size = scene_bounds(spec)
     _static(scene_api, spec, lo, hi, size)
     log = session.log
     count = len(log)
@@ -74,8 +74,8 @@ def _static(scene_api: Any, spec: Any, lo: Any, hi: Any, size: float) -> None:
         "/lab/grid",
         width=float(hi[0] - lo[0]) * 1.4 + 1e-9,
         height=float(hi[1] - lo[1]) * 1.4 + 1e-9,
-        cell_size=_nice(size / 10),
-        section_size=_nice(size / 2),
+        cell_size=nice_step(size / 10),
+        section_size=nice_step(size / 2),
         position=(float(center[0]), float(center[1]), float(lo[2] if not spec.planar else 0.0)),
         shadow_opacity=0.0,
     )
@@ -85,7 +85,7 @@ def _static(scene_api: Any, spec: Any, lo: Any, hi: Any, size: float) -> None:
     for m in spec.meshes:
         if len(m.vertices) and len(m.faces):
             scene_api.add_mesh_simple(
-                f"/lab/static/mesh/{_safe(m.name)}",
+                f"/lab/static/mesh/{node_name(m.name)}",
                 np.asarray(m.vertices, np.float32),
                 np.asarray(m.faces, np.uint32),
                 color=tuple(m.color),
@@ -98,7 +98,7 @@ def _static(scene_api: Any, spec: Any, lo: Any, hi: Any, size: float) -> None:
         pts = np.asarray(c.points, np.float32).reshape(-1, 3)
         if len(pts) >= 2:
             scene_api.add_line_segments(
-                f"/lab/static/curve/{_safe(c.name)}",
+                f"/lab/static/curve/{node_name(c.name)}",
                 np.stack([pts[:-1], pts[1:]], 1),
                 tuple(c.color),
                 thickness=float(c.width),
@@ -106,7 +106,7 @@ def _static(scene_api: Any, spec: Any, lo: Any, hi: Any, size: float) -> None:
             )
     for mk in spec.markers:
         scene_api.add_point_cloud(
-            f"/lab/static/marker/{_safe(mk.name)}",
+            f"/lab/static/marker/{node_name(mk.name)}",
             np.asarray(mk.points, np.float32).reshape(-1, 3),
             tuple(mk.color),
             point_size=float(mk.size) * 1.2,
@@ -135,7 +135,7 @@ def _animate(
             h = handles.get(name)
             if h is None or h.points.shape != pts.shape:
                 handles[name] = scene_api.add_point_cloud(
-                    f"/lab/live/point/{_safe(name)}",
+                    f"/lab/live/point/{node_name(name)}",
                     pts,
                     tuple(color),
                     point_size=0.045 * size,
@@ -150,7 +150,7 @@ def _animate(
             if len(pending[name]) >= TRAIL_CHUNK or k == len(chosen) - 1:
                 segs = np.concatenate(pending[name], axis=0)
                 scene_api.add_line_segments(
-                    f"/lab/live/trail/{_safe(name)}/{k}",
+                    f"/lab/live/trail/{node_name(name)}/{k}",
                     segs,
                     tuple(color),
                     thickness=2.5,

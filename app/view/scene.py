@@ -18,11 +18,11 @@ from analyzer_lab.lessons.kit.contract import Frame, SceneSpec
 from analyzer_lab.view.bodies import (
     LIVE_ROOT,
     BodyGroup,
-    _safe,
     body_groups,
     body_node,
     instance_colors,
     live_node,
+    node_name,
 )
 from analyzer_lab.viser_boundary import fast_set, set_pose
 
@@ -118,7 +118,8 @@ class Trail:
             self.values = [self.values[-1]]
 
 
-def _bounds_info(scene: SceneSpec) -> tuple[np.ndarray, np.ndarray, float]:
+def scene_bounds(scene: SceneSpec) -> tuple[np.ndarray, np.ndarray, float]:
+    """The scene's box (low corner, high corner) and its largest side."""
     lo = np.asarray(scene.bounds[0], dtype=float)
     hi = np.asarray(scene.bounds[1], dtype=float)
     if not (np.all(np.isfinite(lo)) and np.all(np.isfinite(hi))):
@@ -180,7 +181,7 @@ def axis_ticks(lo: float, hi: float, count: int = 4) -> list[float]:
     span = hi - lo
     if not (math.isfinite(span) and span > 0):
         return []
-    step = _nice(span / count)
+    step = nice_step(span / count)
     first = math.ceil(lo / step - 1e-9) * step
     ticks = []
     k = 0
@@ -258,7 +259,7 @@ class SceneRenderer:
         scene_api = self.client.scene
         self.spec = spec
         self._clear_static()
-        lo, hi, size = _bounds_info(spec)
+        lo, hi, size = scene_bounds(spec)
         self._size = size
         center = (lo + hi) / 2
         add = self._static_handles.append
@@ -268,8 +269,8 @@ class SceneRenderer:
                 "/lab/grid",
                 width=float(hi[0] - lo[0]) * 1.4 + 1e-9,
                 height=float(hi[1] - lo[1]) * 1.4 + 1e-9,
-                cell_size=_nice(size / 10),
-                section_size=_nice(size / 2),
+                cell_size=nice_step(size / 10),
+                section_size=nice_step(size / 2),
                 position=(float(center[0]), float(center[1]), float(grid_z)),
                 shadow_opacity=0.0,
             )
@@ -289,7 +290,7 @@ class SceneRenderer:
             if len(v) == 0 or len(f) == 0:
                 continue
             h = scene_api.add_mesh_simple(
-                f"/lab/static/mesh/{_safe(m.name)}",
+                f"/lab/static/mesh/{node_name(m.name)}",
                 v,
                 f,
                 color=tuple(m.color),
@@ -311,7 +312,7 @@ class SceneRenderer:
             segs = np.stack([pts[:-1], pts[1:]], axis=1)
             add(
                 scene_api.add_line_segments(
-                    f"/lab/static/curve/{_safe(c.name)}",
+                    f"/lab/static/curve/{node_name(c.name)}",
                     segs,
                     tuple(c.color),
                     thickness=float(c.width),
@@ -322,7 +323,7 @@ class SceneRenderer:
             pts = np.asarray(mk.points, dtype=np.float32).reshape(-1, 3)
             add(
                 scene_api.add_point_cloud(
-                    f"/lab/static/marker/{_safe(mk.name)}",
+                    f"/lab/static/marker/{node_name(mk.name)}",
                     pts,
                     tuple(mk.color),
                     point_size=float(mk.size) * 1.2,
@@ -333,7 +334,7 @@ class SceneRenderer:
             if mk.label and len(pts):
                 add(
                     scene_api.add_label(
-                        f"/lab/static/marker_label/{_safe(mk.name)}",
+                        f"/lab/static/marker_label/{node_name(mk.name)}",
                         mk.label,
                         position=tuple(map(float, pts[0])),
                         font_screen_scale=self.label_scale,
@@ -425,7 +426,7 @@ class SceneRenderer:
     def frame_scene(self) -> None:
         """Frame the camera on the current scene (lesson, preset or reset changed)."""
         if self.spec is not None:
-            self.frame_camera(*_bounds_info(self.spec))
+            self.frame_camera(*scene_bounds(self.spec))
 
     def frame_camera(self, lo: np.ndarray, hi: np.ndarray, size: float) -> None:
         """Look at the scene's box from an oblique direction, from the distance at which
@@ -565,7 +566,7 @@ def _remove(handle: Any) -> None:
         pass
 
 
-def _nice(x: float) -> float:
+def nice_step(x: float) -> float:
     """A round number near ``x`` (1, 2, 5 times a power of ten)."""
     if not math.isfinite(x) or x <= 0:
         return 1.0

@@ -1,0 +1,184 @@
+"""Page callbacks in order: one connection's callbacks run in the order its messages
+came, round-robin over connections within a CPU budget."""
+
+from __future__ import annotations
+
+import contextvars
+import threading
+import time
+from collections import deque
+from collections.abc import Callable
+from concurrent.futures import Future
+from typing import Any
+
+#: A connection's socket is not read while this many of its callbacks wait to run.
+MAX_PENDING_CALLBACKS = 16
+#: Page callbacks (GUI inputs of all pages together) may use this share of one core's
+#: time (CPU seconds per second), with this much at once; the frame loop keeps the rest.
+GUI_CPU_SHARE = 0.2
+GUI_CPU_BURST = 0.2
+#: Threads that run page callbacks (one connection's callbacks never run in parallel).
+GUI_WORKERS = 12
+
+_EXECUTORS: list[OrderedExecutor] = []
+
+#: The connection whose message is being handled (set around viser's dispatch; the
+#: asyncio tasks it creates copy the value).
+CONNECTION: contextvars.ContextVar[int | None] = contextvars.ContextVar(
+    "analyzer_lab_connection", default=None
+)
+
+
+class CpuBudget:
+    """CPU seconds that callbacks may spend: ``share`` per second of wall time, up to
+    ``burst`` saved; one callback may overdraw it (the next waits until it is paid)."""
+
+    def __init__(self, share: float, burst: float) -> None:
+        self.share = float(share)
+        self.burst = float(burst)
+        self.tokens = float(burst)
+        self.t = time.monotonic()
+        self.lock = threading.Lock()
+
+    def _refill(self) -> None:
+        now = time.monotonic()
+        self.tokens = min(self.burst, self.tokens + (now - self.t) * self.share)
+        self.t = now
+
+    def wait_time(self) -> float:
+        """Seconds until the budget is positive again (0 when it is)."""
+        with self.lock:
+            self._refill()
+            return 0.0 if self.tokens > 0 else -self.tokens / self.share + 1e-3
+
+    def spend(self, seconds: float) -> None:
+        with self.lock:
+            self._refill()
+            self.tokens -= seconds
+
+
+class OrderedExecutor:
+    """viser's callback pool, but the callbacks of one connection run one after the other
+    in the order its messages arrived, connections take turns (round-robin), and all
+    page callbacks together stay within a CPU budget (:data:`GUI_CPU_SHARE`).
+
+    viser starts every GUI callback on a shared pool, so a preset choice and a checkbox
+    ticked right after it could run in either order (and the slower preset callback
+    could show the old checkbox value over the new one), and many pages' inputs could
+    take the interpreter from the frame loop.  Here each connection has a queue; a few
+    worker threads take one callback from the next connection in turn, and wait while
+    the budget is spent (a callback's thread CPU time is charged to it).  Work submitted
+    outside a connection's message (connect handlers, server code) goes to the pool."""
+
+    def __init__(
+        self,
+        pool: Any,
+        share: float = GUI_CPU_SHARE,
+        burst: float = GUI_CPU_BURST,
+        workers: int = GUI_WORKERS,
+    ) -> None:
+        self.pool = pool
+        self.budget = CpuBudget(share, burst)
+        self._cond = threading.Condition()
+        self._queues: dict[Any, deque[tuple[Future, Callable[..., Any], tuple, dict]]] = {}
+        self._ready: deque[Any] = deque()  # connections with work, not running, in turn
+        self._stopped = False
+        self.stats = {"run": 0, "waited": 0.0, "cpu": 0.0}
+        self._workers = [
+            threading.Thread(target=self._work, name=f"analyzer-lab-gui-{k}", daemon=True)
+            for k in range(max(1, workers))
+        ]
+        for w in self._workers:
+            w.start()
+
+    def submit(self, fn: Callable[..., Any], /, *args: Any, **kwargs: Any) -> Future:
+        key = CONNECTION.get()
+        if key is None:
+            return self.pool.submit(fn, *args, **kwargs)
+        return self.submit_for(key, fn, *args, **kwargs)
+
+    def submit_for(self, key: Any, fn: Callable[..., Any], /, *args: Any, **kwargs: Any) -> Future:
+        """Queue ``fn`` as a callback of ``key`` (a connection, or any other input source)."""
+        fut: Future = Future()
+        with self._cond:
+            queue = self._queues.get(key)
+            if queue is None:
+                queue = self._queues[key] = deque()
+                self._ready.append(key)
+                self._cond.notify()
+            queue.append((fut, fn, args, kwargs))
+        return fut
+
+    def _work(self) -> None:
+        while True:
+            with self._cond:
+                while not self._ready and not self._stopped:
+                    self._cond.wait()
+                if self._stopped:
+                    return
+                key = self._ready.popleft()
+                fut, fn, args, kwargs = self._queues[key].popleft()
+            wait = self.budget.wait_time()
+            while wait > 0:
+                self.stats["waited"] += wait
+                time.sleep(min(wait, 0.05))
+                wait = self.budget.wait_time()
+            if fut.set_running_or_notify_cancel():
+                cpu = time.thread_time()
+                try:
+                    fut.set_result(fn(*args, **kwargs))
+                except BaseException as exc:  # delivered to the future's callbacks (viser logs it)
+                    fut.set_exception(exc)
+                used = time.thread_time() - cpu
+                self.budget.spend(used)
+                self.stats["run"] += 1
+                self.stats["cpu"] += used
+            with self._cond:
+                queue = self._queues[key]
+                if queue:
+                    self._ready.append(key)  # its next callback, after the others' turn
+                    self._cond.notify()
+                else:
+                    del self._queues[key]
+
+    def pending(self, key: Any = None) -> int:
+        """Callbacks queued (of one connection, or of all)."""
+        with self._cond:
+            if key is not None:
+                q = self._queues.get(key)
+                return len(q) if q is not None else 0
+            return sum(len(q) for q in self._queues.values())
+
+    def shutdown(self, wait: bool = True, **kwargs: Any) -> None:
+        with self._cond:
+            self._stopped = True
+            self._cond.notify_all()
+        if self in _EXECUTORS:
+            _EXECUTORS.remove(self)
+        self.pool.shutdown(wait=wait, **kwargs)
+
+
+def order_callbacks(server: Any) -> OrderedExecutor:
+    """Route a :class:`viser.ViserServer`'s callbacks through an :class:`OrderedExecutor`
+    (before any client connects: per-client APIs copy the executor when created)."""
+    ordered = OrderedExecutor(server._thread_executor)
+    _EXECUTORS.append(ordered)
+    server._thread_executor = ordered
+    for api in (server.gui, server.scene):
+        api._thread_executor = ordered
+    return ordered
+
+
+def pending(key: int) -> int:
+    """Callbacks of connection ``key`` waiting to run, over every ordered executor."""
+    return sum(ex.pending(key) for ex in list(_EXECUTORS))
+
+
+def submit_callback(server: Any, key: Any, fn: Callable[..., Any], *args: Any) -> bool:
+    """Run ``fn(*args)`` as a page callback of ``key`` (in its turn, within the callback
+    budget); False when the server has no :class:`OrderedExecutor`."""
+    ex = getattr(server, "_thread_executor", None)
+    if not isinstance(ex, OrderedExecutor):
+        return False
+    ex.submit_for(key, fn, *args)
+    return True

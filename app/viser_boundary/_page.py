@@ -1,0 +1,78 @@
+"""The lab's viser server: our page (title, keys kept in fields), no share tunnel, the
+websocket hardened, callbacks ordered and the GUI guarded."""
+
+from __future__ import annotations
+
+import tempfile
+from pathlib import Path
+from typing import Any
+
+from analyzer_lab.viser_boundary._callbacks import order_callbacks
+from analyzer_lab.viser_boundary._gui_guard import guard_gui_updates
+from analyzer_lab.viser_boundary._hot_path import share_prop_hints
+from analyzer_lab.viser_boundary._patches import PATCH_LOCK, check_viser_version
+from analyzer_lab.viser_boundary._websocket import harden_websocket
+
+PAGE_TITLE = "Analyzer Lab"
+
+#: Keys typed into a field (arrows on a focused slider, letters in a formula) stay in that
+#: field: they do not reach the page's camera controls, which listen further up.
+KEYS_STAY_IN_FIELDS = """<script>
+document.addEventListener("keydown", function (e) {
+  var t = e.target;
+  if (t && t.closest && t.closest('input, textarea, select, [role="slider"]')) {
+    e.stopImmediatePropagation();
+  }
+}, false);
+</script>"""
+
+
+def _client_root() -> Path:
+    """viser's client page with our title (and :data:`KEYS_STAY_IN_FIELDS`), in a private
+    temporary directory."""
+    import viser
+
+    src = Path(viser.__file__).resolve().parent / "client" / "build" / "index.html"
+    text = src.read_text(encoding="utf-8")
+    text = text.replace("<title>Viser</title>", f"<title>{PAGE_TITLE}</title>", 1)
+    text = text.replace('content="Viser client"', f'content="{PAGE_TITLE}"', 1)
+    text = text.replace("</head>", KEYS_STAY_IN_FIELDS + "</head>", 1)
+    root = Path(tempfile.mkdtemp(prefix="analyzer-lab-page-"))
+    (root / "index.html").write_text(text, encoding="utf-8")
+    return root
+
+
+def make_viser_server(host: str, port: int, verbose: bool) -> Any:
+    """A ViserServer serving our page (title) whose share tunnel cannot be started."""
+    import viser
+    from viser import _messages, infra
+
+    check_viser_version()
+    harden_websocket()  # before the server starts listening
+    share_prop_hints()
+    root = _client_root()
+    original = infra.WebsockServer
+
+    def factory(*args: Any, **kwargs: Any) -> Any:
+        kwargs["http_server_root"] = root
+        return original(*args, **kwargs)
+
+    with PATCH_LOCK:
+        infra.WebsockServer = factory  # type: ignore[misc]
+        try:
+            server = viser.ViserServer(host=host, port=port, verbose=verbose)
+        finally:
+            infra.WebsockServer = original  # type: ignore[misc]
+    # the share tunnel: drop the handlers any client could trigger, and the method
+    ws = server._websock_server
+    for msg in (_messages.ShareUrlRequest, _messages.ShareUrlDisconnect):
+        try:
+            ws.unregister_handler(msg)
+        except (AssertionError, KeyError):
+            pass
+    server.request_share_url = lambda *a, **k: None  # type: ignore[method-assign]
+    guard_gui_updates(server.gui, server)
+    order_callbacks(server)  # one connection's callbacks run in the order its messages came
+    server.gui.configure_theme(show_share_button=False, show_logo=False, control_width="large")
+    server.gui.set_panel_label(PAGE_TITLE)
+    return server
