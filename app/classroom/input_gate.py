@@ -9,7 +9,7 @@ callback budget, :func:`analyzer_lab.viser_boundary.submit_callback`).
 
 from __future__ import annotations
 
-import traceback
+import logging
 from collections.abc import Callable
 from typing import Any
 
@@ -17,6 +17,8 @@ from analyzer_lab.limits import INPUT_BURST, INPUT_RATE, TEXT_COST, TokenBucket
 from analyzer_lab.viser_boundary import submit_callback
 
 Callback = Callable[[Any], None]
+
+log = logging.getLogger(__name__)
 
 
 class InputGate:
@@ -74,7 +76,7 @@ class InputGate:
                     try:
                         item[0](item[1])
                     except Exception:
-                        traceback.print_exc()
+                        log.exception("a held input of page %s failed", key[0])
 
 
 __all__ = ["InputGate"]

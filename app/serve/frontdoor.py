@@ -17,6 +17,7 @@ pages: the front door stops sending pages to it and starts it again on the same 
 from __future__ import annotations
 
 import json
+import logging
 import os
 import re
 import signal
@@ -41,6 +42,8 @@ REPORT_TIMEOUT = 5.0
 PENDING = 3.0
 _HOST_RE = re.compile(r"^[A-Za-z0-9.\-]+$|^\[[0-9A-Fa-f:.]+\]$")
 _URL_RE = re.compile(r"Analyzer Lab: http://[^ ]*:(\d+)/")
+
+log = logging.getLogger(__name__)
 
 
 def _free_port(host: str) -> int:
@@ -278,8 +281,10 @@ class FrontDoor:
             if w.ready:
                 try:
                     urllib.request.urlopen(f"http://127.0.0.1:{w.port}/", timeout=5).read(64)
-                except Exception:
-                    pass
+                except OSError as exc:
+                    log.warning(
+                        "worker on port %d did not answer its first request: %s", w.port, exc
+                    )
         threading.Thread(target=self._monitor, name="front-door-monitor", daemon=True).start()
         threading.Thread(target=self.httpd.serve_forever, name="front-door", daemon=True).start()
         return all(w.alive for w in self.workers)

@@ -9,8 +9,8 @@ overwriting a value the user has just typed elsewhere.
 from __future__ import annotations
 
 import html
+import logging
 import math
-import traceback
 from collections.abc import Callable
 from typing import Any
 
@@ -19,6 +19,8 @@ from analyzer_lab.lessons.kit.formula import Formula
 
 _UNSHOWN = object()
 Handler = Callable[[Any], None]
+
+log = logging.getLogger(__name__)
 
 
 def is_constant(value: Any) -> bool:
@@ -34,7 +36,7 @@ def slider_value(value: Any, p: Param) -> float:
         if value.is_constant:
             try:
                 v = float(value.value(0.0))
-            except Exception:
+            except (ArithmeticError, ValueError, TypeError):
                 v = math.nan
     else:
         v = float(value)
@@ -266,7 +268,7 @@ class ParamControls:
                     else:
                         self.put(w, shown_value(p, value), force, current)
                 except Exception:
-                    traceback.print_exc()
+                    log.exception("the widget of %s could not show %r", p.name, value)
 
 
 __all__ = ["ParamControls", "shown_value", "slider_value"]

@@ -10,6 +10,7 @@ equation numbers, the "reconstructed" note) goes through :func:`html.escape`.
 from __future__ import annotations
 
 import html
+import logging
 import re
 from collections.abc import Iterable, Sequence
 from html.parser import HTMLParser
@@ -33,6 +34,8 @@ DROP_CONTENT = frozenset(
     {"script", "style", "annotation", "annotation-xml", "iframe", "object", "svg"}
 )
 _SAFE_VALUE = re.compile(r"^[\w .,:%#+\-]*$")
+
+log = logging.getLogger(__name__)
 
 
 #: SVG figures (block diagrams) are rebuilt from this whitelist: shapes and text only.
@@ -191,6 +194,7 @@ def expr_to_mathml(expr: sp.Basic | str, display: str = "block") -> str:
         try:
             raw = latex2mathml.converter.convert(expr)
         except Exception:  # an unparsable LaTeX string is shown as escaped text
+            log.warning("LaTeX not converted to MathML: %.80s", expr, exc_info=True)
             return f'<math display="{display}"><mtext>{html.escape(expr)}</mtext></math>'
         raw = re.sub(r"<math[^>]*>", "", raw, count=1).replace("</math>", "")
     else:
@@ -199,6 +203,7 @@ def expr_to_mathml(expr: sp.Basic | str, display: str = "block") -> str:
         try:
             raw = mathml(_escape_names(sp.sympify(expr)), printer="presentation")
         except Exception:
+            log.warning("expression not printed as MathML: %.80s", expr, exc_info=True)
             return f'<math display="{display}"><mtext>{html.escape(str(expr))}</mtext></math>'
     # sympy prints d/dt with the double-struck differential d (U+2146): ordinary d
     raw = raw.replace("&dd;", "d").replace("\u2146", "d")

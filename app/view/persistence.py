@@ -2,19 +2,22 @@
 
 from __future__ import annotations
 
+import logging
 from typing import Any
 
 from analyzer_lab.session.session import Session, SessionState
 
 STORAGE_KEY = "analyzer-lab-state"
 
+log = logging.getLogger(__name__)
+
 
 def save_state(client: Any, session: Session) -> None:
     """Save the session's state (lesson, preset, values, playback) in the page."""
     try:
         client.local_storage.set_item(STORAGE_KEY, session.state().to_json())
-    except Exception:
-        pass  # a page that closed meanwhile
+    except Exception:  # a page that closed meanwhile
+        log.debug("state not saved in page %s", client.client_id, exc_info=True)
 
 
 def restore_state(client: Any, session: Session, timeout: float = 2.0) -> None:
@@ -22,7 +25,8 @@ def restore_state(client: Any, session: Session, timeout: float = 2.0) -> None:
     state is ignored with a message."""
     try:
         saved = client.local_storage.get_item(STORAGE_KEY, timeout=timeout)
-    except Exception:
+    except Exception:  # no answer in time, or a page that closed meanwhile
+        log.debug("no saved state read from page %s", client.client_id, exc_info=True)
         return
     if not saved:
         return
@@ -35,4 +39,5 @@ def restore_state(client: Any, session: Session, timeout: float = 2.0) -> None:
         else:
             session.notify(restored)
     except Exception as exc:
+        log.warning("saved state of page %s ignored", client.client_id, exc_info=True)
         session.notify(f"saved state ignored: {exc}", "warning")

@@ -7,8 +7,8 @@ property assignments as possible (DESIGN §5).
 
 from __future__ import annotations
 
+import logging
 import math
-import traceback
 from collections import deque
 from collections.abc import Callable
 from typing import Any
@@ -25,6 +25,8 @@ from analyzer_lab.view.bodies import (
     node_name,
 )
 from analyzer_lab.viser_boundary import fast_set, set_pose
+
+log = logging.getLogger(__name__)
 
 
 class Trail:
@@ -49,18 +51,11 @@ class Trail:
 
     def clear(self) -> None:
         while self.handles:
-            self._remove(self.handles.popleft())
+            remove_handle(self.handles.popleft())
         self.current = []
         self.values = []
         self.dirty = False
         self._newest_full = False
-
-    @staticmethod
-    def _remove(handle: Any) -> None:
-        try:
-            handle.remove()
-        except Exception:
-            pass
 
     def add(self, points: np.ndarray, value: float | None = None) -> None:
         self.current.append(np.asarray(points, dtype=np.float32).reshape(-1, 3))
@@ -107,7 +102,7 @@ class Trail:
             self.handles.append(h)
             self._newest_full = False
             while len(self.handles) > self.max_chunks:
-                self._remove(self.handles.popleft())
+                remove_handle(self.handles.popleft())
         else:
             fast_set(self.handles[-1], "points", segs)
             if np.ndim(colors) == 3:
@@ -169,7 +164,7 @@ def _fov_aspect(cam: Any) -> tuple[float, float]:
     try:
         fov = float(cam.fov) or DEFAULT_FOV
         aspect = float(cam.image_width) / float(cam.image_height)
-    except Exception:
+    except (TypeError, ValueError, ArithmeticError, AttributeError):
         return DEFAULT_FOV, 1.6
     if not (math.isfinite(aspect) and aspect > 0):
         aspect = 1.6
@@ -247,10 +242,7 @@ class SceneRenderer:
 
     def _clear_static(self) -> None:
         for h in self._static_handles:
-            try:
-                h.remove()
-            except Exception:
-                pass
+            remove_handle(h)
         self._static_handles = []
         self.meshes_for_click = []
 
@@ -342,12 +334,12 @@ class SceneRenderer:
                 )
         # moving items: fresh nodes for this scene
         for h in self._point_handles.values():
-            _remove(h)
+            remove_handle(h)
         self._point_handles = {}
         for b in self._body_handles.values():
-            _remove(b)
+            remove_handle(b)
         for g in self._body_groups:
-            _remove(g.handle)
+            remove_handle(g.handle)
         self._body_handles, self._body_groups = {}, []
         for names, bodies in body_groups(spec).items():
             first = bodies[0]
@@ -381,7 +373,7 @@ class SceneRenderer:
             )
             self._body_groups.append(group)
         if self._vector_handle is not None:
-            _remove(self._vector_handle)
+            remove_handle(self._vector_handle)
             self._vector_handle = None
             self._vector_names = ()
         self._visible_cache = None
@@ -454,7 +446,7 @@ class SceneRenderer:
             cam.look_at = tuple(map(float, center))
             self.framed = (center + direction * dist, center)
         except Exception:
-            traceback.print_exc()
+            log.exception("the camera of page %s was not framed", self.client.client_id)
 
     def push_frames(self, frames: list[Frame], playing: bool, frame_count: int) -> None:
         """Draw a batch of frames (the last one fully; all of them into the trails)."""
@@ -487,7 +479,7 @@ class SceneRenderer:
             h = self._point_handles.get(name)
             if h is None or h.points.shape != pts.shape:
                 if h is not None:
-                    _remove(h)
+                    remove_handle(h)
                 self._point_handles[name] = scene_api.add_point_cloud(
                     live_node("point", name),
                     pts,
@@ -533,7 +525,7 @@ class SceneRenderer:
         names = tuple(visible)
         if not segs:
             if self._vector_handle is not None:
-                _remove(self._vector_handle)
+                remove_handle(self._vector_handle)
                 self._vector_handle = None
             self._vector_names = names
             return
@@ -544,7 +536,7 @@ class SceneRenderer:
             or self._vector_handle.points.shape != pts.shape
         ):
             if self._vector_handle is not None:
-                _remove(self._vector_handle)
+                remove_handle(self._vector_handle)
             r = 0.006 * self._size
             self._vector_handle = self.client.scene.add_arrows(
                 live_node("vectors"),
@@ -559,11 +551,12 @@ class SceneRenderer:
             fast_set(self._vector_handle, "points", pts)
 
 
-def _remove(handle: Any) -> None:
+def remove_handle(handle: Any) -> None:
+    """Remove a scene node; one already gone with its page is logged and passed over."""
     try:
         handle.remove()
     except Exception:
-        pass
+        log.debug("scene node not removed", exc_info=True)
 
 
 def nice_step(x: float) -> float:

@@ -127,7 +127,7 @@ class OrderedExecutor:
                 cpu = time.thread_time()
                 try:
                     fut.set_result(fn(*args, **kwargs))
-                except BaseException as exc:  # delivered to the future's callbacks (viser logs it)
+                except BaseException as exc:  # noqa: BLE001 - delivered to the future (viser logs it)
                     fut.set_exception(exc)
                 used = time.thread_time() - cpu
                 self.budget.spend(used)

@@ -9,6 +9,7 @@ written and tested against viser 1.1.1 (``tests/test_viser_boundary.py``).
 
 from __future__ import annotations
 
+import logging
 import math
 import sys
 import time
@@ -17,6 +18,8 @@ from typing import Any
 #: Seconds between two log lines about refused GUI values (the count is kept).
 REFUSED_LOG_EVERY = 10.0
 REFUSED_UPDATES = {"count": 0, "logged": 0.0}
+
+log = logging.getLogger(__name__)
 
 
 def value_problem(current: Any, value: Any) -> str | None:
@@ -95,8 +98,8 @@ def guard_gui_updates(gui: Any, server: Any) -> None:
                     auto_close_seconds=6.0,
                     color="yellow",
                 )
-            except Exception:
-                pass
+            except Exception:  # a page that closed meanwhile
+                log.debug("refusal not shown to page %s", client_id, exc_info=True)
 
     try:
         ws.unregister_handler(_messages.GuiUpdateMessage, original)

@@ -47,7 +47,7 @@ class WakeBatch:
         try:
             buf = client._websock_connection._state.message_buffer
             buf.atomic_start()
-        except Exception:
+        except AttributeError:  # viser's buffer is not reachable for this client
             return False
         self.held.append((buf, buf.message_counter))
         return True

@@ -4,6 +4,7 @@ pacing per connection and in total, and a connection held while its callbacks qu
 from __future__ import annotations
 
 import asyncio
+import logging
 import threading
 from collections.abc import Callable
 from typing import Any
@@ -36,9 +37,11 @@ ALLOWED_MESSAGES = frozenset(
 
 _HARDENED = False
 _HARDEN_LOCK = threading.Lock()
-WS_STATS = {"dropped_oversized": 0, "paced": 0, "dropped_type": 0, "held": 0}
+WS_STATS = {"dropped_oversized": 0, "paced": 0, "dropped_type": 0, "held": 0, "malformed": 0}
 #: Message types dropped by the allow-list (type name -> count; names cut to 40 chars).
 WS_DROPPED_TYPES: dict[str, int] = {}
+
+log = logging.getLogger(__name__)
 
 
 class _Proxy:
@@ -105,8 +108,9 @@ def harden_websocket() -> None:
                     await asyncio.sleep(max(total.wait_time(), 0.002))
                 try:
                     kind = msgspec.msgpack.decode(raw).get("type")
-                except Exception:
-                    continue  # malformed: ignore
+                except (msgspec.DecodeError, AttributeError):
+                    WS_STATS["malformed"] += 1
+                    continue
                 if kind not in ALLOWED_MESSAGES:
                     WS_STATS["dropped_type"] += 1
                     name = str(kind)[:40]
@@ -115,8 +119,10 @@ def harden_websocket() -> None:
                     continue
                 try:
                     message = message_class.deserialize(raw)
-                except Exception:
-                    continue  # malformed: ignore
+                except Exception:  # malformed: counted, logged quietly, ignored
+                    WS_STATS["malformed"] += 1
+                    log.debug("malformed %.40s message dropped", kind, exc_info=True)
+                    continue
                 while pending(key) >= MAX_PENDING_CALLBACKS:
                     WS_STATS["held"] += 1
                     await asyncio.sleep(0.01)
@@ -149,5 +155,5 @@ def client_address(server: Any, client_id: int) -> str:
         conn = server._websock_server._live_connections[client_id]
         addr = conn.remote_address
         return str(addr[0]) if isinstance(addr, (tuple, list)) and addr else str(addr or "")
-    except Exception:
+    except (AttributeError, KeyError, TypeError):
         return ""
