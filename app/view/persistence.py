@@ -3,16 +3,19 @@
 from __future__ import annotations
 
 import logging
-from typing import Any
+from typing import TYPE_CHECKING
 
 from analyzer_lab.session.session import Session, SessionState
+
+if TYPE_CHECKING:
+    import viser
 
 STORAGE_KEY = "analyzer-lab-state"
 
 log = logging.getLogger(__name__)
 
 
-def save_state(client: Any, session: Session) -> None:
+def save_state(client: viser.ClientHandle, session: Session) -> None:
     """Save the session's state (lesson, preset, values, playback) in the page."""
     try:
         client.local_storage.set_item(STORAGE_KEY, session.state().to_json())
@@ -20,7 +23,7 @@ def save_state(client: Any, session: Session) -> None:
         log.debug("state not saved in page %s", client.client_id, exc_info=True)
 
 
-def restore_state(client: Any, session: Session, timeout: float = 2.0) -> None:
+def restore_state(client: viser.ClientHandle, session: Session, timeout: float = 2.0) -> None:
     """Apply the state the page saved before a reload, if any; a stale or hand-made
     state is ignored with a message."""
     try:

@@ -5,11 +5,14 @@ from __future__ import annotations
 import math
 import time
 from collections.abc import Sequence
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from analyzer_lab.lessons.kit.contract import Frame, Lesson, PlotSpec
 from analyzer_lab.viser_boundary import fast_set
+
+if TYPE_CHECKING:
+    import viser
 
 PLOT_COLORS = ("#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#17becf", "#8c564b")
 #: seconds after the charts are created during which no data is sent (a busy browser
@@ -83,7 +86,7 @@ class PlotBuffer:
 class PlotPanel:
     """The lesson's plots in one page: buffers fed by frames, uploads round-robin."""
 
-    def __init__(self, gui: Any, window: int) -> None:
+    def __init__(self, gui: viser.GuiApi, window: int) -> None:
         self.gui = gui
         self.window = window
         self.plots: list[tuple[PlotBuffer, Any]] = []

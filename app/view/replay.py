@@ -13,13 +13,18 @@ from __future__ import annotations
 
 import html
 import re
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
+from analyzer_lab.lessons.kit.contract import SceneSpec
 from analyzer_lab.limits import Pacer
+from analyzer_lab.session.runlog import LogSample
 from analyzer_lab.session.session import Session
 from analyzer_lab.view.scene import nice_step, node_name, scene_bounds
 from analyzer_lab.viser_boundary import recording_scene
+
+if TYPE_CHECKING:
+    import viser
 
 #: Frames per second of the replay animation and its longest duration.
 REPLAY_FPS = 20.0
@@ -68,7 +73,9 @@ def replay_html(session: Session) -> str:
     return _dress(page, session, notes)
 
 
-def _static(scene_api: Any, spec: Any, lo: Any, hi: Any, size: float) -> None:
+def _static(
+    scene_api: viser.SceneApi, spec: SceneSpec, lo: np.ndarray, hi: np.ndarray, size: float
+) -> None:
     center = (lo + hi) / 2
     scene_api.add_grid(
         "/lab/grid",
@@ -116,7 +123,13 @@ def _static(scene_api: Any, spec: Any, lo: Any, hi: Any, size: float) -> None:
 
 
 def _animate(
-    scene_api: Any, ser: Any, session: Session, spec: Any, chosen: list[Any], size: float, hi: Any
+    scene_api: viser.SceneApi,
+    ser: Any,
+    session: Session,
+    spec: SceneSpec,
+    chosen: list[LogSample],
+    size: float,
+    hi: np.ndarray,
 ) -> None:
     """The moving points over the chosen samples, their trails as chunks that are only
     appended (linear in the run's length), and the time as a label."""

@@ -11,7 +11,7 @@ import logging
 import math
 from collections import deque
 from collections.abc import Callable
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from analyzer_lab.lessons.kit.contract import Frame, SceneSpec
@@ -26,6 +26,9 @@ from analyzer_lab.view.bodies import (
 )
 from analyzer_lab.viser_boundary import fast_set, set_pose
 
+if TYPE_CHECKING:
+    import viser
+
 log = logging.getLogger(__name__)
 
 
@@ -34,7 +37,12 @@ class Trail:
     is re-sent, full chunks stay, the oldest are removed past ``max_points``."""
 
     def __init__(
-        self, scene: Any, name: str, color: tuple[int, int, int], chunk: int, max_points: int
+        self,
+        scene: viser.SceneApi,
+        name: str,
+        color: tuple[int, int, int],
+        chunk: int,
+        max_points: int,
     ) -> None:
         self.scene = scene
         self.name = name
@@ -159,7 +167,7 @@ FILL = 0.62
 DEFAULT_FOV = math.radians(50.0)
 
 
-def _fov_aspect(cam: Any) -> tuple[float, float]:
+def _fov_aspect(cam: viser.CameraHandle) -> tuple[float, float]:
     """The page's vertical field of view and aspect (defaults before it reported them)."""
     try:
         fov = float(cam.fov) or DEFAULT_FOV
@@ -190,7 +198,7 @@ def axis_ticks(lo: float, hi: float, count: int = 4) -> list[float]:
 class SceneRenderer:
     """Draws one session's scene into one page (``client.scene``, private to it)."""
 
-    def __init__(self, client: Any, config: Any) -> None:
+    def __init__(self, client: viser.ClientHandle, config: Any) -> None:
         self.client = client
         self.config = config
         self.spec: SceneSpec | None = None
@@ -230,7 +238,7 @@ class SceneRenderer:
             t.clear()
         self._vector_scale = {}
 
-    def hit(self, origin: Any, direction: Any) -> np.ndarray | None:
+    def hit(self, origin: np.ndarray, direction: np.ndarray) -> np.ndarray | None:
         """The nearest point where a click ray meets a surface mesh."""
         o = np.asarray(origin, dtype=float)
         best = None
@@ -551,7 +559,7 @@ class SceneRenderer:
             fast_set(self._vector_handle, "points", pts)
 
 
-def remove_handle(handle: Any) -> None:
+def remove_handle(handle: viser.SceneNodeHandle) -> None:
     """Remove a scene node; one already gone with its page is logged and passed over."""
     try:
         handle.remove()
