@@ -1,4 +1,4 @@
-"""``python -m app`` is ``analyzer-lab``."""
+"""``python -m analyzer_lab`` is ``analyzer-lab``."""
 
 from analyzer_lab.serve.cli import main
 
