@@ -44,6 +44,16 @@ def normalize_code(text: Any) -> str:
     return "".join(ch for ch in text[:MAX_CODE_LENGTH].lower() if ch.isalnum())
 
 
+def code_problem(code: str) -> str | None:
+    """Why an instructor code may not be used (too short to resist guessing), or None."""
+    if len(normalize_code(code)) < MIN_CODE_LENGTH:
+        return (
+            f"the instructor code must have at least {MIN_CODE_LENGTH} letters or digits"
+            " (a shorter one could be guessed)"
+        )
+    return None
+
+
 class TokenBucket:
     """``rate`` tokens per second up to ``burst``; :meth:`take` spends them."""
 

@@ -70,8 +70,11 @@ class Door:
             self.lines.append(line)
 
     def status(self) -> dict[str, Any]:
-        url = f"http://127.0.0.1:{self.port}/frontdoor/status"
-        return json.loads(urllib.request.urlopen(url, timeout=5).read())
+        """The front door's status, asked as the instructor (the code in a header)."""
+        req = urllib.request.Request(
+            f"http://127.0.0.1:{self.port}/frontdoor/status", headers={"X-Instructor-Code": CODE}
+        )
+        return json.loads(urllib.request.urlopen(req, timeout=5).read())
 
     def location(self, host: str | None = None) -> str:
         """Where the front door sends a new page (the redirect is not followed)."""
@@ -220,6 +223,81 @@ def test_one_worker_needs_no_redis_and_several_need_a_bus() -> None:
         asyncio.run(run())
     finally:
         stop_process(proc)
+
+
+def test_the_front_door_holds_slow_clients_forged_hosts_and_strangers(redis_url: str) -> None:
+    """Slowloris, a forged Host header and a stranger asking for the status (hardening,
+    round 3, item 9): new pages are still sent on at once, the redirect names only the
+    front door's own hosts, the status tells a stranger nothing, and the front door's
+    threads and open files stay bounded."""
+    import http.client
+    import resource
+    import socket
+
+    import psutil
+    from analyzer_lab.serve.frontdoor import HEAD_TIMEOUT, MAX_CONNECTIONS
+
+    door = Door(redis_url)
+    try:
+        assert door.location("evil.example").startswith("http://127.0.0.1:")
+        assert door.location(f"evil.example:{door.port}").startswith("http://127.0.0.1:")
+        assert door.location(f"localhost:{door.port}").startswith("http://localhost:")
+        # the status: to the instructor only
+        conn = http.client.HTTPConnection("127.0.0.1", door.port, timeout=5)
+        conn.request("GET", "/frontdoor/status", headers={"X-Instructor-Code": "wrong-code-123"})
+        resp = conn.getresponse()
+        body = resp.read().decode()
+        conn.close()
+        assert resp.status == 403 and "instructor code" in body
+        assert "pid" not in body and "redis" not in body and str(door.port + 1) not in body
+        assert door.status()["workers"][0]["pid"] > 0
+        # slow clients: more half-sent requests than the front door keeps open
+        soft, hard = resource.getrlimit(resource.RLIMIT_NOFILE)
+        resource.setrlimit(resource.RLIMIT_NOFILE, (max(soft, min(hard, 8192)), hard))
+        slow = []
+        try:
+            for _ in range(MAX_CONNECTIONS + 300):
+                s = socket.create_connection(("127.0.0.1", door.port), timeout=5)
+                s.sendall(b"GET / HTTP/1.1\r\nHost: 127.0.0.1\r\n")  # the head never ends
+                slow.append(s)
+            t0 = time.monotonic()
+            assert _port(door.location()) in {w["port"] for w in door.status()["workers"]}
+            assert time.monotonic() - t0 < 3.0, "a new page waited behind slow clients"
+            proc = psutil.Process(door.proc.pid)
+            assert proc.num_threads() < 20, proc.num_threads()
+            assert proc.num_fds() < MAX_CONNECTIONS + 100, proc.num_fds()
+            # the slow ones are closed once their time for a head is over
+            until_sync(
+                lambda: door.status()["connections"] <= 2, HEAD_TIMEOUT + 10, "slow ones closed"
+            )
+            figures = door.status()["http"]
+            assert figures["closed_slow"] + figures["closed_full"] >= 300, figures
+        finally:
+            for s in slow:
+                s.close()
+    finally:
+        door.stop()
+
+
+def test_a_weak_instructor_code_is_refused_before_any_worker_starts() -> None:
+    cmd = [sys.executable, "-m", "analyzer_lab", "serve", "--no-browser", "--port"]
+    cmd += [str(free_port()), "--workers", "2", "--bus", "redis://127.0.0.1:1"]
+    t0 = time.monotonic()
+    out = subprocess.run(
+        cmd + ["--instructor-code", "abc"], capture_output=True, text=True, timeout=60
+    )
+    assert out.returncode == 2, out
+    assert "at least 12 letters or digits" in out.stderr
+    assert "worker" not in out.stdout
+    assert time.monotonic() - t0 < 30
+
+
+def until_sync(check: Any, timeout: float, what: str) -> None:
+    """Wait until ``check()`` holds, polling; fail naming ``what`` after ``timeout`` s."""
+    deadline = time.monotonic() + timeout
+    while not check():
+        assert time.monotonic() < deadline, f"timed out waiting for: {what}"
+        time.sleep(0.2)
 
 
 NGINX = shutil.which("nginx") or "/usr/sbin/nginx"

@@ -181,6 +181,7 @@ def cmd_serve(args: argparse.Namespace) -> int:
             args.lesson,
             args.fps,
             not args.no_browser,
+            public_hosts=args.public_host,
         )
     from analyzer_lab.serve.server import serve
 
@@ -229,6 +230,15 @@ def build_parser() -> argparse.ArgumentParser:
         help="worker processes (default 1: this process serves every page); N > 1 starts N "
         "workers on the next ports and a front door on --port that sends each page to the "
         "least-loaded one (needs --bus redis://...)",
+    )
+    s.add_argument(
+        "--public-host",
+        action="append",
+        default=[],
+        metavar="NAME",
+        help="with --workers: a host name or address the students' pages use to reach this "
+        "machine (repeatable); the front door redirects only to these, the address it listens "
+        "on and, for 0.0.0.0, this machine's own names",
     )
     s.add_argument(
         "--bus",

@@ -11,15 +11,25 @@ Load is the page count each worker publishes on the bus every second plus the pa
 the front door sent it in the last few seconds (a page may not have connected yet when
 its worker reported).  A worker that exits loses only its own
 pages: the front door stops sending pages to it and starts it again on the same port.
-``GET /frontdoor/status`` answers the workers' figures as JSON.
+``GET /frontdoor/status`` answers the workers' figures as JSON to the instructor only (the
+code in an ``X-Instructor-Code`` header).
+
+The front door is an asyncio server: a connection costs no thread, a request's head must
+arrive within :data:`HEAD_TIMEOUT` seconds and fit in :data:`MAX_HEAD` bytes, at most
+:data:`MAX_CONNECTIONS` are open at once (past that the oldest one still sending its head is
+closed), and a redirect names only a host the front door was configured with
+(:func:`allowed_hosts`), whatever ``Host`` header it was sent.
 """
 
 from __future__ import annotations
 
+import asyncio
+import hmac
 import json
 import logging
 import os
 import re
+import resource
 import signal
 import socket
 import subprocess
@@ -27,11 +37,12 @@ import sys
 import threading
 import time
 import urllib.request
+from collections.abc import Iterable
 from dataclasses import dataclass, field
-from http.server import BaseHTTPRequestHandler, ThreadingHTTPServer
 from typing import Any
 
 from analyzer_lab.classroom.bus import Message, make_bus
+from analyzer_lab.limits import code_problem, normalize_code
 
 STATUS_PATH = "/frontdoor/status"
 #: Seconds before a worker that exited is started again.
@@ -40,7 +51,12 @@ RESTART_DELAY = 1.0
 REPORT_TIMEOUT = 5.0
 #: Seconds a page sent to a worker counts as its load on top of the worker's report.
 PENDING = 3.0
-_HOST_RE = re.compile(r"^[A-Za-z0-9.\-]+$|^\[[0-9A-Fa-f:.]+\]$")
+#: A request's head (request line and headers): seconds to arrive, and bytes at most.
+HEAD_TIMEOUT = 5.0
+MAX_HEAD = 8192
+#: Connections open at once; past it the oldest one still sending its head is closed.
+MAX_CONNECTIONS = 512
+WILDCARD = ("", "0.0.0.0", "::")
 _URL_RE = re.compile(r"Analyzer Lab: http://[^ ]*:(\d+)/")
 
 log = logging.getLogger(__name__)
@@ -90,6 +106,60 @@ class Worker:
         }
 
 
+def allowed_hosts(host: str, public_hosts: Iterable[str] = ()) -> tuple[str, ...]:
+    """The host names a redirect may name, the first one the default: the configured
+    public names, then the listening address (for a wildcard address: loopback, this
+    machine's names and addresses)."""
+    names: list[str] = [h.strip().lower() for h in public_hosts if h.strip()]
+    if host in WILDCARD:
+        names += ["127.0.0.1", "localhost", "[::1]"]
+        for name in (socket.gethostname(), socket.getfqdn()):
+            names.append(name.lower())
+            try:
+                infos = socket.getaddrinfo(name, None)
+            except OSError:
+                continue
+            for info in infos:
+                addr = str(info[4][0])
+                names.append(f"[{addr}]" if ":" in addr else addr)
+    else:
+        names.append(f"[{host}]" if ":" in host and not host.startswith("[") else host.lower())
+        if host in ("127.0.0.1", "localhost"):
+            names += ["127.0.0.1", "localhost"]
+    return tuple(dict.fromkeys(names))
+
+
+def redirect_host(header: str, allowed: tuple[str, ...]) -> str:
+    """The host of a redirect: the ``Host`` header's name when it is allowed, else the
+    default (the first allowed name)."""
+    header = header.strip().lower()
+    name = header if header.endswith("]") else header.rsplit(":", 1)[0]
+    return name if name in allowed else allowed[0]
+
+
+def raise_open_file_limit() -> int:
+    """Raise this process's soft limit of open files to its hard limit (connections are
+    files); returns the limit in force."""
+    soft, hard = resource.getrlimit(resource.RLIMIT_NOFILE)
+    if hard == resource.RLIM_INFINITY or hard > soft:
+        target = 65536 if hard == resource.RLIM_INFINITY else hard
+        try:
+            resource.setrlimit(resource.RLIMIT_NOFILE, (target, hard))
+            soft = target
+        except (ValueError, OSError) as exc:
+            log.warning("open-file limit stays at %d: %s", soft, exc)
+    return soft
+
+
+@dataclass
+class _Connection:
+    """One open connection of the front door: when it came, whether its head arrived."""
+
+    writer: asyncio.StreamWriter
+    opened: float
+    head_done: bool = False
+
+
 class FrontDoor:
     """The worker processes, the redirecting HTTP front door and the monitor."""
 
@@ -103,15 +173,23 @@ class FrontDoor:
         lesson: str | None = None,
         fps: float | None = None,
         restart: bool = True,
+        public_hosts: Iterable[str] = (),
     ) -> None:
         self.host, self.bus_url, self.code = host, bus_url, code
         self.lesson, self.fps, self.restart = lesson, fps, restart
+        self.allowed = allowed_hosts(host, public_hosts)
         self.lock = threading.Lock()
         self._stop = threading.Event()
         self._rr = 0
-        self.httpd = ThreadingHTTPServer((host, port), self._handler())
-        self.httpd.daemon_threads = True
-        self.port = int(self.httpd.server_address[1])
+        self.sock = socket.create_server(
+            (host, port), family=socket.AF_INET6 if ":" in host else socket.AF_INET, backlog=512
+        )
+        self.port = int(self.sock.getsockname()[1])
+        self.connections: dict[int, _Connection] = {}
+        self.stats = {"requests": 0, "closed_slow": 0, "closed_full": 0, "refused_status": 0}
+        self._loop: asyncio.AbstractEventLoop | None = None
+        self._server: asyncio.Server | None = None
+        self._http_thread: threading.Thread | None = None
         self.workers = [
             Worker(k, f"worker-{k}@{self.port}", self.port + k if port else _free_port(host))
             for k in range(1, workers + 1)
@@ -125,8 +203,6 @@ class FrontDoor:
         env = dict(os.environ)
         env["ANALYZER_LAB_INSTRUCTOR_CODE"] = self.code  # not on the command line (ps)
         env["ANALYZER_LAB_FRONT_DOOR_PID"] = str(os.getpid())
-        root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-        env["PYTHONPATH"] = root + os.pathsep + env.get("PYTHONPATH", "")
         args = [
             sys.executable,
             "-m",
@@ -211,60 +287,147 @@ class FrontDoor:
             return w
 
     def status(self) -> dict[str, Any]:
+        """The workers' figures (for the instructor only: pids, ports, the bus)."""
         return {
             "port": self.port,
             "bus": self.bus.describe(),
             "workers": [w.figures() for w in self.workers],
+            "connections": len(self.connections),
+            "http": dict(self.stats),
         }
+
+    def is_instructor(self, text: str) -> bool:
+        """Whether ``text`` is the instructor code (compared in constant time)."""
+        given, code = normalize_code(text), normalize_code(self.code)
+        return bool(given) and hmac.compare_digest(given.encode(), code.encode())
 
     # ------------------------------------------------------------------ HTTP
 
-    def _handler(self) -> type[BaseHTTPRequestHandler]:
-        door = self
+    def _admit(self, conn: _Connection) -> None:
+        """Keep the connections within :data:`MAX_CONNECTIONS`: close the oldest one still
+        sending its head (a slow client), or the oldest of all."""
+        if len(self.connections) < MAX_CONNECTIONS:
+            return
+        waiting = [c for c in self.connections.values() if not c.head_done]
+        victim = min(waiting or self.connections.values(), key=lambda c: c.opened)
+        self.stats["closed_full"] += 1
+        victim.writer.transport.abort()
+        self.connections.pop(id(victim.writer), None)
 
-        class Handler(BaseHTTPRequestHandler):
-            server_version = "AnalyzerLabFrontDoor"
+    async def _client(self, reader: asyncio.StreamReader, writer: asyncio.StreamWriter) -> None:
+        conn = _Connection(writer, time.monotonic())
+        self._admit(conn)
+        self.connections[id(writer)] = conn
+        try:
+            try:
+                head = await asyncio.wait_for(reader.readuntil(b"\r\n\r\n"), HEAD_TIMEOUT)
+            except (TimeoutError, asyncio.IncompleteReadError, asyncio.LimitOverrunError):
+                self.stats["closed_slow"] += 1
+                return
+            conn.head_done = True
+            self.stats["requests"] += 1
+            await asyncio.wait_for(self._answer_request(head, writer), HEAD_TIMEOUT)
+        except (ConnectionError, TimeoutError):
+            pass  # the client went away or did not read its answer: nothing to tell it
+        except Exception:
+            log.exception("front door: a request failed")
+        finally:
+            self.connections.pop(id(writer), None)
+            writer.close()
 
-            def log_message(self, format: str, *args: Any) -> None:
-                pass
+    async def _answer_request(self, head: bytes, writer: asyncio.StreamWriter) -> None:
+        lines = head.decode("latin-1").split("\r\n")
+        parts = lines[0].split(" ")
+        method, target = (parts[0], parts[1]) if len(parts) >= 3 else ("", "/")
+        headers: dict[str, str] = {}
+        for line in lines[1:]:
+            name, sep, value = line.partition(":")
+            if sep:
+                headers[name.strip().lower()] = value.strip()
+        if method not in ("GET", "HEAD"):
+            await self._send(writer, method, 405, "Only GET and HEAD are served here.\n")
+            return
+        if target.split("?")[0] == STATUS_PATH:
+            if not self.is_instructor(headers.get("x-instructor-code", "")):
+                self.stats["refused_status"] += 1
+                await self._send(
+                    writer,
+                    method,
+                    403,
+                    "The front door's status is for the instructor: send the instructor code"
+                    " in an X-Instructor-Code header.\n",
+                )
+                return
+            await self._send(writer, method, 200, json.dumps(self.status()), "application/json")
+            return
+        w = self.pick()
+        if w is None:
+            await self._send(
+                writer,
+                method,
+                503,
+                "No worker of the lab is running; try again in a few seconds.\n",
+            )
+            return
+        host = redirect_host(headers.get("host", ""), self.allowed)
+        path = target if target.startswith("/") else "/"
+        extra = {"Location": f"http://{host}:{w.port}{path}"}
+        await self._send(writer, method, 302, "", extra=extra)
 
-            def do_HEAD(self) -> None:
-                self.do_GET()
+    @staticmethod
+    async def _send(
+        writer: asyncio.StreamWriter,
+        method: str,
+        code: int,
+        text: str,
+        kind: str = "text/plain",
+        extra: dict[str, str] | None = None,
+    ) -> None:
+        reasons = {200: "OK", 302: "Found", 403: "Forbidden", 405: "Method Not Allowed"}
+        data = text.encode("utf-8")
+        head = [
+            f"HTTP/1.1 {code} {reasons.get(code, 'Service Unavailable')}",
+            "Server: AnalyzerLabFrontDoor",
+            f"Content-Type: {kind}; charset=utf-8",
+            "Cache-Control: no-store",
+            f"Content-Length: {len(data)}",
+            "Connection: close",
+        ]
+        if code == 503:
+            head.append("Retry-After: 3")
+        head += [f"{k}: {v}" for k, v in (extra or {}).items()]
+        writer.write(("\r\n".join(head) + "\r\n\r\n").encode("latin-1"))
+        if method != "HEAD":
+            writer.write(data)
+        await writer.drain()
 
-            def do_GET(self) -> None:
-                if self.path.split("?")[0] == STATUS_PATH:
-                    self._answer(200, json.dumps(door.status()), "application/json")
-                    return
-                w = door.pick()
-                if w is None:
-                    self._answer(
-                        503, "No worker of the lab is running; try again in a few seconds.\n"
-                    )
-                    return
-                host = (self.headers.get("Host") or "").strip()
-                host = host.rsplit(":", 1)[0] if not host.endswith("]") else host
-                if not _HOST_RE.match(host):
-                    host = "127.0.0.1" if door.host in ("", "0.0.0.0", "::") else door.host
-                path = self.path if self.path.startswith("/") else "/"
-                self.send_response(302)
-                self.send_header("Location", f"http://{host}:{w.port}{path}")
-                self.send_header("Cache-Control", "no-store")
-                self.send_header("Content-Length", "0")
-                self.end_headers()
+    async def _shutdown(self) -> None:
+        """Close the listening server and every open connection (in the server's loop)."""
+        if self._server is not None:
+            self._server.close()
+        for conn in list(self.connections.values()):
+            conn.writer.transport.abort()
+        self.connections.clear()
 
-            def _answer(self, code: int, text: str, kind: str = "text/plain") -> None:
-                data = text.encode("utf-8")
-                self.send_response(code)
-                self.send_header("Content-Type", f"{kind}; charset=utf-8")
-                self.send_header("Cache-Control", "no-store")
-                self.send_header("Content-Length", str(len(data)))
-                if code == 503:
-                    self.send_header("Retry-After", "3")
-                self.end_headers()
-                if self.command != "HEAD":
-                    self.wfile.write(data)
+    def _run_http(self, ready: threading.Event) -> None:
+        loop = asyncio.new_event_loop()
+        self._loop = loop
+        asyncio.set_event_loop(loop)
 
-        return Handler
+        async def main() -> None:
+            self._server = await asyncio.start_server(
+                self._client, sock=self.sock, limit=MAX_HEAD, backlog=512
+            )
+            ready.set()
+            async with self._server:
+                await self._server.serve_forever()
+
+        try:
+            loop.run_until_complete(main())
+        except asyncio.CancelledError:
+            pass
+        finally:
+            loop.close()
 
     # ------------------------------------------------------------------ run
 
@@ -286,13 +449,25 @@ class FrontDoor:
                         "worker on port %d did not answer its first request: %s", w.port, exc
                     )
         threading.Thread(target=self._monitor, name="front-door-monitor", daemon=True).start()
-        threading.Thread(target=self.httpd.serve_forever, name="front-door", daemon=True).start()
+        ready = threading.Event()
+        self._http_thread = threading.Thread(
+            target=self._run_http, args=(ready,), name="front-door", daemon=True
+        )
+        self._http_thread.start()
+        ready.wait(10)
         return all(w.alive for w in self.workers)
 
     def stop(self) -> None:
         self._stop.set()
-        self.httpd.shutdown()
-        self.httpd.server_close()
+        if self._loop is not None and self._loop.is_running():
+            done = asyncio.run_coroutine_threadsafe(self._shutdown(), self._loop)
+            try:
+                done.result(5)
+            except (TimeoutError, asyncio.CancelledError):
+                log.warning("front door: the HTTP server did not close in time")
+        if self._http_thread is not None:
+            self._http_thread.join(5)
+        self.sock.close()
         for w in self.workers:
             if w.proc is not None and w.proc.poll() is None:
                 w.proc.send_signal(signal.SIGINT)
@@ -320,13 +495,19 @@ def serve_workers(
     lesson: str | None,
     fps: float | None,
     open_browser: bool,
+    public_hosts: Iterable[str] = (),
 ) -> int:
     """Run the front door and its workers until interrupted; returns the exit code."""
     from analyzer_lab.limits import generate_code
 
     code = code or os.environ.get("ANALYZER_LAB_INSTRUCTOR_CODE") or generate_code()
+    problem = code_problem(code)
+    if problem:  # refused here, once, rather than by every worker in a restart loop
+        print(f"analyzer-lab: error: {problem}", file=sys.stderr)
+        return 2
+    raise_open_file_limit()
     try:
-        door = FrontDoor(host, port, workers, bus_url, code, lesson, fps)
+        door = FrontDoor(host, port, workers, bus_url, code, lesson, fps, public_hosts=public_hosts)
     except OSError as exc:
         print(f"analyzer-lab: error: cannot listen on {host}:{port}: {exc}", file=sys.stderr)
         return 2
@@ -358,4 +539,4 @@ def serve_workers(
     return 0
 
 
-__all__ = ["FrontDoor", "STATUS_PATH", "Worker", "serve_workers"]
+__all__ = ["FrontDoor", "STATUS_PATH", "Worker", "allowed_hosts", "redirect_host", "serve_workers"]
