@@ -14,9 +14,9 @@ from collections.abc import Iterator
 from typing import Any
 
 import pytest
+from analyzer_lab.classroom.instructor_code import normalize_code
 from analyzer_lab.classroom.room import Classroom
 from analyzer_lab.lessons.analyzers.sphere import LESSON as SPHERE
-from analyzer_lab.serve.limits import normalize_code
 from analyzer_lab.session.session import LabError
 
 from benchmarks.classroom_load import ProtoClient

@@ -11,7 +11,7 @@ import traceback
 from collections.abc import Callable
 from typing import TYPE_CHECKING, Any
 
-from analyzer_lab.serve.limits import MAX_NOTICE_LENGTH
+from analyzer_lab.classroom.link import MAX_NOTICE_LENGTH
 from analyzer_lab.session.session import LabError
 
 if TYPE_CHECKING:

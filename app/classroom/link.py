@@ -29,7 +29,6 @@ from typing import TYPE_CHECKING, Any
 
 from analyzer_lab.classroom.bus import Bus, Message
 from analyzer_lab.lessons.kit.contract import ParamError
-from analyzer_lab.serve.limits import MAX_NOTICE_LENGTH
 from analyzer_lab.session.session import SPEEDS, LabError, Session, SessionState, SharedClock
 
 if TYPE_CHECKING:
@@ -37,6 +36,8 @@ if TYPE_CHECKING:
 
 #: ``Classroom.broadcaster`` while the demo comes from another server.
 REMOTE = -1
+#: Longest notice to every page (characters; a longer one from the bus is refused).
+MAX_NOTICE_LENGTH = 300
 #: Seconds between demo publications when nothing changed (the heartbeat).
 HEARTBEAT = 0.5
 #: A remote demo not heard of for this long is released (its server stopped).

@@ -19,8 +19,8 @@ Hardening (DESIGN §5): the instructor code is compared with
 :func:`hmac.compare_digest`, wrong codes are rate-limited per page and across the
 server; every GUI input of every page passes a token bucket (formula edits cost
 more; an input over the limit is not dropped but coalesced: the newest value is
-applied when the bucket refills, :mod:`analyzer_lab.serve.input_gate`); incoming websocket messages are paced per
-connection and oversized ones dropped before viser decodes them
+applied when the bucket refills, :mod:`analyzer_lab.classroom.input_gate`); incoming websocket
+messages are paced per connection and oversized ones dropped before viser decodes them
 (:func:`analyzer_lab.viser_boundary.harden_websocket`).
 """
 
@@ -40,16 +40,15 @@ from typing import TYPE_CHECKING, Any
 
 import analyzer_lab.classroom.assignments as assignments_view
 from analyzer_lab.classroom.bus import Bus, LocalBus
+from analyzer_lab.classroom.input_gate import InputGate
 from analyzer_lab.classroom.instructor import InstructorPanel, Presenter
-from analyzer_lab.classroom.link import REMOTE, ClassLink
-from analyzer_lab.serve.input_gate import InputGate
-from analyzer_lab.serve.limits import (
-    MAX_NOTICE_LENGTH,
+from analyzer_lab.classroom.instructor_code import (
     MIN_CODE_LENGTH,
     CodeGuard,
     generate_code,
     normalize_code,
 )
+from analyzer_lab.classroom.link import MAX_NOTICE_LENGTH, REMOTE, ClassLink
 from analyzer_lab.session.session import LabError, Session, SharedClock
 from analyzer_lab.viser_boundary import client_address
 

@@ -317,7 +317,7 @@ def serve_workers(
     open_browser: bool,
 ) -> int:
     """Run the front door and its workers until interrupted; returns the exit code."""
-    from analyzer_lab.serve.limits import generate_code
+    from analyzer_lab.classroom.instructor_code import generate_code
 
     code = code or os.environ.get("ANALYZER_LAB_INSTRUCTOR_CODE") or generate_code()
     try:

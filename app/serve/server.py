@@ -438,7 +438,7 @@ def serve(
         return 2
     t0 = time.perf_counter()
     from analyzer_lab.classroom.bus import BusError, make_bus
-    from analyzer_lab.serve.limits import generate_code
+    from analyzer_lab.classroom.instructor_code import generate_code
 
     code = instructor_code or os.environ.get("ANALYZER_LAB_INSTRUCTOR_CODE") or generate_code()
     try:

@@ -35,7 +35,7 @@ from concurrent.futures import Future, ThreadPoolExecutor
 from pathlib import Path
 from typing import Any
 
-from analyzer_lab.serve.limits import TokenBucket
+from analyzer_lab.token_bucket import TokenBucket
 from analyzer_lab.viser_boundary._gui_guard import guard_gui_updates
 from analyzer_lab.viser_boundary._gui_guard import (
     value_problem as value_problem,  # the guard's rule, here too

@@ -1,7 +1,7 @@
 """The input gate of every page: one token bucket per page (DESIGN §5).
 
 Every GUI input of a page takes tokens from that page's bucket (a text edit, which may
-be a formula to parse, costs :data:`~analyzer_lab.serve.limits.TEXT_COST`).  An input over the limit
+be a formula to parse, costs :data:`TEXT_COST`).  An input over the limit
 is not dropped but coalesced: the newest value of each widget waits and is applied when
 the page's bucket has refilled, through the page's callbacks again (in its turn of the
 callback budget, :func:`analyzer_lab.viser_boundary.submit_callback`).
@@ -13,8 +13,13 @@ import traceback
 from collections.abc import Callable
 from typing import Any
 
-from analyzer_lab.serve.limits import INPUT_BURST, INPUT_RATE, TEXT_COST, TokenBucket
+from analyzer_lab.token_bucket import TokenBucket
 from analyzer_lab.viser_boundary import submit_callback
+
+#: GUI inputs per page: tokens per second and burst; a text (formula) edit costs more.
+INPUT_RATE = 20.0
+INPUT_BURST = 20.0
+TEXT_COST = 4.0
 
 Callback = Callable[[Any], None]
 
