@@ -9,12 +9,14 @@ callback budget, :func:`analyzer_lab.viser_boundary.submit_callback`).
 
 from __future__ import annotations
 
-import traceback
+import logging
 from collections.abc import Callable
 from typing import Any
 
 from analyzer_lab.token_bucket import TokenBucket
 from analyzer_lab.viser_boundary import submit_callback
+
+log = logging.getLogger(__name__)
 
 #: GUI inputs per page: tokens per second and burst; a text (formula) edit costs more.
 INPUT_RATE = 20.0
@@ -78,8 +80,8 @@ class InputGate:
                 if not submit_callback(self.server(), ("replay", key[0]), item[0], item[1]):
                     try:
                         item[0](item[1])
-                    except Exception:
-                        traceback.print_exc()
+                    except Exception:  # a page callback, run here
+                        log.exception("page %s: a replayed input failed", key[0])
 
 
 __all__ = ["InputGate"]

@@ -27,10 +27,12 @@ import threading
 import time
 import urllib.request
 from dataclasses import dataclass, field
+from http.client import HTTPException
 from http.server import BaseHTTPRequestHandler, ThreadingHTTPServer
 from typing import Any
 
 from analyzer_lab.classroom.bus import Message, make_bus
+from analyzer_lab.classroom.instructor_code import generate_code
 
 STATUS_PATH = "/frontdoor/status"
 #: Seconds before a worker that exited is started again.
@@ -278,7 +280,7 @@ class FrontDoor:
             if w.ready:
                 try:
                     urllib.request.urlopen(f"http://127.0.0.1:{w.port}/", timeout=5).read(64)
-                except Exception:
+                except (OSError, HTTPException):  # a first page only; the worker is up
                     pass
         threading.Thread(target=self._monitor, name="front-door-monitor", daemon=True).start()
         threading.Thread(target=self.httpd.serve_forever, name="front-door", daemon=True).start()
@@ -317,8 +319,6 @@ def serve_workers(
     open_browser: bool,
 ) -> int:
     """Run the front door and its workers until interrupted; returns the exit code."""
-    from analyzer_lab.classroom.instructor_code import generate_code
-
     code = code or os.environ.get("ANALYZER_LAB_INSTRUCTOR_CODE") or generate_code()
     try:
         door = FrontDoor(host, port, workers, bus_url, code, lesson, fps)
