@@ -59,9 +59,7 @@ def _sign_in(p: Page) -> None:
 
 
 def _panel(lab: Any, p: Page) -> Any:
-    from analyzer_lab.classroom.assignments import board_of
-
-    return board_of(lab.classroom).students[p.view.client.client_id]
+    return lab.classroom.board.students[p.view.client.client_id]
 
 
 def _answer(p: Page, name: str, u: str | None) -> None:
@@ -110,9 +108,7 @@ def test_push_two_students_right_and_wrong_live_table(lab: Any, browser: Any) ->
         # a second, now right, attempt of Bob updates his row live
         _answer(s2, "Bob", "2")
         wait_until(lambda: s2.session.raw_values()["u"] == "2", 10, "Bob's new value")
-        from analyzer_lab.classroom.assignments import board_of
-
-        roster = board_of(lab.classroom).roster
+        roster = lab.classroom.board.roster
         wait_until(lambda: roster.rows(TASK)[-1].attempts == 2, 15, "Bob's second attempt")
         wait_until(
             lambda: (

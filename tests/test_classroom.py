@@ -14,9 +14,9 @@ from collections.abc import Iterator
 from typing import Any
 
 import pytest
+from analyzer_lab.classroom.instructor_code import normalize_code
 from analyzer_lab.classroom.room import Classroom
 from analyzer_lab.lessons.analyzers.sphere import LESSON as SPHERE
-from analyzer_lab.limits import normalize_code
 from analyzer_lab.session.session import LabError
 
 from benchmarks.classroom_load import ProtoClient
@@ -79,10 +79,18 @@ def test_code_normalized_generated_and_compared() -> None:
     assert normalize_code(None) == "" and normalize_code("x" * 10_000) == "x" * 64
 
     class FakeLab:
-        views: dict = {}
-        _views_lock = __import__("threading").Lock()
+        lessons = ()
         fps = 30.0
-        _report_every = 0
+        port = 0
+        server = None
+        ticks = 0
+        report_interval = 0.0
+
+        def open_views(self) -> list:
+            return []
+
+        def derivation_html(self, lesson: Any, params: Any) -> str:
+            return ""
 
     room = Classroom(FakeLab(), None)  # type: ignore[arg-type]
     try:

@@ -2,27 +2,31 @@
 and presses "Check my answer"; the instructor pushes one to every page, follows the
 class in a live table (CSV download) and authors new ones from the current state.
 
-One :class:`AssignmentBoard` per classroom (``board_of(room)``) holds the assignments
+One :class:`AssignmentBoard` per classroom (``room.board``) holds the assignments
 (the ready ones plus ``serve --assignments DIR``), the pushed one and the
-:class:`~analyzer_lab.classroom.roster.Roster`.  Each page gets a :class:`StudentPanel`; the
-instructor's page also an :class:`AuthorPanel`-equipped :class:`TeacherPanel`.  The
-classroom attaches them with three calls (:func:`attach`, :func:`detach`,
-:func:`grant`).  Checks run the lesson's own model on the session's values of the
-unlocked parameters (the locked ones come from the assignment), so a locked field
-cannot change a verdict even if a hand-made client sends it.
+:class:`~analyzer_lab.classroom.roster.Roster`; it knows the classroom as a
+:class:`~analyzer_lab.classroom.ports.RoomForBoard`.  Each page gets a :class:`StudentPanel`;
+the instructor's page also a :class:`TeacherPanel` (with the authoring fields).  The
+classroom tells the board of its pages with four calls (:meth:`~AssignmentBoard.attach`,
+:meth:`~AssignmentBoard.detach`, :meth:`~AssignmentBoard.grant`,
+:meth:`~AssignmentBoard.released`).  Checks run the lesson's own model on the session's
+values of the unlocked parameters (the locked ones come from the assignment), so a
+locked field cannot change a verdict even if a hand-made client sends it.
 """
 
 from __future__ import annotations
 
 import html
 import json
+import logging
 import os
 import sys
 import threading
 import time
-import traceback
+from collections.abc import Set
 from typing import TYPE_CHECKING, Any
 
+from analyzer_lab.classroom.ports import RoomForBoard
 from analyzer_lab.classroom.roster import Roster, clean_name
 from analyzer_lab.lessons.assignments import (
     Assignment,
@@ -36,8 +40,9 @@ from analyzer_lab.lessons.assignments import draft as draft_assignment
 from analyzer_lab.session.session import LabError
 
 if TYPE_CHECKING:
-    from analyzer_lab.classroom.room import Classroom
     from analyzer_lab.view.page import SessionView
+
+log = logging.getLogger(__name__)
 
 NONE = "(none)"
 ENV_FOLDER = "ANALYZER_LAB_ASSIGNMENTS"  # analyzer_lab.serve.cli_assignments.ENV_FOLDER
@@ -89,26 +94,69 @@ def error_html(message: str) -> str:
     return _box(esc(message), "#a61b1b", "al-field-error al-assignment-error")
 
 
-class AssignmentBoard:
-    """The classroom's assignments, the pushed one and the roster."""
+def load_assignments(lesson_ids: Set[str]) -> dict[str, Assignment]:
+    """The ready assignments and those of ``serve --assignments DIR`` (the folder wins on
+    a shared id) that are about one of ``lesson_ids``; a folder that cannot be read is
+    reported and left out."""
+    found: dict[str, Assignment] = {}
+    folder = os.environ.get(ENV_FOLDER)
+    for load in (ready_assignments, lambda: load_folder(folder) if folder else []):
+        try:
+            for a in load():
+                found[a.id] = a
+        except AssignmentError as exc:  # a page must open even without them
+            print(f"analyzer-lab: assignments ignored: {exc}", file=sys.stderr)
+    return {k: a for k, a in found.items() if a.lesson in lesson_ids}
 
-    def __init__(self, room: Classroom) -> None:
+
+class AssignmentBoard:
+    """The classroom's assignments, the pushed one, the roster and every page's panel."""
+
+    def __init__(self, room: RoomForBoard, lesson_ids: Set[str]) -> None:
         self.room = room
+        self.lesson_ids = frozenset(lesson_ids)
         self.lock = threading.RLock()
-        ids = {l.id for l in room.lab.lessons}
-        found: dict[str, Assignment] = {}
-        folder = os.environ.get(ENV_FOLDER)
-        for load in (ready_assignments, lambda: load_folder(folder) if folder else []):
-            try:
-                for a in load():
-                    found[a.id] = a
-            except AssignmentError as exc:  # a page must open even without them
-                print(f"analyzer-lab: assignments ignored: {exc}", file=sys.stderr)
-        self.assignments = {k: a for k, a in found.items() if a.lesson in ids}
+        self._assignments: dict[str, Assignment] | None = None
         self.pushed: str | None = None
         self.roster = Roster()
         self.students: dict[int, StudentPanel] = {}
         self.teachers: dict[int, TeacherPanel] = {}
+
+    @property
+    def assignments(self) -> dict[str, Assignment]:
+        """The assignments by id, read when the first page asks (not at server start)."""
+        with self.lock:
+            if self._assignments is None:
+                self._assignments = load_assignments(self.lesson_ids)
+            return self._assignments
+
+    # -- the classroom's pages
+
+    def attach(self, view: SessionView) -> None:
+        """A page connected (after the classroom set its gate): its Assignment folder."""
+        self.students[view.client.client_id] = StudentPanel(self, view)
+
+    def detach(self, client_id: int) -> None:
+        """A page left."""
+        self.students.pop(client_id, None)
+        self.teachers.pop(client_id, None)
+        self.roster.forget_page(client_id)
+
+    def grant(self, view: SessionView) -> None:
+        """The page became the instructor: the class's folder replaces its own."""
+        cid = view.client.client_id
+        student = self.students.get(cid)
+        if student is not None:
+            student.close()
+        self.teachers[cid] = TeacherPanel(self, view)
+
+    def released(self, view: SessionView) -> None:
+        """A follower has its own session again (caller holds its lock)."""
+        panel = self.students.get(view.client.client_id)
+        if panel is not None:
+            panel.resume()
+
+    # -- the class
 
     def choices(self) -> tuple[str, ...]:
         return (NONE, *self.assignments)
@@ -123,7 +171,7 @@ class AssignmentBoard:
         for cid, panel in list(self.students.items()):
             if self.room.is_instructor(cid) or panel.view.closed:
                 continue
-            if cid in self.room.followers:
+            if self.room.is_following(cid):
                 panel.pending = aid
                 continue
             try:
@@ -131,64 +179,14 @@ class AssignmentBoard:
                     panel.open(aid, pushed=True)
                     panel.view.refresh(heavy=True)
                 reached += 1
-            except Exception:
-                traceback.print_exc()
+            except Exception:  # one page's fault does not stop the push to the others
+                log.exception("page %s: the pushed assignment failed", cid)
         self.changed()
         return reached
 
     def changed(self) -> None:
         for t in list(self.teachers.values()):
             t.update()
-
-
-_BOARD_LOCK = threading.Lock()
-
-
-def board_of(room: Classroom) -> AssignmentBoard:
-    """The classroom's board (made on first use)."""
-    with _BOARD_LOCK:
-        board = getattr(room, "_assignment_board", None)
-        if board is None:
-            board = AssignmentBoard(room)
-            room._assignment_board = board  # type: ignore[attr-defined]
-        return board
-
-
-def attach(room: Classroom, view: SessionView) -> None:
-    """Classroom hook: a page connected (after its gate is set)."""
-    board = board_of(room)
-    board.students[view.client.client_id] = StudentPanel(board, view)
-
-
-def detach(room: Classroom, client_id: int) -> None:
-    """Classroom hook: a page left."""
-    board = board_of(room)
-    board.students.pop(client_id, None)
-    board.teachers.pop(client_id, None)
-    board.roster.forget_page(client_id)
-
-
-def released(room: Classroom, view: SessionView) -> None:
-    """Classroom hook: a follower has its own session again (caller holds its lock): an
-    assignment pushed during the demo opens now; an open one keeps its locks."""
-    panel = board_of(room).students.get(view.client.client_id)
-    if panel is None:
-        return
-    if panel.pending is not None and panel.pending in panel.board.assignments:
-        panel.open(panel.pending, pushed=True)
-    elif panel.active is not None:
-        view.controls.set_locked(panel.locked(), view.session.params)
-        panel._pickers_disabled(True)
-
-
-def grant(room: Classroom, view: SessionView) -> None:
-    """Classroom hook: the page became the instructor."""
-    board = board_of(room)
-    cid = view.client.client_id
-    student = board.students.get(cid)
-    if student is not None:
-        student.close()
-    board.teachers[cid] = TeacherPanel(board, view)
 
 
 class StudentPanel:
@@ -259,8 +257,17 @@ class StudentPanel:
                 self.view.client.add_notification(
                     "Assignment", f"the instructor gave you: {a.title}", auto_close_seconds=6.0
                 )
-            except Exception:
+            except RuntimeError:  # the page left meanwhile
                 pass
+
+    def resume(self) -> None:
+        """The page has its own session again after a demo (caller holds its lock): an
+        assignment pushed during the demo opens now; an open one keeps its locks."""
+        if self.pending is not None and self.pending in self.board.assignments:
+            self.open(self.pending, pushed=True)
+        elif self.active is not None:
+            self.view.controls.set_locked(self.locked(), self.view.session.params)
+            self._pickers_disabled(True)
 
     def close(self) -> None:
         self.active = None
@@ -309,7 +316,7 @@ class StudentPanel:
                     )
                     with view.session.lock:
                         view.sync_widgets(force=True)
-                except Exception:
+                except (RuntimeError, ValueError):  # the page left meanwhile
                     pass
                 return False
         return True if inner is None else bool(inner(view, event, again))
@@ -398,8 +405,8 @@ class TeacherPanel:
                 self.view.client.add_notification(
                     "Assignments", f"refused: {exc}", auto_close_seconds=6.0, color="red"
                 )
-            except Exception as exc:
-                traceback.print_exc()
+            except Exception as exc:  # a page callback: the page says so, the log how
+                log.exception("page %s: an assignments control failed", client.client_id)
                 self.view.client.add_notification(
                     "Assignments", f"internal error: {exc}", auto_close_seconds=6.0, color="red"
                 )

@@ -24,15 +24,17 @@ from __future__ import annotations
 import hashlib
 import hmac
 import json
+import logging
 import secrets
 import sys
 import threading
 import time
-import traceback
 from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 from urllib.parse import urlsplit
+
+log = logging.getLogger(__name__)
 
 #: Largest message accepted from the bus (bytes of JSON).
 MAX_MESSAGE_BYTES = 20000
@@ -140,7 +142,7 @@ class Bus:
         try:
             raw = encode_message(self.key, self.name, kind, body)
         except BusError:
-            traceback.print_exc()
+            log.exception("a %s message was not sent", kind)
             return False
         ok = self._send(raw)
         self.stats["sent" if ok else "dropped"] += 1
@@ -164,8 +166,8 @@ class Bus:
         for fn in list(self.listeners):
             try:
                 fn(msg)
-            except Exception:
-                traceback.print_exc()
+            except Exception:  # the bus goes on for the other listeners and messages
+                log.exception("a listener failed on a %s message from %s", msg.kind, msg.sender)
 
     def refused(self, reason: str) -> None:
         """A listener refused a verified message's body (counted with the bus's refusals)."""
@@ -180,8 +182,8 @@ class Bus:
         for fn in list(self.status_listeners):
             try:
                 fn(up, reason)
-            except Exception:
-                traceback.print_exc()
+            except Exception:  # the bus goes on for the other listeners
+                log.exception("a listener failed on the bus going %s", "up" if up else "down")
 
     def describe(self) -> str:
         return f"{self.url} ({'connected' if self.up else 'down: ' + self.reason})"
@@ -234,6 +236,8 @@ class RedisBus(Bus):
 
         self.url = url
         host, port, db = parse_redis_url(url)
+        #: what talking to Redis raises when it is down or unreachable
+        self.failures: tuple[type[Exception], ...] = (redis.RedisError, OSError)
         self.up = False
         self.reason = "not connected yet"
         self._redis = redis.Redis(
@@ -259,7 +263,7 @@ class RedisBus(Bus):
         try:
             self._redis.publish(CHANNEL, raw)
             return True
-        except Exception as exc:
+        except self.failures as exc:
             self._set_status(False, _reason(exc))
             return False
 
@@ -278,14 +282,18 @@ class RedisBus(Bus):
                     item = pubsub.get_message(timeout=0.5)
                     if item is not None and item.get("type") == "message":
                         self.deliver(item.get("data"))
-            except Exception as exc:
+            except self.failures as exc:
+                self._set_status(False, _reason(exc))
+                self._connected.set()
+            except Exception as exc:  # the bus thread goes on: reported, then reconnecting
+                log.exception("the class bus %s failed", self.url)
                 self._set_status(False, _reason(exc))
                 self._connected.set()
             finally:
                 if pubsub is not None:
                     try:
                         pubsub.close()
-                    except Exception:
+                    except self.failures:
                         pass
             if self._stop.wait(delay):
                 break
@@ -296,7 +304,7 @@ class RedisBus(Bus):
         self._thread.join(timeout=3.0)
         try:
             self._redis.close()
-        except Exception:
+        except self.failures:
             pass
 
 

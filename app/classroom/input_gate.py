@@ -1,7 +1,7 @@
 """The input gate of every page: one token bucket per page (DESIGN §5).
 
 Every GUI input of a page takes tokens from that page's bucket (a text edit, which may
-be a formula to parse, costs :data:`~analyzer_lab.limits.TEXT_COST`).  An input over the limit
+be a formula to parse, costs :data:`TEXT_COST`).  An input over the limit
 is not dropped but coalesced: the newest value of each widget waits and is applied when
 the page's bucket has refilled, through the page's callbacks again (in its turn of the
 callback budget, :func:`analyzer_lab.viser_boundary.submit_callback`).
@@ -13,12 +13,17 @@ import logging
 from collections.abc import Callable
 from typing import Any
 
-from analyzer_lab.limits import INPUT_BURST, INPUT_RATE, TEXT_COST, TokenBucket
+from analyzer_lab.token_bucket import TokenBucket
 from analyzer_lab.viser_boundary import submit_callback
 
-Callback = Callable[[Any], None]
-
 log = logging.getLogger(__name__)
+
+#: GUI inputs per page: tokens per second and burst; a text (formula) edit costs more.
+INPUT_RATE = 20.0
+INPUT_BURST = 20.0
+TEXT_COST = 4.0
+
+Callback = Callable[[Any], None]
 
 
 class InputGate:
@@ -75,8 +80,8 @@ class InputGate:
                 if not submit_callback(self.server(), ("replay", key[0]), item[0], item[1]):
                     try:
                         item[0](item[1])
-                    except Exception:
-                        log.exception("a held input of page %s failed", key[0])
+                    except Exception:  # a page callback, run here
+                        log.exception("page %s: a replayed input failed", key[0])
 
 
 __all__ = ["InputGate"]

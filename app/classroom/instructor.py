@@ -1,28 +1,34 @@
 """The instructor's side of the classroom: presenter mode and the instructor panel.
 
-Both live in the instructor page's own ``client.gui`` (private to that page).
+Both live in the instructor page's own ``client.gui`` (private to that page) and know
+the classroom as a :class:`~analyzer_lab.classroom.ports.RoomForPanels`.
 """
 
 from __future__ import annotations
 
 import html
+import logging
 import time
-import traceback
 from collections.abc import Callable
 from typing import TYPE_CHECKING, Any
 
-from analyzer_lab.limits import MAX_NOTICE_LENGTH
+from analyzer_lab.classroom.link import ClassLink
+from analyzer_lab.classroom.ports import RoomForPanels
 from analyzer_lab.session.session import LabError
 
 if TYPE_CHECKING:
-    from analyzer_lab.classroom.room import Classroom
     from analyzer_lab.view.page import SessionView
+
+log = logging.getLogger(__name__)
 
 
 #: Presenter mode: the panel's width (px; the scene keeps >= 60 % of a 1280 px
 #: projector) and the size of the scene's labels.
 PANEL_WIDTH = 440
 LABEL_SCALE = 1.8
+#: What docking or floating the page's panel can raise (the page left, or its panel
+#: cannot be placed so): presenter mode goes on with the panel where it is.
+PANEL_ERRORS = (RuntimeError, ValueError)
 
 
 class Presenter:
@@ -36,7 +42,7 @@ class Presenter:
         ".al-readout{font-size:1.0em!important}</style>"
     )
 
-    def __init__(self, room: Classroom, view: SessionView) -> None:
+    def __init__(self, room: RoomForPanels, view: SessionView) -> None:
         self.room = room
         self.view = view
         gui = view.client.gui
@@ -76,7 +82,7 @@ class Presenter:
         for c in self.commands:
             try:
                 c.remove()
-            except Exception:
+            except RuntimeError:  # the page left meanwhile
                 pass
         self.commands = []
         if on:
@@ -96,13 +102,13 @@ class Presenter:
             try:
                 gui.main_panel.dock_right()
                 gui.main_panel.set_width(PANEL_WIDTH)
-            except Exception:
+            except PANEL_ERRORS:
                 pass
             self.folder.expand_by_default = True
         else:
             try:
                 gui.main_panel.float()
-            except Exception:
+            except PANEL_ERRORS:
                 pass
         self.top_prev.visible = on
         self.top_next.visible = on
@@ -148,9 +154,10 @@ class Presenter:
 class InstructorPanel:
     """The instructor's controls, in that page's ``client.gui`` only."""
 
-    def __init__(self, room: Classroom, view: SessionView) -> None:
+    def __init__(self, room: RoomForPanels, view: SessionView, link: ClassLink) -> None:
         self.room = room
         self.view = view
+        self.link = link
         gui = view.client.gui
         self.folder = gui.add_folder("Instructor panel", order=-1000.0)
         with self.folder:
@@ -192,8 +199,8 @@ class InstructorPanel:
                 self.view.client.add_notification(
                     "Instructor", f"refused: {exc}", auto_close_seconds=5.0, color="red"
                 )
-            except Exception as exc:
-                traceback.print_exc()
+            except Exception as exc:  # a page callback: the page says so, the log how
+                log.exception("page %s: an instructor control failed", self.view.client.client_id)
                 self.view.client.add_notification(
                     "Instructor", f"internal error: {exc}", auto_close_seconds=5.0, color="red"
                 )
@@ -208,10 +215,10 @@ class InstructorPanel:
                 tuple(map(float, cam.look_at)),
                 tuple(map(float, cam.up_direction)),
             )
-        except Exception:
+        except (AssertionError, TypeError, ValueError):  # no camera reported, or not numbers
             return
         self.camera_t = time.monotonic()
-        self.room.camera_dirty = True
+        self.room.camera_moved()
 
     def fresh_camera(self) -> tuple[Any, ...] | None:
         """The instructor's camera if it was reported after the last lesson change
@@ -232,7 +239,7 @@ class InstructorPanel:
         text = self.message.value
         if not isinstance(text, str) or not text.strip():
             raise LabError("type a message first")
-        self.room.notify_all(text.strip()[:MAX_NOTICE_LENGTH])
+        self.room.notify_all(text.strip())  # cut to the longest notice there
         self.message.value = ""
 
     def update(self) -> None:
@@ -243,12 +250,12 @@ class InstructorPanel:
             if self.room.broadcaster == self.view.client.client_id
             else "exploring on their own"
         )
-        servers = self.room.link.remote_totals()[2]
+        servers = self.link.remote_totals()[2]
         where = f" on {servers + 1} servers" if servers else ""
         content = (
             f'<div class="al-class-counts" style="font-size:0.9em"><b>{students}</b> student(s) connected{where}, '
             f'<b class="al-following">{following}</b> following; mode: {mode}</div>'
-            + self.room.link.panel_note()
+            + self.link.panel_note()
         )
         if self.counts.content != content:
             self.counts.content = content
@@ -259,5 +266,5 @@ class InstructorPanel:
     def remove(self) -> None:
         try:
             self.folder.remove()
-        except Exception:
+        except RuntimeError:  # the page left meanwhile
             pass

@@ -1,5 +1,6 @@
-"""The classroom across server processes: what one :class:`~analyzer_lab.classroom.room.Classroom`
-tells the others over the bus (:mod:`analyzer_lab.classroom.bus`) and how it applies what they tell it.
+"""The classroom across server processes: what one classroom
+(:class:`~analyzer_lab.classroom.ports.RoomForLink`) tells the others over the bus
+(:mod:`analyzer_lab.classroom.bus`) and how it applies what they tell it.
 
 * The server whose page is the broadcasting instructor publishes the demo (lesson,
   preset, values, speed, play state, time, camera) on every change and twice a second.
@@ -25,18 +26,17 @@ import secrets
 import sys
 import time
 from collections import deque
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 from analyzer_lab.classroom.bus import Bus, Message
+from analyzer_lab.classroom.ports import RoomForLink
 from analyzer_lab.lessons.kit.contract import ParamError
-from analyzer_lab.limits import MAX_NOTICE_LENGTH
-from analyzer_lab.session.session import SPEEDS, LabError, Session, SessionState, SharedClock
-
-if TYPE_CHECKING:
-    from analyzer_lab.classroom.room import Classroom
+from analyzer_lab.session.session import SPEEDS, LabError, Session, SessionState
 
 #: ``Classroom.broadcaster`` while the demo comes from another server.
 REMOTE = -1
+#: Longest notice to every page (characters; a longer one from the bus is refused).
+MAX_NOTICE_LENGTH = 300
 #: Seconds between demo publications when nothing changed (the heartbeat).
 HEARTBEAT = 0.5
 #: A remote demo not heard of for this long is released (its server stopped).
@@ -65,9 +65,9 @@ def _vec3(v: Any) -> tuple[float, float, float]:
 
 
 class ClassLink:
-    """The bus side of one :class:`Classroom` (``room.link``)."""
+    """The bus side of one classroom (``room.link``)."""
 
-    def __init__(self, room: Classroom, bus: Bus) -> None:
+    def __init__(self, room: RoomForLink, bus: Bus) -> None:
         self.room = room
         self.bus = bus
         self.inbox: deque[Message] = deque(maxlen=256)
@@ -94,9 +94,7 @@ class ClassLink:
 
     def _arrived(self, msg: Message) -> None:
         self.inbox.append(msg)
-        wake = getattr(self.room, "wake", None)
-        if wake is not None:
-            wake.set()
+        self.room.wake.set()
 
     def lessons(self) -> dict[str, Any]:
         return {l.id: l for l in self.room.lab.lessons}
@@ -152,8 +150,7 @@ class ClassLink:
                 "t": float(demo.frame.t),
                 "started": self.started,
             }
-        panel = room.instructors.get(room.broadcaster)  # type: ignore[arg-type]
-        camera = panel.fresh_camera() if panel is not None else None
+        camera = room.broadcaster_camera()
         body["camera"] = [list(v) for v in camera] if camera is not None else None
         return body
 
@@ -177,15 +174,14 @@ class ClassLink:
 
     def publish_counts(self) -> None:
         students, following = self.room.local_counts()
-        with self.room.lab._views_lock:
-            pages = len(self.room.lab.views)
+        pages = len(self.room.lab.open_views())
         self.bus.publish(
             "count",
             {
                 "students": students,
                 "following": following,
                 "pages": pages,
-                "port": int(getattr(self.room.lab, "port", 0)),
+                "port": int(self.room.lab.port),
             },
         )
 
@@ -301,8 +297,7 @@ class ClassLink:
             return  # an older demo of another server still heartbeating
         mirror = self.mirror
         if mirror is None or mirror is not room.demo:
-            mirror = Session(tuple(room.lab.lessons), state.lesson)
-            room.all_sessions.add(mirror)
+            mirror = room.new_session(state.lesson)
             mirror.notices.clear()
         with mirror.lock:
             hold = False
@@ -328,13 +323,11 @@ class ClassLink:
         self.stats["demos_applied"] += 1
         if camera is not None and camera != self.remote_camera:
             self.remote_camera = camera
-            room.camera_dirty = True
+            room.camera_moved()
         if room.broadcaster != REMOTE or room.demo is not mirror:
             if room.broadcaster is not None:
                 room.release()
-            room.broadcaster = REMOTE
-            room.demo = mirror
-            mirror.shared_clock = SharedClock(mirror, lambda: room.lab.stats.ticks, room.lab.fps)
+            room.show_demo(mirror, REMOTE)
             room.follow_everyone()
 
     def _change(self, mirror: Session, state: SessionState) -> None:

@@ -19,9 +19,14 @@ Hardening (DESIGN §5): the instructor code is compared with
 :func:`hmac.compare_digest`, wrong codes are rate-limited per page and across the
 server; every GUI input of every page passes a token bucket (formula edits cost
 more; an input over the limit is not dropped but coalesced: the newest value is
-applied when the bucket refills, :mod:`analyzer_lab.classroom.input_gate`); incoming websocket messages are paced per
-connection and oversized ones dropped before viser decodes them
+applied when the bucket refills, :mod:`analyzer_lab.classroom.input_gate`); incoming websocket
+messages are paced per connection and oversized ones dropped before viser decodes them
 (:func:`analyzer_lab.viser_boundary.harden_websocket`).
+
+The classroom is handed the server as a :class:`~analyzer_lab.classroom.ports.Lab` (it never
+imports the server) and hands itself to its parts: the class link, the instructor's
+controls and the assignment board, each through the protocol of its part
+(:mod:`analyzer_lab.classroom.ports`).
 """
 
 from __future__ import annotations
@@ -29,52 +34,56 @@ from __future__ import annotations
 import copy
 import gc
 import hmac
+import logging
 import secrets
 import sys
 import threading
 import time
-import traceback
 import weakref
 from collections.abc import Callable
 from typing import TYPE_CHECKING, Any
 
-import analyzer_lab.classroom.assignments as assignments_view
+from analyzer_lab.classroom.assignments import AssignmentBoard
 from analyzer_lab.classroom.bus import Bus, LocalBus
 from analyzer_lab.classroom.input_gate import InputGate
 from analyzer_lab.classroom.instructor import InstructorPanel, Presenter
-from analyzer_lab.classroom.link import REMOTE, ClassLink
-from analyzer_lab.limits import (
-    MAX_NOTICE_LENGTH,
-    MIN_CODE_LENGTH,
+from analyzer_lab.classroom.instructor_code import (
     CodeGuard,
+    code_problem,
     generate_code,
-    normalize_code,
 )
+from analyzer_lab.classroom.link import MAX_NOTICE_LENGTH, REMOTE, ClassLink
+from analyzer_lab.classroom.ports import Camera, Lab
 from analyzer_lab.session.session import LabError, Session, SharedClock
 from analyzer_lab.viser_boundary import client_address
+
+if TYPE_CHECKING:
+    from analyzer_lab.view.page import SessionView
+
+log = logging.getLogger(__name__)
 
 #: Follower sync / camera pushes (Hz).
 SYNC_HZ = 20.0
 #: Where an instructor page keeps its role token (its own browser storage).
 ROLE_KEY = "analyzer-lab-instructor"
-
-if TYPE_CHECKING:
-    from analyzer_lab.serve.server import LabServer
-    from analyzer_lab.view.page import SessionView
+#: What copying a demo's stepper can raise (a stepper holding a lock or a compiled
+#: function that cannot be copied): the released page then starts its run afresh.
+COPY_ERRORS = (TypeError, AttributeError, RecursionError, copy.Error)
+#: What setting a follower's camera can raise: its browser has not reported a camera
+#: yet, the camera is degenerate, or the page left.
+CAMERA_ERRORS = (AssertionError, ValueError, RuntimeError)
 
 
 class Classroom:
-    """Instructor sign-in, follow/release, push, notify and presenter mode for a
-    :class:`~analyzer_lab.serve.server.LabServer` (``lab.classroom``)."""
+    """Instructor sign-in, follow/release, push, notify and presenter mode for the
+    server it is handed (``lab.classroom``)."""
 
-    def __init__(self, lab: LabServer, code: str | None = None, bus: Bus | None = None) -> None:
+    def __init__(self, lab: Lab, code: str | None = None, bus: Bus | None = None) -> None:
         self.lab = lab
         self.code = code if code else generate_code()
-        if len(normalize_code(self.code)) < MIN_CODE_LENGTH:
-            raise LabError(
-                f"the instructor code must have at least {MIN_CODE_LENGTH} letters or digits"
-                " (a shorter one could be guessed)"
-            )
+        problem = code_problem(self.code)
+        if problem:
+            raise LabError(problem)
         self.codes = CodeGuard(self.code)
         self.lock = threading.RLock()
         self.instructors: dict[int, InstructorPanel] = {}
@@ -95,12 +104,14 @@ class Classroom:
             "replayed": 0,
             "wrong_codes": 0,
         }
-        #: every page's token bucket and coalesced inputs
-        self.inputs = InputGate(self.stats, lambda: getattr(self.lab, "server", None))
-        #: the other servers of the class (an in-process bus by default)
-        self.link = ClassLink(self, bus if bus is not None else LocalBus(self.code))
         self._stop = threading.Event()
         self.wake = threading.Event()  # set by the bus: apply at once, not at the next period
+        #: every page's token bucket and coalesced inputs
+        self.inputs = InputGate(self.stats, lambda: self.lab.server)
+        #: the other servers of the class (an in-process bus by default)
+        self.link = ClassLink(self, bus if bus is not None else LocalBus(self.code))
+        #: the assignments, the pushed one and the class's progress on them
+        self.board = AssignmentBoard(self, {lesson.id for lesson in lab.lessons})
         self._thread = threading.Thread(
             target=self._run, name="analyzer-lab-classroom", daemon=True
         )
@@ -111,7 +122,7 @@ class Classroom:
     def attach(self, view: SessionView) -> None:
         """A page connected (its view is built): gate, code entry, presenter, follow."""
         cid = view.client.client_id
-        view.gate = self._gate  # type: ignore[attr-defined]
+        view.gate = self._gate
         self.all_sessions.add(view.session)
         self.inputs.open(cid)
         gui = view.client.gui
@@ -124,7 +135,7 @@ class Classroom:
         btn.on_click(lambda e: self._on_code(view, e))
         self.entries[cid] = (folder, text, btn)
         self.presenters[cid] = Presenter(self, view)
-        assignments_view.attach(self, view)  # assignments hook
+        self.board.attach(view)  # after the gate: the board's gate wraps it
         if self.tokens and self._restore_role(view):
             return
         with self.lock:
@@ -136,7 +147,7 @@ class Classroom:
         with self.lock:
             self.entries.pop(client_id, None)
             self.presenters.pop(client_id, None)
-            assignments_view.detach(self, client_id)  # assignments hook
+            self.board.detach(client_id)
             self.inputs.forget(client_id)
             self.codes.forget(client_id)
             self._refused_note.pop(client_id, None)
@@ -149,10 +160,13 @@ class Classroom:
     def is_instructor(self, client_id: int) -> bool:
         return client_id in self.instructors
 
+    def is_following(self, client_id: int) -> bool:
+        """Whether the page shows the demo (its own controls are paused)."""
+        return client_id in self.followers
+
     def local_counts(self) -> tuple[int, int]:
         """(students, following) on this server."""
-        with self.lab._views_lock:
-            ids = list(self.lab.views)
+        ids = [v.client.client_id for v in self.lab.open_views()]
         students = sum(1 for c in ids if c not in self.instructors)
         return students, len(self.followers)
 
@@ -174,9 +188,7 @@ class Classroom:
         entry = self.entries.get(cid)
         if entry is None:
             return
-        ok, message = self.check_code(
-            cid, entry[1].value, client_address(getattr(self.lab, "server", None), cid)
-        )
+        ok, message = self.check_code(cid, entry[1].value, client_address(self.lab.server, cid))
         entry[1].value = ""
         if not ok:
             client.add_notification("Instructor code", message, auto_close_seconds=5.0, color="red")
@@ -186,7 +198,7 @@ class Classroom:
         self.tokens.add(token)
         try:  # the role survives a reload of this page (never another page's)
             client.local_storage.set_item(ROLE_KEY, token)
-        except Exception:
+        except RuntimeError:  # the page left meanwhile
             pass
         client.add_notification(
             "Instructor",
@@ -214,17 +226,17 @@ class Classroom:
             if entry is not None:
                 try:
                     entry[0].remove()
-                except Exception:
+                except RuntimeError:  # the page left meanwhile
                     pass
-            self.instructors[cid] = InstructorPanel(self, view)
+            self.instructors[cid] = InstructorPanel(self, view, self.link)
             self.followers.pop(cid, None)
-        assignments_view.grant(self, view)  # assignments hook
+        self.board.grant(view)
 
     def _restore_role(self, view: SessionView) -> bool:
         """A page reloaded by the instructor gets the role back from the token it keeps."""
         try:
             token = view.client.local_storage.get_item(ROLE_KEY, timeout=2.0)
-        except Exception:
+        except (RuntimeError, TimeoutError):  # the page left, blocks its storage or is silent
             return False
         if not isinstance(token, str) or not any(
             hmac.compare_digest(token, known) for known in list(self.tokens)
@@ -262,7 +274,7 @@ class Classroom:
                         auto_close_seconds=4.0,
                         color="blue",
                     )
-                except Exception:
+                except RuntimeError:  # the page left meanwhile
                     pass
             with view.session.lock:
                 view.sync_widgets(force=True)
@@ -278,22 +290,25 @@ class Classroom:
         with self.lock:
             if self.broadcaster is not None and self.broadcaster != cid:
                 self.release()
-            demo = instructor.session
             if self.broadcaster != cid:
-                self.broadcaster = cid
-                self.demo = demo
-                demo.shared_clock = SharedClock(demo, lambda: self.lab.stats.ticks, self.lab.fps)
+                self.show_demo(instructor.session, cid)
                 self.link.broadcast_started()
             self.follow_everyone()
             panel = self.instructors.get(cid)
             if panel is not None and panel.camera is not None:
                 self.camera_dirty = True
 
+    def show_demo(self, demo: Session, broadcaster: int) -> None:
+        """``demo`` becomes the session the class follows, broadcast by the page
+        ``broadcaster`` (:data:`~analyzer_lab.classroom.link.REMOTE`: another server's);
+        it plays on the frame loop's clock (caller holds :attr:`lock`)."""
+        self.broadcaster = broadcaster
+        self.demo = demo
+        demo.shared_clock = SharedClock(demo, lambda: self.lab.ticks, self.lab.fps)
+
     def follow_everyone(self) -> None:
         """Every page of this server that is not an instructor follows the demo."""
-        with self.lab._views_lock:
-            views = list(self.lab.views.values())
-        for v in views:
+        for v in self.lab.open_views():
             if (
                 v.client.client_id not in self.instructors
                 and v.client.client_id not in self.followers
@@ -322,7 +337,7 @@ class Classroom:
                 auto_close_seconds=4.0,
                 color="blue",
             )
-        except Exception:
+        except RuntimeError:  # the page left meanwhile
             pass
         presenter = self.presenters.get(view.client.client_id)
         if presenter is not None:
@@ -351,7 +366,7 @@ class Classroom:
             with demo.lock, own.lock:
                 view.show_session(own)
                 view.set_following(False)
-                assignments_view.released(self, view)  # assignments hook
+                self.board.released(view)
             try:
                 view.client.add_notification(
                     "Released",
@@ -360,7 +375,7 @@ class Classroom:
                     auto_close_seconds=4.0,
                     color="green",
                 )
-            except Exception:
+            except RuntimeError:  # the page left meanwhile
                 pass
             presenter = self.presenters.get(view.client.client_id)
             if presenter is not None:
@@ -374,9 +389,9 @@ class Classroom:
             stepper, frame, playing = demo.stepper, demo.frame, demo.playing
             try:
                 stepper = copy.deepcopy(stepper)
-            except Exception:
+            except COPY_ERRORS:
                 stepper = None
-        own = Session(tuple(self.lab.lessons), state.lesson)
+        own = self.new_session(state.lesson)
         own.apply_state(state)
         own.notices.clear()
         if stepper is not None:
@@ -385,17 +400,21 @@ class Classroom:
             own.log.clear()
             own.log.add(frame)
             own.playing = playing
-        self.all_sessions.add(own)
         return own
+
+    def new_session(self, lesson_id: str) -> Session:
+        """A session of the server's lessons on ``lesson_id``, counted among the
+        classroom's sessions (the soak test's figures)."""
+        session = Session(tuple(self.lab.lessons), lesson_id)
+        self.all_sessions.add(session)
+        return session
 
     def push_preset(self, lesson_id: str, preset: str, relay: bool = True) -> None:
         """Every student (followers see it through the demo) gets lesson + preset;
         ``relay``: the other servers of the class too."""
         if relay:
             self.link.bus.publish("push", {"lesson": lesson_id, "preset": preset})
-        with self.lab._views_lock:
-            views = list(self.lab.views.values())
-        for v in views:
+        for v in self.lab.open_views():
             cid = v.client.client_id
             if cid in self.followers or v.closed:
                 continue
@@ -408,7 +427,8 @@ class Classroom:
                     v.session.notify(f"the instructor pushed preset {preset}")
                     v.after_state_change()
                     v.refresh(heavy=True)
-                except Exception as exc:
+                except Exception as exc:  # the lesson's own code: the page says why, the log how
+                    log.warning("page %s: the pushed preset failed", cid, exc_info=True)
                     v.session.notify(f"the pushed preset could not be loaded: {exc}", "warning")
             p = self.presenters.get(cid)
             if p is not None:
@@ -417,14 +437,12 @@ class Classroom:
     def notify_all(self, text: str, relay: bool = True) -> None:
         if relay:
             self.link.bus.publish("notice", {"text": text[:MAX_NOTICE_LENGTH]})
-        with self.lab._views_lock:
-            views = list(self.lab.views.values())
-        for v in views:
+        for v in self.lab.open_views():
             try:
                 v.client.add_notification(
                     "Instructor", text[:MAX_NOTICE_LENGTH], auto_close_seconds=20.0, color="blue"
                 )
-            except Exception:
+            except RuntimeError:  # the page left meanwhile
                 pass
 
     # ------------------------------------------------------------------ the sync thread
@@ -493,27 +511,31 @@ class Classroom:
             if p is not None:
                 p.update_bookmarks()
 
-    @staticmethod
-    def _derivation_of(demo: Session) -> str | None:
-        """The demo's derivation as HTML (shared cache with the server), outside the lock."""
+    def _derivation_of(self, demo: Session) -> str | None:
+        """The demo's derivation as HTML (the server's cache), outside the lock; None when
+        it cannot be built here (the server's slow loop then builds it for each page)."""
+        with demo.lock:
+            lesson, params = demo.lesson, demo.params
         try:
-            from analyzer_lab.serve.server import DERIVATION_CACHE
-            from analyzer_lab.session.runlog import params_key
-            from analyzer_lab.view.math import derivation_to_html
-
-            with demo.lock:
-                lesson, params = demo.lesson, demo.params
-            return DERIVATION_CACHE.get_or_make(
-                params_key(lesson, params), lambda: derivation_to_html(lesson.derivation(params))
-            )
-        except Exception:
+            return self.lab.derivation_html(lesson, params)
+        except Exception:  # the lesson's own code
+            log.warning("the derivation of the demo (%s) failed", lesson.id, exc_info=True)
             return None
+
+    def broadcaster_camera(self) -> Camera | None:
+        """The broadcasting instructor's camera on this server, once reported after the
+        last lesson change (None otherwise)."""
+        panel = self.instructors.get(self.broadcaster) if self.broadcaster is not None else None
+        return panel.fresh_camera() if panel is not None else None
+
+    def camera_moved(self) -> None:
+        """The demo's camera changed: the followers get it at the next sync."""
+        self.camera_dirty = True
 
     def _push_camera(self) -> None:
         if not self.camera_dirty or self.broadcaster is None:
             return
-        panel = self.instructors.get(self.broadcaster)
-        camera = panel.fresh_camera() if panel is not None else None
+        camera = self.broadcaster_camera()
         if self.broadcaster == REMOTE:
             camera = self.link.remote_camera
         if camera is None:
@@ -527,15 +549,13 @@ class Classroom:
                     cam.up_direction = up
                     cam.position = pos
                     cam.look_at = look
-            except Exception:
+            except CAMERA_ERRORS:  # not reported yet, degenerate, or the page left
                 pass
 
     def _run(self) -> None:
         period = 1.0 / SYNC_HZ
         k = 0
-        every = (
-            self.lab._report_every / self.lab.fps if getattr(self.lab, "_report_every", 0) else 0.0
-        )
+        every = self.lab.report_interval
         last_report = time.monotonic()
         while not self._stop.is_set():
             self.wake.wait(period)
@@ -558,15 +578,14 @@ class Classroom:
                 if every and time.monotonic() - last_report >= max(every, 10.0):
                     last_report = time.monotonic()
                     self.report()
-            except Exception:
-                traceback.print_exc()
+            except Exception:  # the sync thread goes on
+                log.exception("classroom sync failed")
             panel = p = None  # type: ignore[assignment]  # no stale reference to a page that left
 
     def report(self) -> dict[str, int]:
         """Figures for the soak test (printed on stderr when ANALYZER_LAB_STATS is set)."""
         gc.collect()
-        with self.lab._views_lock:
-            views = len(self.lab.views)
+        views = len(self.lab.open_views())
         figures = {
             "views": views,
             "sessions_alive": len(self.all_sessions),

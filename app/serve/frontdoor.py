@@ -39,10 +39,11 @@ import time
 import urllib.request
 from collections.abc import Iterable
 from dataclasses import dataclass, field
+from http.client import HTTPException
 from typing import Any
 
 from analyzer_lab.classroom.bus import Message, make_bus
-from analyzer_lab.limits import code_problem, normalize_code
+from analyzer_lab.classroom.instructor_code import code_problem, generate_code, normalize_code
 
 STATUS_PATH = "/frontdoor/status"
 #: Seconds before a worker that exited is started again.
@@ -444,7 +445,7 @@ class FrontDoor:
             if w.ready:
                 try:
                     urllib.request.urlopen(f"http://127.0.0.1:{w.port}/", timeout=5).read(64)
-                except OSError as exc:
+                except (OSError, HTTPException) as exc:  # a first page only; the worker is up
                     log.warning(
                         "worker on port %d did not answer its first request: %s", w.port, exc
                     )
@@ -498,8 +499,6 @@ def serve_workers(
     public_hosts: Iterable[str] = (),
 ) -> int:
     """Run the front door and its workers until interrupted; returns the exit code."""
-    from analyzer_lab.limits import generate_code
-
     code = code or os.environ.get("ANALYZER_LAB_INSTRUCTOR_CODE") or generate_code()
     problem = code_problem(code)
     if problem:  # refused here, once, rather than by every worker in a restart loop

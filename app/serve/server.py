@@ -10,27 +10,36 @@ frames; a second, slow thread computes deferred scene updates outside the sessio
 locks, so a slider drag never stalls the animation, and starts each page's derivation
 in a child process with time and size limits (:mod:`analyzer_lab.serve.derivation_jobs`), so a slow
 derivation never delays another page's.
+
+The server is where the lab is composed: it builds the
+:class:`~analyzer_lab.classroom.room.Classroom` and hands it itself as the
+:class:`~analyzer_lab.classroom.ports.Lab` the classroom needs (the views of the open
+pages, the frame loop's clock, the derivation cache).
 """
 
 from __future__ import annotations
 
 import html
+import logging
 import math
 import os
 import sys
 import threading
 import time
-import traceback
 from collections.abc import Sequence
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
 from typing import Any
 
-from analyzer_lab.lessons.kit.contract import Lesson
+from analyzer_lab.classroom.bus import Bus, BusError, make_bus
+from analyzer_lab.classroom.instructor_code import generate_code
+from analyzer_lab.classroom.room import Classroom
+from analyzer_lab.lessons.kit.contract import Lesson, Params
 from analyzer_lab.limits import prefer_returned_memory
 from analyzer_lab.serve.derivation_jobs import DerivationJobs, build
 from analyzer_lab.session.runlog import LRUCache, lesson_scene, params_key
 from analyzer_lab.session.session import STEP_WALL_BUDGET, LabError, Session
+from analyzer_lab.view.math import derivation_to_html
 from analyzer_lab.view.page import SessionView, ViewConfig
 from analyzer_lab.view.persistence import restore_state
 from analyzer_lab.viser_boundary import (
@@ -41,6 +50,8 @@ from analyzer_lab.viser_boundary import (
     guard_gui_updates,
     make_viser_server,
 )
+
+log = logging.getLogger(__name__)
 
 #: Frames per second of the live view: a little above 30 so that every page still gets
 #: 30 updates a second when a tick comes late (measured: 50 pages get 34/s at 36 fps,
@@ -75,7 +86,7 @@ class LabServer:
         config: ViewConfig | None = None,
         warm_up: bool = True,
         instructor_code: str | None = None,
-        bus: Any = None,
+        bus: Bus | None = None,
     ) -> None:
         prefer_returned_memory()
         self.fps = float(fps)
@@ -117,8 +128,7 @@ class LabServer:
             0,
         )
         self._report_draws = 0.0
-        from analyzer_lab.classroom.room import Classroom  # classroom hook
-
+        #: the classroom, handed this server as its Lab
         self.classroom = Classroom(self, instructor_code, bus)
         # pages are built and freed on a pool of their own (building one waits up to 2 s
         # for the browser's saved state), not in the turns of the page callbacks
@@ -161,14 +171,24 @@ class LabServer:
         )
         return f"http://{host}:{self.port}/"
 
+    @property
+    def ticks(self) -> int:
+        """Frame-loop ticks so far."""
+        return self.stats.ticks
+
+    @property
+    def report_interval(self) -> float:
+        """Seconds between loop figures on stderr (``ANALYZER_LAB_STATS``; 0: none)."""
+        return self._report_every / self.fps if self._report_every else 0.0
+
     # -- sessions ---------------------------------------------------------------------
 
     @staticmethod
     def _guarded(fn: Any, client: Any) -> None:
         try:
             fn(client)
-        except Exception:
-            traceback.print_exc()
+        except Exception:  # a page's connection: the server goes on
+            log.exception("page %s: %s failed", client.client_id, fn.__name__)
 
     def _on_connect(self, client: Any) -> None:
         cid = client.client_id
@@ -205,6 +225,11 @@ class LabServer:
         with self._views_lock:
             return [v.session for v in self.views.values()]
 
+    def open_views(self) -> list[SessionView]:
+        """The views of the pages open now (a copy: pages come and go meanwhile)."""
+        with self._views_lock:
+            return list(self.views.values())
+
     def view_of(self, client_id: int) -> SessionView | None:
         with self._views_lock:
             return self.views.get(client_id)
@@ -222,8 +247,8 @@ class LabServer:
         while not self._stop.is_set():
             try:
                 self._tick_all(period)
-            except Exception:
-                traceback.print_exc()
+            except Exception:  # the frame loop goes on
+                log.exception("a frame tick failed")
             # a late tick is followed by the next after a short gap, not at once: a frame
             # pushed right behind another would replace it in the send buffer unsent
             now = time.monotonic()
@@ -236,8 +261,7 @@ class LabServer:
     def _tick_all(self, period: float) -> None:
         """One frame for every session (round-robin, within the time budget)."""
         start = time.monotonic()
-        with self._views_lock:
-            views = list(self.views.values())
+        views = self.open_views()
         substeps = 8 if self.stats.load < 0.5 else 4 if self.stats.load < 0.8 else 1
         batch = WakeBatch(self.server)
         # round-robin with a time budget: under overload every session still gets
@@ -266,8 +290,8 @@ class LabServer:
                 session.wall_budget = STEP_WALL_BUDGET
                 grouped = batch.hold(view.client)
                 view.tick(dt, atomic=not grouped)
-            except Exception as exc:
-                traceback.print_exc()
+            except Exception as exc:  # the frame loop goes on; the page pauses and says why
+                log.exception("page %s: a frame failed", view.client.client_id)
                 session.playing = False
                 session.notify(
                     f"internal error, playback paused: {type(exc).__name__}: {exc}", "error"
@@ -310,8 +334,7 @@ class LabServer:
     def _slow_loop(self) -> None:
         """Derivations and deferred scenes, computed outside the session locks."""
         while not self._stop.wait(0.15):
-            with self._views_lock:
-                views = list(self.views.values())
+            views = self.open_views()
             now = time.monotonic()
             for owner in [k for k, v in self._deriving.items() if v[0].closed]:
                 self._deriving.pop(owner, None)
@@ -320,8 +343,8 @@ class LabServer:
                 try:
                     self._slow_work(view, now)
                     self._derivation_work(view, now)
-                except Exception:
-                    traceback.print_exc()
+                except Exception:  # the slow loop goes on
+                    log.exception("page %s: deferred work failed", view.client.client_id)
             views = view = None  # type: ignore[assignment]  # classroom hook: no stale reference
         self.derivations.stop()
         self._deriving.clear()
@@ -334,7 +357,8 @@ class LabServer:
                 lesson, params, rev = session.lesson, session.params, session.revision
             try:
                 spec = lesson_scene(lesson, params)
-            except Exception as exc:
+            except Exception as exc:  # the lesson's own code: the page says why, the log how
+                log.warning("page %s: the scene failed", view.client.client_id, exc_info=True)
                 spec = None
                 with session.lock:
                     session.notify(f"the scene could not be drawn: {exc}", "warning")
@@ -377,19 +401,27 @@ class LabServer:
         if content is None:
             try:
                 content = DERIVATION_CACHE.get_or_make(key, lambda: build(lesson, values))
-            except Exception as exc:
+            except Exception as exc:  # the lesson's own code: the page says why, the log how
+                log.warning("page %s: the derivation failed", view.client.client_id, exc_info=True)
                 content = f'<div class="al-error">The derivation could not be built: {html.escape(str(exc))}</div>'
         with session.lock:
             if session.revision == rev and not view.closed:
                 view.derivation_due = None
                 view.set_derivation(content)
 
+    def derivation_html(self, lesson: Lesson, params: Params) -> str:
+        """The derivation of ``lesson`` at ``params`` as HTML, from the cache the pages
+        share (built in the calling thread when it is not there)."""
+        return DERIVATION_CACHE.get_or_make(
+            params_key(lesson, params), lambda: derivation_to_html(lesson.derivation(params))
+        )
+
     def _warm_up(self) -> None:
         """Build each lesson once (lambdify caches, meshes) so the first tab is quick."""
         try:
             self.derivations.warm()
-        except Exception:
-            traceback.print_exc()
+        except Exception:  # the derivations' child processes; a page starts them again
+            log.exception("warming up the derivation processes failed")
         for lesson in self.lessons:
             if self._stop.is_set():
                 return
@@ -399,12 +431,12 @@ class LabServer:
                 st.advance(0.01)
                 lesson_scene(lesson, params)
                 DERIVATION_CACHE.get_or_make(params_key(lesson, params), lambda: build(lesson, {}))
-            except Exception:
-                pass
+            except Exception:  # the lesson's own code: its first page says what is wrong
+                log.warning("warming up the lesson %s failed", lesson.id, exc_info=True)
 
     def stop(self) -> None:
         self._stop.set()
-        self.classroom.stop()  # classroom hook
+        self.classroom.stop()
         with self._views_lock:
             views = list(self.views.values())
             self.views.clear()
@@ -414,8 +446,8 @@ class LabServer:
         self._page_pool.shutdown(wait=False, cancel_futures=True)
         try:
             self.server.stop()
-        except Exception:
-            pass
+        except Exception:  # the web server's own threads: stopping goes on
+            log.warning("the web server did not stop cleanly", exc_info=True)
 
 
 def serve(
@@ -437,9 +469,6 @@ def serve(
         print(f"analyzer-lab: error: --fps must be in 1..120, got {fps}", file=sys.stderr)
         return 2
     t0 = time.perf_counter()
-    from analyzer_lab.classroom.bus import BusError, make_bus
-    from analyzer_lab.limits import generate_code
-
     code = instructor_code or os.environ.get("ANALYZER_LAB_INSTRUCTOR_CODE") or generate_code()
     try:
         bus = make_bus(bus_url, code, worker_name)
@@ -490,7 +519,7 @@ def serve(
     return 0
 
 
-def _report_bus(bus: Any) -> None:
+def _report_bus(bus: Bus) -> None:
     """Say at start whether the class bus is there (a Redis bus connects meanwhile)."""
     wait = getattr(bus, "wait_connected", None)
     if wait is None:

@@ -9,7 +9,7 @@ import threading
 from collections.abc import Callable
 from typing import Any
 
-from analyzer_lab.limits import TokenBucket
+from analyzer_lab.token_bucket import TokenBucket
 from analyzer_lab.viser_boundary._callbacks import CONNECTION, MAX_PENDING_CALLBACKS, pending
 
 #: Websocket: incoming messages per second and burst per connection, and for all
