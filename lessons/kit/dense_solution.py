@@ -72,6 +72,16 @@ class DenseSolution:
     def t_covered(self) -> float:
         return self._ts[-1]
 
+    @property
+    def steps(self) -> int:
+        """The solver steps taken so far."""
+        return len(self._steps)
+
+    @property
+    def evaluations(self) -> int:
+        """The evaluations of the right-hand side so far."""
+        return int(self._solver.nfev)
+
     def extend(self, t: float) -> None:
         """Step until the solution covers ``t`` (or fails), or until the work budget
         (:mod:`analyzer_lab.lessons.kit.budget`) is spent, after at least one step."""

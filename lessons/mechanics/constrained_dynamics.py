@@ -204,8 +204,8 @@ class ConstrainedDynamics(Lesson):
         r.metrics.update(
             {
                 "H_shape": f"{cs.v2} x {cs.n}",
-                "steps": len(run.main._steps),
-                "nfev": int(run.main._solver.nfev),
+                "steps": run.main.steps,
+                "nfev": run.main.evaluations,
             }
         )
         for name in ("f", "f_1", "f_2", "g", "energy_error", "position_error", "speed_error"):
