@@ -362,7 +362,8 @@ class Quadric:
 
     def classify(self) -> Classification:
         """The affine type, centre/vertex, principal frame and semi-axes (see
-        :class:`Classification`); relative tolerance :data:`CLASSIFY_RTOL`."""
+        :class:`Classification`); relative tolerance
+        :data:`~analyzer_lab.lessons.analyzers.surfaces.types.CLASSIFY_RTOL`."""
         return self._classification
 
     def project(self, point: Vec3, max_iter: int = 30) -> np.ndarray:
