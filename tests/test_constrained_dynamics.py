@@ -172,3 +172,11 @@ def test_live_frames_read_the_table_as_the_run_is_sampled(preset: str) -> None:
         for name, v in want.items():
             assert fr.scalars[name] == pytest.approx(float(v[0]), rel=1e-12, abs=1e-14), name
     assert st._table is not None and st._table.builds >= 1
+
+
+def test_run_metrics_count_the_solver_work() -> None:
+    r = LESSON.simulate(LESSON.resolve(preset="knife-edge"), 2.0)
+    run = ExampleRun(LESSON.resolve(preset="knife-edge"))
+    run.state(r.t)
+    assert r.metrics["steps"] == run.main.steps > 0
+    assert r.metrics["nfev"] == run.main.evaluations > r.metrics["steps"]

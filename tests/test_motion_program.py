@@ -9,16 +9,7 @@ import numpy as np
 import pytest
 from analyzer_lab.lessons.analyzers.curves.motion_law import motion_program
 from analyzer_lab.lessons.analyzers.curves.space_curve import CurveFormulaParam
-from analyzer_lab.lessons.analyzers.motion_program import (
-    HELIX_12,
-    HELIX_13,
-    HELIX_14,
-    LESSON,
-    U_NAMES,
-    _arc,
-    helix_hausdorff,
-    helix_reversal_gap,
-)
+from analyzer_lab.lessons.analyzers.motion_program import LESSON, U_NAMES
 from analyzer_lab.lessons.catalog import get_lesson
 from analyzer_lab.lessons.kit.contract import Formula, ParamError
 
@@ -92,13 +83,6 @@ def test_every_preset_resolves_simulates_and_finishes(preset):
 
 
 # ---------------------------------------------------------------- the helix, (1.2)-(1.4)
-
-
-def test_helix_lengths_and_one_point_set():
-    for c in (HELIX_12, HELIX_13, HELIX_14):
-        assert _arc(c).S_l == pytest.approx(S_HELIX, abs=1e-9)
-    assert helix_hausdorff() <= 1e-9
-    assert helix_reversal_gap() <= 1e-9
 
 
 def test_helix_forms_give_the_same_motion_and_1_4_reversed():

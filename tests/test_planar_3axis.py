@@ -3,33 +3,19 @@
 from __future__ import annotations
 
 import numpy as np
-import pytest
-import sympy as sp
 from analyzer_lab.lessons.kit.bodies import quat_z
 from analyzer_lab.lessons.kit.contract import Frame
-from analyzer_lab.lessons.mechanics.planar_3axis import (
-    LESSON,
-    Planar3Axis,
+from analyzer_lab.lessons.mechanics.planar_3axis import LESSON
+from analyzer_lab.lessons.mechanics.positioners.planar3 import (
+    module_positions,
     planar3_kinematics,
-    planar3_phi,
+    reduced_model,
 )
 
 
-def test_planar3_kinematics_and_equations() -> None:
-    xB, yB = planar3_kinematics(0.1, -0.2, 0.3, 0.5, np)
-    a, b, c = planar3_phi(0.1, -0.2, float(xB), float(yB), 0.5)
-    assert a == pytest.approx(0.3) and b == pytest.approx(0.3) and c == pytest.approx(0.3)
-    # full range: atan2 recovers phi = 2.5 where arcsin cannot
-    xB, yB = planar3_kinematics(0.0, 0.0, 2.5, 0.5, np)
-    assert planar3_phi(0.0, 0.0, float(xB), float(yB), 0.5)[2] == pytest.approx(2.5)
-    lesson = Planar3Axis()
-    m = lesson.model(lesson.resolve())
-    M = m.mass_matrix
-    mA, mB, mAB, J, AB = m.params
-    phi = m.q[2]
-    assert sp.simplify(M[0, 0] - (mA + mB + mAB)) == 0
-    assert sp.simplify(M[0, 2] - AB * mB * sp.sin(phi)) == 0
-    assert sp.simplify(M[2, 2] - (J + AB**2 * mB)) == 0
+def test_the_page_reads_the_reduced_model() -> None:
+    assert LESSON.model(LESSON.resolve()) is reduced_model()
+    assert LESSON.physical == ("m_A", "m_B", "m_AB", "J_A", "AB")
 
 
 def test_module_b_series() -> None:
@@ -40,7 +26,7 @@ def test_module_b_series() -> None:
 
 def test_pose_on_floats_draws_the_absolute_positions() -> None:
     """The frame's pose (worked out on floats) puts the modules where (2.12) and
-    :meth:`Planar3Axis._absolute` put them, the table in the middle of AB."""
+    :func:`module_positions` put them, the table in the middle of AB."""
     params = LESSON.resolve({"AB": 0.37})
     h = 0.25 * 0.37 * 0.3
     rng = np.random.default_rng(11)
@@ -48,7 +34,7 @@ def test_pose_on_floats_draws_the_absolute_positions() -> None:
         q, u, scale = rng.normal(size=3), rng.normal(size=5), 0.2
         fr = Frame(t=0.0)
         LESSON.pose(params, fr, q, u, scale)
-        A, B = LESSON._absolute(params, q)
+        A, B = module_positions(0.37, q[0], q[1], *planar3_kinematics(*q, 0.37, np))
         mid = (A + B) / 2
         want = {
             "module A": A,

@@ -40,6 +40,20 @@ EXTENTS = (7.706131, 5.0, 0.997768)
 RK45_G_DRIFT = 9.001e-4
 
 
+#: the worked example of Fig. 1.31: the surface, the controls and the start point
+WORKED_EXAMPLE = {
+    "a": 10,
+    "b": 5,
+    "c": 1,
+    "u1": "5*t",
+    "u2": "t/10",
+    "u3": "5",
+    "x0": 0,
+    "y0": -5,
+    "z0": 0,
+}
+
+
 class EllipsoidLesson(AnalyzerLesson):
     id = "ellipsoid"
     title = "Curve on an ellipsoid"
@@ -76,34 +90,14 @@ class EllipsoidLesson(AnalyzerLesson):
         Preset(
             "example",
             "Worked example: u1 = 5t, u2 = t/10, u3 = 5; a, b, c = 10, 5, 1; start (0, -5, 0)",
-            {
-                "a": 10,
-                "b": 5,
-                "c": 1,
-                "u1": "5*t",
-                "u2": "t/10",
-                "u3": "5",
-                "x0": 0,
-                "y0": -5,
-                "z0": 0,
-            },
+            WORKED_EXAMPLE,
             10.0,
             "Fig. 1.31; G0 = 1, so the semi-axes are 10, 5, 1",
         ),
         Preset(
             "semi-axes-100-50-10",
             "Same analyzer started at (0, 50, 0): semi-axes 100, 50, 10",
-            {
-                "a": 10,
-                "b": 5,
-                "c": 1,
-                "u1": "5*t",
-                "u2": "t/10",
-                "u3": "5",
-                "x0": 0,
-                "y0": 50,
-                "z0": 0,
-            },
+            {**WORKED_EXAMPLE, "y0": 50},
             10.0,
             "a, b, c set only the ratios; G0 = 100 scales the ellipsoid by √G0 = 10",
         ),

@@ -10,10 +10,12 @@ controls of the linear system (1.5) are the rank-one matrix (1.15)
     u_ij(t) = Xdot_i(t) X_j(t) / D(t),    D = X^2 + Y^2 + Z^2 != 0   (1.14),
 
 so that U(t) X(t) = Xdot(t): the curve is a phase curve of (1.5).  (1.5) is solved with
-these u_ij once per parameter set (classical RK4, dense output; lessons/analyzers/curves/motion_law.py)
-and compared with X(t).  Where the curve passes through the origin (1.15) divides by
-zero and (1.5) cannot reach or leave the origin: its solution is left undefined in a
-short window and restarts from the curve, and the run says so.
+these u_ij once per parameter set (classical RK4, dense output:
+:mod:`analyzer_lab.lessons.analyzers.curves.motion_law`) and compared with X(t).  Where
+the curve passes through the origin (1.15) divides by zero and (1.5) cannot reach or
+leave the origin: its solution is left undefined in a short window and restarts from the
+curve, and the run says so.  The source's example, a helix typed three ways (1.2)-(1.4),
+and the claims checked on it are :mod:`analyzer_lab.lessons.analyzers.curves.helix`.
 """
 
 from __future__ import annotations
@@ -23,31 +25,17 @@ from typing import Any
 
 import numpy as np
 import sympy as sp
+from analyzer_lab.lessons.analyzers.curves.helix import HELIX_12, HELIX_13, HELIX_14, helix_claims
 from analyzer_lab.lessons.analyzers.curves.motion_law import (
     STEP_ANGLE,
     Program,
     ProgramStepper,
-    check_controls,
     motion_program,
 )
-from analyzer_lab.lessons.analyzers.curves.profiles import (
-    PROFILE_CHOICES,
-    check_covers,
-    check_join,
-    check_numbers,
-    check_triangle_formulas,
-    speed_profile,
-    triangle_symbolic,
-)
-from analyzer_lab.lessons.analyzers.curves.space_curve import (
-    PHI,
-    CurveFormulaParam,
-    curve_model,
-    hausdorff,
-)
+from analyzer_lab.lessons.analyzers.curves.profiles import PROFILE_CHOICES, triangle_symbolic
+from analyzer_lab.lessons.analyzers.curves.space_curve import PHI, CurveFormulaParam
 from analyzer_lab.lessons.kit.contract import (
     Claim,
-    ClaimResult,
     CurveItem,
     DerivationStep,
     Group,
@@ -63,53 +51,95 @@ from analyzer_lab.lessons.kit.contract import (
     SceneSpec,
     Series,
     Stepper,
-    at_most,
-    close,
 )
-from analyzer_lab.lessons.kit.formula import parse_formula, parse_number
+from analyzer_lab.lessons.kit.formula import parse_formula
 
-SQRT2PI = math.pi * math.sqrt(2.0)
 #: at most this many samples in a run (the sampling step grows for a long motion)
 MAX_SAMPLES = 4000
 
 # ------------------------------------------------------------------ presets
 
-HELIX_12 = ("sin(phi)", "cos(phi)", "phi", "0", "pi")
-HELIX_13 = ("2*sin(phi)*cos(phi)", "2*cos(phi)^2 - 1", "2*phi", "0", "pi/2")
-HELIX_14 = ("sqrt(1 - phi^2)", "phi", "acos(phi)", "-1", "1")
-
-
 PRESETS = tuple(
-    Preset(name, title, {**dict(zip(("x", "y", "z", "phi0", "phi1"), curve)),
-                         **dict(zip(("v0", "Delta0", "Delta1"), law))}, t_end=t_end, note=note)
-    for name, title, curve, law, t_end, note in (
-        ("helix-1.2", "Helix half-turn (1.2): x = sin phi, y = cos phi, z = phi",
-         HELIX_12, (1.0, 1.0, 1.0), 6.0,
-         "The source gives no speed-profile numbers; v0 = 1, Delta0 = Delta1 = 1 are"
-         " illustrative (trapezoid, T = 5.443)."),
-        ("helix-1.3", "Same helix, form (1.3): x = 2 sin phi cos phi, y = 2 cos^2 phi - 1, z = 2 phi",
-         HELIX_13, (1.0, 1.0, 1.0), 6.0,
-         "(1.3)(phi) = (1.2)(2 phi): the same point set and the same motion."),
-        ("helix-1.4", "Same helix, form (1.4): x = sqrt(1 - phi^2), y = phi, z = arccos phi",
-         HELIX_14, (1.0, 1.0, 1.0), 6.0,
-         "(1.4)(phi) = (1.2)(arccos phi): same point set, run in the opposite direction;"
-         " |r'|^2 = 2/(1 - phi^2) is singular (integrably) at both ends."),
-        ("helix-triangle", "Helix (1.2) with a short-curve speed law: triangle (1.9)",
-         HELIX_12, (4.0, 2.0, 2.0), 3.5,
-         "L = -3.557 < 0: minimum-time triangle, t1 = 1.4905, tau = v1 = 2.9809"
-         " (illustrative numbers)."),
-        ("circle", "Circle of radius 2 in the plane z = 1",
-         ("2*cos(phi)", "2*sin(phi)", "1", "0", "2*pi"), (2.0, 1.0, 1.0), 8.0, ""),
-        ("spiral", "Conical spiral, two turns",
-         ("(1 + phi/5)*cos(phi)", "(1 + phi/5)*sin(phi)", "phi/10", "0", "4*pi"),
-         (2.0, 1.0, 1.0), 16.0, ""),
-        ("line", "Straight segment from (1, 2, 0) to (3, 0, 1)",
-         ("1 + phi", "2 - phi", "phi/2", "0", "2"), (1.0, 0.5, 0.5), 4.0, ""),
-        ("line-through-origin", "Segment through the origin: (1.14) fails, (1.15) divides by zero",
-         ("phi", "phi", "phi", "-1", "1"), (1.0, 0.5, 0.5), 4.5,
-         "X(t) passes through 0 at t = 1.982: no phase curve of (1.5) can pass the origin."),
+    Preset(
+        name,
+        title,
+        {
+            **dict(zip(("x", "y", "z", "phi0", "phi1"), curve)),
+            **dict(zip(("v0", "Delta0", "Delta1"), law)),
+        },
+        t_end=t_end,
+        note=note,
     )
-)  # fmt: skip
+    for name, title, curve, law, t_end, note in (
+        (
+            "helix-1.2",
+            "Helix half-turn (1.2): x = sin phi, y = cos phi, z = phi",
+            HELIX_12,
+            (1.0, 1.0, 1.0),
+            6.0,
+            "The source gives no speed-profile numbers; v0 = 1, Delta0 = Delta1 = 1 are"
+            " illustrative (trapezoid, T = 5.443).",
+        ),
+        (
+            "helix-1.3",
+            "Same helix, form (1.3): x = 2 sin phi cos phi, y = 2 cos^2 phi - 1, z = 2 phi",
+            HELIX_13,
+            (1.0, 1.0, 1.0),
+            6.0,
+            "(1.3)(phi) = (1.2)(2 phi): the same point set and the same motion.",
+        ),
+        (
+            "helix-1.4",
+            "Same helix, form (1.4): x = sqrt(1 - phi^2), y = phi, z = arccos phi",
+            HELIX_14,
+            (1.0, 1.0, 1.0),
+            6.0,
+            "(1.4)(phi) = (1.2)(arccos phi): same point set, run in the opposite direction;"
+            " |r'|^2 = 2/(1 - phi^2) is singular (integrably) at both ends.",
+        ),
+        (
+            "helix-triangle",
+            "Helix (1.2) with a short-curve speed law: triangle (1.9)",
+            HELIX_12,
+            (4.0, 2.0, 2.0),
+            3.5,
+            "L = -3.557 < 0: minimum-time triangle, t1 = 1.4905, tau = v1 = 2.9809"
+            " (illustrative numbers).",
+        ),
+        (
+            "circle",
+            "Circle of radius 2 in the plane z = 1",
+            ("2*cos(phi)", "2*sin(phi)", "1", "0", "2*pi"),
+            (2.0, 1.0, 1.0),
+            8.0,
+            "",
+        ),
+        (
+            "spiral",
+            "Conical spiral, two turns",
+            ("(1 + phi/5)*cos(phi)", "(1 + phi/5)*sin(phi)", "phi/10", "0", "4*pi"),
+            (2.0, 1.0, 1.0),
+            16.0,
+            "",
+        ),
+        (
+            "line",
+            "Straight segment from (1, 2, 0) to (3, 0, 1)",
+            ("1 + phi", "2 - phi", "phi/2", "0", "2"),
+            (1.0, 0.5, 0.5),
+            4.0,
+            "",
+        ),
+        (
+            "line-through-origin",
+            "Segment through the origin: (1.14) fails, (1.15) divides by zero",
+            ("phi", "phi", "phi", "-1", "1"),
+            (1.0, 0.5, 0.5),
+            4.5,
+            "X(t) passes through 0 at t = 1.982: no phase curve of (1.5) can pass the origin.",
+        ),
+    )
+)
 
 #: Where the analyzer's quantities are undefined: (1.15) divides by D = |X|^2.
 AT_ORIGIN = "where X(t) passes the origin: the controls (1.15) divide by D = 0"
@@ -394,207 +424,147 @@ class MotionProgramLesson(Lesson):
         xi = sp.Symbol("xi")
         U = sp.Matrix(3, 3, lambda i, j: sp.Symbol(f"u_{i + 1}{j + 1}"))
         rows = [
-            ("The curve l", "A space curve with an arbitrary parameter phi on I = [phi0, phi1];"
-             " here the typed one.", curve_eqs(cm.exprs), "(1.1)",
-             "lost in extraction; the form follows from the text and from (1.13)"),
+            (
+                "The curve l",
+                "A space curve with an arbitrary parameter phi on I = [phi0, phi1];"
+                " here the typed one.",
+                curve_eqs(cm.exprs),
+                "(1.1)",
+                "lost in extraction; the form follows from the text and from (1.13)",
+            ),
             ("Example: a helix half-turn", "phi in [0, pi].", form(HELIX_12), "(1.2)", None),
-            ("The same helix, second form", "phi in [0, pi/2]; (1.3)(phi) = (1.2)(2 phi).",
-             form(HELIX_13), "(1.3)", None),
-            ("The same helix, third form", "phi in [-1, 1]; (1.4)(phi) = (1.2)(arccos phi): the"
-             " same point set, traversed in the opposite direction, with |r'|^2 = 2/(1 - phi^2)"
-             " integrably singular at both ends.", form(HELIX_14), "(1.4)",
-             "the square root over 1 - phi^2 was lost; without it x^2 + y^2 != 1"),
-            ("The differential analyzer", "A linear system of the 3rd order whose coefficients"
-             " u_ij(t) are the controls; its phase curve must start at r(phi0), describe l and"
-             " only l, and never exceed v(t).", sp.Eq(Xv.diff(t), U * Xv), "(1.5)",
-             "lost in extraction; rebuilt from the text, the journal article and (1.15)"),
-            ("Arc length", f"For this curve |r'(phi)|^2 is shown below; S_l = s(phi1) ="
-             f" {cm.arc.S_l:.12g}. Numerically: the substitution phi = phi0 + (phi1 - phi0)"
-             " sin^2(theta/2) removes end-point singularities such as that of (1.4).",
-             [sp.Eq(sp.Function("s")(PHI), s_of_phi), sp.Eq(sp.Symbol("|r'|^2"), speed2)],
-             "(1.12)", "decoded from the scrambled extraction; the radical sign was restored"),
-            ("Arc-length form", "s(phi) increases, so phi = omega(s) exists and"
-             " x = f1(omega(s)) = x(s), ...",
-             [sp.Eq(x, sp.Function("f_1")(sp.Function("omega")(s))), sp.Eq(x, sp.Function("x")(s))],
-             "(1.13), (1.6)", None),
-            ("Path covered in time", "",
-             sp.Eq(sp.Function("s")(t), sp.Integral(sp.Function("v")(xi), (xi, 0, t))), "(1.7)",
-             None),
-            ("Length left for the constant speed", f"Here L = {prof.L:.6g}: the profile is a"
-             f" {prof.kind}.", sp.Eq(L, S_l - v0 / 2 * (D0 + D1)), "(1.8)", None),
-            ("Trapezoid (L > 0)", "Constant segment Delta = L/v0, total time"
-             f" T = Delta0 + Delta + Delta1 (here T = {prof.T:.6g}).",
-             [sp.Eq(sp.Symbol("Delta"), L / v0), sp.Eq(sp.Symbol("T"), D0 + L / v0 + D1)],
-             "(1.8)", None),
-            ("Triangle (L <= 0): minimum time",
-             "v1 = k1 t1 = k2 (tau - t1) and v1 tau / 2 = S_l give (1.9).",
-             [sp.Eq(t1, tri["t_1"]), sp.Eq(tau, tri["tau"]), sp.Eq(v1, tri["v_1"])], "(1.9)",
-             "scrambled in the extraction; re-derived (its symbol multiset matches)"),
-            ("Slopes of the triangle", "The source says only k1 = tg alpha, k2 = tg beta; the"
-             " lab takes the trapezoid's ramps, so v1^2 = 2 S_l v0 / (Delta0 + Delta1),"
-             " L <= 0 iff v1 <= v0, and the two cases join at L = 0.",
-             [sp.Eq(k1, v0 / D0), sp.Eq(k2, v0 / D1)], "(1.9)",
-             "slopes not given in the source (Fig. 1.2 names only the angles); chosen so that"
-             " the two laws join at L = 0"),
-            ("s(t) in closed form", "Trapezoid: s = v0 t^2/(2 Delta0) on the ramp,"
-             " v0 Delta0/2 + v0 (t - Delta0) on the plateau, S_l - v0 (T - t)^2/(2 Delta1) at the"
-             " end. Triangle: s = k1 t^2/2, then S_l - k2 (tau - t)^2/2.",
-             sp.Eq(sp.Function("s")(t), v0 * t**2 / (2 * D0)), "(1.7)",
-             "the source only says 'integrate (1.7)'; the closed form is derived"),
-            ("The time law", "x(s(t)) = X(t), y(s(t)) = Y(t), z(s(t)) = Z(t): the motion along l"
-             " at the speed v(t).", [sp.Eq(x, X), sp.Eq(y, Y), sp.Eq(z, Z)], "(1.10), (1.11)",
-             None),
-            ("Velocity without numerical differentiation", "The unit tangent times the speed law.",
-             sp.Eq(Xv.diff(t), sp.Symbol("r'(phi)/|r'(phi)|") * sp.Function("v")(t)), "(1.11)",
-             "implementation detail, not printed in the source"),
-            ("No phase curve through the origin", "(1.5) has the zero solution and unique"
-             f" solutions. Here min D = {min_D:.6g}"
-             + (f"; the curve meets the origin at t = {meets}." if meets else "."),
-             sp.Ne(X**2 + Y**2 + Z**2, 0), "(1.14)", None),
-            ("The controls", "u_ij = Xdot_i X_j / D with D = X^2 + Y^2 + Z^2: a rank-one matrix"
-             " with U X = Xdot, so X(t) solves (1.5). The dot belongs to the row variable (the"
-             " other reading fails U X = Xdot).",
-             [sp.Eq(sp.Symbol("U"), Xv.diff(t) * Xv.T / Dsym), sp.Eq(Dsym, X**2 + Y**2 + Z**2)],
-             "(1.15)", None),
-        ]  # fmt: skip
+            (
+                "The same helix, second form",
+                "phi in [0, pi/2]; (1.3)(phi) = (1.2)(2 phi).",
+                form(HELIX_13),
+                "(1.3)",
+                None,
+            ),
+            (
+                "The same helix, third form",
+                "phi in [-1, 1]; (1.4)(phi) = (1.2)(arccos phi): the"
+                " same point set, traversed in the opposite direction, with |r'|^2 = 2/(1 - phi^2)"
+                " integrably singular at both ends.",
+                form(HELIX_14),
+                "(1.4)",
+                "the square root over 1 - phi^2 was lost; without it x^2 + y^2 != 1",
+            ),
+            (
+                "The differential analyzer",
+                "A linear system of the 3rd order whose coefficients"
+                " u_ij(t) are the controls; its phase curve must start at r(phi0), describe l and"
+                " only l, and never exceed v(t).",
+                sp.Eq(Xv.diff(t), U * Xv),
+                "(1.5)",
+                "lost in extraction; rebuilt from the text, the journal article and (1.15)",
+            ),
+            (
+                "Arc length",
+                f"For this curve |r'(phi)|^2 is shown below; S_l = s(phi1) ="
+                f" {cm.arc.S_l:.12g}. Numerically: the substitution phi = phi0 + (phi1 - phi0)"
+                " sin^2(theta/2) removes end-point singularities such as that of (1.4).",
+                [sp.Eq(sp.Function("s")(PHI), s_of_phi), sp.Eq(sp.Symbol("|r'|^2"), speed2)],
+                "(1.12)",
+                "decoded from the scrambled extraction; the radical sign was restored",
+            ),
+            (
+                "Arc-length form",
+                "s(phi) increases, so phi = omega(s) exists and x = f1(omega(s)) = x(s), ...",
+                [
+                    sp.Eq(x, sp.Function("f_1")(sp.Function("omega")(s))),
+                    sp.Eq(x, sp.Function("x")(s)),
+                ],
+                "(1.13), (1.6)",
+                None,
+            ),
+            (
+                "Path covered in time",
+                "",
+                sp.Eq(sp.Function("s")(t), sp.Integral(sp.Function("v")(xi), (xi, 0, t))),
+                "(1.7)",
+                None,
+            ),
+            (
+                "Length left for the constant speed",
+                f"Here L = {prof.L:.6g}: the profile is a {prof.kind}.",
+                sp.Eq(L, S_l - v0 / 2 * (D0 + D1)),
+                "(1.8)",
+                None,
+            ),
+            (
+                "Trapezoid (L > 0)",
+                "Constant segment Delta = L/v0, total time"
+                f" T = Delta0 + Delta + Delta1 (here T = {prof.T:.6g}).",
+                [sp.Eq(sp.Symbol("Delta"), L / v0), sp.Eq(sp.Symbol("T"), D0 + L / v0 + D1)],
+                "(1.8)",
+                None,
+            ),
+            (
+                "Triangle (L <= 0): minimum time",
+                "v1 = k1 t1 = k2 (tau - t1) and v1 tau / 2 = S_l give (1.9).",
+                [sp.Eq(t1, tri["t_1"]), sp.Eq(tau, tri["tau"]), sp.Eq(v1, tri["v_1"])],
+                "(1.9)",
+                "scrambled in the extraction; re-derived (its symbol multiset matches)",
+            ),
+            (
+                "Slopes of the triangle",
+                "The source says only k1 = tg alpha, k2 = tg beta; the"
+                " lab takes the trapezoid's ramps, so v1^2 = 2 S_l v0 / (Delta0 + Delta1),"
+                " L <= 0 iff v1 <= v0, and the two cases join at L = 0.",
+                [sp.Eq(k1, v0 / D0), sp.Eq(k2, v0 / D1)],
+                "(1.9)",
+                "slopes not given in the source (Fig. 1.2 names only the angles); chosen so that"
+                " the two laws join at L = 0",
+            ),
+            (
+                "s(t) in closed form",
+                "Trapezoid: s = v0 t^2/(2 Delta0) on the ramp,"
+                " v0 Delta0/2 + v0 (t - Delta0) on the plateau, S_l - v0 (T - t)^2/(2 Delta1) at the"
+                " end. Triangle: s = k1 t^2/2, then S_l - k2 (tau - t)^2/2.",
+                sp.Eq(sp.Function("s")(t), v0 * t**2 / (2 * D0)),
+                "(1.7)",
+                "the source only says 'integrate (1.7)'; the closed form is derived",
+            ),
+            (
+                "The time law",
+                "x(s(t)) = X(t), y(s(t)) = Y(t), z(s(t)) = Z(t): the motion along l"
+                " at the speed v(t).",
+                [sp.Eq(x, X), sp.Eq(y, Y), sp.Eq(z, Z)],
+                "(1.10), (1.11)",
+                None,
+            ),
+            (
+                "Velocity without numerical differentiation",
+                "The unit tangent times the speed law.",
+                sp.Eq(Xv.diff(t), sp.Symbol("r'(phi)/|r'(phi)|") * sp.Function("v")(t)),
+                "(1.11)",
+                "implementation detail, not printed in the source",
+            ),
+            (
+                "No phase curve through the origin",
+                "(1.5) has the zero solution and unique"
+                f" solutions. Here min D = {min_D:.6g}"
+                + (f"; the curve meets the origin at t = {meets}." if meets else "."),
+                sp.Ne(X**2 + Y**2 + Z**2, 0),
+                "(1.14)",
+                None,
+            ),
+            (
+                "The controls",
+                "u_ij = Xdot_i X_j / D with D = X^2 + Y^2 + Z^2: a rank-one matrix"
+                " with U X = Xdot, so X(t) solves (1.5). The dot belongs to the row variable (the"
+                " other reading fails U X = Xdot).",
+                [sp.Eq(sp.Symbol("U"), Xv.diff(t) * Xv.T / Dsym), sp.Eq(Dsym, X**2 + Y**2 + Z**2)],
+                "(1.15)",
+                None,
+            ),
+        ]
         return [DerivationStep(*row[:4], reconstructed=row[4]) for row in rows]
 
     # -- claims -----------------------------------------------------------------------
 
     def claims(self) -> list[Claim]:
-        rows = [
-            ("helix-length-1.2", "(1.2) has arc length pi sqrt(2) = 4.442883", "(1.2), (1.12)",
-             lambda: close(SQRT2PI, _arc(HELIX_12).S_l, atol=1e-9)),
-            ("helix-length-1.3", "(1.3) has arc length pi sqrt(2)", "(1.3), (1.12)",
-             lambda: close(SQRT2PI, _arc(HELIX_13).S_l, atol=1e-9)),
-            ("helix-length-1.4", "(1.4) has arc length pi sqrt(2) despite |r'|^2 = 2/(1 - phi^2)",
-             "(1.4), (1.12)", lambda: close(SQRT2PI, _arc(HELIX_14).S_l, atol=1e-9)),
-            ("helix-same-curve",
-             "(1.2), (1.3), (1.4) are one point set (sampled Hausdorff distance <= 1e-9)",
-             "(1.2)-(1.4)", lambda: at_most(1e-9, helix_hausdorff(), "Hausdorff ")),
-            ("helix-speeds",
-             "|r'|^2 = 2, 8 and 2/(1 - phi^2) for (1.2), (1.3), (1.4);"
-             " (1.3)(phi) = (1.2)(2 phi), (1.4)(phi) = (1.2)(arccos phi)",
-             "(1.2)-(1.4)", check_helix_symbolic),
-            ("helix-1.4-reversed",
-             "(1.4) runs the other way: r_(1.4)(s) = r_(1.2)(S_l - s), start (0, -1, pi)", "(1.4)",
-             lambda: at_most(1e-9, helix_reversal_gap(), "max distance ")),
-            ("helix-1.4-radical",
-             "with the root x^2 + y^2 = 1 on (1.4); without it (x = 1 - phi^2)"
-             " x^2 + y^2 = 0.8125 at phi = 0.5", "(1.4)", check_radical),
-            ("trapezoid-numbers", "v0 = 1, Delta0 = Delta1 = 1 on the helix: L = 3.442883,"
-             " T = 5.442883", "(1.8)", lambda: check_numbers(
-                 speed_profile(SQRT2PI, 1.0, 1.0, 1.0), kind="trapezoid",
-                 L=3.442882938158366, T=5.442882938158366)),
-            ("trapezoid-covers", "the trapezoid law covers exactly S_l: integral of v = s(T) = S_l,"
-             " v <= v0, slopes v0/Delta", "(1.7), (1.8)", lambda: check_covers(SQRT2PI, 1.0, 1.0, 1.0)),
-            ("triangle-numbers", "v0 = 4, Delta0 = Delta1 = 2 on the helix: L = -3.557117,"
-             " t1 = 1.490450, tau = v1 = 2.980900", "(1.9)",
-             lambda: check_numbers(speed_profile(SQRT2PI, 4.0, 2.0, 2.0), kind="triangle",
-                 L=-3.557117061841634, t1=1.4904500894290902, tau=2.9809001788581804,
-                 v1=2.9809001788581804)),
-            ("triangle-covers", "the triangle law covers exactly S_l with v1 <= v0 and the ramps'"
-             " slopes", "(1.7), (1.9)", lambda: check_covers(SQRT2PI, 4.0, 1.0, 3.0)),
-            ("triangle-formulas", "(1.9) solves v1 = k1 t1 = k2 (tau - t1), v1 tau/2 = S_l",
-             "(1.9)", check_triangle_formulas),
-            ("profiles-join", "at L = 0 the triangle has v1 = v0 and equals the trapezoid"
-             " (Delta = 0)", "(1.8), (1.9)", check_join),
-            ("controls-identity", "U X = Xdot for u_ij = Xdot_i X_j / D; the reading X_i Xdot_j / D"
-             " fails", "(1.15)", check_controls),
-            ("reproduce-trapezoid",
-             "(1.5) with (1.15) reproduces the helix, trapezoid law, to 1e-6 (RK4)", "(1.5), (1.15)",
-             lambda: at_most(1e-6, reproduction_error(1.0, 1.0, 1.0), "max |X5 - X| ")),
-            ("reproduce-triangle",
-             "(1.5) with (1.15) reproduces the helix, triangle law, to 1e-6 (RK4)", "(1.5), (1.15)",
-             lambda: at_most(1e-6, reproduction_error(4.0, 2.0, 2.0), "max |X5 - X| ")),
-            ("speed-limit", "the speed of (1.5) never exceeds v(t) (within 1e-6)", "(1.5), (1.15)",
-             lambda: at_most(1e-6, speed_excess(), "max(|U X5| - v) ")),
-            ("end-point", "the motion ends at (0, -1, pi), the end of the helix", "(1.2), (1.11)",
-             check_end_point),
-            ("helix-D", "(1.14) holds on the helix: D = 1 + Z^2 >= 1", "(1.14)",
-             lambda: close(1.0, helix_min_D(), atol=1e-12)),
-        ]  # fmt: skip
-        return [Claim(*row) for row in rows]
-
-
-# ------------------------------------------------------------------ claim computations
-
-
-def _arc(c: tuple[str, str, str, str, str]):
-    return curve_model(*c[:3], parse_number(c[3]), parse_number(c[4])).arc
-
-
-def _helix(v0: float, Delta0: float, Delta1: float) -> Program:
-    return motion_program(*HELIX_12[:3], 0.0, math.pi, v0, Delta0, Delta1)
-
-
-def helix_hausdorff() -> float:
-    return hausdorff([_arc(c) for c in (HELIX_12, HELIX_13, HELIX_14)])
-
-
-def helix_reversal_gap() -> float:
-    """max |r_(1.4)(s) - r_(1.2)(S_l - s)| on 2001 samples, and the start point of (1.4)."""
-    a12, a14 = _arc(HELIX_12), _arc(HELIX_14)
-    s = np.linspace(0.0, a12.S_l, 2001)
-    gap = float(np.max(np.linalg.norm(a14.point_of_s(s) - a12.point_of_s(a12.S_l - s), axis=1)))
-    start = a14.r(np.array([-1.0]))[0]
-    return max(gap, float(np.linalg.norm(start - np.array([0.0, -1.0, math.pi]))))
-
-
-def check_helix_symbolic() -> ClaimResult:
-    f12, f13, f14 = (
-        sp.Matrix([parse_formula(f, variables=("phi",)).expr for f in c[:3]])
-        for c in (HELIX_12, HELIX_13, HELIX_14)
-    )
-    sq = [sp.simplify(sum(d**2 for d in f.diff(PHI))) for f in (f12, f13, f14)]
-    ok_sq = [sp.simplify(a - b) == 0 for a, b in zip(sq, (2, 8, 2 / (1 - PHI**2)))]
-    ok_13 = all(
-        sp.simplify(sp.expand_trig(a - b)) == 0 for a, b in zip(f13, f12.subs(PHI, 2 * PHI))
-    )
-    ok_14 = all(sp.simplify(a - b) == 0 for a, b in zip(f14, f12.subs(PHI, sp.acos(PHI))))
-    return ClaimResult(
-        "|r'|^2 = 2, 8, 2/(1-phi^2); both substitutions exact",
-        f"{sq}; (1.3)~(1.2): {ok_13}; (1.4)~(1.2): {ok_14}",
-        bool(all(ok_sq) and ok_13 and ok_14),
-    )
-
-
-def check_radical() -> ClaimResult:
-    phi = np.linspace(-1.0, 1.0, 201)
-    dev = float(np.max(np.abs(_arc(HELIX_14).r(phi)[:, 0] ** 2 + phi**2 - 1.0)))
-    without = parse_formula("1 - phi^2", variables=("phi",)).value(0.5) ** 2 + 0.5**2
-    return ClaimResult(
-        "max |x^2 + y^2 - 1| < 1e-14 with the root; 0.8125 without",
-        f"{dev:.2g}; {without:.10g}",
-        dev < 1e-14 and abs(without - 0.8125) < 1e-15,
-    )
-
-
-def reproduction_error(v0: float, Delta0: float, Delta1: float) -> float:
-    prog = _helix(v0, Delta0, Delta1)
-    return float(np.max(np.linalg.norm(prog.Y - prog.law(prog.steps)["X"], axis=1)))
-
-
-def speed_excess() -> float:
-    """max(|U X5| - v, |Xdot| - v) over the RK4 steps of three helix runs."""
-    worst = -math.inf
-    for law in ((1.0, 1.0, 1.0), (4.0, 2.0, 2.0), (4.0, 1.0, 3.0)):
-        prog = _helix(*law)
-        st = prog.law(prog.steps)
-        for V in (prog.F, st["V"]):
-            worst = max(worst, float(np.max(np.linalg.norm(V, axis=1) - st["v"])))
-    return worst
-
-
-def check_end_point() -> ClaimResult:
-    end = np.array([0.0, -1.0, math.pi])
-    errs = [float(np.linalg.norm(_helix(*law).Y[-1] - end)) for law in ((1, 1, 1), (4, 2, 2))]
-    return at_most(1e-6, max(errs), "|X5(T) - (0, -1, pi)| ")
-
-
-def helix_min_D() -> float:
-    prog = _helix(1.0, 1.0, 1.0)
-    return float(np.min(prog.law(np.linspace(0.0, prog.T, 2001))["D"]))
+        return helix_claims()
 
 
 LESSON = MotionProgramLesson()

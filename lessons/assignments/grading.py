@@ -226,28 +226,14 @@ def measure(c: Check, run: RunResult) -> CheckOutcome:
         if not np.isfinite(pw).all():
             return _outcome(c, text, math.inf, c.tolerance, _undefined(pw.sum(axis=1), tw))
         dist = np.linalg.norm(pw - np.asarray(c.point), axis=1)
-        k = int(np.argmin(dist))
-        return _outcome(
-            c,
-            text,
-            float(dist[k]),
-            c.tolerance,
-            f"closest approach {float(dist[k]):.4g} at t = {float(tw[k]):g}",
-        )
+        return _at(c, text, dist, tw, int(np.argmin(dist)), "closest approach")
     if not np.isfinite(pts).all():
         return _outcome(c, text, math.inf, c.tolerance, _undefined(pts.sum(axis=1), t))
     if c.kind == "in-plane":
         n = np.asarray(c.normal, dtype=float)
         nn = float(np.linalg.norm(n))
         dev = np.abs(pts @ n - c.offset) / nn
-        k = int(np.argmax(dev))
-        return _outcome(
-            c,
-            text,
-            float(dev[k]),
-            c.tolerance,
-            f"farthest from the plane by {float(dev[k]):.4g} at t = {float(t[k]):g}",
-        )
+        return _at(c, text, dev, t, int(np.argmax(dev)), "farthest from the plane by")
     # on-circle
     centre = np.asarray(c.center, dtype=float)
     rel = pts - centre
@@ -258,14 +244,7 @@ def measure(c: Check, run: RunResult) -> CheckOutcome:
         dev = np.hypot(
             np.abs(np.linalg.norm(rel - np.outer(off, n), axis=1) - float(c.radius or 0)), off
         )
-    k = int(np.argmax(dev))
-    return _outcome(
-        c,
-        text,
-        float(dev[k]),
-        c.tolerance,
-        f"farthest from the circle by {float(dev[k]):.4g} at t = {float(t[k]):g}",
-    )
+    return _at(c, text, dev, t, int(np.argmax(dev)), "farthest from the circle by")
 
 
 def _bound(c: Check, text: str, value: float, what: str) -> CheckOutcome:
@@ -285,6 +264,13 @@ def _bound(c: Check, text: str, value: float, what: str) -> CheckOutcome:
         miss,
         f"{what} = {value:.4g}" + (f", {miss:.3g} {side} the bound {bound:g}" if miss else ""),
     )
+
+
+def _at(c: Check, text: str, values: np.ndarray, t: np.ndarray, k: int, what: str) -> CheckOutcome:
+    """The deviation ``values[k]`` at the time ``t[k]`` checked against the tolerance."""
+    assert c.tolerance is not None
+    v = float(values[k])
+    return _outcome(c, text, v, c.tolerance, f"{what} {v:.4g} at t = {float(t[k]):g}")
 
 
 def _outcome(c: Check, text: str, measured: float, tol: float, detail: str) -> CheckOutcome:

@@ -22,7 +22,7 @@ from typing import Any, Protocol
 
 import numpy as np
 from analyzer_lab.lessons.kit.budget import spent
-from analyzer_lab.lessons.kit.contract import Frame, Params, Stepper
+from analyzer_lab.lessons.kit.contract import Frame, Lesson, Params, Stepper
 from scipy.integrate import DOP853, RK45, Radau
 
 Array = np.ndarray
@@ -71,6 +71,16 @@ class DenseSolution:
     @property
     def t_covered(self) -> float:
         return self._ts[-1]
+
+    @property
+    def steps(self) -> int:
+        """The solver steps taken so far."""
+        return len(self._steps)
+
+    @property
+    def evaluations(self) -> int:
+        """The evaluations of the right-hand side so far."""
+        return int(self._solver.nfev)
 
     def extend(self, t: float) -> None:
         """Step until the solution covers ``t`` (or fails), or until the work budget
@@ -198,6 +208,25 @@ class RunStepper(Stepper):
         self._t = 0.0
         self._run = build(params, 0.0, None)
         self._table = self._new_table()
+
+    @classmethod
+    def for_lesson(
+        cls,
+        lesson: Lesson,
+        params: Params,
+        build: Callable[[Params, float, Array | None], Run],
+        frame_of: Callable[..., Frame],
+    ) -> RunStepper:
+        """``lesson``'s run played live: frames on the grain of its time scale read its
+        observation (:meth:`~Lesson.observe`, :meth:`~Lesson.series_names`) from a table."""
+        return cls(
+            build,
+            frame_of,
+            params,
+            observe=lesson.observe,
+            names=lesson.series_names,
+            grain=FRAME_GRAIN * lesson.time_scale,
+        )
 
     def _new_table(self) -> FrameTable | None:
         if self._observe is None or self._names is None:

@@ -3,8 +3,9 @@
 A lesson whose state at any time comes from one object per parameter set (a *track*:
 a closed form, or fixed steps on a fixed grid kept in memory) gets its live view from
 :class:`TrackStepper`: advancing only moves the time and every frame reads the track, so
-the live frames and the headless run (:meth:`Lesson.simulate` reading the same track on
-its sample grid) are the same numbers.  A live parameter change continues from the
+the live frames and the headless run
+(:meth:`~analyzer_lab.lessons.kit.contract.Lesson.simulate` reading the same track on its
+sample grid) are the same numbers.  A live parameter change continues from the
 current state with a new track (the lesson's ``continue_track``) or, when the lesson
 cannot continue (another start point or family size), starts over.
 """

@@ -12,9 +12,10 @@ point must follow the polyline through them within the tolerance delta_p (20 um)
 Four controllers run along every segment: linear interpolation of all axes, method 1
 (no rotation within a segment, beam along the mean normal), method 2 (recursive
 bisection, the mean normal at every split), and the nonlinear interpolation (4).
-The machinery: ``lessons/laser5/kinematics.py`` (the machine), ``task5.py`` (workpieces
-and paths), ``interpolation5.py`` (the controllers), ``program5.py`` (the executed
-program), ``prototype5.py`` (the four segments measured), ``scene5.py`` (the drawing).
+The machinery is the package's modules: :mod:`.kinematics` (the machine), :mod:`.task`
+(workpieces and paths), :mod:`.interpolation` (the controllers), :mod:`.program` (the
+executed program), :mod:`.prototype` (the four segments measured) and :mod:`.scene` (the
+drawing).
 
 Series and metrics are in the machine's left-handed frame (Z towards the workpiece).
 """

@@ -53,13 +53,17 @@ from analyzer_lab.lessons.mechanics.lagrange.examples import (
     inputs_of,
     observe_example,
     physical,
-    planar3,
     planar3_acceleration_difference,
     series_names,
     start_state,
     system,
 )
-from analyzer_lab.lessons.mechanics.planar_3axis import Planar3Axis
+from analyzer_lab.lessons.mechanics.positioners.planar3 import (
+    body_value,
+    default_trace,
+    planar3_scene,
+    pose_planar3,
+)
 
 Array = np.ndarray
 
@@ -200,8 +204,8 @@ class ConstrainedDynamics(Lesson):
         r.metrics.update(
             {
                 "H_shape": f"{cs.v2} x {cs.n}",
-                "steps": len(run.main._steps),
-                "nfev": int(run.main._solver.nfev),
+                "steps": run.main.steps,
+                "nfev": run.main.evaluations,
             }
         )
         for name in ("f", "f_1", "f_2", "g", "energy_error", "position_error", "speed_error"):
@@ -232,16 +236,8 @@ class ConstrainedDynamics(Lesson):
             fr.points["skate"] = p[None, :]
             r = s["lambda_1"] * np.array([-np.sin(q[2]), np.cos(q[2]), 0.0])
             fr.vectors["reaction"] = (p[None, :], 0.1 * r[None, :])
-        elif ex == "planar-3axis":
-            AB = float(planar3()[1]["AB"])
-            A, B = np.array([q[0], q[1], 0.0]), np.array([q[2] - AB, q[3], 0.0])
-            h = 0.075 * AB
-            mid = (A + B) / 2 + [0, 0, h]
-            fr.poses.update(
-                {"module A": (A, IDENTITY_Q.copy()), "module B": (B, IDENTITY_Q.copy())}
-            )
-            fr.poses["table"] = (mid, quat_z(np.pi - float(q[4])))
-            fr.points["C (middle of AB)"] = mid[None, :]
+        elif ex == "planar-3axis":  # q = (x_A, y_A, x_B, y_B, phi)
+            _, B, _, h = pose_planar3(fr, body_value("AB"), *(float(v) for v in q))
             reaction = 0.05 * np.array([[s["lambda_1"], s["lambda_2"], 0.0]])
             fr.vectors["reaction at B"] = ((B + [0, 0, 2 * h])[None, :], reaction)
         else:
@@ -287,12 +283,10 @@ class ConstrainedDynamics(Lesson):
                 moving_points={"skate": (70, 130, 200)},
                 moving_vectors={"reaction": (60, 60, 200)},
             )
-        if ex == "planar-3axis":
-            lesson = Planar3Axis()
-            spec = lesson.scene(lesson.resolve())
-            spec.moving_vectors = {"reaction at B": (60, 60, 200)}
-            spec.moving_points = {"C (middle of AB)": (120, 190, 120)}
-            return spec
+        if ex == "planar-3axis":  # the floor of Problem 2.4's page at its defaults
+            return planar3_scene(
+                body_value("AB"), default_trace(), {"reaction at B": (60, 60, 200)}
+            )
         L = float(params["L"]) * (1 + float(params["eps"]) * (ex == "rheonomic-pendulum"))
         bob = mesh_item("bob", trimesh.creation.icosphere(2, 0.06 * L), (200, 80, 60))
         rod = cylinder("rod", 0.01 * L, L, (90, 90, 90))

@@ -6,25 +6,24 @@ phi``.  The source writes the Lagrange equations (2.13) for x_A, y_A only; the s
 three degrees of freedom, so this page uses the consistent model in ``q = (x_A, y_A,
 phi)``: the kinetic energy (2.14)-(2.15) (its table term rebuilt) with (2.12) substituted
 and the generalized forces (2.16) from the virtual work of the module forces and the
-table moment.  The same mechanism with the loops opened is the third example of
+table moment.  The mechanism (its coordinates, drives, body, model and bodies in the
+scene) is :mod:`analyzer_lab.lessons.mechanics.positioners.planar3`; the same mechanism
+with the loops opened is the fourth example of
 :mod:`analyzer_lab.lessons.mechanics.constrained_dynamics`.
 """
 
 from __future__ import annotations
 
 import math
-from typing import Any
 
 import numpy as np
 import sympy as sp
-from analyzer_lab.lessons.kit.bodies import IDENTITY_Q, bounds_of, box, quat_z
 from analyzer_lab.lessons.kit.contract import (
     Claim,
     ClaimResult,
     DerivationStep,
     Frame,
     Note,
-    Param,
     Params,
     PlotSpec,
     Preset,
@@ -35,95 +34,28 @@ from analyzer_lab.lessons.kit.contract import (
 from analyzer_lab.lessons.mechanics.lagrange.model import LagrangeModel
 from analyzer_lab.lessons.mechanics.positioners.lesson import (
     T_,
-    Coord,
-    Input,
     PositionerLesson,
     arrow,
     is_zero,
     positioner_groups,
     positioner_params,
     positioner_series,
-    sym,
     symbolic_claim,
 )
-from sympy.physics.mechanics import Point, ReferenceFrame, dynamicsymbols
+from analyzer_lab.lessons.mechanics.positioners.planar3 import (
+    BODY,
+    COORDS,
+    INPUTS,
+    planar3_kinematics,
+    planar3_phi,
+    planar3_scene,
+    planar3_symbols,
+    pose_planar3,
+    reduced_model,
+)
+from sympy.physics.mechanics import dynamicsymbols
 
 Array = np.ndarray
-
-
-def planar3_kinematics(xA: Any, yA: Any, phi: Any, AB: Any, lib: Any = sp) -> tuple[Any, Any]:
-    """Module-B coordinates (2.12): x_B = x_A + AB (1 - cos phi), y_B = y_A + AB sin phi."""
-    return xA + AB * (1 - lib.cos(phi)), yA + AB * lib.sin(phi)
-
-
-def planar3_phi(
-    xA: float, yA: float, xB: float, yB: float, AB: float
-) -> tuple[float, float, float]:
-    """Inverse of (2.12): arcsin form, arccos form and the full-range atan2 form."""
-    return (
-        float(np.arcsin((yB - yA) / AB)),
-        float(np.arccos(1 - (xB - xA) / AB)),
-        float(np.arctan2(yB - yA, AB - (xB - xA))),
-    )
-
-
-def planar3_symbols() -> dict[str, Any]:
-    xA, yA, phi = dynamicsymbols("x_A y_A phi")
-    mA, mB, mAB, J, AB = (sym(n, positive=True) for n in ("m_A", "m_B", "m_AB", "J_A", "AB"))
-    FAx, FAy, FBx, FBy, Mphi = (sym(n) for n in ("F_Ax", "F_Ay", "F_Bx", "F_By", "M_phi"))
-    return dict(
-        xA=xA,
-        yA=yA,
-        phi=phi,
-        mA=mA,
-        mB=mB,
-        mAB=mAB,
-        J=J,
-        AB=AB,
-        FAx=FAx,
-        FAy=FAy,
-        FBx=FBx,
-        FBy=FBy,
-        Mphi=Mphi,
-    )
-
-
-def planar3_model(q: list[Any], xB: Any, yB: Any) -> LagrangeModel:
-    """The Lagrange model of the mechanism in the coordinates ``q`` with module B at
-    (``xB``, ``yB``): T (2.14)-(2.15) (the table term rebuilt), the module forces at A and
-    B and the table moment M_phi (the virtual work of (2.16)).  B is either (2.12) of
-    q = (x_A, y_A, phi) (this page) or two coordinates of its own (the loops opened,
-    :mod:`analyzer_lab.lessons.mechanics.constrained_dynamics`)."""
-    s = planar3_symbols()
-    xA, yA, phi = s["xA"], s["yA"], s["phi"]
-    N = ReferenceFrame("N")
-    Tab = ReferenceFrame("Tab")
-    Tab.set_ang_vel(N, -phi.diff(T_) * N.z)  # A->B turns by -phi (clockwise): (2.12)
-    PA, PB = Point("A"), Point("B")
-    PA.set_vel(N, xA.diff(T_) * N.x + yA.diff(T_) * N.y)
-    PB.set_vel(N, xB.diff(T_) * N.x + yB.diff(T_) * N.y)
-    vA2 = xA.diff(T_) ** 2 + yA.diff(T_) ** 2
-    T = (
-        s["mA"] * vA2 / 2
-        + s["mB"] * (xB.diff(T_) ** 2 + yB.diff(T_) ** 2) / 2
-        + s["mAB"] * vA2 / 2
-        + s["J"] * phi.diff(T_) ** 2 / 2
-    )  # (2.15)
-    forces = [
-        (PA, s["FAx"] * N.x + s["FAy"] * N.y),
-        (PB, s["FBx"] * N.x + s["FBy"] * N.y),
-        (Tab, -s["Mphi"] * N.z),
-    ]
-    return LagrangeModel.build(
-        q,
-        T,
-        sp.S.Zero,
-        T_,
-        [s["mA"], s["mB"], s["mAB"], s["J"], s["AB"]],
-        [s["FAx"], s["FAy"], s["FBx"], s["FBy"], s["Mphi"]],
-        forcelist=forces,
-        frame=N,
-    )
 
 
 class Planar3Axis(PositionerLesson):
@@ -139,72 +71,14 @@ class Planar3Axis(PositionerLesson):
         "model in x_A, y_A, phi."
     )
     order = 2.04
-    coords = (
-        Coord("x_A", "x_A", "m", 0.0, "0.1*sin(t)"),
-        Coord("y_A", "y_A", "m", 0.0, "0.05*(1 - cos(t))"),
-        Coord("phi", "phi", "rad", 0.0, "0.3*sin(t/2)"),
-    )
-    inputs = (
-        Input("F_Ax", "module A force F_Ax", "N", "2*sin(t)"),
-        Input("F_Ay", "module A force F_Ay", "N", "1"),
-        Input("F_Bx", "module B force F_Bx", "N", "0", unknown=False),
-        Input("F_By", "module B force F_By", "N", "0.5*cos(t)", unknown=False),
-        Input("M_phi", "table moment M_phi", "N m", "0"),
-    )
-    physical = ("m_A", "m_B", "m_AB", "J_A", "AB")
+    coords = COORDS
+    inputs = INPUTS
+    physical = tuple(p.name for p in BODY)
     groups = positioner_groups("Modules A, B and the table")
-    params = positioner_params(
-        coords,
-        inputs,
-        (
-            Param(
-                "m_A",
-                "float",
-                2.0,
-                label="module A mass m_A",
-                unit="kg",
-                min=1e-3,
-                max=1e4,
-                group="body",
-            ),
-            Param(
-                "m_B",
-                "float",
-                1.5,
-                label="module B mass m_B",
-                unit="kg",
-                min=1e-3,
-                max=1e4,
-                group="body",
-            ),
-            Param(
-                "m_AB",
-                "float",
-                3.0,
-                label="table mass m_AB",
-                unit="kg",
-                min=0.0,
-                max=1e4,
-                group="body",
-            ),
-            Param(
-                "J_A",
-                "float",
-                0.4,
-                label="table inertia about A, J_A,pr",
-                unit="kg m^2",
-                min=1e-6,
-                max=1e4,
-                group="body",
-            ),
-            Param(
-                "AB", "float", 0.5, label="distance AB", unit="m", min=1e-3, max=100.0, group="body"
-            ),
-        ),
-    )
+    params = positioner_params(COORDS, INPUTS, BODY)
     series = positioner_series(
-        coords,
-        inputs,
+        COORDS,
+        INPUTS,
         (
             Series("x_B", "m", "module B coordinate x_B (2.12)"),
             Series("y_B", "m", "module B coordinate y_B (2.12)"),
@@ -233,9 +107,7 @@ class Planar3Axis(PositionerLesson):
     )
 
     def build_model(self, key: str) -> LagrangeModel:
-        s = planar3_symbols()
-        xB, yB = planar3_kinematics(s["xA"], s["yA"], s["phi"], s["AB"])  # (2.12)
-        return planar3_model([s["xA"], s["yA"], s["phi"]], xB, yB)
+        return reduced_model()
 
     def three_dof_equations(self) -> list[sp.Expr]:
         """The consistent 3-DOF equations written out by hand (left - right), Problem 2.4."""
@@ -380,56 +252,20 @@ class Planar3Axis(PositionerLesson):
     def scene_size(self, params: Params) -> float:
         return 2.0 * float(params["AB"]) + 0.5
 
-    def _absolute(self, params: Params, q: Array) -> tuple[Array, Array]:
-        AB = float(params["AB"])
-        xB, yB = planar3_kinematics(q[0], q[1], q[2], AB, np)
-        return np.array([q[0], q[1], 0.0]), np.array(
-            [xB - AB, yB, 0.0]
-        )  # A->B = AB(-cos phi, sin phi)
-
     def scene(self, params: Params) -> SceneSpec:
-        AB = float(params["AB"])
         r = self.coarse_run(params)
         q = np.array([r.series["x_A"], r.series["y_A"], r.series["phi"]])
-        ok = np.all(np.isfinite(q), axis=0)
-        pts = [np.zeros(3), np.array([-AB, 0, 0])]
-        for k in np.nonzero(ok)[0][::10]:
-            a, b = self._absolute(params, q[:, k])
-            pts += [a, b]
-        s = 0.25 * AB
-        floor = np.array(pts)
-        lo, hi = floor.min(axis=0) - 2 * s, floor.max(axis=0) + 2 * s
-        base = box(
-            "base",
-            (hi[0] - lo[0], hi[1] - lo[1], 0.05 * s),
-            (160, 160, 160),
-            center=((lo[0] + hi[0]) / 2, (lo[1] + hi[1]) / 2, -0.2 * s),
-            opacity=0.4,
-        )
-        modA = box("module A", (s, s, 0.3 * s), (70, 130, 200))
-        modB = box("module B", (s, s, 0.3 * s), (200, 130, 70))
-        table = box("table", (AB + 0.6 * s, 0.6 * s, 0.15 * s), (120, 190, 120))
-        return SceneSpec(
-            bounds=bounds_of(np.vstack([lo, hi, [0, 0, s]]), 0.02),
-            meshes=[base],
-            bodies=[modA, modB, table],
-            moving_points={"C (middle of AB)": (120, 190, 120)},
-            moving_vectors={"F_A": (40, 160, 60), "F_B": (200, 60, 60), "M_phi": (140, 60, 200)},
-        )
+        trace = q[:, np.nonzero(np.all(np.isfinite(q), axis=0))[0][::10]]
+        vectors = {"F_A": (40, 160, 60), "F_B": (200, 60, 60), "M_phi": (140, 60, 200)}
+        return planar3_scene(float(params["AB"]), trace, vectors)
 
     def pose(self, params: Params, fr: Frame, q: Array, u: Array, scale: float) -> None:
         AB = float(params["AB"])
         xA, yA, phi = float(q[0]), float(q[1]), float(q[2])
         xB, yB = planar3_kinematics(xA, yA, phi, AB, math)
-        h = 0.25 * AB * 0.3
-        A, B = np.array([xA, yA, 0.0]), np.array([xB - AB, yB, 0.0])  # as :meth:`_absolute`
-        mid = np.array([(xA + (xB - AB)) / 2, (yA + yB) / 2, h])  # the middle of AB, raised
-        fr.poses["module A"] = (A, IDENTITY_Q.copy())
-        fr.poses["module B"] = (B, IDENTITY_Q.copy())
-        fr.poses["table"] = (mid, quat_z(np.pi - phi))
-        fr.points["C (middle of AB)"] = mid[None, :]
-        fr.vectors["F_A"] = arrow((xA, yA, 2 * h), (scale * u[0], scale * u[1], 0))
-        fr.vectors["F_B"] = arrow((xB - AB, yB, 2 * h), (scale * u[2], scale * u[3], 0))
+        A, B, mid, h = pose_planar3(fr, AB, xA, yA, xB, yB, phi)
+        fr.vectors["F_A"] = arrow(A + (0.0, 0.0, 2 * h), (scale * u[0], scale * u[1], 0))
+        fr.vectors["F_B"] = arrow(B + (0.0, 0.0, 2 * h), (scale * u[2], scale * u[3], 0))
         fr.vectors["M_phi"] = arrow(mid + (0.0, 0.0, h), (0, 0, -scale * u[4]))
 
     def claims(self) -> list[Claim]:

@@ -19,6 +19,7 @@ from typing import Any
 
 import numpy as np
 from analyzer_lab.lessons.kit.contract import (
+    MODE,
     Claim,
     ClaimResult,
     DerivationStep,
@@ -41,7 +42,7 @@ from analyzer_lab.lessons.mechanics.lagrange.model import (
     formula_derivatives,
     numerical_second_derivative,
 )
-from analyzer_lab.lessons.mechanics.positioners.lesson import MODE, PROBLEM, DynamicsLesson
+from analyzer_lab.lessons.mechanics.positioners.dynamics import PROBLEM, DynamicsLesson
 from analyzer_lab.lessons.mechanics.table.derivation import table_derivation
 from analyzer_lab.lessons.mechanics.table.frames import InverseTable, pose_row, pose_rows
 from analyzer_lab.lessons.mechanics.table.model import (

@@ -8,9 +8,10 @@ linear system (its matrix exponential, so the live run and the headless run agre
 article's closed forms beside it, the program correction (7), (21)-(22), (31)-(34) and the
 derivative feed-forward of the conclusions, and the article's parabola table three ways:
 formula (13), simulation and the printed values (0.8 x (13) in every cell).  The machinery
-is in lessons/core: servo.py (model), servo_paths.py (the PU of each path), servo_setup.py
-(a run from the values), servo_formulas.py, servo_table.py, servo_metrics.py,
-servo_notes.py, servo_derivation.py and servo_claims.py / servo_claims_parabola.py.
+is the package's modules: :mod:`.model` (the linear model), :mod:`.paths` (the PU of each
+path), :mod:`.setup` (a run from the values), :mod:`.formulas` (the closed forms),
+:mod:`.geometry` (contour distances), :mod:`.table`, :mod:`.metrics`, :mod:`.notes`,
+:mod:`.derivation` and :mod:`.claims` (the claims, by what they are about).
 """
 
 from __future__ import annotations

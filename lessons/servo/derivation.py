@@ -1,11 +1,11 @@
-"""The derivation page and the notes of the servo-error lesson (Leppik 1960).
+"""The derivation page of the servo-error lesson (Leppik 1960).
 
 The article's equations step by step for the chosen path, with the numbers of the chosen
 values: the PU and the servo channels (2), the line (1)-(8), the vertical parabola
 (9)-(25) with the table, the horizontal parabola (19) (Fig. 4b), the circle (26)-(35),
 the ellipse, the cubic and quartic parabolas and the conclusions.  Every misprint is
-shown in its corrected form with a one-line reason (``reconstructed``); the notes say
-what the lesson did with the values and which source caveats apply to them.
+shown in its corrected form with a one-line reason (``reconstructed``); the notes (what
+the lesson did with the values) are :mod:`analyzer_lab.lessons.servo.notes`.
 """
 
 from __future__ import annotations

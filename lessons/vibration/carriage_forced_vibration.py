@@ -36,7 +36,7 @@ from analyzer_lab.lessons.kit.contract import (
     Series,
     Stepper,
 )
-from analyzer_lab.lessons.kit.dense_solution import FRAME_GRAIN, ClosedFormRun, RunStepper
+from analyzer_lab.lessons.kit.dense_solution import ClosedFormRun, RunStepper
 from analyzer_lab.lessons.vibration.carriage.claims import (
     check_amp_phase,
     check_closed_vs_ivp,
@@ -255,14 +255,7 @@ class CarriageForcedVibration(Lesson):
         return self.result(params, t, state, metrics, self.messages(o))
 
     def stepper(self, params: Params) -> Stepper:
-        return RunStepper(
-            self.run_from,
-            self._frame,
-            params,
-            observe=self.observe,
-            names=self.series_names,
-            grain=FRAME_GRAIN * self.time_scale,
-        )
+        return RunStepper.for_lesson(self, params, self.run_from, self._frame)
 
     def _frame(
         self,

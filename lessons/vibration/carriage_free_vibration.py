@@ -41,7 +41,7 @@ from analyzer_lab.lessons.kit.contract import (
     Series,
     Stepper,
 )
-from analyzer_lab.lessons.kit.dense_solution import FRAME_GRAIN, ClosedFormRun, RunStepper
+from analyzer_lab.lessons.kit.dense_solution import ClosedFormRun, RunStepper
 from analyzer_lab.lessons.vibration.carriage.claims import (
     check_box_inertia,
     check_closed_vs_eig,
@@ -334,14 +334,7 @@ class CarriageFreeVibration(Lesson):
     def stepper(self, params: Params) -> Stepper:
         """The exact free response played live; it starts from ``initial_state`` (the
         chosen mode's shape), a changed mode restarts it (group ``mode``)."""
-        return RunStepper(
-            self.run_from,
-            self._frame,
-            params,
-            observe=self.observe,
-            names=self.series_names,
-            grain=FRAME_GRAIN * self.time_scale,
-        )
+        return RunStepper.for_lesson(self, params, self.run_from, self._frame)
 
     def _frame(
         self,

@@ -96,7 +96,8 @@ class UniformSpeed:
         )
 
     def substeps(self, length: float) -> int:
-        """Substeps of a step of ``length`` s: those of :meth:`SpeedStepper.step_substeps`,
+        """Substeps of a step of ``length`` s: those of
+        :meth:`~analyzer_lab.lessons.analyzers.field.speed_stepper.SpeedStepper.step_substeps`,
         ``ceil(rate length / max_turn)`` (at least one, at most 10 000)."""
         m = int(np.ceil(self.rate * length / self.max_turn - 1e-12))
         return min(max(m, 1), 10_000)

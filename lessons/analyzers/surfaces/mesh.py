@@ -1,19 +1,39 @@
 """Triangle meshes of quadrics inside a box, for the scene: built parametrically in the
 principal frame of the classification (an icosphere scaled by the semi-axes for
 ellipsoids; (cosh, sinh), polar or planar grids otherwise), mapped to world coordinates
-and clipped by the six box planes (:meth:`analyzer_lab.lessons.analyzers.surfaces.quadric.Quadric.mesh`).
+and clipped by the six box planes.  :func:`mesh_quadric` meshes any :class:`Surface`
+(what :class:`analyzer_lab.lessons.analyzers.surfaces.quadric.Quadric` is, read by
+:meth:`~analyzer_lab.lessons.analyzers.surfaces.quadric.Quadric.mesh`).
 """
 
 from __future__ import annotations
 
 import math
 from functools import lru_cache
-from typing import TYPE_CHECKING
+from typing import Any, Protocol
 
 import numpy as np
+from analyzer_lab.lessons.analyzers.surfaces.types import Classification
 
-if TYPE_CHECKING:
-    from analyzer_lab.lessons.analyzers.surfaces.quadric import Bounds, Quadric
+#: A box ((x0, y0, z0), (x1, y1, z1)).
+Bounds = tuple[tuple[float, float, float], tuple[float, float, float]]
+
+
+class Surface(Protocol):
+    """What a mesh is built from: F = rᵀQr + 2bᵀr + c = 0, its half gradient Q r + b,
+    its classification and the sizes its tolerances are relative to."""
+
+    @property
+    def length(self) -> float: ...
+
+    @property
+    def scale(self) -> float: ...
+
+    def classify(self) -> Classification: ...
+
+    def F(self, points: np.ndarray) -> Any: ...
+
+    def half_gradient(self, points: np.ndarray) -> np.ndarray: ...
 
 
 @lru_cache(maxsize=8)
@@ -164,7 +184,9 @@ def _clip_triangles(tris: np.ndarray, normal: np.ndarray, origin: np.ndarray) ->
     return np.concatenate(keep) if keep else np.zeros((0, 3, 3))
 
 
-def _mesh_quadric(q: Quadric, bounds: Bounds, resolution: int):
+def mesh_quadric(q: Surface, bounds: Bounds, resolution: int):
+    """A trimesh.Trimesh of F = 0 clipped to ``bounds`` with ``resolution`` samples per
+    parameter (see :meth:`~analyzer_lab.lessons.analyzers.surfaces.quadric.Quadric.mesh`)."""
     import trimesh
 
     lo = np.asarray(bounds[0], dtype=float)

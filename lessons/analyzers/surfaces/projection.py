@@ -1,9 +1,9 @@
 """The nearest point of a second-order surface (or curve) to a given point: the
 closest-point problem rᵀQr + 2bᵀr + c = 0 solved through its Lagrange multiplier in any
-dimension (:func:`_nearest_point`), and the singular types (point, line, double plane)
-by their affine frame (:func:`_project_affine`).  Used by
-:meth:`analyzer_lab.lessons.analyzers.surfaces.quadric.Quadric.project` (a start point put on the surface) and by
-:mod:`analyzer_lab.lessons.analyzers.plane.conic`.
+dimension (:func:`nearest_point`), and the singular types (point, line, double plane)
+by their affine frame (:func:`project_affine`).  Used by
+:meth:`analyzer_lab.lessons.analyzers.surfaces.quadric.Quadric.project` (a start point put
+on the surface).
 """
 
 from __future__ import annotations
@@ -14,7 +14,7 @@ import numpy as np
 from analyzer_lab.lessons.analyzers.surfaces.types import Classification
 
 
-def _nearest_point(
+def nearest_point(
     Q: np.ndarray,
     b: np.ndarray,
     c: float,
@@ -136,7 +136,7 @@ def _nearest_point(
     return best
 
 
-def _project_affine(cl: Classification, p: np.ndarray) -> np.ndarray:
+def project_affine(cl: Classification, p: np.ndarray) -> np.ndarray:
     """Orthogonal projection onto a point, a line (3-D: along the last principal axis)
     or a doubled plane / doubled line (the last principal axis is its normal)."""
     if cl.kind == "point":

@@ -29,9 +29,9 @@ from typing import Any
 
 import numpy as np
 import sympy as sp
-from analyzer_lab.lessons.analyzers.surfaces.mesh import _mesh_quadric
-from analyzer_lab.lessons.analyzers.surfaces.projection import _nearest_point, _project_affine
-from analyzer_lab.lessons.analyzers.surfaces.types import Classification, _classify3
+from analyzer_lab.lessons.analyzers.surfaces.mesh import Bounds, mesh_quadric
+from analyzer_lab.lessons.analyzers.surfaces.projection import nearest_point, project_affine
+from analyzer_lab.lessons.analyzers.surfaces.types import Classification, classify3
 from analyzer_lab.lessons.kit.formula import plain_number
 
 COEFF_NAMES: tuple[str, ...] = (
@@ -48,7 +48,6 @@ COEFF_NAMES: tuple[str, ...] = (
 )
 
 Vec3 = Sequence[float]
-Bounds = tuple[tuple[float, float, float], tuple[float, float, float]]
 
 
 def _fmt(v: float) -> str:
@@ -359,16 +358,19 @@ class Quadric:
     # ------------------------------------------------------------------ classification
     @cached_property
     def _classification(self) -> Classification:
-        return _classify3(self.Q, self.b, self.c)
+        return classify3(self.Q, self.b, self.c)
 
     def classify(self) -> Classification:
         """The affine type, centre/vertex, principal frame and semi-axes (see
-        :class:`Classification`); relative tolerance :data:`CLASSIFY_RTOL`."""
+        :class:`Classification`); relative tolerance
+        :data:`~analyzer_lab.lessons.analyzers.surfaces.types.CLASSIFY_RTOL`."""
         return self._classification
 
     def project(self, point: Vec3, max_iter: int = 30) -> np.ndarray:
         """The nearest point of F = 0 to ``point`` (closest-point problem solved through
-        its Lagrange multiplier, see :func:`_nearest_point`); |F| <= 1e-12·scale.
+        its Lagrange multiplier, see
+        :func:`~analyzer_lab.lessons.analyzers.surfaces.projection.nearest_point`);
+        |F| <= 1e-12·scale.
 
         ValueError if the surface has no real points, or if ``point`` is a singular
         point of F (½∇F = 0: a centre or axis point) that is not on the surface, where
@@ -396,9 +398,9 @@ class Quadric:
                 f"a centre or axis of the {cl.name}) and not on the surface; its nearest point is not unique"
             )
         return (
-            _project_affine(cl, p)
+            project_affine(cl, p)
             if cl.kind in ("point", "line", "coincident-planes")
-            else _nearest_point(self.Q, self.b, self.c, p, self.scale, max_iter)
+            else nearest_point(self.Q, self.b, self.c, p, self.scale, max_iter)
         )
 
     def mesh(self, bounds: Bounds | None = None, resolution: int = 48):
@@ -410,7 +412,7 @@ class Quadric:
         coordinates, clipped by the six box planes; vertices cut by the box are pulled
         back onto F = 0 inside their box face; faces are oriented along ∇F.  Empty
         (zero faces) for types with no area: empty, point, line, all-space."""
-        return _mesh_quadric(
+        return mesh_quadric(
             self, bounds if bounds is not None else self.default_bounds(), resolution
         )
 
@@ -534,6 +536,4 @@ __all__ = [
     "Quadric",
     "SurfaceType",
     "sym_number",
-    "_nearest_point",
-    "_project_affine",
 ]

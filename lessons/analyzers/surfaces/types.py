@@ -1,8 +1,8 @@
 """Classification of second-order surfaces (and curves): the affine type of
 F = rᵀQr + 2bᵀr + c = 0 (every real type of (1.42), degenerate ones included), its centre
 or vertex, principal frame and semi-axes.  The principal-axis reduction :func:`_reduce`
-works in any dimension and is shared with :mod:`analyzer_lab.lessons.analyzers.plane.conic`;
-:meth:`analyzer_lab.lessons.analyzers.surfaces.quadric.Quadric.classify` calls :func:`_classify3`.
+works in any dimension; :func:`classify3` names the types of three dimensions
+(:meth:`analyzer_lab.lessons.analyzers.surfaces.quadric.Quadric.classify` calls it).
 """
 
 from __future__ import annotations
@@ -54,7 +54,6 @@ class Classification:
     ``center`` is the centre (central kinds), the vertex (paraboloids, parabolic
     cylinder), the point of the origin's nearest axis point (cylinders, lines), a
     point of the plane (planes), or None (``empty``, ``all-space``).
-    For conics the same holds in 2-D (see :mod:`analyzer_lab.lessons.analyzers.plane.conic`).
     """
 
     kind: str
@@ -168,7 +167,8 @@ def _close_rel(u: float, v: float, rtol: float = 1e-9) -> bool:
     return abs(u - v) <= rtol * max(abs(u), abs(v))
 
 
-def _classify3(Q: np.ndarray, b: np.ndarray, c: float) -> Classification:
+def classify3(Q: np.ndarray, b: np.ndarray, c: float) -> Classification:
+    """The type of F = rᵀQr + 2bᵀr + c = 0 in three dimensions (see :class:`Classification`)."""
     red = _reduce(Q, b, c)
     lam, V = red.lam, red.V
     m = lam.size

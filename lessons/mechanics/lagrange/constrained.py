@@ -139,6 +139,19 @@ class ConstrainedSystem:
     def v2(self) -> int:
         return int(self.H.rows)
 
+    def part_shapes(self) -> dict[str, tuple[int, ...]]:
+        """The shape of each part at one state: ``A`` (n, n), ``B`` (n,), the holonomic
+        residuals ``f``, ``H`` (v2, n), ``psi`` and ``Phi`` (v2,)."""
+        n, v2 = self.n, self.v2
+        return {
+            "A": (n, n),
+            "B": (n,),
+            "f": (self.n_hol,),
+            "H": (v2, n),
+            "psi": (v2,),
+            "Phi": (v2,),
+        }
+
     def _lambdify(self) -> None:
         args = args_of(self)
         for name in ("A", "B", "f_hol", "H", "psi", "Phi"):
@@ -157,16 +170,8 @@ class ConstrainedSystem:
         gets a leading axis of length ``N`` (one vectorized evaluation of its entries)."""
         q, qd = np.asarray(q, dtype=float), np.asarray(qd, dtype=float)
         N = q.shape[0]
-        n, v2 = self.n, self.v2
         a = (list(q.T), list(qd.T), t, p, u)
-        shapes = {
-            "A": (n, n),
-            "B": (n,),
-            "f": (self.n_hol,),
-            "H": (v2, n),
-            "psi": (v2,),
-            "Phi": (v2,),
-        }
+        shapes = self.part_shapes()
         out: dict[str, Array] = {}
         for k in names:
             name = "f_hol" if k == "f" else k
@@ -198,7 +203,7 @@ class ConstrainedSystem:
 
         return np.array(varying, dtype=int), np.array(fixed, dtype=int), fn(varying), fn(fixed)
 
-    def _eval(self, name: str, shape: tuple[int, int], *args: Any) -> Array:
+    def _eval(self, name: str, shape: tuple[int, ...], *args: Any) -> Array:
         return np.asarray(self._num[name](*args), dtype=float).reshape(shape)
 
     def parts(
@@ -211,16 +216,7 @@ class ConstrainedSystem:
         names: Sequence[str] = ("A", "B", "f", "H", "psi", "Phi"),
     ) -> dict[str, Array]:
         """Numeric ``A, B, f, H, psi, Phi`` at one state (or the subset ``names``)."""
-        n, v2 = self.n, self.v2
-        a = (q, qd, t, p, u)
-        shapes = {
-            "A": (n, n),
-            "B": (n,),
-            "f": (self.n_hol,),
-            "H": (v2, n),
-            "psi": (v2,),
-            "Phi": (v2,),
-        }
+        a, shapes = (q, qd, t, p, u), self.part_shapes()
         return {k: self._eval("f_hol" if k == "f" else k, shapes[k], *a) for k in names}
 
     def solve(

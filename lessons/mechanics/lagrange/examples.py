@@ -21,7 +21,7 @@ every quantity the lesson declares from that state.
 from __future__ import annotations
 
 import math
-from functools import cache, lru_cache
+from functools import cache
 from typing import Any
 
 import numpy as np
@@ -32,10 +32,13 @@ from analyzer_lab.lessons.kit.dense_solution import DenseSolution
 from analyzer_lab.lessons.mechanics.lagrange.constrained import ConstrainedSystem
 from analyzer_lab.lessons.mechanics.lagrange.constraint_eval import ConstraintEval
 from analyzer_lab.lessons.mechanics.lagrange.model import LagrangeModel
-from analyzer_lab.lessons.mechanics.planar_3axis import (
-    Planar3Axis,
+from analyzer_lab.lessons.mechanics.positioners.planar3 import (
+    body_value,
+    body_values,
     planar3_kinematics,
+    planar3_model,
     planar3_symbols,
+    reduced_model,
 )
 from sympy.physics.mechanics import Point, ReferenceFrame, dynamicsymbols
 
@@ -94,35 +97,9 @@ def planar3_constrained() -> tuple[LagrangeModel, ConstrainedSystem]:
     s = planar3_symbols()
     xA, yA, phi, AB = s["xA"], s["yA"], s["phi"], s["AB"]
     xB, yB = dynamicsymbols("x_B y_B")
-    N = ReferenceFrame("N")
-    Tab = ReferenceFrame("Tab")
-    Tab.set_ang_vel(N, -phi.diff(T_) * N.z)
-    PA, PB = Point("A"), Point("B")
-    PA.set_vel(N, xA.diff(T_) * N.x + yA.diff(T_) * N.y)
-    PB.set_vel(N, xB.diff(T_) * N.x + yB.diff(T_) * N.y)
-    T = (
-        (s["mA"] + s["mAB"]) * (xA.diff(T_) ** 2 + yA.diff(T_) ** 2) / 2
-        + s["mB"] * (xB.diff(T_) ** 2 + yB.diff(T_) ** 2) / 2
-        + s["J"] * phi.diff(T_) ** 2 / 2
-    )
-    forces = [
-        (PA, s["FAx"] * N.x + s["FAy"] * N.y),
-        (PB, s["FBx"] * N.x + s["FBy"] * N.y),
-        (Tab, -s["Mphi"] * N.z),
-    ]
-    model = LagrangeModel.build(
-        [xA, yA, xB, yB, phi],
-        T,
-        sp.S.Zero,
-        T_,
-        [s["mA"], s["mB"], s["mAB"], s["J"], AB],
-        [s["FAx"], s["FAy"], s["FBx"], s["FBy"], s["Mphi"]],
-        forcelist=forces,
-        frame=N,
-    )
-    f1 = xB - xA - AB * (1 - sp.cos(phi))
-    f2 = yB - yA - AB * sp.sin(phi)
-    return model, ConstrainedSystem.from_lagrange(model, f_hol=[f1, f2])
+    model = planar3_model([xA, yA, xB, yB, phi], xB, yB)
+    coupled = planar3_kinematics(xA, yA, phi, AB)  # (2.12)
+    return model, ConstrainedSystem.from_lagrange(model, f_hol=[xB - coupled[0], yB - coupled[1]])
 
 
 @cache
@@ -135,12 +112,6 @@ def system(example: str) -> tuple[LagrangeModel, ConstrainedSystem]:
 @cache
 def evaluator(example: str) -> ConstraintEval:
     return ConstraintEval(system(example)[1])
-
-
-@lru_cache(maxsize=1)
-def planar3() -> tuple[Planar3Axis, Params]:
-    lesson = Planar3Axis()
-    return lesson, lesson.resolve()
 
 
 # forces of the Problem 2.4 example (the forward preset of the planar-3axis lesson)
@@ -166,8 +137,7 @@ def physical(params: Params) -> Array:
     """The parameter vector of the example's system."""
     ex = str(params["example"])
     if ex == "planar-3axis":
-        lesson, pp = planar3()
-        return lesson.pvec(pp)
+        return body_values()
     names = {"pendulum": "m g L", "rheonomic-pendulum": "m g L eps nu", "knife-edge": "m J F"}
     return np.array([float(params[k]) for k in names[ex].split()])
 
@@ -194,8 +164,7 @@ def start_state(params: Params, t0: float) -> tuple[Array, Array]:
         return L[0] * np.array([np.sin(th0), -np.cos(th0)]), np.zeros(2)
     if ex == "knife-edge":
         return np.zeros(3), np.array([float(params["u0"]), 0.0, float(params["omega0"])])
-    lesson, pp = planar3()
-    xB, yB = planar3_kinematics(0.0, 0.0, 0.0, float(pp["AB"]), np)
+    xB, yB = planar3_kinematics(0.0, 0.0, 0.0, body_value("AB"), np)
     return np.array([0.0, 0.0, float(xB), float(yB), 0.0]), np.zeros(5)
 
 
@@ -290,9 +259,8 @@ def reference(
             return np.array([w, -(g * math.sin(th) + 2 * Ld * w) / L])
 
         return DenseSolution(angle, t0, np.array([th0, w0]), "DOP853", 1e-12, 1e-12)
-    lesson, pp = planar3()
     u = lambda t, qq, qqd: inputs_of(ex, np.array([t]))[:, 0]  # noqa: E731
-    rhs = lesson.model(pp).rhs(lesson.pvec(pp), u)
+    rhs = reduced_model().rhs(body_values(), u)
     y0 = np.concatenate([q[[0, 1, 4]], qd[[0, 1, 4]]])
     return DenseSolution(rhs, t0, y0, "DOP853", 1e-12, 1e-12)
 
@@ -429,8 +397,7 @@ def observe_example(params: Params, t: Array, state: Array) -> dict[str, Array]:
 
 def planar3_acceleration_difference(seed: int = 1) -> float:
     """max |q'' of (2.34) - q'' of the reduced model| over 5 random consistent states."""
-    lesson, pp = planar3()
-    red, p = lesson.model(pp), lesson.pvec(pp)
+    red, p = reduced_model(), body_values()
     rng = np.random.default_rng(seed)
     xA, yA, phi, vxA, vyA, w = rng.normal(size=(6, 5))
     u = rng.normal(size=(5, 5))

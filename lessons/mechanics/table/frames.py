@@ -198,8 +198,9 @@ class InverseTable:
 
 
 def pose_rows(q: Array, arrows: Array, r_t: float) -> dict[str, Array]:
-    """What :func:`pose_table` draws, for ``N`` states at once (``q (N, 12)``, ``arrows
-    (N, 6)``): per name, the rows of its position and quaternion (or arrow)."""
+    """What :func:`~analyzer_lab.lessons.mechanics.table.model.pose_table` draws, for ``N``
+    states at once (``q (N, 12)``, ``arrows (N, 6)``): per name, the rows of its position
+    and quaternion (or arrow)."""
     N = len(q)
     R = rotations(q[:, 3], q[:, 4], q[:, 5])
     joints = q[:, None, :3] + joints_body(r_t) @ R.transpose(0, 2, 1)  # (N, 3, 3)
@@ -238,7 +239,8 @@ def pose_rows(q: Array, arrows: Array, r_t: float) -> dict[str, Array]:
 
 
 def pose_row(fr: Frame, rows: dict[str, Array], i: int) -> None:
-    """Row ``i`` of :func:`pose_rows` into the frame, as :func:`pose_table` poses it."""
+    """Row ``i`` of :func:`pose_rows` into the frame, as
+    :func:`~analyzer_lab.lessons.mechanics.table.model.pose_table` poses it."""
     for name in (
         "table",
         "inductor A",

@@ -1,9 +1,8 @@
-"""The checkable claims of Leppik (1960) on the parabola y = x^2/p and x = y^2/p.
-
-The table (13) three ways, the dependence (15) on beta, the non-identical channels
-(17)-(18) and the horizontal parabola (19) of Fig. 4b, the transient (24) of the
-corrected program, the alternative correction and the derivative feed-forward of the
-conclusions: each computed from the exact model and compared with the article's numbers.
+"""The claims of Leppik (1960) on the parabolas: y = x^2/p with the table (13) three ways
+and the dependence (15) on beta, the non-identical channels (17)-(18), the horizontal
+parabola x = y^2/p (19) of Fig. 4b, the transient (24) of the corrected program, and the
+parabolas of degree 3 and 4; each computed from the exact model and compared with the
+article's numbers.
 """
 
 from __future__ import annotations
@@ -12,22 +11,20 @@ import numpy as np
 import sympy as sp
 from analyzer_lab.lessons.kit.contract import ClaimResult, at_most
 from analyzer_lab.lessons.servo.formulas import (
+    cubic_curve,
     curve_17,
     curve_19,
-    delta_parabola_13,
     deviation_24,
     locus_18,
     parabola_vertex_17,
     parabola_vertex_19,
+    quartic_curve,
+    quartic_y1,
 )
 from analyzer_lab.lessons.servo.geometry import power_distance
 from analyzer_lab.lessons.servo.model import Channel, TwoAxisServo, settled
 from analyzer_lab.lessons.servo.paths import horizontal_parabola_program, power_program
-from analyzer_lab.lessons.servo.table import (
-    parabola_table,
-    simulate_parabola_vertex_error,
-    table_ratio_interval,
-)
+from analyzer_lab.lessons.servo.table import parabola_table, table_ratio_interval
 
 
 def claim_table_13() -> ClaimResult:
@@ -45,6 +42,26 @@ def claim_table_08() -> ClaimResult:
         "not",
         got=f"{sum(r.within_print_rounding for r in rows)}/16 cells; interval [{lo:.4f}, {hi:.4f}]",
         passed=ok,
+    )
+
+
+def claim_beta() -> ClaimResult:
+    b = sp.symbols("beta", positive=True)
+    f = 1 / b**2 - 2 / b
+    crit = sp.solve(sp.diff(f, b), b)
+    zero = sp.solve(f, b)
+    ok = (
+        crit == [1]
+        and f.subs(b, 1) == -1
+        and sp.diff(f, b, 2).subs(b, 1) > 0
+        and zero == [sp.Rational(1, 2)]
+        and sp.diff(f, b).subs(b, sp.Rational(1, 2)) == -8
+    )
+    return ClaimResult(
+        "stationary point beta = 1 (minimum, f = -1); zero 1/2, slope -8",
+        f"stationary {crit}, f'' {sp.diff(f, b, 2).subs(b, 1)}; zero {zero}, slope "
+        f"{sp.diff(f, b).subs(b, sp.Rational(1, 2))}",
+        ok,
     )
 
 
@@ -142,44 +159,50 @@ def claim_parabola_24() -> ClaimResult:
     )
 
 
-def claim_derivative() -> ClaimResult:
-    ch = Channel.from_open_loop(100.0, 0.1)
-    d = simulate_parabola_vertex_error(ch, 5.0, 20.0, "derivative")
-    d13 = delta_parabola_13(5.0, 20.0, ch.T1, ch.T2sq)
-    ok = abs(d - (-0.25)) < 1e-6 and abs(d) > abs(d13)
+def claim_cubic_quartic() -> ClaimResult:
+    T1, T2 = 0.01, 0.0005
+    ch = Channel(T1, T2)
+    w, p = 0.125, 400.0
+    _, out = settled(power_program(3, -100.0, 0.0, 0.0, p, w), ch, ch, window=2.0, n=401)
+    x, y = out["x1"], out["y1"]
+    e3 = float(np.max(np.abs(y - cubic_curve(x, w, p, T1, T2))))
+    w, p = 0.00625, 8000.0
+    _, out = settled(power_program(4, -100.0, 0.0, 0.0, p, w), ch, ch, window=2.0, n=401)
+    x, y = out["x1"], out["y1"]
+    e4 = float(np.max(np.abs(y - quartic_curve(x, w, p, T1, T2))))
+    tau = out["x"] / (w * p)  # PU time measured from the vertex
+    e_fix = float(np.max(np.abs(y - quartic_y1(tau, w, p, T1, T2))))
+    e_pr = float(np.max(np.abs(y - quartic_y1(tau, w, p, T1, T2, printed=True))))
+    scale = float(np.max(np.abs(y)))
+    tol = 1e-9 * max(scale, 1.0)
+    ok = e3 < 1e-6 and e4 < tol + 1e-7 and e_fix < tol + 1e-7 and e_pr > 1e-3
     return ClaimResult(
-        "-0.25 mm (= -omega^2 p T2^2/2), larger than |(13)| = 0.2375", f"{d:.7f} mm", ok
-    )
-
-
-def claim_beta() -> ClaimResult:
-    b = sp.symbols("beta", positive=True)
-    f = 1 / b**2 - 2 / b
-    crit = sp.solve(sp.diff(f, b), b)
-    zero = sp.solve(f, b)
-    ok = (
-        crit == [1]
-        and f.subs(b, 1) == -1
-        and sp.diff(f, b, 2).subs(b, 1) > 0
-        and zero == [sp.Rational(1, 2)]
-        and sp.diff(f, b).subs(b, sp.Rational(1, 2)) == -8
-    )
-    return ClaimResult(
-        "stationary point beta = 1 (minimum, f = -1); zero 1/2, slope -8",
-        f"stationary {crit}, f'' {sp.diff(f, b, 2).subs(b, 1)}; zero {zero}, slope "
-        f"{sp.diff(f, b).subs(b, sp.Rational(1, 2))}",
+        "cubic curve, quartic curve and corrected quartic y1(t) match; printed y1(t) does not",
+        f"cubic {e3:.1e}, quartic {e4:.1e}, corrected y1 {e_fix:.1e}, printed y1 {e_pr:.2g} mm",
         ok,
     )
 
 
-def claim_alt_correction() -> ClaimResult:
-    worst = 0.0
-    for T in (0.1, 1.0):
-        ch = Channel.from_open_loop(100.0, T)
-        d13 = delta_parabola_13(5.0, 20.0, ch.T1, ch.T2sq)
-        x0 = -50.0 * 25.0 / ch.decay_rate()
-        prog = power_program(2, x0, 0.0, -d13, 20.0, 5.0)  # Y0 = y0 - delta_max
-        _, out = settled(prog, ch, ch, window=0.2, n=401, settle=20.0)
-        d, _, _ = power_distance(out["x1"], out["y1"], 2, 0.0, 0.0, 20.0, guess=out["x1"])
-        worst = max(worst, float(np.max(np.abs(d))))
-    return at_most(1e-6, worst, "max distance to y = x^2/p [mm] ")
+def claim_quartic_beta() -> ClaimResult:
+    b = sp.symbols("beta_1", positive=True)
+    T2 = sp.symbols("T_2", positive=True)
+    T1 = sp.sqrt(b) * T2
+    lead = sp.simplify((T1**2 - 2 * T2**2) / T2**2)  # sign of the x^2 coefficient of y'
+    const = sp.expand((3 * T1**4 + 8 * T2**4 - 12 * T1**2 * T2**2) / T2**4)
+    slope = sp.simplify((3 * T2**2 * T1 - T1**3) / T2**3)
+    roots = sorted(float(r) for r in sp.solve(const, b))
+    ok = (
+        sp.solve(lead, b) == [2]
+        and abs(roots[0] - 0.8453) < 1e-4
+        and abs(roots[1] - 3.1547) < 1e-4
+        and sp.solve(slope, b) == [3]
+        and lead.subs(b, 1) < 0
+        and slope.subs(b, 1) > 0
+        and const.subs(b, 2) < 0
+    )
+    return ClaimResult(
+        "opens down for beta1 < 2; constant term roots 0.8453, 3.1547; slope zero at 3",
+        f"x^2 coefficient zero at {sp.solve(lead, b)}; roots {roots[0]:.4f}, {roots[1]:.4f}; "
+        f"slope zero at {sp.solve(slope, b)}",
+        ok,
+    )
