@@ -8,13 +8,19 @@ from typing import Any
 
 import numpy as np
 import pytest
+from analyzer_lab.lessons.catalog import all_lessons, get_lesson
 from analyzer_lab.lessons.kit.contract import (
     MODE,
+    Frame,
     Group,
     Lesson,
+    Note,
     ObservationError,
     Param,
+    ParamError,
     Params,
+    Preset,
+    SceneSpec,
     Series,
     Stepper,
 )
@@ -217,3 +223,99 @@ def test_series_names_are_kept_per_series_key() -> None:
         assert names == tuple(s.name for s in lesson.series_for(params))
         assert list(lesson.frame_scalars(params, 0.25, None)) == list(names)
     assert set(lesson._series_names) == {(2, "exp"), (2, "sqrt")}
+
+
+class DecayCounted(Decay):
+    """Decay that counts its preset look-ups and the steppers and scenes it builds."""
+
+    id = "decay-counted"
+    presets = (Preset("fast", "A fast decay", {"k": 5.0}, t_end=4.0),)
+
+    def __init__(self) -> None:
+        self.calls: dict[str, int] = {"preset": 0, "stepper": 0, "scene": 0, "notes": 0}
+
+    def preset(self, name: str) -> Preset:
+        self.calls["preset"] += 1
+        return super().preset(name)
+
+    def stepper(self, params: Params) -> Stepper:  # type: ignore[override]
+        self.calls["stepper"] += 1
+        return object()  # type: ignore[return-value]
+
+    def scene(self, params: Params):  # type: ignore[override]
+        self.calls["scene"] += 1
+        return SceneSpec(bounds=((0.0, 0.0, 0.0), (1.0, 1.0, 1.0)))
+
+    def notes(self, params: Params) -> list[Note]:
+        self.calls["notes"] += 1
+        return [Note("info", f"k = {params['k']:g}")]
+
+
+def test_open_looks_a_preset_up_once_and_builds_each_part_once_when_read() -> None:
+    lesson = DecayCounted()
+    setup = lesson.open({"family": 2}, "fast")
+    assert lesson.calls == {"preset": 1, "stepper": 0, "scene": 0, "notes": 0}
+    assert setup.lesson is lesson and setup.preset == "fast"
+    assert setup.params == lesson.resolve({"family": 2}, "fast") and setup.params["k"] == 5.0
+    assert setup.t_end == 4.0
+    for _ in range(3):
+        assert setup.stepper is setup.stepper and setup.scene is setup.scene
+        assert setup.notes == (Note("info", "k = 5"),)
+    assert lesson.calls == {"preset": 2, "stepper": 1, "scene": 1, "notes": 1}  # +1: resolve
+    assert lesson.open().t_end == lesson.t_end and lesson.calls["preset"] == 2
+
+
+def test_open_takes_its_scenes_where_it_is_told() -> None:
+    lesson = DecayCounted()
+    asked: list[tuple[Lesson, Params]] = []
+    made = SceneSpec(bounds=((0.0, 0.0, 0.0), (2.0, 2.0, 2.0)))
+
+    def shared(of: Lesson, params: Params) -> SceneSpec:
+        asked.append((of, params))
+        return made
+
+    setup = lesson.open({"k": 2}, scene_of=shared)
+    assert setup.scene is made and setup.scene is made
+    assert asked == [(lesson, setup.params)] and lesson.calls["scene"] == 0
+
+
+def test_open_refuses_as_resolve_does_and_builds_nothing() -> None:
+    lesson = DecayCounted()
+    with pytest.raises(ParamError, match="unknown preset 'slow'"):
+        lesson.open(preset="slow")
+    with pytest.raises(ParamError, match="k: 11 is above the maximum 10"):
+        lesson.open({"k": 11}, "fast")
+    with pytest.raises(ParamError, match="unknown parameter"):
+        lesson.open({"q": 1})
+    assert lesson.calls["stepper"] == lesson.calls["scene"] == 0
+    setup = Decay().open()  # a lesson without a live run still opens ...
+    with pytest.raises(NotImplementedError):
+        setup.stepper  # ... and says so when its stepper is read
+
+
+def _same_frame(a: Frame, b: Frame) -> bool:
+    return (
+        a.t == b.t
+        and a.scalars.keys() == b.scalars.keys()
+        and all(np.array_equal(a.scalars[k], b.scalars[k], equal_nan=True) for k in a.scalars)
+        and a.points.keys() == b.points.keys()
+        and all(np.array_equal(a.points[k], b.points[k], equal_nan=True) for k in a.points)
+    )
+
+
+@pytest.mark.parametrize("lesson_id", [lesson.id for lesson in all_lessons()])
+def test_open_returns_what_the_four_calls_return(lesson_id: str) -> None:
+    """For the defaults and every preset: the values of ``resolve``, the run's length of
+    ``preset_t_end``, the start of ``stepper``, the drawing of ``scene`` and the ``notes``."""
+    from analyzer_lab.session.runlog import scenes_equal
+
+    lesson = get_lesson(lesson_id)
+    for preset in (None, *(p.name for p in lesson.presets[:2])):
+        setup = lesson.open(None, preset)
+        params = lesson.resolve(None, preset)
+        assert setup.params == params and setup.preset == preset
+        assert setup.t_end == lesson.preset_t_end(preset)
+        assert setup.notes == tuple(lesson.notes(params))
+        assert type(setup.stepper) is type(lesson.stepper(params))
+        assert _same_frame(setup.stepper.reset(), lesson.stepper(params).reset())
+        assert scenes_equal(setup.scene, lesson.scene(params))

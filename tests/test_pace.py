@@ -73,14 +73,14 @@ def test_a_non_finite_played_frame_pauses_with_the_same_message(lesson_id, value
     s.set_speed(8)
     s.go_to(100.0)
     seen = []
-    step = s._step_piece
+    step = s.pace.step
 
-    def judged(d: float):
-        fr, why = step(d)
-        seen.append((s.stepper.frame(), why))
+    def judged(stepper, d: float, allowed: frozenset[str]):
+        fr, why = step(stepper, d, allowed)
+        seen.append((stepper.frame(), why))
         return fr, why
 
-    s._step_piece = judged  # type: ignore[method-assign]
+    s.pace.step = judged  # type: ignore[method-assign]
     s.play()
     with np.errstate(all="ignore"):
         for _ in range(100):

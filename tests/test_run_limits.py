@@ -73,10 +73,9 @@ def test_the_memory_limit_counts_samples_times_series(monkeypatch: pytest.Monkey
     import analyzer_lab.serve.run_limits as limits
 
     lesson = get_lesson("sphere")
-    params = lesson.resolve({"family": 24})
-    assert refusal(lesson, params, 10.0) is None
+    assert refusal(lesson.open({"family": 24}), 10.0) is None
     monkeypatch.setattr(limits, "MAX_VALUES", 100_000)  # 1001 samples x 219 series
-    why = refusal(lesson, params, 10.0)
+    why = refusal(lesson.open({"family": 24}), 10.0)
     assert why is not None and "1001 samples of 219 series" in why
 
 

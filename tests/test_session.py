@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import copy
 import json
 import math
 
@@ -159,6 +160,46 @@ def test_reset(session: Session) -> None:
     play(session, 5)
     session.reset()
     assert session.frame.t == 0.0 and len(session.log) == 1
+
+
+@pytest.mark.parametrize(
+    ("change", "reframed", "playing"),
+    [
+        (lambda s: s.select_lesson("sphere", "example-1.2"), True, False),
+        (lambda s: s.apply_preset("example-1.2"), True, True),
+        (lambda s: s.apply_state(SessionState("sphere", "example-1.2")), False, False),
+        (lambda s: s.set_values({"x0": 0.0, "y0": 1.0, "z0": 0.0}), False, True),
+        (lambda s: s.reset(), False, True),
+        (lambda s: s.reset(playing=False, reframe=True), True, False),  # the Reset button
+    ],
+)
+def test_every_path_starts_the_run_again_the_one_way(
+    session: Session, change, reframed: bool, playing: bool
+) -> None:
+    """A new lesson, preset, state or start value and the Reset button: the run log keeps
+    the start only and the pages clear their trails; the camera is framed again and the
+    playback stopped where each path does so."""
+    play(session, 6)
+    resets, cameras = session.reset_revision, session.camera_revision
+    change(session)
+    assert session.frame.t == 0.0 and list(session.log.t) == [0.0]
+    assert np.array_equal(session.frame.points["point"], session.stepper.frame().points["point"])
+    assert session.reset_revision == resets + 1
+    assert session.camera_revision == cameras + reframed
+    assert session.playing is playing
+
+
+def test_a_copied_run_goes_on_from_where_it_stands(session: Session) -> None:
+    play(session, 6)
+    other = Session([SPHERE], "sphere")
+    other.apply_state(session.state())
+    other.reset(stepper=copy.deepcopy(session.stepper), at=session.frame, playing=True)
+    assert other.playing and other.frame is session.frame and len(other.log) == 1
+    for s in (session, other):
+        for _ in range(6):
+            s.tick(1 / 30)
+    assert other.frame.t == session.frame.t
+    assert np.array_equal(other.frame.points["point"], session.frame.points["point"])
 
 
 def test_state_round_trip_and_copy(session: Session) -> None:

@@ -8,9 +8,12 @@ from __future__ import annotations
 
 import argparse
 import json
+import logging
 import sys
 import time
 from collections.abc import Sequence
+
+log = logging.getLogger(__name__)
 
 EXIT_USAGE = 2
 
@@ -57,11 +60,10 @@ def cmd_run(args: argparse.Namespace) -> int:
     except KeyError as exc:
         return _fail(str(exc.args[0]))
     try:
-        values = _parse_sets(args.set or [])
-        params = lesson.resolve(values, args.preset)
+        setup = lesson.open(_parse_sets(args.set or []), args.preset)
     except (ParamError, ValueError) as exc:
         return _fail(str(exc))
-    t_end = lesson.preset_t_end(args.preset) if args.t_end is None else args.t_end
+    t_end = setup.t_end if args.t_end is None else args.t_end
     if not math.isfinite(t_end) or t_end <= 0 or t_end > 1e5:
         return _fail(f"--t-end must be a finite number in (0, 1e5], got {t_end}")
     import warnings
@@ -72,14 +74,14 @@ def cmd_run(args: argparse.Namespace) -> int:
     # overflow and tolerance warnings are summed up in one line below, not printed
     with warnings.catch_warnings(), np.errstate(all="ignore"):
         warnings.simplefilter("ignore")
-        why = refusal(lesson, params, t_end)
+        why = refusal(setup, t_end)
         if why is not None:
             return _fail(why)
         try:
-            result = lesson.simulate(params, t_end)
+            result = lesson.simulate(setup.params, t_end)
         except (ParamError, ValueError, ArithmeticError, RuntimeError) as exc:
             return _fail(str(exc))
-    bad = first_non_finite(result, may_be_undefined(lesson, params))
+    bad = first_non_finite(result, may_be_undefined(setup))
     if bad is not None:
         name, at = bad
         return _fail(
@@ -117,6 +119,7 @@ def cmd_check(args: argparse.Namespace) -> int:
             res = claim.check()
             ok, expected, got = res.passed, res.expected, res.got
         except Exception as exc:  # a claim that crashes is a failed claim, reported
+            log.warning("%s: claim %s crashed", lesson.id, claim.id, exc_info=True)
             ok, expected, got = False, "(no exception)", f"{type(exc).__name__}: {exc}"
         dt = time.perf_counter() - t0
         print(f" {'pass' if ok else 'FAIL'} ({dt:.1f} s)", file=sys.stderr, flush=True)

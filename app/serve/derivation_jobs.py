@@ -12,6 +12,7 @@ derivations are not held up.
 from __future__ import annotations
 
 import html
+import logging
 import multiprocessing
 import os
 import time
@@ -20,6 +21,8 @@ from typing import Any
 
 from analyzer_lab.lessons.catalog import all_lessons
 from analyzer_lab.view.math import derivation_to_html
+
+log = logging.getLogger(__name__)
 
 #: A derivation's time limit (s), its largest HTML (bytes), and jobs at once.
 DERIVATION_SECONDS = 15.0
@@ -39,7 +42,7 @@ def too_large(reason: str) -> str:
 
 def build(lesson: Any, values: dict[str, Any]) -> str:
     """The derivation's HTML (or the too-large message), in this process."""
-    content = derivation_to_html(lesson.derivation(lesson.resolve(values)))
+    content = derivation_to_html(lesson.derivation(lesson.open(values).params))
     if len(content) > MAX_DERIVATION_BYTES:
         return too_large(
             f"{len(content) / 1e6:.1f} MB of formulas (at most {MAX_DERIVATION_BYTES / 1e6:.1f} MB)"
@@ -54,7 +57,8 @@ def _child(conn: Any, lesson_id: str, values: dict[str, Any]) -> None:
         pass
     try:
         conn.send(("ok", build(LESSONS[lesson_id], values)))
-    except Exception as exc:
+    except Exception as exc:  # any formula: the page says why
+        log.warning("the derivation of %s failed", lesson_id, exc_info=True)
         conn.send(("error", f"{type(exc).__name__}: {exc}"[:300]))
     finally:
         conn.close()

@@ -15,12 +15,15 @@ is named with its time (:func:`first_non_finite`).
 
 from __future__ import annotations
 
+import logging
 import math
 from typing import Any
 
 import numpy as np
 from analyzer_lab.lessons.kit.budget import clock, work_budget
-from analyzer_lab.lessons.kit.contract import Lesson, Params, RunResult
+from analyzer_lab.lessons.kit.contract import LessonSetup, RunResult
+
+log = logging.getLogger(__name__)
 
 #: Fixed integration steps of a run (``t_end / h`` times the points of a family).
 MAX_POINT_STEPS = 10_000_000
@@ -40,15 +43,17 @@ LIMITS_TEXT = (
 )
 
 
-def _points(lesson: Lesson, params: Params) -> int:
-    if lesson.family is not None and lesson.family in params:
-        return max(1, int(params[lesson.family]))
+def _points(setup: LessonSetup) -> int:
+    family = setup.lesson.family
+    if family is not None and family in setup.params:
+        return max(1, int(setup.params[family]))
     return 1
 
 
-def refusal(lesson: Lesson, params: Params, t_end: float) -> str | None:
-    """Why this run is refused (one line), or None."""
-    points = _points(lesson, params)
+def refusal(setup: LessonSetup, t_end: float) -> str | None:
+    """Why the run of ``setup`` up to ``t_end`` is refused (one line), or None."""
+    lesson, params = setup.lesson, setup.params
+    points = _points(setup)
     h = params.get("h")
     method = str(params.get("integrator", "gauss-legendre"))
     if isinstance(h, (int, float)) and h > 0 and method.startswith("gauss-legendre"):
@@ -69,7 +74,7 @@ def refusal(lesson: Lesson, params: Params, t_end: float) -> str | None:
                 f" {len(lesson.series_for(params))} series); the limit is {MAX_VALUES:,}:"
                 " use a shorter --t-end or a smaller family"
             )
-    estimate = cpu_estimate(lesson, params, t_end)
+    estimate = cpu_estimate(setup, t_end)
     if estimate is not None and estimate > MAX_CPU_SECONDS:
         return (
             f"this run would compute for about {estimate:.3g} s (timed on a piece of it);"
@@ -79,13 +84,13 @@ def refusal(lesson: Lesson, params: Params, t_end: float) -> str | None:
     return None
 
 
-def cpu_estimate(lesson: Lesson, params: Params, t_end: float) -> float | None:
-    """CPU seconds of the whole run, from the lesson's stepper timed on its first piece
-    (None when the piece could not be run: the run itself reports why)."""
-    span = min(t_end, lesson.t_end)
+def cpu_estimate(setup: LessonSetup, t_end: float) -> float | None:
+    """CPU seconds of the whole run, from the setup's stepper timed on its first piece
+    (it is advanced; None when the piece could not be run: the run itself reports why)."""
+    span = min(t_end, setup.lesson.t_end)
     piece = span / 50
     try:
-        stepper = lesson.stepper(params)
+        stepper = setup.stepper
         start = clock()
         with work_budget(PROBE_CPU):
             while stepper.t < span - 1e-12 * max(1.0, span) and clock() - start < PROBE_CPU:
@@ -94,17 +99,18 @@ def cpu_estimate(lesson: Lesson, params: Params, t_end: float) -> float | None:
                 if stepper.t <= before:
                     break
         used, covered = clock() - start, stepper.t
-    except Exception:  # the run itself reports what went wrong
+    except (ValueError, ArithmeticError, RuntimeError):  # the run itself reports it
+        log.debug("%s: the run was not timed", setup.lesson.id, exc_info=True)
         return None
     if covered <= 0:
         return None
     return used / covered * t_end
 
 
-def may_be_undefined(lesson: Lesson, params: Params) -> frozenset[str]:
+def may_be_undefined(setup: LessonSetup) -> frozenset[str]:
     """The columns (with family members) of the series the lesson declares undefined
-    somewhere (``Series.undefined``)."""
-    return frozenset(s.name for s in lesson.series_for(params) if s.undefined)
+    somewhere (``Series.undefined``), for the setup's values."""
+    return frozenset(s.name for s in setup.lesson.series_for(setup.params) if s.undefined)
 
 
 def first_non_finite(

@@ -1,19 +1,22 @@
 """How a session's playback keeps pace: the work budget of its steps, the "running at"
 notice when it cannot keep up, and the pause on a state that is not finite.
 
-:class:`Pacing` is part of :class:`analyzer_lab.session.session.Session` (its stepping methods); the
-constants are the budget the live server gives each session per frame tick.
+A :class:`analyzer_lab.session.session.Session` holds one :class:`Pace` and asks it to size
+and take each piece of a tick and to follow how much of the asked speed the run keeps up
+with; the constants are the budget the live server gives each session per frame tick.
 """
 
 from __future__ import annotations
 
+import logging
 import math
-from typing import Any
+from typing import Any, Literal
 
 import numpy as np
 from analyzer_lab.lessons.kit.budget import clock
-from analyzer_lab.lessons.kit.contract import Frame, Lesson, Params, Stepper
-from analyzer_lab.lessons.kit.formula import plain_number as plain
+from analyzer_lab.lessons.kit.contract import Frame, Lesson, Stepper
+
+log = logging.getLogger(__name__)
 
 #: CPU seconds one session may spend stepping in one frame tick (a seventh of a frame at
 #: 36 fps; the sphere at 8x needs 1.2 ms): a run that needs more plays slower, its own
@@ -29,6 +32,9 @@ STEP_WALL_BUDGET = 0.006
 SLOW_BELOW, SLOW_CLEARED = 0.9, 0.97
 #: Wall seconds a run is behind before the page gets a notice (the figure has settled).
 SLOW_NOTICE_AFTER = 1.0
+
+#: What the page is to be told after a tick: the run fell behind, or it is back.
+PaceNews = Literal["slow", "back"]
 
 
 def non_finite(frame: Frame, allowed: frozenset[str] = frozenset()) -> str | None:
@@ -79,57 +85,46 @@ def first_non_finite(frame: Frame, allowed: frozenset[str] = frozenset()) -> str
     return None
 
 
-class Pacing:
-    """The stepping half of a session: pieces sized to the budget, the cost per lesson
-    second, the share of the asked speed kept up with."""
+class Pace:
+    """How one session's playback keeps pace: pieces sized to the budget left (by the
+    recent cost per lesson second), each piece stepped and checked, and the share of the
+    asked speed the run keeps up with (and when its page is told)."""
 
-    lesson: Lesson
-    params: Params
-    stepper: Stepper
-    speed: float
-    pause_at_end: bool
-    t_end: float
-    notify: Any
-
-    def _init_pacing(self) -> None:
-        self.step_budget = STEP_BUDGET  # CPU seconds of stepping per tick
-        #: wall seconds of stepping per tick (the live server sets it; None: CPU only)
-        self.wall_budget: float | None = None
-        self._cost = 0.0  # CPU seconds per lesson second of the recent pieces
+    def __init__(self) -> None:
+        self.cost = 0.0  # CPU seconds per lesson second of the recent pieces
         #: the share of the asked speed the run keeps up with (moving average over ticks)
         self.keeping_up = 1.0
         self.slowed = False  # shown on the page: "running at 0.3x ..."
-        self._slow_wall = 0.0  # wall seconds since the run fell behind
-        self._slow_told = False  # the page was told (a notice)
         #: the last cut tick spent little CPU: the machine, not the run, was slow
         self.machine_busy = False
-        #: (lesson, params, the series that may be undefined) of the last frame checked
-        self._allowed_for: tuple[Lesson, Params, frozenset[str]] | None = None
+        self._slow_wall = 0.0  # wall seconds since the run fell behind
+        self._slow_told = False  # the page was told (a notice)
 
-    def _piece_size(self, piece: float, left: float) -> float:
+    def piece_size(self, piece: float, left: float, quantum: float) -> float:
         """The next piece of lesson time: ``piece``, less if the recent cost per lesson
-        second says it would not fit into the budget ``left`` (CPU seconds); whole
-        :data:`TIME_QUANTUM` grains where it is longer than one."""
-        q = TIME_QUANTUM * self.lesson.time_scale
-        if self._cost > 0.0 and self._cost * piece > left:
-            piece = max(left / self._cost, 1e-9)
-            return math.floor(piece / q + 1e-9) * q if piece >= q else piece
+        second says it would not fit into the budget ``left`` (CPU seconds); whole grains
+        of ``quantum`` lesson seconds where it is longer than one."""
+        if self.cost > 0.0 and self.cost * piece > left:
+            piece = max(left / self.cost, 1e-9)
+            return math.floor(piece / quantum + 1e-9) * quantum if piece >= quantum else piece
         # whole grains (rounded up: the pieces of a tick of whole grains stay whole)
-        return math.ceil(piece / q - 1e-9) * q if piece > q else piece
+        return math.ceil(piece / quantum - 1e-9) * quantum if piece > quantum else piece
 
-    def _step_piece(self, d: float) -> tuple[Frame | None, str]:
-        """One stepper call of lesson time ``d``: the frame, or None and why it stopped."""
-        t0, c0 = self.stepper.t, clock()
+    def step(self, stepper: Stepper, d: float, allowed: frozenset[str]) -> tuple[Frame | None, str]:
+        """One stepper call of lesson time ``d``: the frame, or None and why it stopped
+        (``allowed``: the series the lesson declares undefined somewhere)."""
+        t0, c0 = stepper.t, clock()
         try:
-            frame = self.stepper.advance(d)
+            frame = stepper.advance(d)
         except (ValueError, ArithmeticError, FloatingPointError) as exc:
+            log.info("the integration stopped at t = %.6g s: %s", t0, exc)
             return None, f"the integration stopped: {exc}"
-        moved = self.stepper.t - t0
+        moved = stepper.t - t0
         if moved > 0:
             cost = (clock() - c0) / moved
             # a dearer piece counts at once, a cheaper one halves the gap
-            self._cost = cost if cost > self._cost else 0.5 * (self._cost + cost)
-        bad = non_finite(frame, self._allowed())
+            self.cost = cost if cost > self.cost else 0.5 * (self.cost + cost)
+        bad = non_finite(frame, allowed)
         if bad is not None:
             return None, (
                 f"{bad} is not finite (NaN or infinite) at t = {frame.t:.6g} s:"
@@ -137,41 +132,42 @@ class Pacing:
             )
         return frame, ""
 
-    def _allowed(self) -> frozenset[str]:
-        """The series of the lesson that may be undefined (``Series.undefined``), kept for
-        the current lesson and parameters."""
-        key = self._allowed_for
-        if key is None or key[0] is not self.lesson or key[1] is not self.params:
-            names = frozenset(s.name for s in self.lesson.series_for(self.params) if s.undefined)
-            key = self._allowed_for = (self.lesson, self.params, names)
-        return key[2]
+    def cut(self, cpu_spent: float, budget: float) -> None:
+        """A tick stopped at its budget, after ``cpu_spent`` CPU seconds of ``budget``: by
+        the stepping itself, or by a busy machine (wall time, little CPU)."""
+        self.machine_busy = cpu_spent < 0.5 * budget
 
-    def _keep_up(self, wanted: float, moved: float, wall_dt: float) -> None:
-        """Follow the share of the asked lesson time the run keeps up with; say so on the
-        page when it falls behind (and when it is back)."""
-        if self.pause_at_end and self.stepper.t >= self.t_end - 1e-9:
-            return  # stopped at t_end on purpose
+    def restart(self) -> None:
+        """Playback starts: the run keeps up until a tick says otherwise."""
+        self.keeping_up, self.slowed = 1.0, False
+
+    def follow(self, wanted: float, moved: float, wall_dt: float) -> PaceNews | None:
+        """Follow the share of the asked lesson time the run keeps up with (``moved`` of
+        ``wanted`` in ``wall_dt`` wall seconds): ``"slow"`` when the page is to be told the
+        run fell behind (once the figure has settled), ``"back"`` when it is back."""
         share = min(max(moved / wanted, 0.0), 1.0) if wanted > 0 else 1.0
         self.keeping_up = 0.85 * self.keeping_up + 0.15 * share
+        news: PaceNews | None = None
         if not self.slowed and self.keeping_up < SLOW_BELOW:
             self.slowed, self._slow_wall, self._slow_told = True, 0.0, False
         elif self.slowed and self.keeping_up > SLOW_CLEARED:
             self.slowed = False
             if self._slow_told:
-                self.notify(f"playing at {plain(self.speed)}x again", "info")
+                news = "back"
         if self.slowed and not self._slow_told:
             self._slow_wall += wall_dt
             if self._slow_wall >= SLOW_NOTICE_AFTER:  # the figure has settled
                 self._slow_told = True
-                self.notify(self.slow_text(), "warning")
+                news = "slow"
+        return news
 
-    def effective_speed(self) -> float:
-        """The speed the run keeps up with (the asked speed unless :attr:`slowed`)."""
-        return self.speed * (self.keeping_up if self.slowed else 1.0)
+    def effective_speed(self, speed: float) -> float:
+        """The speed the run keeps up with (the asked ``speed`` unless :attr:`slowed`)."""
+        return speed * (self.keeping_up if self.slowed else 1.0)
 
-    def slow_text(self) -> str:
-        """What the page says while the run cannot keep up with the asked speed."""
-        names = {p.name for p in self.lesson.params}
+    def slow_text(self, speed: float, lesson: Lesson) -> str:
+        """What the page says while the run cannot keep up with the asked ``speed``."""
+        names = {p.name for p in lesson.params}
         if self.machine_busy:
             why = "the server's machine is busy"
         elif names & {"h", "rtol"}:
@@ -181,4 +177,4 @@ class Pacing:
             )
         else:
             why = "the computation is too slow for live play"
-        return f"running at {self.effective_speed():.2g}x: {why}"
+        return f"running at {self.effective_speed(speed):.2g}x: {why}"

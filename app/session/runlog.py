@@ -227,7 +227,7 @@ def lesson_scene(lesson: Lesson, params: Params) -> SceneSpec:
 def _arrays_equal(a: Any, b: Any) -> bool:
     try:
         return bool(np.array_equal(np.asarray(a), np.asarray(b)))
-    except Exception:
+    except (TypeError, ValueError):  # not arrays of one shape (e.g. ragged lists)
         return False
 
 

@@ -2,9 +2,11 @@
 
 A :class:`Session` holds the validated parameters of one lesson, a live
 :class:`~analyzer_lab.lessons.kit.contract.Stepper` and the playback state (playing, speed,
-time), and records the run it has shown (:meth:`Session.run_result`).  Every value
-that reaches it is validated with :meth:`Param.parse` / :meth:`Lesson.resolve`; a
-refused value raises :class:`ParamError` and leaves the session as it was.
+time), and records the run it has shown (:meth:`Session.run_result`).  A new lesson,
+preset, state or value is one :meth:`Lesson.open` (values validated, preset looked up
+once), taken in one sequence (:meth:`Session._take`, the run starting again with
+:meth:`Session.reset`); a refused value raises :class:`ParamError` and leaves the
+session as it was.  Its playback keeps pace through a :class:`~analyzer_lab.session.pace.Pace`.
 
 The whole state that matters to a student is :class:`SessionState` (plain JSON
 data): it is saved in the browser, restored on reload, and can be copied from
@@ -13,11 +15,13 @@ one session to another (:meth:`Session.state` / :meth:`Session.apply_state`).
 
 from __future__ import annotations
 
+import logging
 import math
 import threading
 import time
 from collections import deque
 from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -25,6 +29,7 @@ from analyzer_lab.lessons.kit.budget import clock, left, work_budget
 from analyzer_lab.lessons.kit.contract import (
     Frame,
     Lesson,
+    LessonSetup,
     ParamError,
     Params,
     RunResult,
@@ -32,9 +37,11 @@ from analyzer_lab.lessons.kit.contract import (
     Stepper,
 )
 from analyzer_lab.lessons.kit.formula import plain_number as plain
-from analyzer_lab.session.pace import STEP_BUDGET, STEP_WALL_BUDGET, TIME_QUANTUM, Pacing
+from analyzer_lab.session.pace import STEP_BUDGET, STEP_WALL_BUDGET, TIME_QUANTUM, Pace
 from analyzer_lab.session.runlog import RunLog, lesson_scene, raw_value, scenes_equal
 from analyzer_lab.session.state import LabError, SessionState
+
+log = logging.getLogger(__name__)
 
 #: Playback speeds offered (lesson seconds per wall-clock second).
 SPEEDS: tuple[float, ...] = (0.25, 0.5, 1.0, 2.0, 4.0, 8.0)
@@ -52,6 +59,30 @@ MAX_GO_TO = 10
 GO_TO_BUDGET = 0.5
 
 
+@dataclass(frozen=True)
+class Change:
+    """What a new setup (a lesson with a preset and values) does to a session: ``restart``
+    the run (a new stepper from its start; else the running stepper takes the values),
+    draw the ``scene`` at once (else a little later, off the hot path), ``pause`` the
+    playback, ``reframe`` the camera, show the lesson's ``notes`` on the values."""
+
+    restart: bool
+    scene: bool = True
+    pause: bool = False
+    reframe: bool = False
+    notes: bool = True
+
+
+#: Another lesson; a preset; a saved or copied state; values of a ``restart``, a
+#: ``scene`` or a ``live`` group (the group's declared change).
+LESSON = Change(restart=True, pause=True, reframe=True)
+PRESET = Change(restart=True, reframe=True)
+STATE = Change(restart=True, pause=True, notes=False)
+RESTART = Change(restart=True)
+SCENE = Change(restart=False)
+LIVE = Change(restart=False, scene=False)
+
+
 def lesson_label(lesson: Lesson) -> str:
     """Picker label: chapter, problem, title."""
     bits = []
@@ -63,12 +94,20 @@ def lesson_label(lesson: Lesson) -> str:
     return " · ".join(bits)
 
 
-class Session(Pacing):
+class Session:
     """One student's lesson, parameters, stepper and playback (no view code).
 
     Thread-safety: the owner serializes access with :attr:`lock` (GUI callbacks run
     on a thread pool, frames on the server's loop thread).
     """
+
+    lesson: Lesson
+    preset: str | None
+    params: Params
+    stepper: Stepper
+    scene: SceneSpec
+    t_end: float
+    frame: Frame
 
     def __init__(
         self, lessons: Sequence[Lesson], lesson_id: str | None = None, preset: str | None = None
@@ -83,15 +122,20 @@ class Session(Pacing):
         self.pause_at_end = True
         self.visible_vectors: set[str] | None = None
         self.log = RunLog()
-        self.max_substeps = MAX_SUBSTEPS  # lowered by the server under load
-        self._init_pacing()
+        #: the budget of one tick: pieces, CPU seconds and (the live server sets it; None:
+        #: CPU only) wall seconds of stepping; the server lowers the pieces under load
+        self.max_substeps = MAX_SUBSTEPS
+        self.step_budget = STEP_BUDGET
+        self.wall_budget: float | None = None
+        self.pace = Pace()
+        #: (lesson, params, the series that may be undefined) of the last frame checked
+        self._allowed_for: tuple[Lesson, Params, frozenset[str]] | None = None
         self._time_debt = 0.0  # lesson time owed to the next played tick (< TIME_QUANTUM / 2)
         #: a clock shared by the pages that show this session (the classroom's demo)
         self.shared_clock: Callable[[float], list[Frame]] | None = None
         self.scene_due: float | None = None  # when a deferred scene rebuild is due (monotonic time)
-        self.revision = (
-            0  # bumped on any change of lesson/params (the view re-renders what it needs)
-        )
+        #: bumped on any change of lesson/params (the view re-renders what it needs)
+        self.revision = 0
         self.scene_revision = 0  # bumped when the static scene must be redrawn
         self.reset_revision = 0  # bumped when the run restarts (trail cleared)
         #: bumped when the camera should frame the scene again (lesson, preset, reset)
@@ -100,7 +144,7 @@ class Session(Pacing):
         first = lesson_id if lesson_id in self.lessons else next(iter(self.lessons))
         if lesson_id is not None and lesson_id not in self.lessons:
             self.notify(f"unknown lesson {lesson_id[:60]!r}; showing {first}", "warning")
-        self._load(self.lessons[first], preset if preset is not None else None, {})
+        self._take(self._open(self.lessons[first], None, preset), LESSON)
 
     # -- notices --------------------------------------------------------------------
 
@@ -114,41 +158,51 @@ class Session(Pacing):
     def lesson_id(self) -> str:
         return self.lesson.id
 
-    def _build(
-        self, lesson: Lesson, preset: str | None, values: Mapping[str, Any]
-    ) -> tuple[Params, Stepper, SceneSpec]:
-        params = lesson.resolve(values, preset)
+    def _open(
+        self, lesson: Lesson, values: Mapping[str, Any] | None, preset: str | None
+    ) -> LessonSetup:
+        """``lesson`` with ``values`` over ``preset``, its scenes shared with the other
+        sessions showing the same values (:func:`lesson_scene`)."""
+        return lesson.open(values, preset, scene_of=lesson_scene)
+
+    def _take(self, setup: LessonSetup, change: Change, field: str = "params") -> None:
+        """Show ``setup``: the one sequence every new lesson, preset, state or value goes
+        through.  What ``change`` needs is built first (a failure is a refused value of
+        ``field``, and nothing changes); then the session takes the setup, and the run
+        starts again (:meth:`reset`) if ``change.restart``."""
         try:
-            stepper = lesson.stepper(params)
-            scene = lesson_scene(lesson, params)
+            if change.restart:
+                stepper = setup.stepper
+                scene = setup.scene
+            else:
+                scene = setup.scene if change.scene else self.scene
+                stepper = self.stepper
+                stepper.set_params(setup.params)
         except ParamError:
             raise
         except (ValueError, ArithmeticError) as exc:
-            raise ParamError("params", str(exc)) from None
-        return params, stepper, scene
-
-    def _load(self, lesson: Lesson, preset: str | None, values: Mapping[str, Any]) -> None:
-        params, stepper, scene = self._build(lesson, preset, values)
-        self.lesson = lesson
-        self.preset = preset
-        self.params = params
-        self.stepper = stepper
+            raise ParamError(field, str(exc)) from None
+        self.lesson, self.preset, self.params = setup.lesson, setup.preset, setup.params
+        self.t_end = setup.t_end
         self.scene = scene
-        self.frame = stepper.reset()
-        self.t_end = lesson.preset_t_end(preset)
-        self.log.clear()
-        self.log.add(self.frame)
         self.revision += 1
-        self.scene_revision += 1
-        self.reset_revision += 1
-        self.camera_revision += 1
-        self._messages_of(lesson, params)
-
-    def _messages_of(self, lesson: Lesson, params: Params) -> None:
-        """Surface the lesson's own notes on these values (e.g. a projected start point)."""
-        for note in lesson.notes(params):
-            if note.kind in ("info", "warning"):
-                self.notify(note.text, note.kind)
+        if change.scene:
+            self.scene_revision += 1
+            self.scene_due = None
+        else:
+            # controls rarely change the drawing: rebuild it later, off the hot path
+            self.scene_due = time.monotonic() + SCENE_DEBOUNCE
+        if change.restart:
+            self.reset(
+                stepper=stepper, playing=False if change.pause else None, reframe=change.reframe
+            )
+        else:
+            self.frame = stepper.frame()
+        if change.notes:
+            # the lesson's own notes on these values (e.g. a projected start point)
+            for note in setup.notes:
+                if note.kind in ("info", "warning"):
+                    self.notify(note.text, note.kind)
 
     def select_lesson(self, lesson_id: str, preset: str | None = None) -> None:
         """Switch lesson (defaults, or the given preset); refuses unknown ids."""
@@ -156,17 +210,11 @@ class Session(Pacing):
             raise LabError(
                 f"unknown lesson {str(lesson_id)[:60]!r}; known: {', '.join(self.lessons)}"
             )
-        lesson = self.lessons[lesson_id]
-        if preset is not None:
-            lesson.preset(preset)  # raises ParamError for an unknown preset
-        self.playing = False
-        self._load(lesson, preset, {})
+        self._take(self._open(self.lessons[lesson_id], None, preset), LESSON)
 
     def apply_preset(self, name: str | None) -> None:
         """Load one of the textbook's examples (``None``: the defaults); the run restarts."""
-        if name is not None:
-            self.lesson.preset(name)
-        self._load(self.lesson, name, {})
+        self._take(self._open(self.lesson, None, name), PRESET)
 
     def edits(self) -> dict[str, tuple[Any, Any]]:
         """The values that differ from the preset (or the defaults): name -> (the
@@ -192,48 +240,17 @@ class Session(Pacing):
         """
         if not changes:
             return
-        for name in changes:
-            self.lesson.param(name)  # unknown names are refused
         raw = self.raw_values()
         raw.update(changes)
-        params = self.lesson.resolve(raw)
-        changed = [n for n in changes if params[n] != self.params.get(n)]
+        setup = self._open(self.lesson, raw, self.preset)  # unknown names are refused
+        changed = [n for n in changes if setup.params[n] != self.params.get(n)]
         if not changed:
             return
         effects = {self.lesson.group(self.lesson.param(n).group).change for n in changed}
-        live_only = effects == {"live"}
-        restart = "restart" in effects
-        try:
-            scene = self.scene if live_only else lesson_scene(self.lesson, params)
-            if restart:
-                stepper = self.lesson.stepper(params)
-            else:
-                stepper = self.stepper
-                stepper.set_params(params)
-        except ParamError:
-            raise
-        except (ValueError, ArithmeticError) as exc:
-            raise ParamError(changed[0], str(exc)) from None
-        self.params = params
-        self.stepper = stepper
-        self.scene = scene
-        self.revision += 1
-        if live_only:
-            # controls rarely change the drawing: rebuild it later, off the hot path
-            self.scene_due = time.monotonic() + SCENE_DEBOUNCE
-        else:
-            self.scene_revision += 1
-            self.scene_due = None
-        if restart:
-            self.frame = stepper.reset()
-            self.log.clear()
-            self.log.add(self.frame)
-            self.reset_revision += 1
-        else:
-            self.frame = stepper.frame()
-        self._messages_of(self.lesson, params)
+        change = RESTART if "restart" in effects else LIVE if effects == {"live"} else SCENE
+        self._take(setup, change, changed[0])
         start = self.lesson.start_point
-        if restart and start is not None and set(changed) & set(start):
+        if change.restart and start is not None and set(changed) & set(start):
             self._show_projected_start()
 
     def _show_projected_start(self) -> None:
@@ -275,7 +292,7 @@ class Session(Pacing):
         """Put the start point exactly where the lesson places it (on the surface): the
         first moving point of a fresh run."""
         names = self._start_names()
-        fresh = self.lesson.stepper(self.params).reset()
+        fresh = self._open(self.lesson, self.params, self.preset).stepper.reset()
         if not fresh.points:
             raise LabError("this lesson has no moving point")
         pts = np.asarray(next(iter(fresh.points.values())), dtype=float).reshape(-1, 3)
@@ -302,7 +319,7 @@ class Session(Pacing):
         if self.pause_at_end and self.frame.t >= self.t_end - 1e-9:
             self.reset()
         self.playing = True
-        self.keeping_up, self.slowed = 1.0, False
+        self.pace.restart()
 
     def pause(self) -> None:
         self.playing = False
@@ -318,11 +335,33 @@ class Session(Pacing):
             )
         self.speed = value
 
-    def reset(self) -> Frame:
-        self.frame = self.stepper.reset()
+    def reset(
+        self,
+        *,
+        stepper: Stepper | None = None,
+        at: Frame | None = None,
+        playing: bool | None = None,
+        reframe: bool = False,
+    ) -> Frame:
+        """The run starts again: the one reset of every path (the Reset button, a new
+        lesson, preset, state or start value, a run copied from another session).
+
+        ``stepper``: the run's new stepper (default: the current one), from its initial
+        state, or from ``at``, the frame where a copied stepper stands.  The run log keeps
+        only that frame and the pages clear their trails and plots (:attr:`reset_revision`);
+        ``playing``: the playback from now (``None``: as it was); ``reframe``: the pages
+        frame the scene again (:attr:`camera_revision`).
+        """
+        if stepper is not None:
+            self.stepper = stepper
+        self.frame = self.stepper.reset() if at is None else at
         self.log.clear()
         self.log.add(self.frame)
         self.reset_revision += 1
+        if reframe:
+            self.camera_revision += 1
+        if playing is not None:
+            self.playing = playing
         return self.frame
 
     def _advance(self, dt: float) -> list[Frame]:
@@ -333,6 +372,7 @@ class Session(Pacing):
         substep = SUBSTEP_DT * self.lesson.time_scale
         n = max(1, min(self.max_substeps, int(math.ceil(dt / substep - 1e-9))))
         piece = dt / n
+        quantum = TIME_QUANTUM * self.lesson.time_scale  # the grain of a piece
         target = t_before + dt
         cpu_start = clock()
         with work_budget(self.step_budget, self.wall_budget):
@@ -344,13 +384,12 @@ class Session(Pacing):
                     break
                 budget_left = left()
                 if frames and (budget_left <= 0 or len(frames) >= 2 * n + 2):
-                    # the budget of this tick is spent: the rest of dt is dropped; by the
-                    # stepping itself, or by a busy machine (wall time, little CPU)
-                    self.machine_busy = clock() - cpu_start < 0.5 * self.step_budget
+                    # the budget of this tick is spent: the rest of dt is dropped
+                    self.pace.cut(clock() - cpu_start, self.step_budget)
                     break
-                d = min(self._piece_size(piece, budget_left), remaining)
+                d = min(self.pace.piece_size(piece, budget_left, quantum), remaining)
                 t_prev = self.stepper.t
-                frame, stop = self._step_piece(d)
+                frame, stop = self.pace.step(self.stepper, d, self._allowed())
                 if frame is None:
                     self.playing = False
                     self.notify(stop, "error")
@@ -404,9 +443,36 @@ class Session(Pacing):
         moved = self.stepper.t - t0
         if moved < k * quantum - 1e-9 * max(1.0, abs(t0)):
             self._time_debt = 0.0  # what the budget cut is dropped, not owed
-        if self.playing:
-            self._keep_up(k * quantum, moved, min(wall_dt, 0.25))
+        if self.playing and not (self.pause_at_end and self.stepper.t >= self.t_end - 1e-9):
+            # (not at t_end, where it stopped on purpose)
+            news = self.pace.follow(k * quantum, moved, min(wall_dt, 0.25))
+            if news == "back":
+                self.notify(f"playing at {plain(self.speed)}x again", "info")
+            elif news == "slow":
+                self.notify(self.slow_text(), "warning")
         return frames
+
+    @property
+    def slowed(self) -> bool:
+        """The run cannot keep up with the asked speed (its page says so)."""
+        return self.pace.slowed
+
+    def effective_speed(self) -> float:
+        """The speed the run keeps up with (the asked speed unless :attr:`slowed`)."""
+        return self.pace.effective_speed(self.speed)
+
+    def slow_text(self) -> str:
+        """What the page says while the run cannot keep up with the asked speed."""
+        return self.pace.slow_text(self.speed, self.lesson)
+
+    def _allowed(self) -> frozenset[str]:
+        """The series of the lesson that may be undefined (``Series.undefined``), kept for
+        the current lesson and parameters."""
+        key = self._allowed_for
+        if key is None or key[0] is not self.lesson or key[1] is not self.params:
+            names = frozenset(s.name for s in self.lesson.series_for(self.params) if s.undefined)
+            key = self._allowed_for = (self.lesson, self.params, names)
+        return key[2]
 
     def step(self) -> list[Frame]:
         """One single step (paused): the lesson's sampling step (the source's table of
@@ -445,7 +511,9 @@ class Session(Pacing):
                     )
                     break
                 t_prev = self.stepper.t
-                frame, stop = self._step_piece(min(piece, t - self.stepper.t))
+                frame, stop = self.pace.step(
+                    self.stepper, min(piece, t - self.stepper.t), self._allowed()
+                )
                 if frame is None:
                     self.notify(stop, "error")
                     break
@@ -488,7 +556,7 @@ class Session(Pacing):
         # drop bad values one by one so the good ones survive
         while True:
             try:
-                params, stepper, scene = self._build(lesson, preset, values)
+                self._take(self._open(lesson, values, preset), STATE)
                 break
             except ParamError as exc:
                 if exc.name in values:
@@ -499,21 +567,6 @@ class Session(Pacing):
                     values = {}
                 else:
                     raise LabError(str(exc)) from None
-        self.playing = False
-        self.lesson, self.preset, self.params, self.stepper, self.scene = (
-            lesson,
-            preset,
-            params,
-            stepper,
-            scene,
-        )
-        self.frame = stepper.reset()
-        self.t_end = lesson.preset_t_end(preset)
-        self.log.clear()
-        self.log.add(self.frame)
-        self.revision += 1
-        self.scene_revision += 1
-        self.reset_revision += 1
         try:
             self.set_speed(state.speed)
         except LabError as exc:
@@ -523,6 +576,7 @@ class Session(Pacing):
             set(state.visible_vectors) if state.visible_vectors is not None else None
         )
         for p in problems:
+            log.info("state of %s restored without: %s", lesson.id, p)
             self.notify(p, "warning")
         return problems
 

@@ -68,7 +68,7 @@ def grid_run(s: Session, step: float | None = None) -> RunResult:
             f" {MAX_EXPORT_VALUES} values; with these columns the smallest step is"
             f" {t_end / max(rows - 1, 1):.3g} s"
         )
-    stepper = s.lesson.stepper(s.params)
+    stepper = s.lesson.open(s.params, s.preset).stepper
     columns: dict[str, list[float]] = {n: [] for n in names}
     pace = Pacer()
     for tk in grid:

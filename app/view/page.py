@@ -22,9 +22,9 @@ from __future__ import annotations
 
 import contextlib
 import html
+import logging
 import math
 import time
-import traceback
 from collections.abc import Callable
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
@@ -44,6 +44,8 @@ from analyzer_lab.viser_boundary import fast_set
 
 if TYPE_CHECKING:
     import viser
+
+log = logging.getLogger(__name__)
 
 NO_PRESET = "(defaults)"
 #: Labels of the page's lesson and preset pickers and of the pause-at-t_end checkbox.
@@ -129,7 +131,9 @@ class SessionView:
                     self.session.notify(f"refused: {exc}", "error")
                     self.sync_widgets()
                 except Exception as exc:  # a bug must not take the session down
-                    traceback.print_exc()
+                    log.exception(
+                        "page %s: %s failed", self.client.client_id, getattr(fn, "__name__", fn)
+                    )
                     self.session.notify(f"internal error: {type(exc).__name__}: {exc}", "error")
                     self.sync_widgets()
                 finally:
@@ -248,8 +252,8 @@ class SessionView:
         for f in self._lesson_folders:
             try:
                 f.visible = False
-            except Exception:
-                pass
+            except RuntimeError:  # already removed (the page is closing)
+                log.debug("page %s: a folder was already removed", self.client.client_id)
             self._retired.append((due, f))
         lesson = self.session.lesson
         with self.tab_controls:
@@ -302,8 +306,10 @@ class SessionView:
             put(self.speed_dd, speed_label(s.speed), force, current)
             if hasattr(self, "pause_cb"):
                 put(self.pause_cb, bool(s.pause_at_end), force, current)
-        except Exception:
-            traceback.print_exc()
+        except (RuntimeError, ValueError, KeyError):  # a removed widget, a refused value
+            log.warning(
+                "page %s: the pickers were not synced", self.client.client_id, exc_info=True
+            )
         self.controls.sync(s.lesson, s.params, force, current)
 
     # ------------------------------------------------------------------ callbacks
@@ -323,17 +329,16 @@ class SessionView:
         if name == NO_PRESET:
             self.session.apply_preset(None)
         else:
-            if name not in {p.name for p in self.session.lesson.presets}:
+            chosen = next((p for p in self.session.lesson.presets if p.name == name), None)
+            if chosen is None:
                 raise LabError(f"unknown preset {str(name)[:60]!r}")
             self.session.apply_preset(name)
-            self.session.notify(f"preset {name}: {self.session.lesson.preset(name).title}")
+            self.session.notify(f"preset {name}: {chosen.title}")
         self.after_state_change()
 
-    def _played(self, frames: list[Any], reframe: bool) -> None:
-        """Frames the transport made outside the loop (a step, a jump, a reset)."""
+    def _played(self, frames: list[Any]) -> None:
+        """Frames the transport made outside the loop (a step, a jump; none after a reset)."""
         s = self.session
-        if reframe:
-            s.camera_revision += 1  # the student asked for the start: frame the scene too
         if frames:
             self.renderer.push_frames(frames[-MAX_DRAWN_FRAMES:], s.playing, self.frame_count)
             self.plots.add(s.frame)
@@ -415,8 +420,8 @@ class SessionView:
                 self._param_changed()
             except (ParamError, LabError) as exc:
                 self.session.notify(f"refused: {exc}", "error")
-            except Exception as exc:
-                traceback.print_exc()
+            except Exception as exc:  # a bug must not take the session down
+                log.exception("page %s: a click on the scene failed", self.client.client_id)
                 self.session.notify(f"internal error: {exc}", "error")
             self.refresh(heavy=True)
 
@@ -485,7 +490,13 @@ class SessionView:
         self.derivation_due = None
         try:
             content = derivation_to_html(s.lesson.derivation(s.params))
-        except Exception as exc:
+        except Exception as exc:  # any formula: the page says why
+            log.warning(
+                "page %s: the derivation of %s failed",
+                self.client.client_id,
+                s.lesson.id,
+                exc_info=True,
+            )
             content = (
                 '<div class="al-error">The derivation could not be built: '
                 f"{html.escape(str(exc))}</div>"
@@ -516,8 +527,8 @@ class SessionView:
                         auto_close_seconds=6.0,
                         color="red" if notice[0] == "error" else "yellow",
                     )
-                except Exception:
-                    pass
+                except RuntimeError:  # the page is closing
+                    log.debug("page %s: notification not shown", self.client.client_id)
             self._shown_notice = notice
             self._shown_frame_message = fmsg
             self.status.content = status_html(self.session)
@@ -574,8 +585,8 @@ class SessionView:
             _, folder = self._retired.pop(0)
             try:
                 folder.remove()
-            except Exception:
-                pass
+            except RuntimeError:  # the page is closing
+                log.debug("page %s: a folder was not removed", self.client.client_id)
 
     def close(self) -> None:
         self.closed = True

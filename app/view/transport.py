@@ -16,12 +16,12 @@ MAX_DRAWN_FRAMES = 2000
 #: The label of the Run buttons and the button that plays.
 RUN, PLAY = "Run", "Play"
 
-Played = Callable[[list[Any], bool], None]
+Played = Callable[[list[Any]], None]
 
 
 class Transport:
-    """The Run buttons, the speed and "go to t" of one page.  ``played(frames,
-    reframe)`` gets the frames a step or jump made (``reframe``: after a reset)."""
+    """The Run buttons, the speed and "go to t" of one page.  ``played(frames)`` gets
+    the frames a step or jump made (none after play, pause, a reset or a new speed)."""
 
     def __init__(
         self,
@@ -49,16 +49,15 @@ class Transport:
         s = self.session()
         if what == PLAY:
             s.play()
-            self.played([], False)
+            self.played([])
         elif what == "Pause":
             s.pause()
-            self.played([], False)
+            self.played([])
         elif what == "Step":  # by the source's sampling (t = 0, 1, 2, ...)
-            self.played(s.step(), False)
-        elif what == "Reset":
-            s.pause()
-            s.reset()
-            self.played([], True)
+            self.played(s.step())
+        elif what == "Reset":  # paused at the start, the scene framed again
+            s.reset(playing=False, reframe=True)
+            self.played([])
         else:
             raise LabError(f"unknown transport command {str(what)[:40]!r}")
 
@@ -67,7 +66,7 @@ class Transport:
         if not text.endswith("x"):
             raise LabError(f"unknown speed {text[:20]!r}")
         self.session().set_speed(text[:-1])
-        self.played([], False)
+        self.played([])
 
     def _on_goto(self, event: Any) -> None:
         text = str(event.target.value).strip()
@@ -77,4 +76,4 @@ class Transport:
             t = parse_number(text)
         except ValueError as exc:
             raise LabError(f"go to t: {exc}") from None
-        self.played(self.session().go_to(t), False)
+        self.played(self.session().go_to(t))

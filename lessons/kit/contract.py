@@ -13,8 +13,9 @@ from __future__ import annotations
 
 import math
 from abc import ABC, abstractmethod
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
+from functools import cached_property
 from typing import Any, Literal
 
 import numpy as np
@@ -139,6 +140,41 @@ class Stepper(ABC):
         """Back to the initial state of the current parameters."""
 
 
+@dataclass(frozen=True, eq=False)
+class LessonSetup:
+    """A lesson opened with a preset and values (:meth:`Lesson.open`): what a run or a page
+    needs, each computed once.  The validated parameters and the run's length are there at
+    once; the stepper, the scene and the notes are built the first time they are read (a
+    change of a live value needs neither a new stepper nor a new scene).
+
+    ``scene_of``: where the scene comes from (e.g. a cache shared by the pages showing the
+    same values); ``None``: :meth:`Lesson.scene`.
+    """
+
+    lesson: Lesson
+    preset: str | None
+    params: Params
+    t_end: float
+    scene_of: Callable[[Lesson, Params], SceneSpec] | None = None
+
+    @cached_property
+    def stepper(self) -> Stepper:
+        """The live run of these values (:meth:`Lesson.stepper`)."""
+        return self.lesson.stepper(self.params)
+
+    @cached_property
+    def scene(self) -> SceneSpec:
+        """What to draw for these values (:meth:`Lesson.scene`)."""
+        if self.scene_of is None:
+            return self.lesson.scene(self.params)
+        return self.scene_of(self.lesson, self.params)
+
+    @cached_property
+    def notes(self) -> tuple[Note, ...]:
+        """What the lesson did with these values and the caveats that apply (:meth:`Lesson.notes`)."""
+        return tuple(self.lesson.notes(self.params))
+
+
 class Lesson(ABC):
     """One textbook page.  Subclasses set the class attributes and implement the methods."""
 
@@ -196,9 +232,29 @@ class Lesson(ABC):
 
         Raises :class:`ParamError` naming the first bad value; then nothing is returned.
         """
+        return self._resolved(values, self.preset(preset) if preset is not None else None)
+
+    def open(
+        self,
+        values: Mapping[str, Any] | None = None,
+        preset: str | None = None,
+        *,
+        scene_of: Callable[[Lesson, Params], SceneSpec] | None = None,
+    ) -> LessonSetup:
+        """The lesson with ``values`` over ``preset`` (over the defaults), in one call: the
+        preset looked up once, the values validated once (:meth:`resolve`), the run's
+        length (:meth:`preset_t_end`); the stepper, scene and notes when first read.
+
+        Raises :class:`ParamError` for an unknown preset or the first bad value.
+        """
+        chosen = self.preset(preset) if preset is not None else None
+        params = self._resolved(values, chosen)
+        return LessonSetup(self, preset, params, self._t_end_of(chosen), scene_of)
+
+    def _resolved(self, values: Mapping[str, Any] | None, preset: Preset | None) -> Params:
         raw: dict[str, Any] = {p.name: p.default for p in self.params}
         if preset is not None:
-            raw.update(self.preset(preset).values)
+            raw.update(preset.values)
         for name, value in (values or {}).items():
             self.param(name)
             raw[name] = value
@@ -398,10 +454,12 @@ class Lesson(ABC):
         return grid
 
     def preset_t_end(self, preset: str | None) -> float:
-        if preset is not None:
-            t = self.preset(preset).t_end
-            if t is not None:
-                return float(t)
+        """The run's length for ``preset``: its own, else the lesson's."""
+        return self._t_end_of(self.preset(preset) if preset is not None else None)
+
+    def _t_end_of(self, preset: Preset | None) -> float:
+        if preset is not None and preset.t_end is not None:
+            return float(preset.t_end)
         return float(self.t_end)
 
     # -- the page ---------------------------------------------------------------
@@ -429,9 +487,9 @@ class Lesson(ABC):
         values: Mapping[str, Any] | None = None,
         t_end: float | None = None,
     ) -> RunResult:
-        """Resolve and simulate in one call (what ``analyzer-lab run`` does)."""
-        params = self.resolve(values, preset)
-        result = self.simulate(params, self.preset_t_end(preset) if t_end is None else t_end)
+        """Open and simulate in one call (what ``analyzer-lab run`` does)."""
+        setup = self.open(values, preset)
+        result = self.simulate(setup.params, setup.t_end if t_end is None else t_end)
         result.preset = preset
         return result
 
@@ -501,6 +559,7 @@ __all__ = [
     "SURFACE",
     "METHOD",
     "Lesson",
+    "LessonSetup",
     "MarkerItem",
     "MeshItem",
     "Param",
