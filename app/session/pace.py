@@ -103,10 +103,13 @@ class Pace:
     def piece_size(self, piece: float, left: float, quantum: float) -> float:
         """The next piece of lesson time: ``piece``, less if the recent cost per lesson
         second says it would not fit into the budget ``left`` (CPU seconds); whole grains
-        of ``quantum`` lesson seconds where it is longer than one."""
+        of ``quantum`` lesson seconds where it is longer than one (at least one grain, so a
+        busy machine moves the run less but never off the grain)."""
         if self.cost > 0.0 and self.cost * piece > left:
-            piece = max(left / self.cost, 1e-9)
-            return math.floor(piece / quantum + 1e-9) * quantum if piece >= quantum else piece
+            fit = max(left / self.cost, 1e-9)
+            if piece >= quantum:  # at least one whole grain: a frame never lands between grains
+                return max(math.floor(fit / quantum + 1e-9), 1) * quantum
+            return fit
         # whole grains (rounded up: the pieces of a tick of whole grains stay whole)
         return math.ceil(piece / quantum - 1e-9) * quantum if piece > quantum else piece
 
