@@ -395,11 +395,7 @@ class Classroom:
         own.apply_state(state)
         own.notices.clear()
         if stepper is not None:
-            own.stepper = stepper
-            own.frame = frame
-            own.log.clear()
-            own.log.add(frame)
-            own.playing = playing
+            own.reset(stepper=stepper, at=frame, playing=playing)
         return own
 
     def new_session(self, lesson_id: str) -> Session:

@@ -426,11 +426,11 @@ class LabServer:
             if self._stop.is_set():
                 return
             try:
-                params = lesson.resolve()
-                st = lesson.stepper(params)
-                st.advance(0.01)
-                lesson_scene(lesson, params)
-                DERIVATION_CACHE.get_or_make(params_key(lesson, params), lambda: build(lesson, {}))
+                setup = lesson.open(scene_of=lesson_scene)
+                setup.stepper.advance(0.01)
+                setup.scene  # built once here and kept in the scene cache for the first page
+                key = params_key(lesson, setup.params)
+                DERIVATION_CACHE.get_or_make(key, lambda: build(lesson, {}))
             except Exception:  # the lesson's own code: its first page says what is wrong
                 log.warning("warming up the lesson %s failed", lesson.id, exc_info=True)
 
