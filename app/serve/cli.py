@@ -9,6 +9,7 @@ from __future__ import annotations
 import argparse
 import json
 import logging
+import os
 import sys
 import time
 from collections.abc import Sequence
@@ -147,8 +148,15 @@ def cmd_check(args: argparse.Namespace) -> int:
     return 1 if failed else 0
 
 
+#: The server's log: what the edges caught, one line each (level from the environment).
+LOG_FORMAT = "%(asctime)s %(levelname)s %(name)s: %(message)s"
+
+
 def cmd_serve(args: argparse.Namespace) -> int:
     from analyzer_lab.serve.threads import one_math_thread
+
+    level = os.environ.get("ANALYZER_LAB_LOG_LEVEL", "WARNING").upper()
+    logging.basicConfig(level=getattr(logging, level, logging.WARNING), format=LOG_FORMAT)
 
     one_math_thread()  # before numpy loads; the workers inherit it
     from analyzer_lab.serve.cli_assignments import use_folder_for_serve

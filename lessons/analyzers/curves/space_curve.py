@@ -12,6 +12,7 @@ measures how far points lie from a curve (used to show that (1.2)-(1.4) are one 
 
 from __future__ import annotations
 
+import logging
 import math
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -25,6 +26,8 @@ from analyzer_lab.lessons.kit.contract import Formula, Param, ParamError
 from analyzer_lab.lessons.kit.formula import FormulaError, parse_formula
 
 PHI = sp.Symbol("phi", real=True)
+
+log = logging.getLogger(__name__)
 
 
 @dataclass(frozen=True)
@@ -139,6 +142,7 @@ def _check_continuous(name: str, f: Formula, phi0: float, phi1: float) -> None:
     try:
         dom = continuous_domain(f.expr, PHI, whole)
     except Exception:  # sympy cannot decide: the numeric checks remain
+        log.debug("continuity of %s not decided symbolically", name, exc_info=True)
         return
     missing = sp.Complement(whole, dom)
     if missing.is_empty is not False:
