@@ -1,5 +1,5 @@
 """Attacks on the transport, the sign-in, the input work, exports and derivations, made by
-real websocket clients (viser's protocol) against ``python -m app serve`` in a subprocess.
+real websocket clients (viser's protocol) against ``python -m analyzer_lab serve`` in a subprocess.
 
 Each test measures a normal page playing the sphere's Example 1.1 (updates/s of its
 moving point) before, during and after the attack, in the same run: it keeps >= 90 % of
@@ -13,16 +13,18 @@ from __future__ import annotations
 
 import asyncio
 import multiprocessing
-import os
 import secrets
 import statistics
 import subprocess
-import tempfile
 import time
 from collections.abc import Awaitable, Callable, Iterator
 from typing import Any
 
 import pytest
+
+from tests.support.client import ProtoClient, play
+from tests.support.servers import ServeProcess
+from tests.support.wire import camera_message, encode, gui_update
 
 CODE = "attack-test-code-2718"
 MARKER = "ATTACKER-7f3e"
@@ -34,8 +36,6 @@ ROWS: list[str] = []
 
 
 async def _connect_page(url: str) -> Any:
-    from benchmarks.classroom_load import ProtoClient
-
     c = await ProtoClient(url).start()
     await c.wait_for("Run", 30)
     return c
@@ -44,8 +44,6 @@ async def _connect_page(url: str) -> Any:
 async def _form_dirty(url: str, seconds: float) -> dict[str, Any]:
     """Five pages sending viser form "dirty" flags with 50 kB uuids as fast as they can."""
     from viser import _messages
-
-    from benchmarks.loadtest import encode
 
     pages = [await _connect_page(url) for _ in range(5)]
     sent = 0
@@ -71,8 +69,6 @@ async def _oversized(url: str, seconds: float) -> dict[str, Any]:
     """Six connections at a time, each sending a 49 MB message, reconnecting when closed."""
     import viser
     import websockets
-
-    from benchmarks.loadtest import camera_message, encode
 
     big = b"\x00" * (49 * 1024 * 1024)
     end = time.monotonic() + seconds
@@ -140,8 +136,6 @@ async def _lesson_flood(url: str, seconds: float) -> dict[str, Any]:
     """Twenty pages each changing the lesson 500 times a second."""
     from analyzer_lab.lessons.catalog import all_lessons
     from analyzer_lab.session.session import lesson_label
-
-    from benchmarks.loadtest import encode, gui_update
 
     labels = [lesson_label(x) for x in all_lessons()[:2]]
     pages = list(await asyncio.gather(*(_connect_page(url) for _ in range(20))))
@@ -269,22 +263,10 @@ class Attack:
 
 
 @pytest.fixture(scope="module")
-def server() -> Iterator[tuple[str, subprocess.Popen]]:
-    from benchmarks.loadtest import free_port, start_server
-
-    port = free_port()
-    log = tempfile.NamedTemporaryFile("w+", suffix=".log", delete=False)
-    proc = start_server(port, "sphere", log, ("--instructor-code", CODE))
-    url = f"ws://127.0.0.1:{port}/"
-    asyncio.run(_warm(url))
-    yield url, proc
-    proc.terminate()
-    try:
-        proc.wait(5)
-    except subprocess.TimeoutExpired:
-        proc.kill()
-    log.close()
-    os.unlink(log.name)
+def server(serve: Callable[..., ServeProcess]) -> Iterator[tuple[str, subprocess.Popen]]:
+    live = serve("sphere", "--instructor-code", CODE)
+    asyncio.run(_warm(live.url))
+    yield live.url, live.proc
     for row in ROWS:
         print(row)
 
@@ -324,10 +306,8 @@ def _rss(proc: subprocess.Popen) -> float:
 
 
 async def _normal(url: str) -> Any:
-    from benchmarks.classroom_load import _play
-
     c = await _connect_page(url)
-    await _play(c)
+    await play(c)
     await asyncio.sleep(3.0)
     return c
 
@@ -440,8 +420,6 @@ def test_guessing_never_refuses_the_instructor(server: Any) -> None:
     tries: list[bool] = []
 
     async def during(normal: Any, attack: Attack) -> float:
-        from benchmarks.classroom_load import ProtoClient
-
         sampler = Sampler(normal)
         t0 = time.monotonic()
         while time.monotonic() - t0 < 18.0:
@@ -514,6 +492,7 @@ def test_a_slow_derivation_never_delays_another_pages(server: Any) -> None:
             t0 = time.monotonic()
             await asyncio.sleep(2.0)  # the attacker's derivation is being built
             latencies["during"] = await derivation_latency(victim, "5*sin(t) + 0.5")
+            # the rest of the attack's 9 s
             await asyncio.sleep(max(0.0, 9.0 - (time.monotonic() - t0)))
             return await sampler.stop()
 

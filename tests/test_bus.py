@@ -20,7 +20,7 @@ from analyzer_lab.classroom.bus import (
     wait_until,
 )
 
-from tests.helpers import RedisServer
+from tests.support.redis_server import RedisServer
 
 KEY = bus_key("code-1234")
 
@@ -92,8 +92,8 @@ def test_bus_addresses(url: str, ok: tuple[str, int, int] | None) -> None:
     assert isinstance(make_bus(None, "code-1234"), LocalBus)
 
 
-def test_a_redis_bus_delivers_reports_a_drop_and_reconnects() -> None:
-    server = RedisServer().start()
+def test_a_redis_bus_delivers_reports_a_drop_and_reconnects(redis_server: RedisServer) -> None:
+    server = redis_server
     a = make_bus(server.url, "code-1234", "a")
     b = make_bus(server.url, "code-1234", "b")
     try:
@@ -117,4 +117,3 @@ def test_a_redis_bus_delivers_reports_a_drop_and_reconnects() -> None:
     finally:
         a.close()
         b.close()
-        server.stop()

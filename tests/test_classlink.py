@@ -15,9 +15,10 @@ from typing import Any
 
 import pytest
 
-from benchmarks.classroom_load import ProtoClient
-from benchmarks.loadtest import free_port
-from tests.helpers import RedisServer, start_worker, stop_process, until
+from tests.support.client import ProtoClient
+from tests.support.redis_server import RedisServer
+from tests.support.servers import free_port, start_worker, stop_process
+from tests.support.waiting import until
 
 pytestmark = pytest.mark.timeout(300)
 CODE = "class-5821-bus7"
@@ -26,8 +27,8 @@ CODE = "class-5821-bus7"
 class Pair:
     """Two workers of one class on one Redis."""
 
-    def __init__(self, tmp: Path) -> None:
-        self.redis = RedisServer().start()
+    def __init__(self, tmp: Path, redis: RedisServer) -> None:
+        self.redis = redis
         self.logs = [tmp / "w1.log", tmp / "w2.log"]
         self.ports = [free_port(), free_port()]
         self.procs = [
@@ -44,12 +45,11 @@ class Pair:
     def stop(self) -> None:
         for p in self.procs:
             stop_process(p)
-        self.redis.stop()
 
 
 @pytest.fixture()
-def pair(tmp_path: Path) -> Iterator[Pair]:
-    p = Pair(tmp_path)
+def pair(tmp_path: Path, redis_server: RedisServer) -> Iterator[Pair]:
+    p = Pair(tmp_path, redis_server)
     yield p
     p.stop()
 

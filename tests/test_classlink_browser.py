@@ -13,9 +13,10 @@ from typing import Any
 
 import pytest
 
-from benchmarks.loadtest import free_port
-from tests.helpers import RedisServer, start_worker, stop_process
-from tests.test_browser import ARTIFACTS, CHROMIUM, LAUNCH_ARGS, _require_browser, wait_until
+from tests.support.browser import ARTIFACTS, require_browser
+from tests.support.redis_server import RedisServer
+from tests.support.servers import free_port, start_worker, stop_process
+from tests.support.waiting import wait_until
 
 pytestmark = [pytest.mark.browser, pytest.mark.timeout(400)]
 CODE = "remote-3306-follow"
@@ -65,7 +66,7 @@ class RemotePage:
 
 @pytest.fixture(scope="module")
 def servers(tmp_path_factory: pytest.TempPathFactory) -> Iterator[tuple[str, str]]:
-    _require_browser()
+    require_browser()
     redis_server = RedisServer().start()
     tmp: Path = tmp_path_factory.mktemp("workers")
     ports = [free_port(), free_port()]
@@ -77,17 +78,6 @@ def servers(tmp_path_factory: pytest.TempPathFactory) -> Iterator[tuple[str, str
     for p in procs:
         stop_process(p)
     redis_server.stop()
-
-
-@pytest.fixture(scope="module")
-def browser(servers: tuple[str, str]) -> Iterator[Any]:
-    from playwright.sync_api import sync_playwright
-
-    ARTIFACTS.mkdir(exist_ok=True)
-    with sync_playwright() as p:
-        b = p.chromium.launch(executable_path=CHROMIUM, args=LAUNCH_ARGS)
-        yield b
-        b.close()
 
 
 def test_a_student_on_worker_2_follows_the_instructor_on_worker_1(

@@ -1,7 +1,7 @@
 """Classroom: instructor code, follow me / release, and hardening against hand-made clients.
 
 Every page here is a real websocket client speaking viser's protocol
-(:class:`benchmarks.classroom_load.ProtoClient`) against an in-process :class:`LabServer`.
+(:class:`tests.support.client.ProtoClient`) against an in-process :class:`LabServer`.
 """
 
 from __future__ import annotations
@@ -10,7 +10,7 @@ import asyncio
 import math
 import statistics
 import time
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from typing import Any
 
 import pytest
@@ -19,29 +19,19 @@ from analyzer_lab.lessons.analyzers.sphere import LESSON as SPHERE
 from analyzer_lab.serve.limits import normalize_code
 from analyzer_lab.session.session import LabError
 
-from benchmarks.classroom_load import ProtoClient
-from benchmarks.loadtest import gui_update
-from tests.helpers import until
+from tests.support.client import ProtoClient
+from tests.support.waiting import until
+from tests.support.wire import gui_update
 
 CODE = "test-code-4271"
 pytestmark = pytest.mark.timeout(120)
 
 
 @pytest.fixture(scope="module")
-def lab() -> Iterator[Any]:
-    from analyzer_lab.serve.server import LabServer
-
-    server = LabServer(
-        host="127.0.0.1",
-        port=0,
-        lessons=[SPHERE],
-        lesson="sphere",
-        instructor_code=CODE,
-        warm_up=False,
-        restore=False,
+def lab(make_lab: Callable[..., Any]) -> Any:
+    return make_lab(
+        lessons=[SPHERE], lesson="sphere", instructor_code=CODE, warm_up=False, restore=False
     )
-    yield server
-    server.stop()
 
 
 @pytest.fixture(autouse=True)

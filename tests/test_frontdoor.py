@@ -18,15 +18,15 @@ import sys
 import threading
 import time
 import urllib.request
-from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
 import pytest
 
-from benchmarks.classroom_load import ProtoClient
-from benchmarks.loadtest import free_port
-from tests.helpers import RedisServer, start_worker, stop_process, until
+from tests.support.client import ProtoClient
+from tests.support.redis_server import RedisServer
+from tests.support.servers import free_port, start_server, start_worker, stop_process
+from tests.support.waiting import until
 
 pytestmark = pytest.mark.timeout(300)
 ROOT = Path(__file__).resolve().parent.parent
@@ -34,7 +34,7 @@ CODE = "door-4417-front"
 
 
 class Door:
-    """``python -m app serve --workers 2 --bus redis://...`` in a subprocess."""
+    """``python -m analyzer_lab serve --workers 2 --bus redis://...`` in a subprocess."""
 
     def __init__(self, bus: str, workers: int = 2) -> None:
         self.port = free_port()
@@ -95,10 +95,8 @@ class Door:
 
 
 @pytest.fixture()
-def redis_url() -> Iterator[str]:
-    server = RedisServer().start()
-    yield server.url
-    server.stop()
+def redis_url(redis_server: RedisServer) -> str:
+    return redis_server.url
 
 
 async def _page(location: str) -> ProtoClient:
@@ -204,8 +202,6 @@ def test_one_worker_needs_no_redis_and_several_need_a_bus() -> None:
     assert out.returncode == 2 and "--workers must be in 1..64" in out.stderr
     # --workers 1 (the default) with no Redis anywhere: one process serves pages
     port = free_port()
-    from benchmarks.loadtest import start_server
-
     proc = start_server(port, "sphere", subprocess.DEVNULL, ("--workers", "1"))
     try:
 

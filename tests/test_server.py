@@ -9,7 +9,7 @@ from __future__ import annotations
 import asyncio
 import threading
 import time
-from collections.abc import Iterator
+from collections.abc import Callable
 from concurrent.futures import ThreadPoolExecutor
 from typing import Any
 
@@ -17,22 +17,16 @@ import pytest
 from analyzer_lab.lessons.analyzers.sphere import LESSON as SPHERE
 from analyzer_lab.viser_boundary import CONNECTION, OrderedExecutor
 
-from benchmarks.classroom_load import ProtoClient
-from benchmarks.loadtest import gui_update
-from tests.helpers import until
+from tests.support.client import ProtoClient
+from tests.support.waiting import until
+from tests.support.wire import gui_update
 
 pytestmark = pytest.mark.timeout(120)
 
 
 @pytest.fixture(scope="module")
-def lab() -> Iterator[Any]:
-    from analyzer_lab.serve.server import LabServer
-
-    server = LabServer(
-        host="127.0.0.1", port=0, lessons=[SPHERE], lesson="sphere", warm_up=False, restore=False
-    )
-    yield server
-    server.stop()
+def lab(make_lab: Callable[..., Any]) -> Any:
+    return make_lab(lessons=[SPHERE], lesson="sphere", warm_up=False, restore=False)
 
 
 def test_frame_loop_runs_on_the_event_loop_and_advances_sessions(lab: Any) -> None:

@@ -14,6 +14,8 @@ import analyzer_lab.viser_boundary as vb
 import numpy as np
 import pytest
 
+from tests.support.wire import camera_message, encode
+
 
 @pytest.fixture(scope="module")
 def server() -> Iterator[Any]:
@@ -52,8 +54,6 @@ async def _connect(server: Any) -> Any:
     import viser
     import websockets
 
-    from benchmarks.loadtest import camera_message, encode
-
     ws = await websockets.connect(
         f"ws://127.0.0.1:{server.get_port()}/",
         subprotocols=[f"viser-v{viser.__version__}"],
@@ -90,8 +90,6 @@ def test_the_transport_refuses_an_oversized_message_before_reading_it(server: An
 
 def test_only_allowed_message_types_reach_viser(server: Any) -> None:
     from viser import _messages
-
-    from benchmarks.loadtest import encode
 
     buffer = server._websock_server._broadcast_buffer
     before = len(buffer.message_from_id)
