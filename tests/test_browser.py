@@ -70,7 +70,7 @@ def test_sphere_example_plays_slider_changes_motion_and_plots_update(tab: Page) 
     charts = tab.page.locator(".uplot")
     wait_until(lambda: charts.count() == len(tab.session.lesson.plots), 5, "uPlot charts")
     c0 = charts.first.screenshot()
-    time.sleep(1.0)
+    time.sleep(1.0)  # a second of playing: the chart's picture moves on
     c1 = charts.first.screenshot(path=str(ARTIFACTS / "plot-velocity.png"))
     assert c0 != c1
     tab.button("Pause")
@@ -181,7 +181,11 @@ def test_reload_restores_lesson_and_parameters(tab: Page) -> None:
     tab.tab("Controls")
     tab.fill("u3(t) =", "4")
     wait_until(lambda: tab.session.raw_values()["u3"] == "4", 5, "u3")
-    time.sleep(0.3)
+    wait_until(
+        lambda: (tab.saved_state() or {}).get("values", {}).get("u3") == "4",
+        5,
+        "u3 saved in the page",
+    )
     before = set(tab.lab.views)
     tab.page.reload()
     new = wait_until(lambda: set(tab.lab.views) - before, 20, "the reloaded session")
@@ -230,13 +234,14 @@ def test_every_lesson_and_preset_plays(shared_tab: Page, lesson_id: str, preset:
 def test_arrow_keys_on_a_focused_slider_move_the_slider_not_the_camera(tab: Page) -> None:
     tab.load(_label_of(tab.session.lesson), "example-1.1")
     tab.tab("Controls")
-    time.sleep(0.5)
+    revision = tab.camera_revision()
+    wait_until(lambda: tab.framed_camera(revision), 15, "the framed camera")
     before = np.array(tab.view.client.camera.position, dtype=float)
     tab.page.get_by_role("slider").first.focus()
     for _ in range(5):
         tab.page.keyboard.press("ArrowRight")
-        time.sleep(0.1)
+        time.sleep(0.1)  # one key per input viser sends (it sends at most every 50 ms)
     wait_until(lambda: tab.session.raw_values()["u1"] != "5", 5, "the slider moved")
-    time.sleep(0.5)
+    time.sleep(0.5)  # a camera the keys moved would be reported by now: none may come
     after = np.array(tab.view.client.camera.position, dtype=float)
     assert np.allclose(before, after), (before, after)

@@ -4,10 +4,10 @@
 from __future__ import annotations
 
 import json
-import time
 
 import pytest
 from analyzer_lab.classroom.bus import (
+    CHANNEL,
     MAX_MESSAGE_BYTES,
     BusError,
     LocalBus,
@@ -110,7 +110,7 @@ def test_a_redis_bus_delivers_reports_a_drop_and_reconnects(redis_server: RedisS
         server.start()  # same port
         assert wait_until(lambda: a.up and b.up, 20), (a.reason, b.reason)
         assert changes[-1] == (True, "")
-        time.sleep(0.2)
+        assert wait_until(lambda: server.subscribers(CHANNEL) == 2, 5)  # both listen again
         assert a.publish("notice", {"text": "two"})
         assert wait_until(lambda: got[-1].body == {"text": "two"}, 5)
         assert "lost" not in [m.body.get("text") for m in got]

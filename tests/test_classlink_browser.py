@@ -48,17 +48,17 @@ class RemotePage:
     def select(self, label: str, option: str) -> None:
         self.input_for(label).click()
         self.page.get_by_role("option", name=option, exact=True).click()
-        time.sleep(0.15)
+        time.sleep(0.15)  # viser's 50 ms input throttle
 
     def button(self, name: str) -> None:
         self.page.get_by_role("button", name=name, exact=True).click()
-        time.sleep(0.15)
+        time.sleep(0.15)  # viser's 50 ms input throttle
 
     def fill(self, label: str, text: str) -> None:
         box = self.input_for(label)
         box.fill(text)
         box.press("Enter")
-        time.sleep(0.3)
+        time.sleep(0.3)  # typed and sent (viser's input throttle) before the next input
 
     def close(self) -> None:
         self.context.close()
@@ -91,7 +91,7 @@ def test_a_student_on_worker_2_follows_the_instructor_on_worker_1(
     try:
         # the instructor signs in on worker 1
         inst.page.get_by_text("Instructor", exact=True).first.click()
-        time.sleep(0.2)
+        inst.label("Instructor code").wait_for(state="visible", timeout=10000)
         inst.fill("Instructor code", CODE)
         inst.button("Become instructor")
         inst.page.get_by_role("button", name="Follow me", exact=True).wait_for(timeout=10000)

@@ -39,11 +39,6 @@ def _label(lesson_id: str) -> str:
     return lesson_label(get_lesson(lesson_id))
 
 
-def _open_folder(p: Page, title: str) -> None:
-    p.page.get_by_text(title, exact=True).first.click()
-    time.sleep(0.2)
-
-
 def _instructor_buttons_visible(p: Page) -> list[str]:
     return [
         name
@@ -58,7 +53,7 @@ def test_follow_me_and_release_with_two_students(lab: Any, browser: Any) -> None
         # students explore on their own first
         s1.load(_label("sphere"), "example-1.2")
         # the instructor signs in with the code (the panel exists only on that page)
-        _open_folder(inst, "Instructor")
+        inst.open_folder("Instructor", "Instructor code")
         inst.fill("Instructor code", CODE)
         time.sleep(0.15)  # viser's 50 ms input throttle
         inst.button("Become instructor")
@@ -66,14 +61,15 @@ def test_follow_me_and_release_with_two_students(lab: Any, browser: Any) -> None
         assert lab.classroom.is_instructor(inst.view.client.client_id)
         # a student page cannot reach any instructor control, even knowing where it would be
         for s in (s1, s2):
-            _open_folder(s, "Instructor")
+            s.open_folder("Instructor", "Instructor code")
             assert _instructor_buttons_visible(s) == []
             assert s.page.get_by_text("Instructor panel", exact=True).count() == 0
         # a wrong code on a student page is refused
         s2.fill("Instructor code", "guess-0000")
-        time.sleep(0.15)
+        time.sleep(0.15)  # viser's 50 ms input throttle
+        wrong = lab.classroom.stats["wrong_codes"]
         s2.button("Become instructor")
-        time.sleep(0.5)
+        wait_until(lambda: lab.classroom.stats["wrong_codes"] > wrong, 10, "the code checked")
         assert (
             not lab.classroom.is_instructor(s2.view.client.client_id)
             and _instructor_buttons_visible(s2) == []
@@ -142,7 +138,7 @@ def test_presenter_mode_bookmarks(lab: Any, browser: Any) -> None:
     p = Page(lab, browser)
     try:
         p.load(_label("sphere"), "(defaults)")
-        _open_folder(p, "Presenter")
+        p.open_folder("Presenter", "Presenter mode")
         small = p.page.evaluate("parseFloat(getComputedStyle(document.documentElement).fontSize)")
         p.page.get_by_text("Presenter mode", exact=True).click()
         wait_until(
@@ -178,9 +174,9 @@ def test_presenter_mode_bookmarks(lab: Any, browser: Any) -> None:
 
 
 def _sign_in(p: Page) -> None:
-    _open_folder(p, "Instructor")
+    p.open_folder("Instructor", "Instructor code")
     p.fill("Instructor code", CODE)
-    time.sleep(0.15)
+    time.sleep(0.15)  # viser's 50 ms input throttle
     p.button("Become instructor")
     p.page.get_by_role("button", name="Follow me", exact=True).wait_for(timeout=10000)
 
@@ -212,7 +208,7 @@ def test_presenter_mode_gives_the_scene_the_projector(
     p = Page(lab, browser, browser.new_context(viewport={"width": w, "height": h}))
     try:
         _sign_in(p)
-        _open_folder(p, "Presenter")
+        p.open_folder("Presenter", "Presenter mode")
         p.page.get_by_text("Presenter mode", exact=True).click()
         nxt = p.page.get_by_role("button", name="Next ▶", exact=True)
         nxt.wait_for(timeout=10000)

@@ -67,7 +67,7 @@ def test_messages_of_one_page_apply_in_the_order_sent(lab: Any) -> None:
         await asyncio.gather(*(_burst(p) for p in pages))
         for v in views:
             await until(lambda: v.session.playing, 10, "play")
-        await asyncio.sleep(0.3)
+        await asyncio.sleep(0.3)  # time for a late callback to show an old value over the new
         for v in views:
             s = v.session
             assert (s.preset, s.pause_at_end, s.playing) == ("example-1.3", False, True)
@@ -92,7 +92,7 @@ def test_ordered_executor_keeps_order_per_connection_and_runs_connections_in_par
     def job(tag: str, k: int, delay: float) -> int:
         if tag == "b":
             started_b.set()
-        time.sleep(delay)
+        time.sleep(delay)  # a slow job: the next ones of its connection wait behind it
         with lock:
             log.append((tag, k))
         return k

@@ -6,6 +6,7 @@ they fail instead.  Screenshots go to tests/artifacts/ (git-ignored).
 
 from __future__ import annotations
 
+import json
 import os
 import re
 import time
@@ -27,11 +28,15 @@ LAUNCH_ARGS = [
     "--no-first-run",
 ]
 ARTIFACTS = Path(__file__).resolve().parents[1] / "artifacts"
-#: Closes the page's notifications (e.g. viser's software-WebGL notice).
+#: Closes the page's notifications (e.g. viser's software-WebGL notice); returns how many
+#: closable ones are still shown (a closed one stays until its closing animation ends).
 DISMISS_JS = """() => {
   for (const b of document.querySelectorAll('.mantine-Notification-closeButton, '
       + '[class*=Notification] button[aria-label], [class*=Notification] button')) b.click();
+  return document.querySelectorAll('.mantine-Notification-closeButton').length;
 }"""
+#: Where viser keeps what the server stores in the page (``client.local_storage``).
+STORAGE_PREFIX = "viser-user:"
 #: viser sends a page's input to the server at most every 50 ms: the next input waits
 #: this long, or the two would be merged into one.
 INPUT_THROTTLE = 0.12
@@ -121,14 +126,20 @@ class Page:
         time.sleep(INPUT_THROTTLE)
 
     def tab(self, name: str) -> None:
-        self.page.get_by_role("tab", name=name).click()
-        time.sleep(0.1)
+        tab = self.page.get_by_role("tab", name=name)
+        tab.click()
+        wait_until(lambda: tab.get_attribute("aria-selected") == "true", 10, f"the {name} tab")
 
     def fill(self, label: str, text: str) -> None:
         box = self.input_for(label)
         box.fill(text)
         box.press("Enter")
-        time.sleep(0.3)
+        time.sleep(0.3)  # typed and sent (viser's input throttle) before the next input
+
+    def open_folder(self, title: str, shows: str) -> None:
+        """Open the panel's folder ``title``; returns once its text ``shows`` is visible."""
+        self.page.get_by_text(title, exact=True).first.click()
+        self.page.get_by_text(shows, exact=True).first.wait_for(state="visible", timeout=10000)
 
     def status(self) -> str:
         return self.page.locator(".al-message").first.inner_text()
@@ -141,9 +152,15 @@ class Page:
     def shot(self, name: str) -> bytes:
         """A screenshot without the browser's software-rendering notice (a machine
         without a GPU shows it; a student's laptop does not)."""
-        self.page.evaluate(DISMISS_JS)
-        time.sleep(0.3)
+        wait_until(lambda: self.page.evaluate(DISMISS_JS) == 0, 10, "the notices closed")
         return self.page.screenshot(path=str(ARTIFACTS / f"{name}.png"))
+
+    def saved_state(self) -> dict[str, Any] | None:
+        """The state the server saved in this page (lesson, preset, values), if any."""
+        from analyzer_lab.view.persistence import STORAGE_KEY
+
+        text = self.page.evaluate("k => localStorage.getItem(k)", STORAGE_PREFIX + STORAGE_KEY)
+        return json.loads(text) if text else None
 
     def camera_revision(self) -> int:
         """The session's camera revision (read once a load has finished: it is set)."""

@@ -5,9 +5,11 @@ message (the hand-made client of the hardening tests and of the classroom benchm
 from __future__ import annotations
 
 import asyncio
+import itertools
 import time
 from typing import Any
 
+from tests.support.waiting import until
 from tests.support.wire import POINT_NODE, camera_message, decode_frame, encode, gui_update
 
 
@@ -135,3 +137,19 @@ async def play(c: ProtoClient, preset: str = "example-1.1") -> None:
     await c.set("Preset", preset, 0.3)
     await c.set("pause at t_end", False, 0.1)
     await c.set("Run", "Play", 0.1)
+
+
+_REPORTS = itertools.count(1)
+
+
+async def handled(c: ProtoClient, view: Any, timeout: float = 10.0) -> None:
+    """Wait until an in-process server has handled every message ``c`` sent so far: a
+    page's messages are handled in arrival order, so a camera report sent now reaches the
+    page's server-side camera (``view.client.camera``) after all of them."""
+    x = 3.0 + next(_REPORTS) / 1024
+    await c.send(camera_message((x, 3.0, 3.0)))
+    await until(
+        lambda: float(view.client.camera.position[0]) == x,
+        timeout,
+        "the server to handle the page's messages",
+    )

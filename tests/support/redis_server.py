@@ -65,6 +65,16 @@ class RedisServer:
         client.close()
         return self
 
+    def subscribers(self, channel: str) -> int:
+        """How many connections listen on ``channel`` now."""
+        import redis
+
+        client = redis.Redis(host="127.0.0.1", port=self.port, socket_connect_timeout=0.5)
+        try:
+            return int(dict(client.pubsub_numsub(channel)).get(channel.encode(), 0))
+        finally:
+            client.close()
+
     def stop(self) -> None:
         if self.proc is not None and self.proc.poll() is None:
             self.proc.terminate()
