@@ -3,7 +3,7 @@
     python -m benchmarks.cluster_load [--workers 2] [--pages 100] [--students 100] [--seconds 10]
 
 Starts its own ``redis-server`` (Debian's, on a free loopback port) and
-``python -m app serve --workers N --bus redis://...``; every client asks the front door
+``python -m analyzer_lab serve --workers N --bus redis://...``; every client asks the front door
 for a page (HTTP, the redirect is not followed), then opens its websocket at the worker
 it was sent to, as a browser does.  Two scenarios:
 
@@ -30,8 +30,9 @@ import time
 from collections import Counter
 from typing import Any
 
-from benchmarks.classroom_load import ProtoClient
-from benchmarks.loadtest import LabClient, count_window, free_port, page_plan
+from tests.support.client import ProtoClient
+from tests.support.load import LabClient, count_window, page_plan
+from tests.support.servers import free_port
 
 CODE = "cluster-bench-6613"
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
@@ -60,7 +61,7 @@ def start_redis(port: int) -> subprocess.Popen:
 
 
 def start_front_door(port: int, workers: int, bus: str, log: Any) -> subprocess.Popen:
-    """``python -m app serve --workers N --bus BUS``; returns when every worker runs."""
+    """``python -m analyzer_lab serve --workers N --bus BUS``; returns when every worker runs."""
     env = dict(os.environ, PYTHONPATH=ROOT + os.pathsep + os.environ.get("PYTHONPATH", ""))
     env.setdefault("ANALYZER_LAB_STATS", "5")
     proc = subprocess.Popen(
@@ -87,8 +88,9 @@ def start_front_door(port: int, workers: int, bus: str, log: Any) -> subprocess.
 
 
 def status(port: int) -> dict[str, Any]:
+    """The front door's status, asked as the instructor."""
     conn = http.client.HTTPConnection("127.0.0.1", port, timeout=5)
-    conn.request("GET", "/frontdoor/status")
+    conn.request("GET", "/frontdoor/status", headers={"X-Instructor-Code": CODE})
     data = json.loads(conn.getresponse().read())
     conn.close()
     return data

@@ -2,7 +2,7 @@
 
     python -m benchmarks.soak --minutes 30 [--students 20] [--churn 3]
 
-Runs ``python -m app serve`` as a subprocess.  An instructor page (a real websocket
+Runs ``python -m analyzer_lab serve`` as a subprocess.  An instructor page (a real websocket
 client speaking viser's protocol) enters the code, plays a preset and alternates
 "Follow me" and "Release" every 30 s, moving to the next preset each time (a
 run that plays for ever keeps up to MAX_LOG samples for export, about 2 MB for the
@@ -28,8 +28,9 @@ import tempfile
 import time
 from typing import Any
 
-from benchmarks.classroom_load import BENCH_CODE, ProtoClient, start_server
-from benchmarks.loadtest import free_port
+from benchmarks.classroom_load import BENCH_CODE, start_server
+from tests.support.client import ProtoClient
+from tests.support.servers import free_port
 
 
 def last_report(path: str) -> dict[str, int]:

@@ -1,4 +1,4 @@
-"""Test selection: the full suite (what CI runs) and a quick subset for daily work.
+"""Test selection, and the fixtures the test modules share.
 
 Tests that start a live server (real websockets, real browser) are marked ``live``
 by file; one browser smoke test is also marked ``quick``.  The quick command
@@ -6,11 +6,25 @@ by file; one browser smoke test is also marked ``quick``.  The quick command
     python -m pytest -m "quick or not (live or slow)"
 
 runs the model, the CLI and that smoke test.
+
+Fixtures: ``lab`` (an in-process server for the module; a module that needs other
+options overrides it with ``make_lab``), ``serve`` (``python -m analyzer_lab serve``
+subprocesses for the module), ``browser`` (Debian's Chromium through Playwright), ``tab``
+(a fresh page) and ``shared_tab`` (a page reused through the module), ``redis_server``
+(a redis-server for one test).  The helpers behind them are in :mod:`tests.support`.
 """
 
 from __future__ import annotations
 
+from collections.abc import Callable, Iterator
+from pathlib import Path
+from typing import Any
+
 import pytest
+
+from tests.support.browser import ARTIFACTS, CHROMIUM, LAUNCH_ARGS, Page, require_browser
+from tests.support.redis_server import RedisServer
+from tests.support.servers import ServeProcess
 
 LIVE_FILES = {
     "test_attacks_stepping.py",
@@ -32,3 +46,88 @@ def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item
     for item in items:
         if item.path.name in LIVE_FILES:
             item.add_marker(pytest.mark.live)
+
+
+@pytest.fixture(scope="module")
+def make_lab(request: pytest.FixtureRequest) -> Iterator[Callable[..., Any]]:
+    """Start in-process servers for this module: ``make_lab(**options)`` is
+    ``LabServer(host="127.0.0.1", port=0, **options)``; all stop at the module's end.  In a
+    module marked ``browser``, a missing browser skips before a server starts."""
+    started: list[Any] = []
+
+    def make(**options: Any) -> Any:
+        if request.node.get_closest_marker("browser") is not None:
+            require_browser()
+        from analyzer_lab.serve.server import LabServer
+
+        server = LabServer(host="127.0.0.1", port=0, **options)
+        started.append(server)
+        return server
+
+    yield make
+    for server in reversed(started):
+        server.stop()
+
+
+@pytest.fixture(scope="module")
+def lab(make_lab: Callable[..., Any]) -> Any:
+    """The module's in-process server on the sphere (every lesson, warmed up)."""
+    return make_lab(lesson="sphere")
+
+
+@pytest.fixture(scope="module")
+def serve(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Callable[..., ServeProcess]]:
+    """Start ``python -m analyzer_lab serve`` subprocesses for this module:
+    ``serve(lesson, *flags)`` returns once the server answers; its stderr goes to
+    ``log_path``; all stop at the module's end."""
+    started: list[ServeProcess] = []
+
+    def start(lesson: str = "sphere", *flags: str) -> ServeProcess:
+        log_path: Path = tmp_path_factory.mktemp("serve") / "server.log"
+        server = ServeProcess.start(lesson, flags, log_path)
+        started.append(server)
+        return server
+
+    yield start
+    for server in reversed(started):
+        server.stop()
+
+
+@pytest.fixture(scope="module")
+def browser() -> Iterator[Any]:
+    """Debian's Chromium, launched by Playwright for this module (skipped without it;
+    failing under CI=true)."""
+    require_browser()
+    from playwright.sync_api import sync_playwright
+
+    ARTIFACTS.mkdir(exist_ok=True)
+    with sync_playwright() as p:
+        b = p.chromium.launch(executable_path=CHROMIUM, args=LAUNCH_ARGS)
+        yield b
+        b.close()
+
+
+@pytest.fixture()
+def tab(lab: Any, browser: Any) -> Iterator[Page]:
+    """A fresh page of ``lab`` (closed after the test)."""
+    p = Page(lab, browser)
+    yield p
+    p.close()
+
+
+@pytest.fixture(scope="module")
+def shared_tab(lab: Any, browser: Any) -> Iterator[Page]:
+    """One page of ``lab`` (900 x 640) reused by the module's tests."""
+    context = browser.new_context(viewport={"width": 900, "height": 640})
+    p = Page(lab, browser, context)
+    yield p
+    p.close()
+
+
+@pytest.fixture()
+def redis_server() -> Iterator[RedisServer]:
+    """A redis-server on a free loopback port for one test (skipped without it; failing
+    under CI=true); the test may stop and start it again."""
+    server = RedisServer().start()
+    yield server
+    server.stop()

@@ -15,7 +15,7 @@ from analyzer_lab.lessons.analyzers.surfaces.quadric import Quadric
 from analyzer_lab.lessons.kit.formula import parse_formula
 from analyzer_lab.lessons.kit.integrators import gl_propagators
 
-from tests.test_analyzer import SURFACES
+from tests.support.surfaces import SURFACES
 
 
 def family_model(V):

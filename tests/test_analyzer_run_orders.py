@@ -12,7 +12,7 @@ from analyzer_lab.lessons.analyzers.field.run import MAX_TURNS, SpeedStepper, Tr
 from analyzer_lab.lessons.analyzers.surfaces.quadric import Quadric
 from analyzer_lab.lessons.kit.formula import parse_formula
 
-from benchmarks.integrators import problems
+from tests.support.integrator_problems import problems
 
 
 def benchmark_problem(k: int) -> tuple[AnalyzerModel, np.ndarray, float]:

@@ -8,12 +8,13 @@ import csv
 import io
 import json
 import time
-from collections.abc import Iterator
+from collections.abc import Callable
 from typing import Any
 
 import pytest
 
-from tests.test_browser import ARTIFACTS, CHROMIUM, LAUNCH_ARGS, Page, _require_browser, wait_until
+from tests.support.browser import Page
+from tests.support.waiting import wait_until
 
 pytestmark = [pytest.mark.browser, pytest.mark.timeout(600)]
 CODE = "assign-4826-class"
@@ -21,39 +22,21 @@ TASK = "circle-speed-10"
 
 
 @pytest.fixture(scope="module")
-def lab() -> Iterator[Any]:
-    _require_browser()
+def lab(make_lab: Callable[..., Any]) -> Any:
     from analyzer_lab.lessons.catalog import get_lesson
-    from analyzer_lab.serve.server import LabServer
 
-    server = LabServer(
-        host="127.0.0.1",
-        port=0,
+    return make_lab(
         lesson="sphere",
         lessons=[get_lesson("sphere"), get_lesson("circle")],
         instructor_code=CODE,
         warm_up=False,
     )
-    yield server
-    server.stop()
-
-
-@pytest.fixture(scope="module")
-def browser(lab: Any) -> Iterator[Any]:
-    from playwright.sync_api import sync_playwright
-
-    ARTIFACTS.mkdir(exist_ok=True)
-    with sync_playwright() as p:
-        b = p.chromium.launch(executable_path=CHROMIUM, args=LAUNCH_ARGS)
-        yield b
-        b.close()
 
 
 def _sign_in(p: Page) -> None:
-    p.page.get_by_text("Instructor", exact=True).first.click()
-    time.sleep(0.2)
+    p.open_folder("Instructor", "Instructor code")
     p.fill("Instructor code", CODE)
-    time.sleep(0.15)
+    time.sleep(0.15)  # viser's 50 ms input throttle
     p.button("Become instructor")
     p.page.get_by_role("button", name="Push assignment to all", exact=True).wait_for(timeout=10000)
 
@@ -160,8 +143,7 @@ def test_instructor_authors_an_assignment_from_the_state(lab: Any, browser: Any)
     inst = Page(lab, browser)
     try:
         _sign_in(inst)
-        inst.page.get_by_text("Author from this state", exact=True).click()
-        time.sleep(0.2)
+        inst.open_folder("Author from this state", "Unlocked")
         inst.fill("Unlocked", "u1, warp")
         inst.button("Download assignment")
         err = inst.page.locator(".al-assignment-error").first

@@ -1,6 +1,6 @@
-"""Attacks on the stepping, against ``python -m app serve`` in a subprocess with real
+"""Attacks on the stepping, against ``python -m analyzer_lab serve`` in a subprocess with real
 websocket clients speaking viser's protocol (the scenarios of
-:mod:`benchmarks.attacks_stepping`).
+:mod:`tests.support.stepping_attacks`, which ``python -m benchmarks.attacks_stepping`` measures).
 
 A normal page plays the sphere's Example 1.1; an attacker page, on the same server, sets
 allowed values that make stepping expensive (attack 1: u1 = 5 sin t with the smallest
@@ -15,27 +15,23 @@ the attacker's reaches the normal page, and the server prints no traceback.
 from __future__ import annotations
 
 import asyncio
-import os
-import tempfile
-from collections.abc import Iterator
+from collections.abc import Callable
 from typing import Any
 
 import pytest
 
-from benchmarks.attacks_stepping import NOT_FINITE, TINY_STEP, attack, start
+from tests.support.servers import ServeProcess
+from tests.support.stepping_attacks import NOT_FINITE, TINY_STEP, attack
 
 pytestmark = pytest.mark.timeout(180)
 
 
 @pytest.fixture(scope="module")
-def server() -> Iterator[tuple[str, Any, str]]:
-    log_path = os.path.join(tempfile.mkdtemp(prefix="analyzer-lab-attack-"), "server.log")
-    url, ps, proc = start(log_path)
-    try:
-        yield url, ps, log_path
-    finally:
-        proc.terminate()
-        proc.wait(10)
+def server(serve: Callable[..., ServeProcess]) -> tuple[str, Any, str]:
+    import psutil
+
+    live = serve("sphere")
+    return live.url, psutil.Process(live.pid), str(live.log_path)
 
 
 def check(figures: dict[str, Any], log_path: str, name: str) -> None:
@@ -63,14 +59,18 @@ def test_a_tiny_step_at_8x_slows_only_the_attackers_clock(
     server: tuple[str, Any, str], lesson_id: str
 ) -> None:
     url, proc, log_path = server
-    figures = asyncio.run(attack(url, proc, lesson_id, TINY_STEP, "the step is too small"))
+    figures = asyncio.run(
+        attack(url, proc, lesson_id, TINY_STEP, "the step is too small", log_path=log_path)
+    )
     check(figures, log_path, f"attack 1 ({lesson_id})")
     assert any("the step is too small for live play" in s for s in figures["attacker"])
 
 
 def test_a_non_finite_state_pauses_the_attackers_session(server: tuple[str, Any, str]) -> None:
     url, proc, log_path = server
-    figures = asyncio.run(attack(url, proc, "sphere", NOT_FINITE, "is not finite"))
+    figures = asyncio.run(
+        attack(url, proc, "sphere", NOT_FINITE, "is not finite", log_path=log_path)
+    )
     check(figures, log_path, "attack 7 (NaN)")
     told = [s for s in figures["attacker"] if "is not finite" in s]
     assert any("at t = 101" in s and "playback paused" in s for s in told), told

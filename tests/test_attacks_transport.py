@@ -1,5 +1,5 @@
 """Attacks on the transport, the sign-in, the input work, exports and derivations, made by
-real websocket clients (viser's protocol) against ``python -m app serve`` in a subprocess.
+real websocket clients (viser's protocol) against ``python -m analyzer_lab serve`` in a subprocess.
 
 Each test measures a normal page playing the sphere's Example 1.1 (updates/s of its
 moving point) before, during and after the attack, in the same run: it keeps >= 90 % of
@@ -13,16 +13,18 @@ from __future__ import annotations
 
 import asyncio
 import multiprocessing
-import os
 import secrets
 import statistics
 import subprocess
-import tempfile
 import time
 from collections.abc import Awaitable, Callable, Iterator
 from typing import Any
 
 import pytest
+
+from tests.support.client import ProtoClient, play
+from tests.support.servers import ServeProcess
+from tests.support.wire import camera_message, encode, gui_update
 
 CODE = "attack-test-code-2718"
 MARKER = "ATTACKER-7f3e"
@@ -34,8 +36,6 @@ ROWS: list[str] = []
 
 
 async def _connect_page(url: str) -> Any:
-    from benchmarks.classroom_load import ProtoClient
-
     c = await ProtoClient(url).start()
     await c.wait_for("Run", 30)
     return c
@@ -44,8 +44,6 @@ async def _connect_page(url: str) -> Any:
 async def _form_dirty(url: str, seconds: float) -> dict[str, Any]:
     """Five pages sending viser form "dirty" flags with 50 kB uuids as fast as they can."""
     from viser import _messages
-
-    from benchmarks.loadtest import encode
 
     pages = [await _connect_page(url) for _ in range(5)]
     sent = 0
@@ -59,7 +57,7 @@ async def _form_dirty(url: str, seconds: float) -> dict[str, Any]:
             await c.ws.send(encode(_messages.GuiFormDirtyMessage(uuid=uuid)))
             sent += 1
             n += 1
-            await asyncio.sleep(0)
+            await asyncio.sleep(0)  # the other pages flood too
 
     await asyncio.gather(*(flood(k, c) for k, c in enumerate(pages)), return_exceptions=True)
     for c in pages:
@@ -71,8 +69,6 @@ async def _oversized(url: str, seconds: float) -> dict[str, Any]:
     """Six connections at a time, each sending a 49 MB message, reconnecting when closed."""
     import viser
     import websockets
-
-    from benchmarks.loadtest import camera_message, encode
 
     big = b"\x00" * (49 * 1024 * 1024)
     end = time.monotonic() + seconds
@@ -98,7 +94,7 @@ async def _oversized(url: str, seconds: float) -> dict[str, Any]:
                         pass
                     closes[ws.close_code] = closes.get(ws.close_code, 0) + 1
             except Exception:
-                await asyncio.sleep(0.05)
+                await asyncio.sleep(0.05)  # refused before it opened: connect again
 
     await asyncio.gather(*(one() for _ in range(6)))
     return {"closes": closes}
@@ -141,8 +137,6 @@ async def _lesson_flood(url: str, seconds: float) -> dict[str, Any]:
     from analyzer_lab.lessons.catalog import all_lessons
     from analyzer_lab.session.session import lesson_label
 
-    from benchmarks.loadtest import encode, gui_update
-
     labels = [lesson_label(x) for x in all_lessons()[:2]]
     pages = list(await asyncio.gather(*(_connect_page(url) for _ in range(20))))
     end = time.monotonic() + seconds
@@ -156,7 +150,7 @@ async def _lesson_flood(url: str, seconds: float) -> dict[str, Any]:
             await c.ws.send(encode(gui_update(uuid, labels[k % 2])))
             sent += 1
             k += 1
-            await asyncio.sleep(0.002)
+            await asyncio.sleep(0.002)  # 500 changes a second
 
     await asyncio.gather(*(flood(c) for c in pages), return_exceptions=True)
     for c in pages:
@@ -207,7 +201,7 @@ async def _slow_derivation(url: str, seconds: float) -> dict[str, Any]:
             break
         await asyncio.sleep(0.1)
     took = time.monotonic() - t
-    await asyncio.sleep(max(0.0, seconds - took))
+    await asyncio.sleep(max(0.0, seconds - took))  # the attack lasts its time
     await c.close()
     return {"message": shown, "after": took}
 
@@ -269,22 +263,10 @@ class Attack:
 
 
 @pytest.fixture(scope="module")
-def server() -> Iterator[tuple[str, subprocess.Popen]]:
-    from benchmarks.loadtest import free_port, start_server
-
-    port = free_port()
-    log = tempfile.NamedTemporaryFile("w+", suffix=".log", delete=False)
-    proc = start_server(port, "sphere", log, ("--instructor-code", CODE))
-    url = f"ws://127.0.0.1:{port}/"
-    asyncio.run(_warm(url))
-    yield url, proc
-    proc.terminate()
-    try:
-        proc.wait(5)
-    except subprocess.TimeoutExpired:
-        proc.kill()
-    log.close()
-    os.unlink(log.name)
+def server(serve: Callable[..., ServeProcess]) -> Iterator[tuple[str, subprocess.Popen]]:
+    live = serve("sphere", "--instructor-code", CODE)
+    asyncio.run(_warm(live.url))
+    yield live.url, live.proc
     for row in ROWS:
         print(row)
 
@@ -297,7 +279,7 @@ async def _warm(url: str) -> None:
     pages = [await _connect_page(url) for _ in range(4)]
     for c in pages:
         await c.set("curves in the family", 3, 0.2)
-    await asyncio.sleep(3.0)
+    await asyncio.sleep(3.0)  # the pages play (the first run's memory)
     for c in pages:
         await c.close()
     for _ in range(25):
@@ -314,7 +296,7 @@ async def _warm(url: str) -> None:
     for button in ("HTML replay", "Download CSV (frames)"):
         await c.click(button, 3.0)
     await c.close()
-    await asyncio.sleep(2.0)
+    await asyncio.sleep(2.0)  # the allocator settles after the export
 
 
 def _rss(proc: subprocess.Popen) -> float:
@@ -324,11 +306,9 @@ def _rss(proc: subprocess.Popen) -> float:
 
 
 async def _normal(url: str) -> Any:
-    from benchmarks.classroom_load import _play
-
     c = await _connect_page(url)
-    await _play(c)
-    await asyncio.sleep(3.0)
+    await play(c)
+    await asyncio.sleep(3.0)  # the page plays a while before it is measured
     return c
 
 
@@ -346,7 +326,7 @@ class Sampler:
         self.c.measuring = True
         while True:
             start, t = self.c.point_updates, time.monotonic()
-            await asyncio.sleep(0.5)
+            await asyncio.sleep(0.5)  # a window of the rate
             self.rates.append((self.c.point_updates - start) / (time.monotonic() - t))
 
     async def stop(self) -> float:
@@ -358,7 +338,7 @@ class Sampler:
 
 async def _rate(c: Any, seconds: float) -> float:
     sampler = Sampler(c)
-    await asyncio.sleep(seconds)
+    await asyncio.sleep(seconds)  # the rate's windows
     return await sampler.stop()
 
 
@@ -384,18 +364,18 @@ async def _measured(
     await attack.wait_ready()
     if before is not None:
         await before(normal)
-    await asyncio.sleep(1.0)
+    await asyncio.sleep(1.0)  # settled before the baseline
     base = await _rate(normal, 5.0)
     mem0 = _rss(proc)
     attack.go.set()
     if during is not None:
         during_rate = await during(normal, attack)
     else:
-        await asyncio.sleep(1.0)
+        await asyncio.sleep(1.0)  # the attack under way
         during_rate = await _rate(normal, seconds - 2.0)
     peak = _rss(proc)
     figures = await attack.result()
-    await asyncio.sleep(3.0)
+    await asyncio.sleep(3.0)  # settled after the attackers left
     after = await _rate(normal, 5.0)
     mem1 = _rss(proc)
     row = (
@@ -420,7 +400,7 @@ def test_form_dirty_flags_are_dropped_and_never_broadcast(server: Any) -> None:
         t = time.monotonic()
         fresh = await _connect_page(server[0])
         assert time.monotonic() - t < 3.0
-        await asyncio.sleep(0.5)
+        await asyncio.sleep(0.5)  # what the attackers sent would have arrived by now
         _nothing_from_attackers(fresh)
         await fresh.close()
 
@@ -440,12 +420,10 @@ def test_guessing_never_refuses_the_instructor(server: Any) -> None:
     tries: list[bool] = []
 
     async def during(normal: Any, attack: Attack) -> float:
-        from benchmarks.classroom_load import ProtoClient
-
         sampler = Sampler(normal)
         t0 = time.monotonic()
         while time.monotonic() - t0 < 18.0:
-            await asyncio.sleep(2.0)
+            await asyncio.sleep(2.0)  # an instructor signs in every 2 s
             inst = await ProtoClient(url).start()
             try:
                 await inst.become_instructor(CODE)
@@ -506,7 +484,7 @@ def test_a_slow_derivation_never_delays_another_pages(server: Any) -> None:
     async def go() -> None:
         victim = await _connect_page(url)
         await victim.set("Preset", "example-1.1", 0.5)
-        await asyncio.sleep(1.0)
+        await asyncio.sleep(1.0)  # the preset's derivation shown before the latency is timed
         latencies["before"] = await derivation_latency(victim, "5*sin(t) + 0.25")
 
         async def during(normal: Any, attack: Attack) -> float:
@@ -514,6 +492,7 @@ def test_a_slow_derivation_never_delays_another_pages(server: Any) -> None:
             t0 = time.monotonic()
             await asyncio.sleep(2.0)  # the attacker's derivation is being built
             latencies["during"] = await derivation_latency(victim, "5*sin(t) + 0.5")
+            # the rest of the attack's 9 s
             await asyncio.sleep(max(0.0, 9.0 - (time.monotonic() - t0)))
             return await sampler.stop()
 

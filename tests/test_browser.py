@@ -1,187 +1,22 @@
 """The lab in a real browser: Playwright driving Debian's Chromium against an in-process server.
 
 Screenshots go to tests/artifacts/ (git-ignored).  Without Chromium these tests skip
-(install it with ``apt-get install chromium``); with CI=true they fail instead.
+(install it with ``apt-get install chromium``); with CI=true they fail instead.  The
+server, the browser and the pages are the fixtures of tests/conftest.py.
 """
 
 from __future__ import annotations
 
-import os
-import re
 import time
-from collections.abc import Callable, Iterator
-from pathlib import Path
 from typing import Any
 
 import numpy as np
 import pytest
 
+from tests.support.browser import ARTIFACTS, Page
+from tests.support.waiting import wait_until
+
 pytestmark = [pytest.mark.browser, pytest.mark.timeout(300)]
-
-CHROMIUM = "/usr/bin/chromium"
-LAUNCH_ARGS = [
-    "--no-sandbox",
-    "--disable-gpu",
-    "--disable-background-networking",
-    "--disable-component-update",
-    "--disable-sync",
-    "--no-first-run",
-]
-ARTIFACTS = Path(__file__).parent / "artifacts"
-#: Closes the page's notifications (e.g. viser's software-WebGL notice).
-DISMISS_JS = """() => {
-  for (const b of document.querySelectorAll('.mantine-Notification-closeButton, '
-      + '[class*=Notification] button[aria-label], [class*=Notification] button')) b.click();
-}"""
-
-
-def _require_browser() -> None:
-    missing = None
-    if not os.path.exists(CHROMIUM):
-        missing = f"Chromium not found at {CHROMIUM}; install it with `apt-get install chromium`"
-    else:
-        try:
-            import playwright.sync_api  # noqa: F401
-        except ImportError:
-            missing = (
-                "the python package `playwright` is missing (pip install playwright;"
-                " the browser comes from `apt-get install chromium`)"
-            )
-    if missing:
-        if os.environ.get("CI", "").lower() == "true":
-            pytest.fail(missing + " (CI=true: browser tests must run)")
-        pytest.skip(missing)
-
-
-def wait_until(cond: Callable[[], Any], timeout: float = 15.0, what: str = "condition") -> Any:
-    deadline = time.monotonic() + timeout
-    while time.monotonic() < deadline:
-        value = cond()
-        if value:
-            return value
-        time.sleep(0.05)
-    raise AssertionError(f"timed out waiting for {what}")
-
-
-@pytest.fixture(scope="module")
-def lab() -> Iterator[Any]:
-    _require_browser()
-    from analyzer_lab.serve.server import LabServer
-
-    server = LabServer(host="127.0.0.1", port=0, lesson="sphere")
-    yield server
-    server.stop()
-
-
-@pytest.fixture(scope="module")
-def browser(lab: Any) -> Iterator[Any]:
-    from playwright.sync_api import sync_playwright
-
-    ARTIFACTS.mkdir(exist_ok=True)
-    with sync_playwright() as p:
-        b = p.chromium.launch(executable_path=CHROMIUM, args=LAUNCH_ARGS)
-        yield b
-        b.close()
-
-
-class Page:
-    """One tab of the lab: the Playwright page, its console errors and its server-side view."""
-
-    def __init__(self, lab: Any, browser: Any, context: Any = None) -> None:
-        self.lab = lab
-        self.context = context or browser.new_context(
-            viewport={"width": 1100, "height": 760}, accept_downloads=True
-        )
-        self.page = self.context.new_page()
-        self.errors: list[str] = []
-        self.page.on("console", lambda m: self.errors.append(m.text) if m.type == "error" else None)
-        self.page.on("pageerror", lambda e: self.errors.append(f"pageerror: {e}"))
-        before = set(lab.views)
-        self.page.goto(lab.url)
-        self.label("Lesson").wait_for(timeout=30000)
-        new = wait_until(lambda: set(lab.views) - before, 20, "the session")
-        self.view = lab.views[max(new)]
-        wait_until(lambda: self.page.locator("math").count() > 0, 20, "rendered equations")
-
-    @property
-    def session(self) -> Any:
-        return self.view.session
-
-    def label(self, text: str) -> Any:
-        return self.page.locator("label").filter(has_text=re.compile(f"^{re.escape(text)}$")).first
-
-    def input_for(self, label: str) -> Any:
-        """The visible input in the row of this label (viser puts label and input side by side)."""
-        return (
-            self.label(label)
-            .locator("xpath=ancestor::div[.//input[not(@type='hidden')]][1]")
-            .locator("input:not([type='hidden'])")
-            .first
-        )
-
-    def options(self, label: str) -> list[str]:
-        self.input_for(label).click()
-        opts = self.page.get_by_role("option")
-        opts.first.wait_for(timeout=5000)
-        texts = opts.all_inner_texts()
-        self.page.keyboard.press("Escape")
-        return [t.strip() for t in texts]
-
-    def select(self, label: str, option: str) -> None:
-        self.input_for(label).click()
-        self.page.get_by_role("option", name=option, exact=True).click()
-        time.sleep(0.12)  # viser's 50 ms input throttle
-
-    def button(self, name: str) -> None:
-        self.page.get_by_role("button", name=name, exact=True).click()
-        time.sleep(0.12)
-
-    def tab(self, name: str) -> None:
-        self.page.get_by_role("tab", name=name).click()
-        time.sleep(0.1)
-
-    def fill(self, label: str, text: str) -> None:
-        box = self.input_for(label)
-        box.fill(text)
-        box.press("Enter")
-        time.sleep(0.3)
-
-    def status(self) -> str:
-        return self.page.locator(".al-message").first.inner_text()
-
-    def field_errors(self) -> str:
-        """The messages shown next to fields now (one line each)."""
-        errs = self.page.locator(".al-field-error")
-        return "\n".join(t for t in errs.all_inner_texts() if t.strip())
-
-    def shot(self, name: str) -> bytes:
-        """A screenshot without the browser's software-rendering notice (a machine
-        without a GPU shows it; a student's laptop does not)."""
-        self.page.evaluate(DISMISS_JS)
-        time.sleep(0.3)
-        return self.page.screenshot(path=str(ARTIFACTS / f"{name}.png"))
-
-    def load(self, lesson_label: str, preset: str) -> None:
-        if self.page.locator("label").filter(has_text=re.compile("^Lesson$")).count():
-            current = self.input_for("Lesson").input_value()
-            if current != lesson_label:
-                self.select("Lesson", lesson_label)
-        self.select("Preset", preset)
-        wait_until(
-            lambda: self.session.preset == (None if preset == "(defaults)" else preset),
-            10,
-            f"preset {preset}",
-        )
-
-    def close(self) -> None:
-        self.context.close()
-
-
-@pytest.fixture()
-def tab(lab: Any, browser: Any) -> Iterator[Page]:
-    p = Page(lab, browser)
-    yield p
-    p.close()
 
 
 def _label_of(lesson: Any) -> str:
@@ -235,7 +70,7 @@ def test_sphere_example_plays_slider_changes_motion_and_plots_update(tab: Page) 
     charts = tab.page.locator(".uplot")
     wait_until(lambda: charts.count() == len(tab.session.lesson.plots), 5, "uPlot charts")
     c0 = charts.first.screenshot()
-    time.sleep(1.0)
+    time.sleep(1.0)  # a second of playing: the chart's picture moves on
     c1 = charts.first.screenshot(path=str(ARTIFACTS / "plot-velocity.png"))
     assert c0 != c1
     tab.button("Pause")
@@ -346,7 +181,11 @@ def test_reload_restores_lesson_and_parameters(tab: Page) -> None:
     tab.tab("Controls")
     tab.fill("u3(t) =", "4")
     wait_until(lambda: tab.session.raw_values()["u3"] == "4", 5, "u3")
-    time.sleep(0.3)
+    wait_until(
+        lambda: (tab.saved_state() or {}).get("values", {}).get("u3") == "4",
+        5,
+        "u3 saved in the page",
+    )
     before = set(tab.lab.views)
     tab.page.reload()
     new = wait_until(lambda: set(tab.lab.views) - before, 20, "the reloaded session")
@@ -359,14 +198,6 @@ def _catalog_cases() -> list[tuple[str, str]]:
     from analyzer_lab.lessons.catalog import all_lessons
 
     return [(l.id, p) for l in all_lessons() for p in ["(defaults)", *(q.name for q in l.presets)]]
-
-
-@pytest.fixture(scope="module")
-def shared_tab(lab: Any, browser: Any) -> Iterator[Page]:
-    context = browser.new_context(viewport={"width": 900, "height": 640})
-    p = Page(lab, browser, context)
-    yield p
-    p.close()
 
 
 @pytest.mark.parametrize("lesson_id, preset", _catalog_cases())
@@ -403,13 +234,14 @@ def test_every_lesson_and_preset_plays(shared_tab: Page, lesson_id: str, preset:
 def test_arrow_keys_on_a_focused_slider_move_the_slider_not_the_camera(tab: Page) -> None:
     tab.load(_label_of(tab.session.lesson), "example-1.1")
     tab.tab("Controls")
-    time.sleep(0.5)
+    revision = tab.camera_revision()
+    wait_until(lambda: tab.framed_camera(revision), 15, "the framed camera")
     before = np.array(tab.view.client.camera.position, dtype=float)
     tab.page.get_by_role("slider").first.focus()
     for _ in range(5):
         tab.page.keyboard.press("ArrowRight")
-        time.sleep(0.1)
+        time.sleep(0.1)  # one key per input viser sends (it sends at most every 50 ms)
     wait_until(lambda: tab.session.raw_values()["u1"] != "5", 5, "the slider moved")
-    time.sleep(0.5)
+    time.sleep(0.5)  # a camera the keys moved would be reported by now: none may come
     after = np.array(tab.view.client.camera.position, dtype=float)
     assert np.allclose(before, after), (before, after)

@@ -15,7 +15,8 @@ from typing import Any
 import numpy as np
 import pytest
 
-from tests.test_browser import ARTIFACTS, CHROMIUM, LAUNCH_ARGS, Page, _require_browser, wait_until
+from tests.support.browser import Page, quat_matrix
+from tests.support.waiting import wait_until
 
 pytestmark = [pytest.mark.browser, pytest.mark.timeout(600)]
 
@@ -46,17 +47,6 @@ TEXT_JS = """() => {
 }"""
 
 
-def _quat_matrix(wxyz: np.ndarray) -> np.ndarray:
-    w, x, y, z = wxyz / np.linalg.norm(wxyz)
-    return np.array(
-        [
-            [1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
-            [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
-            [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)],
-        ]
-    )
-
-
 def coverage(camera: Any, bounds: Any) -> float:
     """The scene box's projected extent over the canvas's shorter side, from the camera
     the page reports (viser's camera frame: x right, y down, z forward)."""
@@ -64,7 +54,7 @@ def coverage(camera: Any, bounds: Any) -> float:
     corners = np.array(
         [[a, b, c] for a in (lo[0], hi[0]) for b in (lo[1], hi[1]) for c in (lo[2], hi[2])]
     )
-    R = _quat_matrix(np.asarray(camera.wxyz, dtype=float))
+    R = quat_matrix(np.asarray(camera.wxyz, dtype=float))
     p = (corners - np.asarray(camera.position, dtype=float)) @ R  # world -> camera
     assert np.all(p[:, 2] > 0), "the scene is behind the camera"
     W, H = float(camera.image_width), float(camera.image_height)
@@ -77,27 +67,6 @@ def _cases() -> list[tuple[str, str]]:
     from analyzer_lab.lessons.catalog import all_lessons
 
     return [(lesson.id, p.name) for lesson in all_lessons() for p in lesson.presets]
-
-
-@pytest.fixture(scope="module")
-def lab() -> Iterator[Any]:
-    _require_browser()
-    from analyzer_lab.serve.server import LabServer
-
-    server = LabServer(host="127.0.0.1", port=0, lesson="sphere")
-    yield server
-    server.stop()
-
-
-@pytest.fixture(scope="module")
-def browser(lab: Any) -> Iterator[Any]:
-    from playwright.sync_api import sync_playwright
-
-    ARTIFACTS.mkdir(exist_ok=True)
-    with sync_playwright() as p:
-        b = p.chromium.launch(executable_path=CHROMIUM, args=LAUNCH_ARGS)
-        yield b
-        b.close()
 
 
 @pytest.fixture(scope="module", params=list(SIZES))
@@ -126,26 +95,12 @@ def _choose(tab: Page, lesson_id: str, preset: str) -> None:
 
 def _framed(tab: Page) -> float:
     """Wait until the page reports the camera the view framed; return its coverage."""
-    view = tab.view
-    with view.session.lock:  # the preset's load has finished: its camera revision is set
-        want = view.session.camera_revision
+    want = tab.camera_revision()  # the preset's load has finished: its camera revision is set
 
     def ready() -> float | None:
-        framed = view.renderer.framed
-        if view._drawn_camera_rev != want or framed is None:
+        cam = tab.framed_camera(want)
+        if cam is None:
             return None
-        cam = view.client.camera
-        position = np.asarray(cam.position, dtype=float)
-        scale = float(np.linalg.norm(framed[0] - framed[1]))
-        look_at = np.asarray(cam.look_at, dtype=float)
-        forward = _quat_matrix(np.asarray(cam.wxyz, dtype=float))[:, 2]
-        aim = (framed[1] - framed[0]) / scale
-        if not (
-            np.allclose(position, framed[0], rtol=0.0, atol=1e-4 * scale)
-            and np.allclose(look_at, framed[1], rtol=0.0, atol=1e-4 * scale)
-            and float(forward @ aim) > 1 - 1e-4
-        ):
-            return None  # the page has not reported the framed camera yet
         try:
             return coverage(cam, tab.session.scene.bounds)
         except AssertionError:

@@ -39,7 +39,7 @@ def test_a_wall_clock_limit_counts_waiting_too() -> None:
         time.sleep(0.03)  # no CPU spent, the wall time is
         assert spent()
     with work_budget(10.0):
-        time.sleep(0.03)
+        time.sleep(0.03)  # waiting spends no CPU: no limit reached
         assert not spent()
 
 

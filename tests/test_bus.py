@@ -4,10 +4,10 @@
 from __future__ import annotations
 
 import json
-import time
 
 import pytest
 from analyzer_lab.classroom.bus import (
+    CHANNEL,
     MAX_MESSAGE_BYTES,
     BusError,
     LocalBus,
@@ -20,7 +20,7 @@ from analyzer_lab.classroom.bus import (
     wait_until,
 )
 
-from tests.helpers import RedisServer
+from tests.support.redis_server import RedisServer
 
 KEY = bus_key("code-1234")
 
@@ -92,8 +92,8 @@ def test_bus_addresses(url: str, ok: tuple[str, int, int] | None) -> None:
     assert isinstance(make_bus(None, "code-1234"), LocalBus)
 
 
-def test_a_redis_bus_delivers_reports_a_drop_and_reconnects() -> None:
-    server = RedisServer().start()
+def test_a_redis_bus_delivers_reports_a_drop_and_reconnects(redis_server: RedisServer) -> None:
+    server = redis_server
     a = make_bus(server.url, "code-1234", "a")
     b = make_bus(server.url, "code-1234", "b")
     try:
@@ -110,11 +110,10 @@ def test_a_redis_bus_delivers_reports_a_drop_and_reconnects() -> None:
         server.start()  # same port
         assert wait_until(lambda: a.up and b.up, 20), (a.reason, b.reason)
         assert changes[-1] == (True, "")
-        time.sleep(0.2)
+        assert wait_until(lambda: server.subscribers(CHANNEL) == 2, 5)  # both listen again
         assert a.publish("notice", {"text": "two"})
         assert wait_until(lambda: got[-1].body == {"text": "two"}, 5)
         assert "lost" not in [m.body.get("text") for m in got]
     finally:
         a.close()
         b.close()
-        server.stop()

@@ -15,9 +15,10 @@ from typing import Any
 
 import pytest
 
-from benchmarks.classroom_load import ProtoClient
-from benchmarks.loadtest import free_port
-from tests.helpers import RedisServer, start_worker, stop_process, until
+from tests.support.client import ProtoClient
+from tests.support.redis_server import RedisServer
+from tests.support.servers import free_port, start_worker, stop_process
+from tests.support.waiting import until, wait_until
 
 pytestmark = pytest.mark.timeout(300)
 CODE = "class-5821-bus7"
@@ -26,8 +27,8 @@ CODE = "class-5821-bus7"
 class Pair:
     """Two workers of one class on one Redis."""
 
-    def __init__(self, tmp: Path) -> None:
-        self.redis = RedisServer().start()
+    def __init__(self, tmp: Path, redis: RedisServer) -> None:
+        self.redis = redis
         self.logs = [tmp / "w1.log", tmp / "w2.log"]
         self.ports = [free_port(), free_port()]
         self.procs = [
@@ -44,12 +45,11 @@ class Pair:
     def stop(self) -> None:
         for p in self.procs:
             stop_process(p)
-        self.redis.stop()
 
 
 @pytest.fixture()
-def pair(tmp_path: Path) -> Iterator[Pair]:
-    p = Pair(tmp_path)
+def pair(tmp_path: Path, redis_server: RedisServer) -> Iterator[Pair]:
+    p = Pair(tmp_path, redis_server)
     yield p
     p.stop()
 
@@ -88,7 +88,7 @@ def test_a_follower_on_another_worker_follows_the_instructor(pair: Pair) -> None
         inst, local, remote = await _demo(pair)
         # the remote follower gets the demo's frames, and the instructor's edits
         remote.measuring = True
-        await asyncio.sleep(2.0)
+        await until(lambda: remote.point_updates >= 10, 10, "the demo's frames on w2")
         remote.measuring = False
         assert remote.point_updates >= 10, (
             remote.point_updates
@@ -122,7 +122,7 @@ def test_a_follower_on_another_worker_follows_the_instructor(pair: Pair) -> None
         await inst.set("Run", "Pause", 0.5)
         remote.point_updates = 0
         remote.measuring = True
-        await asyncio.sleep(1.5)
+        await asyncio.sleep(1.5)  # a paused demo: no frames may come meanwhile
         remote.measuring = False
         assert remote.point_updates <= 2, remote.point_updates
         await inst.set("Run", "Play", 0.1)
@@ -161,7 +161,9 @@ def test_killing_a_worker_leaves_the_other_and_the_demo_running(pair: Pair) -> N
         await until(lambda: remote.error or remote.ws.close_code is not None, 10, "w2's page lost")
         local.measuring = True
         inst.measuring = True
-        await asyncio.sleep(2.0)
+        await until(
+            lambda: local.point_updates >= 10 and inst.point_updates >= 10, 10, "frames on w1"
+        )
         assert local.point_updates >= 10 and inst.point_updates >= 10, (
             local.point_updates,
             inst.point_updates,
@@ -185,7 +187,7 @@ def test_a_dead_instructor_worker_releases_its_followers_elsewhere(pair: Pair) -
             lambda: any("no longer reaches" in n for n in remote.notifications), 15, "released"
         )
         remote.measuring = True
-        await asyncio.sleep(1.5)
+        await until(lambda: remote.point_updates >= 10, 10, "the page's own frames")
         assert remote.point_updates >= 10  # the page's own session goes on playing
         await remote.set("u1(t) =", "8 +", 0.1)
         await until(lambda: _field_error(remote), 10, "its own controls")
@@ -267,7 +269,7 @@ def test_a_bus_that_is_down_is_reported_and_reconnects(tmp_path: Path) -> None:
             await until(lambda: "al-bus-down" in _counts(inst), 20, "the drop on the panel")
             await inst.set("Run", "Play", 0.1)
             inst.measuring = True
-            await asyncio.sleep(1.0)
+            await until(lambda: inst.point_updates >= 5, 10, "the page's frames")
             assert inst.point_updates >= 5
             assert not inst.error
             await inst.close()
@@ -338,7 +340,7 @@ def test_two_servers_in_one_process_share_the_in_process_bus() -> None:
         for _ in range(20):
             with demo.lock:
                 demo.advance_wall(0.1)
-            time.sleep(0.1)
+            time.sleep(0.1)  # the demo plays 2 s: heartbeats cross the bus meanwhile
         link = b.classroom.link
         assert b.classroom.broadcaster == REMOTE and link.mirror is b.classroom.demo
         assert link.stats["rebuilds"] == 1 and link.stats["demos_applied"] >= 3
@@ -347,31 +349,19 @@ def test_two_servers_in_one_process_share_the_in_process_bus() -> None:
         assert abs(mirror.frame.t - demo.frame.t) < 0.8
         with demo.lock:
             demo.set_values({"u1": "3"})
-        deadline = time.monotonic() + 5
-        while mirror.raw_values().get("u1") != "3":
-            assert time.monotonic() < deadline, "the change did not cross"
-            time.sleep(0.05)
+        wait_until(lambda: mirror.raw_values().get("u1") == "3", 5, "the change to cross")
         assert link.stats["rebuilds"] == 1 and link.stats["live_changes"] == 1  # as the demo did
         with a.classroom.lock:
             a.classroom.release()
-        deadline = time.monotonic() + 5
-        while b.classroom.broadcaster is not None:
-            assert time.monotonic() < deadline, "the release did not cross"
-            time.sleep(0.05)
+        wait_until(lambda: b.classroom.broadcaster is None, 5, "the release to cross")
         # an instructor's "Release" on any server releases the demo of another server too
         with a.classroom.lock:
             a.classroom.broadcaster, a.classroom.demo = 7, demo
             a.classroom.link.broadcast_started()
-        deadline = time.monotonic() + 5
-        while b.classroom.broadcaster != REMOTE:
-            assert time.monotonic() < deadline, "the second demo did not cross"
-            time.sleep(0.05)
+        wait_until(lambda: b.classroom.broadcaster == REMOTE, 5, "the second demo to cross")
         with b.classroom.lock:
             b.classroom.release(everywhere=True)
-        deadline = time.monotonic() + 5
-        while a.classroom.broadcaster is not None:
-            assert time.monotonic() < deadline, "the release everywhere did not reach a"
-            time.sleep(0.05)
+        wait_until(lambda: a.classroom.broadcaster is None, 5, "the release everywhere to reach a")
     finally:
         a.stop()
         b.stop()

@@ -13,9 +13,10 @@ from typing import Any
 
 import pytest
 
-from benchmarks.loadtest import free_port
-from tests.helpers import RedisServer, start_worker, stop_process
-from tests.test_browser import ARTIFACTS, CHROMIUM, LAUNCH_ARGS, _require_browser, wait_until
+from tests.support.browser import ARTIFACTS, require_browser
+from tests.support.redis_server import RedisServer
+from tests.support.servers import free_port, start_worker, stop_process
+from tests.support.waiting import wait_until
 
 pytestmark = [pytest.mark.browser, pytest.mark.timeout(400)]
 CODE = "remote-3306-follow"
@@ -47,17 +48,17 @@ class RemotePage:
     def select(self, label: str, option: str) -> None:
         self.input_for(label).click()
         self.page.get_by_role("option", name=option, exact=True).click()
-        time.sleep(0.15)
+        time.sleep(0.15)  # viser's 50 ms input throttle
 
     def button(self, name: str) -> None:
         self.page.get_by_role("button", name=name, exact=True).click()
-        time.sleep(0.15)
+        time.sleep(0.15)  # viser's 50 ms input throttle
 
     def fill(self, label: str, text: str) -> None:
         box = self.input_for(label)
         box.fill(text)
         box.press("Enter")
-        time.sleep(0.3)
+        time.sleep(0.3)  # typed and sent (viser's input throttle) before the next input
 
     def close(self) -> None:
         self.context.close()
@@ -65,7 +66,7 @@ class RemotePage:
 
 @pytest.fixture(scope="module")
 def servers(tmp_path_factory: pytest.TempPathFactory) -> Iterator[tuple[str, str]]:
-    _require_browser()
+    require_browser()
     redis_server = RedisServer().start()
     tmp: Path = tmp_path_factory.mktemp("workers")
     ports = [free_port(), free_port()]
@@ -79,17 +80,6 @@ def servers(tmp_path_factory: pytest.TempPathFactory) -> Iterator[tuple[str, str
     redis_server.stop()
 
 
-@pytest.fixture(scope="module")
-def browser(servers: tuple[str, str]) -> Iterator[Any]:
-    from playwright.sync_api import sync_playwright
-
-    ARTIFACTS.mkdir(exist_ok=True)
-    with sync_playwright() as p:
-        b = p.chromium.launch(executable_path=CHROMIUM, args=LAUNCH_ARGS)
-        yield b
-        b.close()
-
-
 def test_a_student_on_worker_2_follows_the_instructor_on_worker_1(
     servers: tuple[str, str], browser: Any
 ) -> None:
@@ -101,7 +91,7 @@ def test_a_student_on_worker_2_follows_the_instructor_on_worker_1(
     try:
         # the instructor signs in on worker 1
         inst.page.get_by_text("Instructor", exact=True).first.click()
-        time.sleep(0.2)
+        inst.label("Instructor code").wait_for(state="visible", timeout=10000)
         inst.fill("Instructor code", CODE)
         inst.button("Become instructor")
         inst.page.get_by_role("button", name="Follow me", exact=True).wait_for(timeout=10000)

@@ -1,7 +1,7 @@
 """Classroom: instructor code, follow me / release, and hardening against hand-made clients.
 
 Every page here is a real websocket client speaking viser's protocol
-(:class:`benchmarks.classroom_load.ProtoClient`) against an in-process :class:`LabServer`.
+(:class:`tests.support.client.ProtoClient`) against an in-process :class:`LabServer`.
 """
 
 from __future__ import annotations
@@ -10,7 +10,7 @@ import asyncio
 import math
 import statistics
 import time
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from typing import Any
 
 import pytest
@@ -19,29 +19,19 @@ from analyzer_lab.classroom.room import Classroom
 from analyzer_lab.lessons.analyzers.sphere import LESSON as SPHERE
 from analyzer_lab.session.session import LabError
 
-from benchmarks.classroom_load import ProtoClient
-from benchmarks.loadtest import gui_update
-from tests.helpers import until
+from tests.support.client import ProtoClient, handled
+from tests.support.waiting import until
+from tests.support.wire import gui_update
 
 CODE = "test-code-4271"
 pytestmark = pytest.mark.timeout(120)
 
 
 @pytest.fixture(scope="module")
-def lab() -> Iterator[Any]:
-    from analyzer_lab.serve.server import LabServer
-
-    server = LabServer(
-        host="127.0.0.1",
-        port=0,
-        lessons=[SPHERE],
-        lesson="sphere",
-        instructor_code=CODE,
-        warm_up=False,
-        restore=False,
+def lab(make_lab: Callable[..., Any]) -> Any:
+    return make_lab(
+        lessons=[SPHERE], lesson="sphere", instructor_code=CODE, warm_up=False, restore=False
     )
-    yield server
-    server.stop()
 
 
 @pytest.fixture(autouse=True)
@@ -169,7 +159,8 @@ def test_follow_release_late_joiner_and_live_changes(lab: Any) -> None:
         await until(lambda: av.session is iv.session and bv.session is iv.session, 5, "followers")
         # the followers' widgets show the demo's values; a live change reaches them
         await until(lambda: a.values.get(a.gui["Preset"]) == "example-1.3", 5, "preset shown to a")
-        await inst.set("u3(t) =", "2.5", 0.3)
+        await inst.set("u3(t) =", "2.5")
+        await until(lambda: iv.session.raw_values()["u3"] == "2.5", 5, "u3 on the instructor")
         assert iv.session.raw_values()["u3"] == "2.5"
         await until(
             lambda: (
@@ -180,11 +171,11 @@ def test_follow_release_late_joiner_and_live_changes(lab: Any) -> None:
         )
         # one stepping for all: the demo advances once per frame however many follow
         tick = iv.session.shared_clock
-        await asyncio.sleep(0.5)
+        await until(lambda: tick.calls > 2 * tick.advances, 5, "the followers' frames")
         assert tick.advances <= lab.stats.ticks and tick.calls > 2 * tick.advances
         # followers receive the moving point
         a.measuring = True
-        await asyncio.sleep(1.0)
+        await until(lambda: a.point_updates >= 10, 10, "the moving point at a follower")
         a.measuring = False
         assert a.point_updates >= 10
         # the instructor panel counts them
@@ -198,7 +189,10 @@ def test_follow_release_late_joiner_and_live_changes(lab: Any) -> None:
         late, lv = await page(lab)
         await until(lambda: lv.session is iv.session, 5, "late joiner follows")
         t_demo = iv.session.frame.t
-        await inst.click("Release", 0.5)
+        await inst.click("Release")
+        await until(
+            lambda: all(v.session is not iv.session for v in (av, bv, lv)), 5, "the release"
+        )
         for v in (av, bv, lv):
             assert v.session is not iv.session
             assert v.session.lesson.id == "sphere" and v.session.preset == "example-1.3"
@@ -257,21 +251,27 @@ def test_student_cannot_start_stop_or_alter_a_broadcast(lab: Any) -> None:
         panel = lab.classroom.instructors[iv.client.client_id]
         # the student sends the instructor's own button ids: nothing happens
         await s.send(gui_update(panel.follow_btn._impl.uuid, True))
-        await asyncio.sleep(0.4)
+        await handled(s, sv)
         assert not lab.classroom.followers and lab.classroom.demo is None
         await inst.click("Follow me", 0.3)
         await until(lambda: sv.session is iv.session, 5, "following")
         for btn in (panel.release_btn, panel.push_btn, panel.notify_btn):
             await s.send(gui_update(btn._impl.uuid, True))
         await s.send(gui_update(panel.message._impl.uuid, "hacked"))
-        await asyncio.sleep(0.4)
+        await handled(s, sv)
         assert sv.session is iv.session and panel.message.value != "hacked"
         # the follower's own controls cannot change the demo
         before = iv.session.raw_values()
         playing = iv.session.playing
+        refused = lab.classroom.stats["refused_follower"]
         await s.set("u1(t) =", "99", 0.1)
         await s.set("Run", "Play" if not playing else "Pause", 0.1)
-        await s.set("Preset", "example-1.2", 0.3)
+        await s.set("Preset", "example-1.2", 0)
+        await until(
+            lambda: lab.classroom.stats["refused_follower"] >= refused + 3,
+            5,
+            "the follower's three inputs refused",
+        )
         assert (
             iv.session.raw_values() == before
             and iv.session.playing == playing
@@ -297,7 +297,7 @@ def test_student_cannot_change_another_students_session(lab: Any) -> None:
             ("sphere radius R", 3.0),
         ):
             await a.send(gui_update(b.gui[label], value))
-        await asyncio.sleep(0.5)
+        await handled(a, av)
         assert (
             bv.session.raw_values() == before
             and not bv.session.playing
@@ -312,9 +312,9 @@ def test_share_tunnel_cannot_be_opened(lab: Any) -> None:
     from viser import _messages
 
     async def go() -> None:
-        a, _ = await page(lab)
+        a, av = await page(lab)
         await a.send(_messages.ShareUrlRequest())
-        await asyncio.sleep(1.0)
+        await handled(a, av)
         assert lab.server._share_tunnel is None
         assert a.seen.get("ShareUrlUpdated", 0) == 0
         await close(a)
@@ -334,9 +334,9 @@ def test_out_of_range_nan_and_oversized_values_are_refused(lab: Any) -> None:
         await a.set("u2(t) =", "t*" * 5000 + "t", 0.3)  # 10 kB formula
         await a.set("u3(t) =", "1e999", 0.15)
         await a.set("integrator", "euler; import os", 0.15)
-        deadline = time.monotonic() + 5.0  # inputs over the page's rate are replayed later
-        while time.monotonic() < deadline and not av.controls.failing() >= {"u1", "u3", "R"}:
-            await asyncio.sleep(0.1)
+        await until(  # inputs over the page's rate are replayed later
+            lambda: av.controls.failing() >= {"u1", "u3", "R"}, 5, "the refusals shown"
+        )
         assert av.session.raw_values() == before
         assert all(
             math.isfinite(float(v)) for k, v in before.items() if k in ("R", "x0", "y0", "z0")
@@ -344,8 +344,8 @@ def test_out_of_range_nan_and_oversized_values_are_refused(lab: Any) -> None:
         # each refusal is shown next to its field, naming it; the typed text stays
         assert {"u1", "u3", "R", "integrator"} & av.controls.failing() >= {"u1", "u3", "R"}
         # a 400 kB message: the transport refuses it from its header ("message too big")
-        await a.set("u2(t) =", "x" * 400_000, 0.3)
-        await asyncio.sleep(0.4)
+        await a.set("u2(t) =", "x" * 400_000, 0)
+        await until(lambda: a.ws.close_code is not None, 5, "the connection closed")
         assert a.ws.close_code == 1009
         assert av.session.raw_values() == before
         await close(a)
@@ -359,7 +359,7 @@ async def _rates(client: Any, seconds: float, window: float = 0.5) -> list[float
     client.measuring = True
     for _ in range(int(seconds / window)):
         start = client.point_updates
-        await asyncio.sleep(window)
+        await asyncio.sleep(window)  # a rate: the updates of a window of time
         rates.append((client.point_updates - start) / window)
     client.measuring = False
     return rates

@@ -4,12 +4,13 @@ Debian's Chromium; skipped without it, failing with CI=true, like tests/test_bro
 from __future__ import annotations
 
 import time
-from collections.abc import Iterator
+from collections.abc import Callable
 from typing import Any
 
 import pytest
 
-from tests.test_browser import ARTIFACTS, CHROMIUM, LAUNCH_ARGS, Page, _require_browser, wait_until
+from tests.support.browser import Page
+from tests.support.waiting import wait_until
 
 pytestmark = [
     pytest.mark.browser,
@@ -20,32 +21,15 @@ INSTRUCTOR_BUTTONS = ("Follow me", "Release", "Push preset to all", "Notify all"
 
 
 @pytest.fixture(scope="module")
-def lab() -> Iterator[Any]:
-    _require_browser()
+def lab(make_lab: Callable[..., Any]) -> Any:
     from analyzer_lab.lessons.catalog import get_lesson
-    from analyzer_lab.serve.server import LabServer
 
-    server = LabServer(
-        host="127.0.0.1",
-        port=0,
+    return make_lab(
         lesson="sphere",
         lessons=[get_lesson("sphere"), get_lesson("ellipsoid")],
         instructor_code=CODE,
         warm_up=False,
     )
-    yield server
-    server.stop()
-
-
-@pytest.fixture(scope="module")
-def browser(lab: Any) -> Iterator[Any]:
-    from playwright.sync_api import sync_playwright
-
-    ARTIFACTS.mkdir(exist_ok=True)
-    with sync_playwright() as p:
-        b = p.chromium.launch(executable_path=CHROMIUM, args=LAUNCH_ARGS)
-        yield b
-        b.close()
 
 
 def _label(lesson_id: str) -> str:
@@ -53,11 +37,6 @@ def _label(lesson_id: str) -> str:
     from analyzer_lab.session.session import lesson_label
 
     return lesson_label(get_lesson(lesson_id))
-
-
-def _open_folder(p: Page, title: str) -> None:
-    p.page.get_by_text(title, exact=True).first.click()
-    time.sleep(0.2)
 
 
 def _instructor_buttons_visible(p: Page) -> list[str]:
@@ -74,7 +53,7 @@ def test_follow_me_and_release_with_two_students(lab: Any, browser: Any) -> None
         # students explore on their own first
         s1.load(_label("sphere"), "example-1.2")
         # the instructor signs in with the code (the panel exists only on that page)
-        _open_folder(inst, "Instructor")
+        inst.open_folder("Instructor", "Instructor code")
         inst.fill("Instructor code", CODE)
         time.sleep(0.15)  # viser's 50 ms input throttle
         inst.button("Become instructor")
@@ -82,14 +61,15 @@ def test_follow_me_and_release_with_two_students(lab: Any, browser: Any) -> None
         assert lab.classroom.is_instructor(inst.view.client.client_id)
         # a student page cannot reach any instructor control, even knowing where it would be
         for s in (s1, s2):
-            _open_folder(s, "Instructor")
+            s.open_folder("Instructor", "Instructor code")
             assert _instructor_buttons_visible(s) == []
             assert s.page.get_by_text("Instructor panel", exact=True).count() == 0
         # a wrong code on a student page is refused
         s2.fill("Instructor code", "guess-0000")
-        time.sleep(0.15)
+        time.sleep(0.15)  # viser's 50 ms input throttle
+        wrong = lab.classroom.stats["wrong_codes"]
         s2.button("Become instructor")
-        time.sleep(0.5)
+        wait_until(lambda: lab.classroom.stats["wrong_codes"] > wrong, 10, "the code checked")
         assert (
             not lab.classroom.is_instructor(s2.view.client.client_id)
             and _instructor_buttons_visible(s2) == []
@@ -158,7 +138,7 @@ def test_presenter_mode_bookmarks(lab: Any, browser: Any) -> None:
     p = Page(lab, browser)
     try:
         p.load(_label("sphere"), "(defaults)")
-        _open_folder(p, "Presenter")
+        p.open_folder("Presenter", "Presenter mode")
         small = p.page.evaluate("parseFloat(getComputedStyle(document.documentElement).fontSize)")
         p.page.get_by_text("Presenter mode", exact=True).click()
         wait_until(
@@ -194,9 +174,9 @@ def test_presenter_mode_bookmarks(lab: Any, browser: Any) -> None:
 
 
 def _sign_in(p: Page) -> None:
-    _open_folder(p, "Instructor")
+    p.open_folder("Instructor", "Instructor code")
     p.fill("Instructor code", CODE)
-    time.sleep(0.15)
+    time.sleep(0.15)  # viser's 50 ms input throttle
     p.button("Become instructor")
     p.page.get_by_role("button", name="Follow me", exact=True).wait_for(timeout=10000)
 
@@ -228,7 +208,7 @@ def test_presenter_mode_gives_the_scene_the_projector(
     p = Page(lab, browser, browser.new_context(viewport={"width": w, "height": h}))
     try:
         _sign_in(p)
-        _open_folder(p, "Presenter")
+        p.open_folder("Presenter", "Presenter mode")
         p.page.get_by_text("Presenter mode", exact=True).click()
         nxt = p.page.get_by_role("button", name="Next ▶", exact=True)
         nxt.wait_for(timeout=10000)

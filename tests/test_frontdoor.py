@@ -18,15 +18,15 @@ import sys
 import threading
 import time
 import urllib.request
-from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
 import pytest
 
-from benchmarks.classroom_load import ProtoClient
-from benchmarks.loadtest import free_port
-from tests.helpers import RedisServer, start_worker, stop_process, until
+from tests.support.client import ProtoClient
+from tests.support.redis_server import RedisServer
+from tests.support.servers import free_port, start_server, start_worker, stop_process
+from tests.support.waiting import until, wait_until
 
 pytestmark = pytest.mark.timeout(300)
 ROOT = Path(__file__).resolve().parent.parent
@@ -34,7 +34,7 @@ CODE = "door-4417-front"
 
 
 class Door:
-    """``python -m app serve --workers 2 --bus redis://...`` in a subprocess."""
+    """``python -m analyzer_lab serve --workers 2 --bus redis://...`` in a subprocess."""
 
     def __init__(self, bus: str, workers: int = 2) -> None:
         self.port = free_port()
@@ -98,10 +98,8 @@ class Door:
 
 
 @pytest.fixture()
-def redis_url() -> Iterator[str]:
-    server = RedisServer().start()
-    yield server.url
-    server.stop()
+def redis_url(redis_server: RedisServer) -> str:
+    return redis_server.url
 
 
 async def _page(location: str) -> ProtoClient:
@@ -146,7 +144,9 @@ def test_the_front_door_sends_pages_to_both_workers_and_survives_one(redis_url: 
             await until(lambda: not door.status()["workers"][0]["alive"], 5, "seen dead")
             for c in kept:
                 c.measuring = True
-            await asyncio.sleep(1.5)
+            await until(
+                lambda: all(c.point_updates >= 10 or c.error for c in kept), 10, "the kept pages"
+            )
             assert all(c.point_updates >= 10 and not c.error for c in kept)
             # while it is down, new pages go to the live worker only
             if not door.status()["workers"][0]["alive"]:
@@ -180,10 +180,13 @@ def test_workers_stop_with_the_front_door(redis_url: str) -> None:
     door.stop()
     import psutil
 
-    deadline = time.monotonic() + 15
-    while any(psutil.pid_exists(p) and psutil.Process(p).status() != "zombie" for p in pids):
-        assert time.monotonic() < deadline, "a worker outlived the front door"
-        time.sleep(0.2)
+    wait_until(
+        lambda: (
+            not any(psutil.pid_exists(p) and psutil.Process(p).status() != "zombie" for p in pids)
+        ),
+        15,
+        "the workers to stop with the front door",
+    )
 
 
 def test_one_worker_needs_no_redis_and_several_need_a_bus() -> None:
@@ -207,8 +210,6 @@ def test_one_worker_needs_no_redis_and_several_need_a_bus() -> None:
     assert out.returncode == 2 and "--workers must be in 1..64" in out.stderr
     # --workers 1 (the default) with no Redis anywhere: one process serves pages
     port = free_port()
-    from benchmarks.loadtest import start_server
-
     proc = start_server(port, "sphere", subprocess.DEVNULL, ("--workers", "1"))
     try:
 
@@ -216,7 +217,7 @@ def test_one_worker_needs_no_redis_and_several_need_a_bus() -> None:
             c = await _page(f"http://127.0.0.1:{port}/")
             await c.set("Run", "Play", 0.1)
             c.measuring = True
-            await asyncio.sleep(1.0)
+            await until(lambda: c.point_updates >= 5 or c.error, 10, "the page's frames")
             assert c.point_updates >= 5 and not c.error
             await c.close()
 
@@ -373,7 +374,9 @@ def test_nginx_with_one_path_per_worker_from_the_readme(redis_url: str, tmp_path
                 "the demo through nginx",
             )
             student.measuring = True
-            await asyncio.sleep(1.5)
+            await until(
+                lambda: student.point_updates >= 10 or student.error, 10, "the demo's frames"
+            )
             assert student.point_updates >= 10 and not student.error
             for c in (inst, student):
                 await c.close()

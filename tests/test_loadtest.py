@@ -1,10 +1,12 @@
-"""The load tool (:mod:`benchmarks.loadtest`) counts the played frames of every kind of
-lesson: real websocket clients pick the lesson and its first preset in the page's
-pickers, press Play and count the frames that update the live scene."""
+"""The load tool (:mod:`benchmarks.loadtest`, measuring with :mod:`tests.support.load`)
+counts the played frames of every kind of lesson: real websocket clients pick the lesson
+and its first preset in the page's pickers, press Play and count the frames that update
+the live scene."""
 
 from __future__ import annotations
 
 import asyncio
+from collections.abc import Callable
 
 import pytest
 from analyzer_lab.lessons.catalog import all_lessons, get_lesson
@@ -12,15 +14,9 @@ from analyzer_lab.serve.server import DEFAULT_FPS
 from analyzer_lab.view.bodies import body_groups, body_node
 from analyzer_lab.view.scene import live_node
 
-from benchmarks.loadtest import (
-    POINT_NODE,
-    free_port,
-    live_update,
-    measure,
-    page_plan,
-    start_server,
-    stop_server,
-)
+from tests.support.load import measure, page_plan
+from tests.support.servers import ServeProcess
+from tests.support.wire import POINT_NODE, live_update
 
 pytestmark = pytest.mark.timeout(300)
 
@@ -47,11 +43,9 @@ def test_every_lesson_has_a_plan_with_its_first_preset() -> None:
 
 
 @pytest.fixture(scope="module")
-def server():
-    port = free_port()
-    proc = start_server(port, "sphere")
-    yield f"ws://127.0.0.1:{port}/", proc.pid
-    stop_server(proc)
+def server(serve: Callable[..., ServeProcess]) -> tuple[str, int]:
+    live = serve("sphere")
+    return live.url, live.pid
 
 
 @pytest.mark.parametrize("lesson", ["table-6dof", "constrained-dynamics", "servo-errors"])

@@ -9,7 +9,7 @@ from __future__ import annotations
 import asyncio
 import threading
 import time
-from collections.abc import Iterator
+from collections.abc import Callable
 from concurrent.futures import ThreadPoolExecutor
 from typing import Any
 
@@ -17,22 +17,16 @@ import pytest
 from analyzer_lab.lessons.analyzers.sphere import LESSON as SPHERE
 from analyzer_lab.viser_boundary import CONNECTION, OrderedExecutor
 
-from benchmarks.classroom_load import ProtoClient
-from benchmarks.loadtest import gui_update
-from tests.helpers import until
+from tests.support.client import ProtoClient
+from tests.support.waiting import until
+from tests.support.wire import gui_update
 
 pytestmark = pytest.mark.timeout(120)
 
 
 @pytest.fixture(scope="module")
-def lab() -> Iterator[Any]:
-    from analyzer_lab.serve.server import LabServer
-
-    server = LabServer(
-        host="127.0.0.1", port=0, lessons=[SPHERE], lesson="sphere", warm_up=False, restore=False
-    )
-    yield server
-    server.stop()
+def lab(make_lab: Callable[..., Any]) -> Any:
+    return make_lab(lessons=[SPHERE], lesson="sphere", warm_up=False, restore=False)
 
 
 def test_frame_loop_runs_on_the_event_loop_and_advances_sessions(lab: Any) -> None:
@@ -73,7 +67,7 @@ def test_messages_of_one_page_apply_in_the_order_sent(lab: Any) -> None:
         await asyncio.gather(*(_burst(p) for p in pages))
         for v in views:
             await until(lambda: v.session.playing, 10, "play")
-        await asyncio.sleep(0.3)
+        await asyncio.sleep(0.3)  # time for a late callback to show an old value over the new
         for v in views:
             s = v.session
             assert (s.preset, s.pause_at_end, s.playing) == ("example-1.3", False, True)
@@ -98,7 +92,7 @@ def test_ordered_executor_keeps_order_per_connection_and_runs_connections_in_par
     def job(tag: str, k: int, delay: float) -> int:
         if tag == "b":
             started_b.set()
-        time.sleep(delay)
+        time.sleep(delay)  # a slow job: the next ones of its connection wait behind it
         with lock:
             log.append((tag, k))
         return k

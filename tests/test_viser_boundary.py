@@ -14,6 +14,9 @@ import analyzer_lab.viser_boundary as vb
 import numpy as np
 import pytest
 
+from tests.support.waiting import until, wait_until
+from tests.support.wire import camera_message, encode
+
 
 @pytest.fixture(scope="module")
 def server() -> Iterator[Any]:
@@ -52,8 +55,6 @@ async def _connect(server: Any) -> Any:
     import viser
     import websockets
 
-    from benchmarks.loadtest import camera_message, encode
-
     ws = await websockets.connect(
         f"ws://127.0.0.1:{server.get_port()}/",
         subprotocols=[f"viser-v{viser.__version__}"],
@@ -78,7 +79,7 @@ def test_the_transport_refuses_an_oversized_message_before_reading_it(server: An
         took = time.monotonic() - t0
         code = ws.close_code
         await small.send(b"\x00" * 1000)  # under the limit: read (and ignored as malformed)
-        await asyncio.sleep(0.2)
+        await asyncio.sleep(0.2)  # a close for it would have come by now
         still = small.close_code
         await small.close()
         return code, took, still
@@ -91,8 +92,6 @@ def test_the_transport_refuses_an_oversized_message_before_reading_it(server: An
 def test_only_allowed_message_types_reach_viser(server: Any) -> None:
     from viser import _messages
 
-    from benchmarks.loadtest import encode
-
     buffer = server._websock_server._broadcast_buffer
     before = len(buffer.message_from_id)
     dropped = vb.WS_STATS["dropped_type"]
@@ -102,7 +101,7 @@ def test_only_allowed_message_types_reach_viser(server: Any) -> None:
         for k in range(20):
             await ws.send(encode(_messages.GuiFormDirtyMessage(uuid=f"junk-{k}" * 50)))
         await ws.send(encode(_messages.ShareUrlRequest()))
-        await asyncio.sleep(0.5)
+        await until(lambda: vb.WS_STATS["dropped_type"] - dropped >= 21, 5, "the 21 dropped")
         await ws.close()
 
     asyncio.run(go())
@@ -119,7 +118,7 @@ def test_client_address_is_the_page_host(server: Any) -> None:
 
     async def go() -> None:
         ws = await _connect(server)
-        await asyncio.sleep(0.3)
+        await until(lambda: seen, 5, "the page connected")
         await ws.close()
 
     asyncio.run(go())
@@ -160,9 +159,7 @@ def test_callbacks_take_turns_within_the_cpu_budget() -> None:
 def test_submit_callback_goes_through_the_ordered_executor(server: Any) -> None:
     done: list[int] = []
     assert vb.submit_callback(server, ("replay", 1), done.append, 5)
-    deadline = time.monotonic() + 5
-    while not done and time.monotonic() < deadline:
-        time.sleep(0.01)
+    wait_until(lambda: done, 5, "the callback")
     assert done == [5]
     assert not vb.submit_callback(object(), "k", done.append, 6)
 

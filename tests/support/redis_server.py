@@ -1,34 +1,21 @@
-"""Small helpers shared by the tests that drive a live server."""
+"""A real redis-server (Debian's) on a free loopback port, started and stopped by a test."""
 
 from __future__ import annotations
 
-import asyncio
+import os
+import shutil
+import subprocess
 import time
-from collections.abc import Callable
-from typing import Any
 
+import pytest
 
-async def until(cond: Callable[[], Any], timeout: float = 10.0, what: str = "condition") -> Any:
-    """Poll ``cond`` every 50 ms until it is truthy (returned) or ``timeout`` seconds pass."""
-    deadline = time.monotonic() + timeout
-    while time.monotonic() < deadline:
-        value = cond()
-        if value:
-            return value
-        await asyncio.sleep(0.05)
-    raise AssertionError(f"timed out waiting for {what}")
-
+from tests.support.servers import free_port
 
 REDIS_SERVER = "/usr/bin/redis-server"
 
 
 def require_redis() -> str:
     """The path of Debian's redis-server; skip without it (fail under CI=true)."""
-    import os
-    import shutil
-
-    import pytest
-
     path = REDIS_SERVER if os.path.exists(REDIS_SERVER) else shutil.which("redis-server")
     missing = None
     if path is None:
@@ -50,16 +37,13 @@ class RedisServer:
     """A real redis-server on a free loopback port (no persistence), started and stopped here."""
 
     def __init__(self, port: int | None = None) -> None:
-        from benchmarks.loadtest import free_port
-
         self.path = require_redis()
         self.port = port or free_port()
         self.url = f"redis://127.0.0.1:{self.port}"
-        self.proc: Any = None
+        self.proc: subprocess.Popen | None = None
 
     def start(self) -> RedisServer:
-        import subprocess
-
+        """Start it (again, on the same port); returns when it answers a ping."""
         import redis
 
         self.proc = subprocess.Popen(
@@ -74,39 +58,25 @@ class RedisServer:
             try:
                 client.ping()
                 break
-            except Exception:
+            except (redis.exceptions.ConnectionError, redis.exceptions.TimeoutError):
                 if time.monotonic() > deadline or self.proc.poll() is not None:
                     raise RuntimeError("redis-server did not start") from None
                 time.sleep(0.05)
         client.close()
         return self
 
+    def subscribers(self, channel: str) -> int:
+        """How many connections listen on ``channel`` now."""
+        import redis
+
+        client = redis.Redis(host="127.0.0.1", port=self.port, socket_connect_timeout=0.5)
+        try:
+            return int(dict(client.pubsub_numsub(channel)).get(channel.encode(), 0))
+        finally:
+            client.close()
+
     def stop(self) -> None:
         if self.proc is not None and self.proc.poll() is None:
             self.proc.terminate()
             self.proc.wait(5)
         self.proc = None
-
-
-def start_worker(
-    port: int, bus: str, name: str, code: str, log: Any, lesson: str = "sphere"
-) -> Any:
-    """``python -m app serve --bus BUS --worker-name NAME`` in a subprocess (stderr to ``log``)."""
-    from benchmarks.loadtest import start_server
-
-    return start_server(
-        port,
-        lesson,
-        log,
-        ("--bus", bus, "--worker-name", name, "--instructor-code", code),
-    )
-
-
-def stop_process(proc: Any) -> None:
-    if proc.poll() is None:
-        proc.terminate()
-        try:
-            proc.wait(5)
-        except Exception:
-            proc.kill()
-            proc.wait(5)

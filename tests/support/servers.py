@@ -1,0 +1,107 @@
+"""``python -m analyzer_lab serve`` in subprocesses on free loopback ports."""
+
+from __future__ import annotations
+
+import http.client
+import os
+import socket
+import subprocess
+import sys
+import time
+import urllib.request
+from dataclasses import dataclass
+from pathlib import Path
+from typing import IO, Any
+
+#: The repository (the servers run from it).
+ROOT = Path(__file__).resolve().parents[2]
+
+
+def free_port() -> int:
+    """A TCP port free on 127.0.0.1 now."""
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return int(s.getsockname()[1])
+
+
+def start_server(
+    port: int, lesson: str, log: Any = subprocess.DEVNULL, extra_args: tuple[str, ...] = ()
+) -> subprocess.Popen:
+    """``python -m analyzer_lab serve`` (plus ``extra_args``) in a subprocess, its stderr to
+    ``log``; returns when its HTTP answers (polled, at most 30 s)."""
+    env = dict(os.environ)
+    env["PYTHONPATH"] = str(ROOT) + os.pathsep + env.get("PYTHONPATH", "")
+    env.setdefault("ANALYZER_LAB_STATS", "5")
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "analyzer_lab", "serve", "--host", "127.0.0.1"]
+        + ["--port", str(port), "--no-browser", "--lesson", lesson, *extra_args],
+        env=env,
+        stdout=subprocess.DEVNULL,
+        stderr=log,
+        cwd=ROOT,
+    )
+    deadline = time.monotonic() + 30
+    while time.monotonic() < deadline:
+        try:
+            urllib.request.urlopen(f"http://127.0.0.1:{port}/", timeout=1).read(100)
+            return proc
+        except (OSError, http.client.HTTPException):
+            if proc.poll() is not None:
+                raise RuntimeError(f"the server exited with code {proc.returncode}") from None
+            time.sleep(0.1)
+    proc.kill()
+    raise RuntimeError("the server did not answer within 30 s")
+
+
+def stop_process(proc: subprocess.Popen) -> None:
+    """Terminate ``proc`` (killed when it does not end within 5 s)."""
+    if proc.poll() is None:
+        proc.terminate()
+        try:
+            proc.wait(5)
+        except subprocess.TimeoutExpired:
+            proc.kill()
+            proc.wait(5)
+
+
+def start_worker(
+    port: int, bus: str, name: str, code: str, log: Any, lesson: str = "sphere"
+) -> subprocess.Popen:
+    """``serve --bus BUS --worker-name NAME --instructor-code CODE`` (stderr to ``log``)."""
+    return start_server(
+        port, lesson, log, ("--bus", bus, "--worker-name", name, "--instructor-code", code)
+    )
+
+
+@dataclass
+class ServeProcess:
+    """A running ``python -m analyzer_lab serve`` and the file its stderr goes to."""
+
+    proc: subprocess.Popen
+    port: int
+    log_path: Path
+    log: IO[str]
+
+    @classmethod
+    def start(cls, lesson: str, flags: tuple[str, ...], log_path: Path) -> ServeProcess:
+        port = free_port()
+        log = open(log_path, "w", encoding="utf-8")
+        try:
+            proc = start_server(port, lesson, log, flags)
+        except BaseException:
+            log.close()
+            raise
+        return cls(proc, port, log_path, log)
+
+    @property
+    def url(self) -> str:
+        """Where a page's websocket connects."""
+        return f"ws://127.0.0.1:{self.port}/"
+
+    @property
+    def pid(self) -> int:
+        return self.proc.pid
+
+    def stop(self) -> None:
+        stop_process(self.proc)
+        self.log.close()
