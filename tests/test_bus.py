@@ -12,7 +12,7 @@ from analyzer_lab.classroom.bus import (
     BusError,
     LocalBus,
     Message,
-    bus_key,
+    class_key,
     decode_message,
     encode_message,
     make_bus,
@@ -22,21 +22,22 @@ from analyzer_lab.classroom.bus import (
 
 from tests.helpers import RedisServer
 
-KEY = bus_key("code-1234")
+KEY = class_key("code-1234-abcd", b"salt-of-the-class")
 
 
 def test_a_signed_message_round_trips() -> None:
-    raw = encode_message(KEY, "w1", "notice", {"text": "hello"})
+    raw = encode_message(KEY, "w1", "notice", {"text": "hello"}, 7, 1000.5)
     msg = decode_message(KEY, raw)
-    assert msg == Message("w1", "notice", {"text": "hello"})
+    assert msg == Message("w1", "notice", {"text": "hello"}, 7, 1000.5)
 
 
 @pytest.mark.parametrize(
     ("raw", "reason"),
     [
-        (b"not json", "not JSON"),
-        (json.dumps({"v": 2}).encode(), "version-1"),
-        (json.dumps({"v": 1, "payload": "{}", "sig": "00"}).encode(), "bad signature"),
+        (b"not json", "version-2"),
+        (json.dumps({"v": 1, "payload": "{}", "sig": "00"}).encode(), "version-2"),
+        (b"AL2|w1|1|1000.0|" + b"0" * 64 + b"|{}", "bad signature"),
+        (b"AL2|w1|x|1000.0|" + b"0" * 64 + b"|{}", "sequence number"),
         (b"x" * (MAX_MESSAGE_BYTES + 1), "too large"),
         (12, "not a byte string"),
     ],
@@ -47,19 +48,24 @@ def test_malformed_or_unsigned_messages_are_refused(raw: object, reason: str) ->
 
 
 def test_another_class_s_key_or_a_bad_kind_is_refused() -> None:
-    raw = encode_message(bus_key("other-class"), "w1", "notice", {"text": "x"})
+    raw = encode_message(class_key("other-class-1234", b"salt"), "w1", "notice", {"text": "x"})
     with pytest.raises(BusError, match="bad signature"):
         decode_message(KEY, raw)
     with pytest.raises(BusError, match="unknown kind"):
         decode_message(KEY, encode_message(KEY, "w1", "shell", {}))
     with pytest.raises(BusError, match="not a bus message"):
         encode_message(KEY, "w1", "notice", {"x": float("nan")})
+    with pytest.raises(BusError, match="bad sender"):
+        encode_message(KEY, "w|1", "notice", {})
+    # the key is not the code: another salt (another class) gives another key
+    assert class_key("code-1234-abcd", b"another salt") != KEY
+    assert class_key("CODE 1234-ABCD", b"salt-of-the-class") == KEY  # as typed
 
 
 def test_the_local_bus_delivers_to_the_others_of_its_hub_only() -> None:
     hub: list[LocalBus] = []
-    a, b = LocalBus("code-1234", "a", hub), LocalBus("code-1234", "b", hub)
-    other = LocalBus("another-code", "c", hub)
+    a, b = LocalBus("code-1234-abcd", "a", hub), LocalBus("code-1234-abcd", "b", hub)
+    other = LocalBus("another-code-12", "c", hub)
     got: dict[str, list[Message]] = {"a": [], "b": [], "c": []}
     a.listen(got["a"].append)
     b.listen(got["b"].append)
@@ -89,13 +95,13 @@ def test_bus_addresses(url: str, ok: tuple[str, int, int] | None) -> None:
             parse_redis_url(url)
     else:
         assert parse_redis_url(url) == ok
-    assert isinstance(make_bus(None, "code-1234"), LocalBus)
+    assert isinstance(make_bus(None, "code-1234-abcd"), LocalBus)
 
 
 def test_a_redis_bus_delivers_reports_a_drop_and_reconnects() -> None:
     server = RedisServer().start()
-    a = make_bus(server.url, "code-1234", "a")
-    b = make_bus(server.url, "code-1234", "b")
+    a = make_bus(server.url, "code-1234-abcd", "a")
+    b = make_bus(server.url, "code-1234-abcd", "b")
     try:
         got: list[Message] = []
         changes: list[tuple[bool, str]] = []
