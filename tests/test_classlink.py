@@ -224,9 +224,10 @@ def test_forged_messages_from_the_bus_are_refused(pair: Pair) -> None:
         state = {"lesson": "sphere", "preset": "example-1.2", "values": {}, "speed": 1.0}
         good = {"state": state, "playing": True, "t": 0.5, "started": time.time() + 100}
         # unsigned (written by someone without the class's code)
+        payload = json.dumps({"kind": "demo", "body": good}).encode()
         _publish(
             pair.redis.url,
-            json.dumps({"v": 1, "payload": json.dumps(good), "sig": "0" * 64}).encode(),
+            b"AL2|w1|%d|%.6f|" % (time.time_ns(), time.time()) + b"0" * 64 + b"|" + payload,
         )
         key = _class_key(pair.redis.url)
         forged = [
@@ -237,9 +238,10 @@ def test_forged_messages_from_the_bus_are_refused(pair: Pair) -> None:
             {**good, "t": 1e9},
             {**good, "camera": [[1e300, 0, 0], [0, 0, 0], [0, 0, 1]]},
         ]
-        for body in forged:
-            _publish(pair.redis.url, encode_message(key, "mallory", "demo", body))
-        _publish(pair.redis.url, encode_message(key, "mallory", "notice", {"text": "x" * 5000}))
+        for k, body in enumerate(forged):  # each a new number: signed, fresh, refused by content
+            _publish(pair.redis.url, encode_message(key, "mallory", "demo", body, k + 1))
+        notice = encode_message(key, "mallory", "notice", {"text": "x" * 5000}, 99)
+        _publish(pair.redis.url, notice)
         _publish(pair.redis.url, b"\xff" * 30000)
         await until(lambda: pair.log(1).count("[bus] refused a message") >= 9, 10, "refusals")
         log = pair.log(1)
