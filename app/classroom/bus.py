@@ -65,7 +65,8 @@ MAX_SENDER = 80
 #: Seconds a message stays acceptable (either side of the receiver's clock).
 REPLAY_WINDOW = 10.0
 #: Messages per second (and at once) a sender may send before the excess is dropped
-#: unread; senders with a bucket at most (only those never verified are forgotten).
+#: unread; senders with a bucket at most (idle ones never verified are forgotten; new
+#: senders past it share one bucket).
 SENDER_RATE = 50.0
 SENDER_BURST = 200.0
 MAX_SENDERS = 64
@@ -279,8 +280,12 @@ class Bus:
     def _bucket(self, sender: str) -> TokenBucket:
         bucket = self.buckets.get(sender)
         if bucket is None:
-            if len(self.buckets) >= MAX_SENDERS:
-                for name in [n for n in self.buckets if n not in self.last_seq]:
+            if len(self.buckets) >= MAX_SENDERS:  # forget idle senders never verified
+                for name in [
+                    n
+                    for n, b in self.buckets.items()
+                    if n not in self.last_seq and b.wait_time(SENDER_BURST) == 0
+                ]:
                     del self.buckets[name]
             if len(self.buckets) >= MAX_SENDERS:
                 return self._strangers
