@@ -515,6 +515,8 @@ def test_a_replay_and_junk_flood_keeps_the_follower_on_the_other_worker(
     import subprocess
     import sys
 
+    import psutil
+
     tap = Tap(pair.redis.url)
 
     async def run() -> None:
@@ -523,7 +525,9 @@ def test_a_replay_and_junk_flood_keeps_the_follower_on_the_other_worker(
         captured = tap.raw[-50:] + [b"\xff" * 500, b"AL2|w1|1|1.0|" + b"0" * 64 + b"|{}"]
         path = tmp_path / "captured.hex"
         path.write_text("\n".join(r.hex() for r in captured))
+        worker = psutil.Process(pair.procs[1].pid)
         base = await _rates(remote, 4.0)
+        mb_before = worker.memory_info().rss / 2**20
         lines_before = pair.log(1).count("\n")
         flood = subprocess.Popen(
             [sys.executable, "-c", FLOOD, pair.redis.url.rsplit(":", 1)[1], "1000", "6"]
@@ -534,14 +538,20 @@ def test_a_replay_and_junk_flood_keeps_the_follower_on_the_other_worker(
         await asyncio.sleep(1.0)
         during = await _rates(remote, 4.0)
         sent = int((flood.communicate(timeout=60)[0] or "0").strip())
+        after = await _rates(remote, 4.0)
+        mb_after = worker.memory_info().rss / 2**20
         lines = pair.log(1).count("\n") - lines_before
         ratio = statistics.median(during) / statistics.median(base)
         print(
             f"\n[bus flood] {sent} replays+junk in 6 s; follower {statistics.median(base):.1f}"
-            f" -> {statistics.median(during):.1f} updates/s ({ratio:.0%}); {lines} log lines"
+            f" -> {statistics.median(during):.1f} ({ratio:.0%})"
+            f" -> {statistics.median(after):.1f} updates/s; {lines} log lines;"
+            f" worker {mb_before:.0f} -> {mb_after:.0f} MB"
         )
         assert sent >= 3000
         assert ratio >= 0.9, (base, during)
+        assert statistics.median(after) >= 0.9 * statistics.median(base), (base, after)
+        assert mb_after <= 1.1 * mb_before, (mb_before, mb_after)
         assert lines <= 60, pair.log(1)[-3000:]
         assert _count(remote, "Released") == 0
         for c in (inst, local, remote):
