@@ -309,9 +309,9 @@ class Bus:
             return  # our own (Redis echoes it), or someone using our name
         now = time.time()
         if abs(now - head.t) > REPLAY_WINDOW:
-            self._drop(
-                "stale", BusError(f"from {head.sender[:20]}: {now - head.t:.0f} s old", "stale")
-            )
+            age = now - head.t
+            when = f"{age:.0f} s old" if age > 0 else f"{-age:.0f} s ahead of this clock"
+            self._drop("stale", BusError(f"from {head.sender[:20]}: {when}", "stale"))
             return
         last = self.last_seq.get(head.sender)
         if last is not None and head.seq <= last[0]:
