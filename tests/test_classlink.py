@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import asyncio
 import json
+import statistics
 import time
 from collections.abc import Iterator
 from pathlib import Path
@@ -206,19 +207,32 @@ def _publish(url: str, raw: bytes) -> None:
     client.close()
 
 
+def _class_key(url: str) -> bytes:
+    """The class's bus key (what a holder of the code derives with the salt in Redis)."""
+    import redis
+    from analyzer_lab.classroom.bus import SALT_KEY, class_key
+
+    client = redis.Redis(host="127.0.0.1", port=int(url.rsplit(":", 1)[1]))
+    salt = client.get(SALT_KEY)
+    client.close()
+    assert isinstance(salt, bytes)
+    return class_key(CODE, salt)
+
+
 def test_forged_messages_from_the_bus_are_refused(pair: Pair) -> None:
-    from analyzer_lab.classroom.bus import bus_key, encode_message
+    from analyzer_lab.classroom.bus import encode_message
 
     async def run() -> None:
         inst, local, remote = await _demo(pair)
         state = {"lesson": "sphere", "preset": "example-1.2", "values": {}, "speed": 1.0}
         good = {"state": state, "playing": True, "t": 0.5, "started": time.time() + 100}
         # unsigned (written by someone without the class's code)
+        payload = json.dumps({"kind": "demo", "body": good}).encode()
         _publish(
             pair.redis.url,
-            json.dumps({"v": 1, "payload": json.dumps(good), "sig": "0" * 64}).encode(),
+            b"AL2|w1|%d|%.6f|" % (time.time_ns(), time.time()) + b"0" * 64 + b"|" + payload,
         )
-        key = bus_key(CODE)
+        key = _class_key(pair.redis.url)
         forged = [
             {**good, "state": {**state, "values": {"u1": "__import__('os').system('true')"}}},
             {**good, "state": {**state, "values": {"not_a_param": "1"}}},
@@ -227,9 +241,10 @@ def test_forged_messages_from_the_bus_are_refused(pair: Pair) -> None:
             {**good, "t": 1e9},
             {**good, "camera": [[1e300, 0, 0], [0, 0, 0], [0, 0, 1]]},
         ]
-        for body in forged:
-            _publish(pair.redis.url, encode_message(key, "mallory", "demo", body))
-        _publish(pair.redis.url, encode_message(key, "mallory", "notice", {"text": "x" * 5000}))
+        for k, body in enumerate(forged):  # each a new number: signed, fresh, refused by content
+            _publish(pair.redis.url, encode_message(key, "mallory", "demo", body, k + 1))
+        notice = encode_message(key, "mallory", "notice", {"text": "x" * 5000}, 99)
+        _publish(pair.redis.url, notice)
         _publish(pair.redis.url, b"\xff" * 30000)
         await until(lambda: pair.log(1).count("[bus] refused a message") >= 9, 10, "refusals")
         log = pair.log(1)
@@ -365,3 +380,175 @@ def test_two_servers_in_one_process_share_the_in_process_bus() -> None:
     finally:
         a.stop()
         b.stop()
+
+
+class Tap:
+    """Everything on the class's channel, as someone with access to Redis (not the
+    code) captures it."""
+
+    def __init__(self, url: str) -> None:
+        import threading
+
+        import redis
+        from analyzer_lab.classroom.bus import CHANNEL
+
+        self.client = redis.Redis(host="127.0.0.1", port=int(url.rsplit(":", 1)[1]))
+        self.pubsub = self.client.pubsub(ignore_subscribe_messages=True)
+        self.pubsub.subscribe(CHANNEL)
+        self.raw: list[bytes] = []
+        self.stop = threading.Event()
+        self.thread = threading.Thread(target=self._run, daemon=True)
+        self.thread.start()
+
+    def _run(self) -> None:
+        while not self.stop.is_set():
+            item = self.pubsub.get_message(timeout=0.2)
+            if item is not None and item.get("type") == "message":
+                self.raw.append(item["data"])
+
+    def of(self, kind: str) -> list[bytes]:
+        return [r for r in self.raw if b'"kind": "' + kind.encode() + b'"' in r]
+
+    def close(self) -> None:
+        self.stop.set()
+        self.thread.join(2)
+        self.pubsub.close()
+        self.client.close()
+
+
+def _count(c: ProtoClient, start: str) -> int:
+    return sum(1 for n in c.notifications if n.startswith(start))
+
+
+def test_replayed_bus_messages_have_no_effect(pair: Pair) -> None:
+    """A captured demo, a notice replayed 100 times and a release replayed 10 times
+    change nothing on the other worker's page."""
+    tap = Tap(pair.redis.url)
+
+    async def run() -> None:
+        inst, local, remote = await _demo(pair)
+        await inst.set("Message", "look at the pole", 0.1)
+        await inst.click("Notify all", 0.2)
+        await until(lambda: _count(remote, "Instructor: look at the pole") == 1, 10, "notice")
+        await inst.click("Release", 0.2)
+        await until(lambda: _count(remote, "Released") == 1, 10, "release")
+        demos, notices, releases = tap.of("demo"), tap.of("notice"), tap.of("release")
+        assert demos and len(notices) == 1 and len(releases) == 1
+        following = _count(remote, "Following the instructor")
+        # an old demo replayed while the page has its own session: it does not follow
+        for raw in demos[-20:]:
+            _publish(pair.redis.url, raw)
+        await asyncio.sleep(2.0)
+        assert _count(remote, "Following the instructor") == following
+        # a new demo; the old notice 100 times and the old release 10 times
+        await inst.click("Follow me", 0.2)
+        await until(
+            lambda: _count(remote, "Following the instructor") == following + 1, 15, "follows"
+        )
+        for _ in range(100):
+            _publish(pair.redis.url, notices[0])
+        for _ in range(10):
+            _publish(pair.redis.url, releases[0])
+        await until(lambda: "already seen" in pair.log(1), 10, "the replays refused")
+        await asyncio.sleep(2.0)
+        assert _count(remote, "Instructor: look at the pole") == 1
+        assert _count(remote, "Released") == 1  # still following the new demo
+        await inst.set("u1(t) =", "5", 0.1)
+        await until(lambda: _value(remote, "u1(t) =") == "5", 10, "the real demo still arrives")
+        log = pair.log(1)
+        assert log.count("[bus] refused a message") <= 40, log[-2000:]
+        for c in (inst, local, remote):
+            assert not c.error, c.error
+            await c.close()
+
+    try:
+        asyncio.run(run())
+    finally:
+        tap.close()
+
+
+FLOOD = """
+import sys, time, redis
+from analyzer_lab.classroom.bus import CHANNEL
+port, rate, seconds, path = int(sys.argv[1]), float(sys.argv[2]), float(sys.argv[3]), sys.argv[4]
+raws = [bytes.fromhex(line) for line in open(path).read().split()]
+client = redis.Redis(host="127.0.0.1", port=port)
+sent, t0 = 0, time.monotonic()
+while time.monotonic() - t0 < seconds:
+    pipe = client.pipeline(transaction=False)
+    for k in range(int(rate / 20)):
+        pipe.publish(CHANNEL, raws[(sent + k) % len(raws)])
+    pipe.execute()
+    sent += int(rate / 20)
+    time.sleep(max(0.0, t0 + sent / rate - time.monotonic()))
+print(sent)
+"""
+
+
+async def _rates(c: ProtoClient, seconds: float) -> list[float]:
+    """Updates/s of ``c`` in half-second windows."""
+    out = []
+    c.measuring = True
+    for _ in range(int(seconds / 0.5)):
+        c.point_updates = 0
+        await asyncio.sleep(0.5)
+        out.append(c.point_updates / 0.5)
+    c.measuring = False
+    return out
+
+
+def test_a_replay_and_junk_flood_keeps_the_follower_on_the_other_worker(
+    pair: Pair, tmp_path: Path
+) -> None:
+    """Captured messages replayed (and junk) at 1,000 a second: the follower on the
+    other worker keeps >= 90% of its baseline updates/s, the log stays short."""
+    import subprocess
+    import sys
+
+    import psutil
+
+    tap = Tap(pair.redis.url)
+
+    async def run() -> None:
+        inst, local, remote = await _demo(pair)
+        await asyncio.sleep(1.0)
+        captured = tap.raw[-50:] + [b"\xff" * 500, b"AL2|w1|1|1.0|" + b"0" * 64 + b"|{}"]
+        path = tmp_path / "captured.hex"
+        path.write_text("\n".join(r.hex() for r in captured))
+        worker = psutil.Process(pair.procs[1].pid)
+        base = await _rates(remote, 4.0)
+        mb_before = worker.memory_info().rss / 2**20
+        lines_before = pair.log(1).count("\n")
+        flood = subprocess.Popen(
+            [sys.executable, "-c", FLOOD, pair.redis.url.rsplit(":", 1)[1], "1000", "6"]
+            + [str(path)],
+            stdout=subprocess.PIPE,
+            text=True,
+        )
+        await asyncio.sleep(1.0)
+        during = await _rates(remote, 4.0)
+        sent = int((flood.communicate(timeout=60)[0] or "0").strip())
+        after = await _rates(remote, 4.0)
+        mb_after = worker.memory_info().rss / 2**20
+        lines = pair.log(1).count("\n") - lines_before
+        ratio = statistics.median(during) / statistics.median(base)
+        print(
+            f"\n[bus flood] {sent} replays+junk in 6 s; follower {statistics.median(base):.1f}"
+            f" -> {statistics.median(during):.1f} ({ratio:.0%})"
+            f" -> {statistics.median(after):.1f} updates/s; {lines} log lines;"
+            f" worker {mb_before:.0f} -> {mb_after:.0f} MB"
+        )
+        assert sent >= 3000
+        assert ratio >= 0.9, (base, during)
+        assert statistics.median(after) >= 0.9 * statistics.median(base), (base, after)
+        assert mb_after <= 1.1 * mb_before, (mb_before, mb_after)
+        assert lines <= 60, pair.log(1)[-3000:]
+        assert _count(remote, "Released") == 0
+        for c in (inst, local, remote):
+            assert not c.error, c.error
+            await c.close()
+
+    try:
+        asyncio.run(run())
+    finally:
+        tap.close()

@@ -436,3 +436,57 @@ def test_short_soak_keeps_memory_and_leaves_no_sessions() -> None:
     )
     assert out.returncode == 0, out.stdout + out.stderr
     assert "no orphaned sessions" in out.stdout and "-> OK (limit 10%)" in out.stdout
+
+
+# ------------------------------------------------------------------ the assignments table
+
+
+def _rows(c: ProtoClient) -> dict[str, str]:
+    """The instructor's table rows on the page (element -> its HTML)."""
+    return {u: h for u, h in c.html.items() if "al-roster-row" in h}
+
+
+def test_the_table_sends_one_row_per_check_and_names_arrive_cleaned(lab: Any) -> None:
+    """Real pages check answers; the instructor's page gets one element per check (the
+    student's row), never the whole table; a name with U+202E, NUL and direction marks
+    reaches the table cleaned."""
+    from analyzer_lab.classroom.roster import clean_name
+
+    names = [f"Student {k:02d}" for k in range(8)] + ["\u202eAnn\x00\u200f  Lee\u2066\n"]
+
+    async def go() -> None:
+        inst, _ = await page(lab)
+        await inst.become_instructor(CODE)
+        students = [(await page(lab))[0] for _ in names]
+        for s, name in zip(students, names, strict=True):
+            await s.set("Assignment", "sphere-equator", 0.2)
+            await s.set("Your name", name, 0.05)
+        for s in students:  # a first check each: a new row each
+            before = dict(inst.html)
+            n = len(_rows(inst))
+            await s.click("Check my answer", 0.0)
+            await until(lambda n=n: len(_rows(inst)) == n + 1, 20, "the new row")
+            await asyncio.sleep(0.2)
+            changed = [u for u, h in _rows(inst).items() if before.get(u) != h]
+            assert len(changed) == 1 and inst.html[changed[0]].count("al-roster-row") == 1
+        shown = " ".join(_rows(inst).values())
+        assert "Ann Lee" in shown and "\u202e" not in shown and "\x00" not in shown
+        assert clean_name(names[-1]) == "Ann Lee"
+        # a second check by one student: only that row is sent again
+        row_of = {u: h for u, h in _rows(inst).items() if "Student 03" in h}
+        before = dict(inst.html)
+        inst.bytes, inst.measuring = 0, True
+        await students[3].click("Check my answer", 0.0)
+        await until(
+            lambda: any(before.get(u) != h for u, h in _rows(inst).items()), 20, "the changed row"
+        )
+        await asyncio.sleep(0.3)
+        inst.measuring = False
+        changed = [u for u, h in inst.html.items() if before.get(u) != h and "al-roster" in h]
+        assert changed == list(row_of), changed
+        assert ">2</td>" in inst.html[changed[0]]  # two attempts
+        assert not any(h.count("al-roster-row") > 1 for h in inst.html.values())
+        print(f"\n[roster] bytes to the instructor for one check: {inst.bytes}")
+        await close(inst, *students)
+
+    run(go())

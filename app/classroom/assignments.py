@@ -27,7 +27,8 @@ from collections.abc import Set
 from typing import TYPE_CHECKING, Any
 
 from analyzer_lab.classroom.ports import RoomForBoard
-from analyzer_lab.classroom.roster import Roster, clean_name
+from analyzer_lab.classroom.roster import Roster, clean_name, head_html, row_html
+from analyzer_lab.classroom.table_rows import RowTable
 from analyzer_lab.lessons.assignments import (
     Assignment,
     AssignmentError,
@@ -386,6 +387,10 @@ class TeacherPanel:
                 self.a_metrics = gui.add_text("Metrics to check", initial_value="")
                 self.a_btn = gui.add_button("Download assignment")
                 self.a_error = gui.add_html("")
+        #: the live table: its head in ``table``, one element per student below it
+        self.lock = threading.Lock()
+        self.rows = RowTable(self._add_row, float(self.table.order), float(self.csv_btn.order))
+        self._rows_of: str | None = None
         self.push_btn.on_click(self._cb(self._push))
         self.csv_btn.on_click(self._cb(self._csv))
         self.a_btn.on_click(self._cb(self._draft))
@@ -466,13 +471,25 @@ class TeacherPanel:
             f"{data['id']}.json", text.encode("utf-8"), save_immediately=True
         )
 
-    def update(self) -> None:
-        pushed = self.board.pushed
-        title = (
-            f"Pushed: <b>{esc(pushed)}</b>"
-            if pushed
-            else "No assignment pushed: every answer checked"
-        )
-        content = _box(title) + self.board.roster.to_html(pushed)
-        if self.table.content != content:
-            self.table.content = content
+    def _add_row(self, content: str, order: float) -> Any:
+        with self.folder:
+            return self.view.client.gui.add_html(content, order=order)
+
+    def update(self) -> int:
+        """Bring the live table up to date: the head when it changed and only the rows
+        that changed (returns how many rows were sent)."""
+        with self.lock:
+            pushed = self.board.pushed
+            if pushed != self._rows_of:  # another assignment: another set of rows
+                self.rows.clear()
+                self._rows_of = pushed
+            records = self.board.roster.rows(pushed)
+            title = (
+                f"Pushed: <b>{esc(pushed)}</b>"
+                if pushed
+                else "No assignment pushed: every answer checked"
+            )
+            content = _box(title) + head_html(pushed, not records)
+            if self.table.content != content:
+                self.table.content = content
+            return self.rows.show([((r.page, r.assignment), row_html(r, pushed)) for r in records])

@@ -8,12 +8,23 @@ Two buses with one interface (:class:`Bus`):
 * :class:`RedisBus` (``--bus redis://HOST:PORT``): Redis pub/sub, for several worker
   processes and several machines.
 
-Every message is a signed JSON envelope ``{"v", "from", "kind", "body", "sig"}``: the
-signature is an HMAC-SHA256 keyed by the class's instructor code (every worker of a
-class shares it), so a message written into Redis by anyone without the code is
-refused before its body is looked at.  A signed body is still not trusted: the
-receiver checks it like a page's input (:mod:`analyzer_lab.classroom.room`).  Oversized or
-malformed messages are refused and counted; the bus never raises into its caller.
+Every message is a signed envelope ``AL2|sender|seq|time|sig|payload``: the signature is
+an HMAC-SHA256 over everything but itself (sender, sequence number, time and the JSON
+payload), keyed by the class's bus key.  The key is not the instructor code: on Redis
+it is derived from the code with scrypt and the class's salt (a random value the first
+server of the class stores in Redis), once per process, so a captured message does not
+let anyone test codes quickly; the in-process bus keys it with a secret of the process.
+A message written into Redis by anyone without the code is refused before its body is
+looked at.
+
+A message cannot be replayed: a receiver drops anything older than
+:data:`REPLAY_WINDOW` seconds (or as far in the future) and anything whose sequence
+number is not above the last one it accepted from that sender.  These checks read the
+envelope's plain head, so replays and junk cost no JSON decoding; what passes them is
+rate-limited per sender before its signature is checked and its payload decoded.  A
+signed body is still not trusted: the receiver checks it like a page's input
+(:mod:`analyzer_lab.classroom.link`).  Refusals are counted and logged at a bounded rate
+per cause; the bus never raises into its caller.
 
 A Redis bus that is down or unreachable is reported (``status``, listeners), the
 server keeps serving its own pages, and the bus reconnects in the background.
@@ -25,8 +36,8 @@ import hashlib
 import hmac
 import json
 import logging
+import math
 import secrets
-import sys
 import threading
 import time
 from collections.abc import Callable
@@ -34,20 +45,47 @@ from dataclasses import dataclass
 from typing import Any
 from urllib.parse import urlsplit
 
+from analyzer_lab.classroom.instructor_code import code_problem, normalize_code
+from analyzer_lab.classroom.log_limit import LogLimiter
+from analyzer_lab.token_bucket import TokenBucket
+
 log = logging.getLogger(__name__)
 
-#: Largest message accepted from the bus (bytes of JSON).
+#: Largest message accepted from the bus (bytes).
 MAX_MESSAGE_BYTES = 20000
-#: The Redis channel of a class.
+#: The Redis channel of a class, and the Redis key of its salt.
 CHANNEL = "analyzer-lab:classroom"
+SALT_KEY = "analyzer-lab:classroom:salt"
 #: Seconds between reconnection attempts (the first; then up to RETRY_MAX).
 RETRY_FIRST = 0.5
 RETRY_MAX = 5.0
 KINDS = ("demo", "release", "push", "notice", "count")
+MAGIC = b"AL2"
+MAX_SENDER = 80
+#: Seconds a message stays acceptable (either side of the receiver's clock).
+REPLAY_WINDOW = 10.0
+#: Messages per second (and at once) a sender may send before the excess is dropped
+#: unread; senders with a bucket at most (idle ones never verified are forgotten; new
+#: senders past it share one bucket).
+SENDER_RATE = 50.0
+SENDER_BURST = 200.0
+MAX_SENDERS = 64
+#: scrypt's cost for the bus key (about 0.1-0.3 s once per process, 32 MB).
+SCRYPT_N = 2**15
+SCRYPT_R = 8
+#: The in-process bus's key secret (its messages never leave the process).
+_PROCESS_SECRET = secrets.token_bytes(32)
+_KEYS: dict[tuple[str, bytes], bytes] = {}
+_KEYS_LOCK = threading.Lock()
 
 
 class BusError(ValueError):
-    """A bad ``--bus`` address or a refused message (one line for the user)."""
+    """A bad ``--bus`` address or a refused message (one line for the user); ``cause``
+    names the kind of refusal (the log is rate-limited per cause)."""
+
+    def __init__(self, message: str, cause: str = "refused") -> None:
+        super().__init__(message)
+        self.cause = cause
 
 
 @dataclass
@@ -57,63 +95,127 @@ class Message:
     sender: str
     kind: str
     body: dict[str, Any]
+    seq: int = 0
+    t: float = 0.0
+
+
+@dataclass(frozen=True)
+class Head:
+    """The plain head of an envelope, read without decoding its payload."""
+
+    sender: str
+    seq: int
+    t: float
+    sig: bytes
+    signed: bytes  # what the signature covers
+    payload: bytes
 
 
 Listener = Callable[[Message], None]
 StatusListener = Callable[[bool, str], None]
 
 
-def bus_key(code: str) -> bytes:
-    """The signing key of a class (derived from its instructor code)."""
-    return hashlib.sha256(b"analyzer-lab-bus\0" + code.encode("utf-8")).digest()
+def class_key(code: str, salt: bytes) -> bytes:
+    """The bus key of a class: scrypt of its instructor code (as typed: case, spaces and
+    dashes do not matter) with the class's salt; computed once per process and salt."""
+    norm = normalize_code(code)
+    with _KEYS_LOCK:
+        key = _KEYS.get((norm, salt))
+        if key is None:
+            key = hashlib.scrypt(
+                norm.encode("utf-8"),
+                salt=b"analyzer-lab-bus\0" + salt,
+                n=SCRYPT_N,
+                r=SCRYPT_R,
+                p=1,
+                maxmem=64 * 2**20,
+                dklen=32,
+            )
+            _KEYS[(norm, salt)] = key
+    return key
 
 
-def encode_message(key: bytes, sender: str, kind: str, body: dict[str, Any]) -> bytes:
-    """A signed envelope (raises :class:`BusError` if the body is not plain JSON data)."""
+def local_key(code: str) -> bytes:
+    """The in-process bus's key: keyed by a secret of this process (nothing outside the
+    process sees its messages, so no slow derivation is needed)."""
+    return hmac.new(_PROCESS_SECRET, normalize_code(code).encode("utf-8"), hashlib.sha256).digest()
+
+
+def encode_message(
+    key: bytes,
+    sender: str,
+    kind: str,
+    body: dict[str, Any],
+    seq: int = 1,
+    t: float | None = None,
+) -> bytes:
+    """A signed envelope (raises :class:`BusError` if the body is not plain JSON data or
+    the sender's name cannot travel in the head)."""
+    if not 0 < len(sender) <= MAX_SENDER or "|" in sender or not sender.isascii():
+        raise BusError(f"bad sender name {sender[:MAX_SENDER]!r}")
+    if not sender.isprintable():
+        raise BusError(f"bad sender name {sender[:MAX_SENDER]!r}")
+    name = sender.encode("ascii")
     try:
-        payload = json.dumps(
-            {"from": sender, "kind": kind, "body": body}, sort_keys=True, allow_nan=False
-        )
+        payload = json.dumps({"kind": kind, "body": body}, sort_keys=True, allow_nan=False)
     except (TypeError, ValueError) as exc:
         raise BusError(f"not a bus message: {exc}") from None
-    sig = hmac.new(key, payload.encode("utf-8"), hashlib.sha256).hexdigest()
-    return json.dumps({"v": 1, "payload": payload, "sig": sig}).encode("utf-8")
+    when = time.time() if t is None else t
+    signed = b"|".join((MAGIC, name, b"%d" % seq, b"%.6f" % when, b"")) + payload.encode("utf-8")
+    sig = hmac.new(key, signed, hashlib.sha256).hexdigest().encode("ascii")
+    return b"|".join((MAGIC, name, b"%d" % seq, b"%.6f" % when, sig, payload.encode("utf-8")))
 
 
-def decode_message(key: bytes, raw: Any) -> Message:
-    """Check size, shape and signature; raise :class:`BusError` naming what is wrong."""
+def read_head(raw: Any) -> Head:
+    """Size and head of an envelope, without decoding its payload (:class:`BusError`)."""
     if isinstance(raw, str):
         raw = raw.encode("utf-8", "replace")
     if not isinstance(raw, (bytes, bytearray)):
-        raise BusError("not a byte string")
+        raise BusError("not a byte string", "malformed")
     if len(raw) > MAX_MESSAGE_BYTES:
-        raise BusError(f"too large ({len(raw)} bytes > {MAX_MESSAGE_BYTES})")
+        raise BusError(f"too large ({len(raw)} bytes > {MAX_MESSAGE_BYTES})", "too large")
+    parts = bytes(raw).split(b"|", 5)
+    if len(parts) != 6 or parts[0] != MAGIC:
+        raise BusError("not a version-2 envelope", "malformed")
+    magic, name, seq, when, sig, payload = parts
+    if not 0 < len(name) <= MAX_SENDER or not name.isascii() or not name.decode().isprintable():
+        raise BusError("no sender", "malformed")
+    if not 0 < len(seq) <= 20 or not seq.isdigit() or len(when) > 24 or len(sig) != 64:
+        raise BusError("no sequence number, time or signature", "malformed")
     try:
-        outer = json.loads(raw)
-    except (ValueError, RecursionError):
-        raise BusError("not JSON") from None
-    if not isinstance(outer, dict) or outer.get("v") != 1:
-        raise BusError("not a version-1 envelope")
-    payload, sig = outer.get("payload"), outer.get("sig")
-    if not isinstance(payload, str) or not isinstance(sig, str):
-        raise BusError("no payload or signature")
-    good = hmac.new(key, payload.encode("utf-8"), hashlib.sha256).hexdigest()
-    if not hmac.compare_digest(good, sig):
-        raise BusError("bad signature (not signed with this class's instructor code)")
+        t = float(when)
+    except ValueError:
+        raise BusError("no time", "malformed") from None
+    if not math.isfinite(t):
+        raise BusError("no time", "malformed")
+    signed = b"|".join((magic, name, seq, when, b"")) + payload
+    return Head(name.decode(), int(seq), t, sig, signed, payload)
+
+
+def verify(key: bytes, head: Head) -> Message:
+    """Check the signature, then decode the payload (:class:`BusError` naming what is wrong)."""
+    good = hmac.new(key, head.signed, hashlib.sha256).hexdigest().encode("ascii")
+    if not hmac.compare_digest(good, head.sig):
+        raise BusError(
+            "bad signature (not signed with this class's instructor code)", "bad signature"
+        )
     try:
-        inner = json.loads(payload)
+        inner = json.loads(head.payload)
     except (ValueError, RecursionError):
-        raise BusError("payload is not JSON") from None
+        raise BusError("payload is not JSON", "malformed") from None
     if not isinstance(inner, dict):
-        raise BusError("payload is not an object")
-    sender, kind, body = inner.get("from"), inner.get("kind"), inner.get("body")
-    if not isinstance(sender, str) or not sender or len(sender) > 80:
-        raise BusError("no sender")
+        raise BusError("payload is not an object", "malformed")
+    kind, body = inner.get("kind"), inner.get("body")
     if kind not in KINDS:
-        raise BusError(f"unknown kind {str(kind)[:40]!r}")
+        raise BusError(f"unknown kind {str(kind)[:40]!r}", "unknown kind")
     if not isinstance(body, dict):
-        raise BusError("body is not an object")
-    return Message(sender, kind, body)
+        raise BusError("body is not an object", "malformed")
+    return Message(head.sender, kind, body, head.seq, head.t)
+
+
+def decode_message(key: bytes, raw: Any) -> Message:
+    """Check size, head and signature and decode (no freshness: :meth:`Bus.deliver` does)."""
+    return verify(key, read_head(raw))
 
 
 class Bus:
@@ -122,14 +224,33 @@ class Bus:
     url = "local"
 
     def __init__(self, code: str, name: str | None = None) -> None:
-        self.key = bus_key(code)
+        problem = code_problem(code)
+        if problem:
+            raise BusError(problem)
+        self.code = code
+        self.key = local_key(code)
         self.name = name or secrets.token_hex(4)  # this server's name on the bus
         self.listeners: list[Listener] = []
         self.status_listeners: list[StatusListener] = []
         self.up = True
         self.reason = ""
-        self.stats = {"sent": 0, "received": 0, "refused": 0, "dropped": 0}
+        self.stats = {
+            "sent": 0,
+            "received": 0,
+            "refused": 0,
+            "dropped": 0,
+            "replayed": 0,
+            "stale": 0,
+            "flooded": 0,
+        }
         self.last_refusal = ""
+        self.logs = LogLimiter(log)
+        self._seq = 0
+        self._send_lock = threading.Lock()
+        #: the last sequence number accepted from each sender, and its time
+        self.last_seq: dict[str, tuple[int, float]] = {}
+        self.buckets: dict[str, TokenBucket] = {}
+        self._strangers = TokenBucket(SENDER_RATE, SENDER_BURST)
 
     def listen(self, fn: Listener) -> None:
         self.listeners.append(fn)
@@ -139,8 +260,13 @@ class Bus:
 
     def publish(self, kind: str, body: dict[str, Any]) -> bool:
         """Send to the other servers; False when the bus is down (the message is dropped)."""
+        with self._send_lock:
+            # microseconds of the wall clock, always rising: a restarted server of the
+            # same name goes on above its last number
+            self._seq = max(self._seq + 1, time.time_ns() // 1000)
+            seq = self._seq
         try:
-            raw = encode_message(self.key, self.name, kind, body)
+            raw = encode_message(self.key, self.name, kind, body, seq)
         except BusError:
             log.exception("a %s message was not sent", kind)
             return False
@@ -151,17 +277,61 @@ class Bus:
     def _send(self, raw: bytes) -> bool:
         raise NotImplementedError
 
+    def _bucket(self, sender: str) -> TokenBucket:
+        bucket = self.buckets.get(sender)
+        if bucket is None:
+            if len(self.buckets) >= MAX_SENDERS:  # forget idle senders never verified
+                for name in [
+                    n
+                    for n, b in self.buckets.items()
+                    if n not in self.last_seq and b.wait_time(SENDER_BURST) == 0
+                ]:
+                    del self.buckets[name]
+            if len(self.buckets) >= MAX_SENDERS:
+                return self._strangers
+            bucket = self.buckets[sender] = TokenBucket(SENDER_RATE, SENDER_BURST)
+        return bucket
+
+    def _drop(self, stat: str, exc: BusError) -> None:
+        self.stats[stat] += 1
+        self.last_refusal = str(exc)
+        self.logs.warning(exc.cause, "[bus] refused a message: %s", exc)
+
     def deliver(self, raw: Any) -> None:
-        """A raw message arrived: verify it and hand it to the listeners (not our own)."""
+        """A raw message arrived: size and head, freshness, the sender's rate, then the
+        signature and the payload; a verified message goes to the listeners."""
         try:
-            msg = decode_message(self.key, raw)
+            head = read_head(raw)
         except BusError as exc:
-            self.stats["refused"] += 1
-            self.last_refusal = str(exc)
-            print(f"[bus] refused a message: {exc}", file=sys.stderr, flush=True)
+            self._drop("refused", exc)
             return
-        if msg.sender == self.name:
+        if head.sender == self.name:
+            return  # our own (Redis echoes it), or someone using our name
+        now = time.time()
+        if abs(now - head.t) > REPLAY_WINDOW:
+            age = now - head.t
+            when = f"{age:.0f} s old" if age > 0 else f"{-age:.0f} s ahead of this clock"
+            self._drop("stale", BusError(f"from {head.sender[:20]}: {when}", "stale"))
             return
+        last = self.last_seq.get(head.sender)
+        if last is not None and head.seq <= last[0]:
+            self._drop(
+                "replayed",
+                BusError(f"from {head.sender[:20]}: number {head.seq} already seen", "replayed"),
+            )
+            return
+        if not self._bucket(head.sender).take():
+            self._drop(
+                "flooded",
+                BusError(f"from {head.sender[:20]}: over {SENDER_RATE:.0f} a second", "flooded"),
+            )
+            return
+        try:
+            msg = verify(self.key, head)
+        except BusError as exc:
+            self._drop("refused", exc)
+            return
+        self._seen(head.sender, head.seq, head.t, now)
         self.stats["received"] += 1
         for fn in list(self.listeners):
             try:
@@ -169,11 +339,19 @@ class Bus:
             except Exception:  # the bus goes on for the other listeners and messages
                 log.exception("a listener failed on a %s message from %s", msg.kind, msg.sender)
 
-    def refused(self, reason: str) -> None:
+    def _seen(self, sender: str, seq: int, t: float, now: float) -> None:
+        """Remember the sender's last number (senders silent past the window are
+        forgotten: anything they sent before is stale by then)."""
+        if sender not in self.last_seq and len(self.last_seq) >= MAX_SENDERS:
+            for name in [n for n, v in self.last_seq.items() if now - v[1] > 2 * REPLAY_WINDOW]:
+                del self.last_seq[name]
+        self.last_seq[sender] = (seq, t)
+
+    def refused(self, reason: str, cause: str = "refused") -> None:
         """A listener refused a verified message's body (counted with the bus's refusals)."""
         self.stats["refused"] += 1
         self.last_refusal = reason
-        print(f"[bus] refused a message: {reason}", file=sys.stderr, flush=True)
+        self.logs.warning(cause, "[bus] refused a message: %s", reason)
 
     def _set_status(self, up: bool, reason: str) -> None:
         if up == self.up and reason == self.reason:
@@ -257,6 +435,14 @@ class RedisBus(Bus):
         """Wait for the first connection (``serve`` reports the outcome at start)."""
         return self._connected.wait(timeout)
 
+    def _class_salt(self) -> bytes:
+        """The class's salt: set by the first server of the class, read by the others."""
+        self._redis.set(SALT_KEY, secrets.token_bytes(16), nx=True)
+        salt = self._redis.get(SALT_KEY)
+        if not isinstance(salt, bytes) or not salt:
+            raise BusError("the class's salt is missing from Redis")
+        return salt
+
     def _send(self, raw: bytes) -> bool:
         if not self.up:
             return False
@@ -274,7 +460,7 @@ class RedisBus(Bus):
             try:
                 pubsub = self._redis.pubsub(ignore_subscribe_messages=True)
                 pubsub.subscribe(CHANNEL)
-                self._redis.ping()
+                self.key = class_key(self.code, self._class_salt())
                 self._set_status(True, "")
                 self._connected.set()
                 delay = RETRY_FIRST
@@ -341,9 +527,12 @@ __all__ = [
     "LocalBus",
     "Message",
     "RedisBus",
-    "bus_key",
+    "class_key",
     "decode_message",
     "encode_message",
+    "local_key",
     "make_bus",
     "parse_redis_url",
+    "read_head",
+    "verify",
 ]

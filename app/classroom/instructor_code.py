@@ -1,9 +1,12 @@
-"""The instructor code: generated at start (or chosen), typed in any case and spacing,
-compared in constant time, with limits that slow guessing."""
+"""The instructor code: generated at start (or chosen: on the command line, in a file or
+in the environment), typed in any case and spacing, compared in constant time, with
+limits that slow guessing.  Every way in refuses a weak code with the same words
+(:func:`code_problem`)."""
 
 from __future__ import annotations
 
 import hmac
+import os
 import secrets
 import threading
 import time
@@ -27,6 +30,14 @@ CODE_ADDRESS_BURST = 10
 CODE_ADDRESS_RATE = 1.0 / 6.0
 #: Addresses remembered at most (idle ones are forgotten first).
 CODE_MAX_ADDRESSES = 4096
+#: Where a worker (and anyone who prefers it to the command line) finds the code.
+CODE_ENV = "ANALYZER_LAB_INSTRUCTOR_CODE"
+#: Largest code file read (bytes).
+MAX_CODE_FILE = 4096
+
+
+class CodeError(ValueError):
+    """An instructor code that may not be used, or a code file that cannot be read."""
 
 
 def generate_code() -> str:
@@ -50,6 +61,40 @@ def code_problem(code: str) -> str | None:
             " (a shorter one could be guessed)"
         )
     return None
+
+
+def check_code_strength(code: str) -> str:
+    """``code`` itself, or :class:`CodeError` saying why it may not be used."""
+    problem = code_problem(code)
+    if problem:
+        raise CodeError(problem)
+    return code
+
+
+def read_code_file(path: str) -> str:
+    """The code in a file (its first line; the rest is ignored); :class:`CodeError` if
+    it cannot be read."""
+    try:
+        with open(path, "rb") as fh:
+            data = fh.read(MAX_CODE_FILE)
+    except OSError as exc:
+        raise CodeError(f"cannot read the instructor code file {path!r}: {exc.strerror}") from None
+    lines = data.decode("utf-8", "replace").splitlines()
+    return lines[0].strip() if lines else ""
+
+
+def class_code(given: str | None = None, file: str | None = None) -> str:
+    """The class's instructor code: ``--instructor-code``, else the first line of
+    ``--instructor-code-file``, else :data:`CODE_ENV`, else a generated one; a weak one
+    is refused (:class:`CodeError`) whichever way it came."""
+    if given:
+        return check_code_strength(given)
+    if file:
+        return check_code_strength(read_code_file(file))
+    env = os.environ.get(CODE_ENV)
+    if env:
+        return check_code_strength(env)
+    return generate_code()
 
 
 class CodeGuard:
@@ -117,4 +162,15 @@ class CodeGuard:
         return False, "wrong code" + (f"; next try in {wait:.0f} s" if wait else "")
 
 
-__all__ = ["CodeGuard", "MIN_CODE_LENGTH", "generate_code", "normalize_code"]
+__all__ = [
+    "CODE_ENV",
+    "CodeError",
+    "CodeGuard",
+    "MIN_CODE_LENGTH",
+    "check_code_strength",
+    "class_code",
+    "code_problem",
+    "generate_code",
+    "normalize_code",
+    "read_code_file",
+]

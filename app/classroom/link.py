@@ -195,7 +195,7 @@ class ClassLink:
                 self.apply(msg)
             except LabError as exc:
                 self.stats["refused"] += 1
-                self.bus.refused(f"{msg.kind} from {msg.sender[:20]}: {exc}")
+                self.bus.refused(f"{msg.kind} from {msg.sender[:20]}: {exc}", f"bad {msg.kind}")
         room = self.room
         now = time.monotonic()
         if room.broadcaster == REMOTE and now - self.mirror_seen > DEMO_TIMEOUT:

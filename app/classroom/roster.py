@@ -13,17 +13,31 @@ import html
 import io
 import threading
 import time
+import unicodedata
 from dataclasses import dataclass
 
 MAX_NAME = 40
+#: Longest text looked at (a name is cut to MAX_NAME after cleaning).
+MAX_NAME_INPUT = 1000
+#: Unicode categories removed from names: controls (NUL included), format characters
+#: (direction overrides and marks such as U+202E, zero-width characters), surrogates,
+#: private use and unassigned code points.
+REMOVED_CATEGORIES = frozenset({"Cc", "Cf", "Cs", "Co", "Cn"})
 
 
 def clean_name(text: object) -> str:
-    """A student's typed name: one line, trimmed, at most :data:`MAX_NAME` characters;
-    ``ValueError`` when empty."""
+    """A student's typed name as it is stored and shown: control, format and direction
+    characters removed, whitespace collapsed to single spaces, at most
+    :data:`MAX_NAME` characters; ``ValueError`` when nothing is left."""
     if not isinstance(text, str):
         raise ValueError("type your name first")
-    name = " ".join(text.split())[:MAX_NAME]
+    text = unicodedata.normalize("NFC", text[:MAX_NAME_INPUT])
+    kept = "".join(
+        " " if ch.isspace() else ch
+        for ch in text
+        if ch.isspace() or unicodedata.category(ch) not in REMOVED_CATEGORIES
+    )
+    name = " ".join(kept.split())[:MAX_NAME].rstrip()
     if not name:
         raise ValueError("type your name first")
     return name
@@ -41,6 +55,7 @@ class Record:
     passed: bool = False
     first_pass: float | None = None  # seconds from opening to the first pass
     last: str = ""  # the last verdict in words
+    revision: int = 0  # rises with every attempt (the table sends a row when it changed)
 
     def row(self) -> list[str]:
         return [
@@ -71,7 +86,9 @@ class Roster:
             self.opened.setdefault((page, assignment), self.clock() if when is None else when)
 
     def attempt(self, page: int, name: str, assignment: str, passed: bool, last: str) -> Record:
-        """A graded attempt of a page (its name may change between attempts)."""
+        """A graded attempt of a page (its name may change between attempts; it is
+        cleaned by :func:`clean_name` here, whoever passes it)."""
+        name = clean_name(name)
         now = self.clock()
         with self.lock:
             key = (page, assignment)
@@ -81,6 +98,7 @@ class Roster:
                 rec = self.records[key] = Record(page, name, assignment, opened)
             rec.name = name
             rec.attempts += 1
+            rec.revision += 1
             rec.last = last
             if passed and not rec.passed:
                 rec.passed = True
@@ -113,33 +131,52 @@ class Roster:
         return buf.getvalue()
 
     def to_html(self, assignment: str | None = None) -> str:
-        """The live table (every name escaped); one assignment's rows omit its column."""
+        """The whole table in one piece (every name escaped)."""
         rows = self.rows(assignment)
-        esc = html.escape
-        keep = [0, 2, 3, 4] if assignment is not None else [0, 1, 2, 3, 4]
-        short = ["student", "assignment", "attempts", "passed", "first pass [s]"]
-        head = "".join(f"<th style='text-align:left;padding:2px 4px'>{short[k]}</th>" for k in keep)
-        if not rows:
-            body = (
-                f"<tr><td colspan='{len(keep)}' style='color:#555;padding:2px 4px'>"
-                "no answers checked yet</td></tr>"
-            )
-        else:
-            body = ""
-            for r in rows:
-                colour = "#1b7a2e" if r.passed else "#a61b1b"
-                cells = r.row()
-                body += (
-                    f"<tr class='al-roster-row' data-passed='{'yes' if r.passed else 'no'}'>"
-                    + "".join(
-                        f"<td style='padding:2px 4px{';color:' + colour if k == 3 else ''}'>"
-                        f"{esc(cells[k])}</td>"
-                        for k in keep
-                    )
-                    + "</tr>"
-                )
-        return (
-            "<table class='al-roster' style='font-size:0.85em;border-collapse:collapse;"
-            f"width:100%;word-break:break-word'><thead><tr>{head}</tr></thead>"
-            f"<tbody>{body}</tbody></table>"
-        )
+        return head_html(assignment, not rows) + "".join(row_html(r, assignment) for r in rows)
+
+
+#: Columns shown (indices of :meth:`Record.row`) and their widths, with and without the
+#: assignment column; each row is its own table with these widths, so they line up.
+_COLUMNS = {
+    True: ((0, 2, 3, 4), ("46%", "16%", "14%", "24%")),
+    False: ((0, 1, 2, 3, 4), ("34%", "26%", "12%", "10%", "18%")),
+}
+_SHORT = ["student", "assignment", "attempts", "passed", "first pass [s]"]
+_TABLE = (
+    "<table class='al-roster' style='font-size:0.85em;border-collapse:collapse;"
+    "width:100%;table-layout:fixed;word-break:break-word'>"
+)
+
+
+def _cols(assignment: str | None) -> tuple[tuple[int, ...], str]:
+    keep, widths = _COLUMNS[assignment is not None]
+    return keep, "<colgroup>" + "".join(f"<col style='width:{w}'>" for w in widths) + "</colgroup>"
+
+
+def head_html(assignment: str | None, empty: bool) -> str:
+    """The table's head (one assignment's table omits its column); ``empty``: with the
+    line saying no answer was checked yet."""
+    keep, cols = _cols(assignment)
+    head = "".join(f"<th style='text-align:left;padding:2px 4px'>{_SHORT[k]}</th>" for k in keep)
+    body = (
+        f"<tbody><tr><td colspan='{len(keep)}' style='color:#555;padding:2px 4px'>"
+        "no answers checked yet</td></tr></tbody>"
+        if empty
+        else ""
+    )
+    return f"{_TABLE}{cols}<thead><tr>{head}</tr></thead>{body}</table>"
+
+
+def row_html(r: Record, assignment: str | None) -> str:
+    """One student's row, alone (every cell escaped); it lines up with :func:`head_html`."""
+    keep, cols = _cols(assignment)
+    colour = "#1b7a2e" if r.passed else "#a61b1b"
+    cells = r.row()
+    tds = "".join(
+        f"<td style='padding:2px 4px{';color:' + colour if k == 3 else ''}'>"
+        f"{html.escape(cells[k])}</td>"
+        for k in keep
+    )
+    passed = "yes" if r.passed else "no"
+    return f"{_TABLE}{cols}<tbody><tr class='al-roster-row' data-passed='{passed}'>{tds}</tr></tbody></table>"

@@ -193,6 +193,7 @@ def cmd_serve(args: argparse.Namespace) -> int:
             args.fps,
             not args.no_browser,
             public_hosts=args.public_host,
+            code_file=args.instructor_code_file,
         )
     from analyzer_lab.serve.server import serve
 
@@ -205,6 +206,7 @@ def cmd_serve(args: argparse.Namespace) -> int:
         fps=getattr(args, "fps", 36.0),
         bus_url=bus,
         worker_name=getattr(args, "worker_name", None),
+        instructor_code_file=getattr(args, "instructor_code_file", None),
     )  # fps: classroom hook
 
 
@@ -225,7 +227,16 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument(
         "--instructor-code",
         default=None,
-        help="code that makes a page the instructor (generated if omitted)",
+        help="code that makes a page the instructor (at least 12 letters or digits; generated "
+        "if omitted); any local user can read it from the process list: prefer "
+        "--instructor-code-file or ANALYZER_LAB_INSTRUCTOR_CODE",
+    )
+    s.add_argument(
+        "--instructor-code-file",
+        default=None,
+        metavar="PATH",
+        help="read the instructor code from the first line of PATH (not shown in the process "
+        "list); the environment variable ANALYZER_LAB_INSTRUCTOR_CODE works too",
     )
     s.add_argument("--no-browser", action="store_true", help="do not open a browser window")
     s.add_argument(

@@ -43,7 +43,7 @@ from http.client import HTTPException
 from typing import Any
 
 from analyzer_lab.classroom.bus import Message, make_bus
-from analyzer_lab.classroom.instructor_code import code_problem, generate_code, normalize_code
+from analyzer_lab.classroom.instructor_code import CODE_ENV, CodeError, class_code, normalize_code
 
 STATUS_PATH = "/frontdoor/status"
 #: Seconds before a worker that exited is started again.
@@ -202,7 +202,7 @@ class FrontDoor:
 
     def _spawn(self, w: Worker) -> None:
         env = dict(os.environ)
-        env["ANALYZER_LAB_INSTRUCTOR_CODE"] = self.code  # not on the command line (ps)
+        env[CODE_ENV] = self.code  # not on the command line (ps)
         env["ANALYZER_LAB_FRONT_DOOR_PID"] = str(os.getpid())
         args = [
             sys.executable,
@@ -497,12 +497,13 @@ def serve_workers(
     fps: float | None,
     open_browser: bool,
     public_hosts: Iterable[str] = (),
+    code_file: str | None = None,
 ) -> int:
     """Run the front door and its workers until interrupted; returns the exit code."""
-    code = code or os.environ.get("ANALYZER_LAB_INSTRUCTOR_CODE") or generate_code()
-    problem = code_problem(code)
-    if problem:  # refused here, once, rather than by every worker in a restart loop
-        print(f"analyzer-lab: error: {problem}", file=sys.stderr)
+    try:
+        code = class_code(code, code_file)
+    except CodeError as exc:  # refused here, once, rather than by every worker in a restart loop
+        print(f"analyzer-lab: error: {exc}", file=sys.stderr)
         return 2
     raise_open_file_limit()
     try:

@@ -32,7 +32,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from analyzer_lab.classroom.bus import Bus, BusError, make_bus
-from analyzer_lab.classroom.instructor_code import generate_code
+from analyzer_lab.classroom.instructor_code import CodeError, class_code
 from analyzer_lab.classroom.room import Classroom
 from analyzer_lab.lessons.kit.contract import Lesson, Params
 from analyzer_lab.limits import prefer_returned_memory
@@ -459,9 +459,12 @@ def serve(
     fps: float = DEFAULT_FPS,
     bus_url: str | None = None,
     worker_name: str | None = None,
+    instructor_code_file: str | None = None,
 ) -> int:
     """Run the lab until interrupted; returns the exit code.  ``bus_url``: the class bus
-    shared with other servers (``redis://HOST:PORT``; default in-process)."""
+    shared with other servers (``redis://HOST:PORT``; default in-process); the code comes
+    from ``instructor_code``, ``instructor_code_file`` or the environment
+    (:func:`~analyzer_lab.classroom.instructor_code.class_code`)."""
     if not (0 <= int(port) <= 65535):
         print(f"analyzer-lab: error: port must be in 0..65535, got {port}", file=sys.stderr)
         return 2
@@ -469,7 +472,11 @@ def serve(
         print(f"analyzer-lab: error: --fps must be in 1..120, got {fps}", file=sys.stderr)
         return 2
     t0 = time.perf_counter()
-    code = instructor_code or os.environ.get("ANALYZER_LAB_INSTRUCTOR_CODE") or generate_code()
+    try:
+        code = class_code(instructor_code, instructor_code_file)
+    except CodeError as exc:
+        print(f"analyzer-lab: error: {exc}", file=sys.stderr)
+        return 2
     try:
         bus = make_bus(bus_url, code, worker_name)
     except BusError as exc:
