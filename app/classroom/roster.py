@@ -130,11 +130,6 @@ class Roster:
             w.writerow(cells)
         return buf.getvalue()
 
-    def to_html(self, assignment: str | None = None) -> str:
-        """The whole table in one piece (every name escaped)."""
-        rows = self.rows(assignment)
-        return head_html(assignment, not rows) + "".join(row_html(r, assignment) for r in rows)
-
 
 #: Columns shown (indices of :meth:`Record.row`) and their widths, with and without the
 #: assignment column; each row is its own table with these widths, so they line up.
