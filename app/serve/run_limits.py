@@ -16,11 +16,10 @@ is named with its time (:func:`first_non_finite`).
 from __future__ import annotations
 
 import math
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
-import numpy as np
-from analyzer_lab.lessons.kit.budget import clock, work_budget
-from analyzer_lab.lessons.kit.contract import Lesson, Params, RunResult
+if TYPE_CHECKING:  # imported where used: ``run --help`` reads the limits without the model
+    from analyzer_lab.lessons.kit.contract import Lesson, Params, RunResult
 
 #: Fixed integration steps of a run (``t_end / h`` times the points of a family).
 MAX_POINT_STEPS = 10_000_000
@@ -82,6 +81,8 @@ def refusal(lesson: Lesson, params: Params, t_end: float) -> str | None:
 def cpu_estimate(lesson: Lesson, params: Params, t_end: float) -> float | None:
     """CPU seconds of the whole run, from the lesson's stepper timed on its first piece
     (None when the piece could not be run: the run itself reports why)."""
+    from analyzer_lab.lessons.kit.budget import clock, work_budget
+
     span = min(t_end, lesson.t_end)
     piece = span / 50
     try:
@@ -94,7 +95,7 @@ def cpu_estimate(lesson: Lesson, params: Params, t_end: float) -> float | None:
                 if stepper.t <= before:
                     break
         used, covered = clock() - start, stepper.t
-    except Exception:  # the run itself reports what went wrong
+    except (ValueError, ArithmeticError, RuntimeError):  # the run itself reports what went wrong
         return None
     if covered <= 0:
         return None
@@ -112,6 +113,8 @@ def first_non_finite(
 ) -> tuple[str, float] | None:
     """The first (in time) series value that is not finite: (series, time), or None;
     ``allowed``: series a lesson declares undefined somewhere (:func:`may_be_undefined`)."""
+    import numpy as np
+
     first: tuple[str, float] | None = None
     t = np.asarray(result.t, dtype=float)
     for name, values in result.series.items():
