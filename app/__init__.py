@@ -14,8 +14,9 @@ Python, and this package's face::
     run.plot("v2")
 
 The face is light: its names are imported on first use (``import analyzer_lab`` imports
-no view code, no viser, no sympy). ``al.lessons`` is the model package and, called,
-:func:`analyzer_lab.api.lessons`.
+no view code, no viser, no sympy). Two names are packages and calls at once:
+``al.lessons`` is the model package and, called, :func:`analyzer_lab.api.lessons`;
+``al.serve`` is the serving package and, called, :func:`analyzer_lab.api.serve`.
 """
 
 from __future__ import annotations
@@ -23,7 +24,8 @@ from __future__ import annotations
 import types
 from typing import TYPE_CHECKING, Any
 
-from analyzer_lab import lessons  # the model package; its own __init__ imports nothing
+# the model package and the serving package (their own __init__ import nothing)
+from analyzer_lab import lessons, serve
 
 if TYPE_CHECKING:
     from analyzer_lab.api import (
@@ -39,7 +41,6 @@ if TYPE_CHECKING:
         grade,
         run,
         runs,
-        serve,
     )
 
 __all__ = [
@@ -59,20 +60,24 @@ __all__ = [
     "serve",
 ]
 #: The names of :mod:`analyzer_lab.api` this face offers (imported on first use).
-API_NAMES = frozenset(__all__) - {"lessons"}
+API_NAMES = frozenset(__all__) - {"lessons", "serve"}
 
 
-class _CallableModel(types.ModuleType):
-    """The model package, callable: ``analyzer_lab.lessons()`` lists the lessons."""
+class _CallablePackage(types.ModuleType):
+    """A subpackage whose name is also a call of the API: ``analyzer_lab.lessons`` is the
+    model package and ``al.lessons()`` lists the lessons; ``analyzer_lab.serve`` is the
+    serving package and ``al.serve(...)`` starts a live page."""
 
-    def __call__(self, *ids: str) -> list[LessonInfo]:
-        """The lessons (:func:`analyzer_lab.api.lessons`)."""
-        from analyzer_lab.api import lessons as listing
+    def __call__(self, *args: Any, **kwargs: Any) -> Any:
+        """The API's call of this name (:func:`analyzer_lab.api.lessons`,
+        :func:`analyzer_lab.api.serve`)."""
+        import analyzer_lab.api as api
 
-        return listing(*ids)
+        return getattr(api, self.__name__.rpartition(".")[2])(*args, **kwargs)
 
 
-lessons.__class__ = _CallableModel
+for _package in (lessons, serve):
+    _package.__class__ = _CallablePackage
 
 
 def __getattr__(name: str) -> Any:
