@@ -161,7 +161,7 @@ def run(
     --------
     >>> import analyzer_lab as al
     >>> run = al.run("sphere", preset="example-1.1")
-    >>> run.t[-1], run.units["v2"]
+    >>> float(run.t[-1]), run.units["v2"]
     (10.0, 'units²/s²')
     >>> round(float(run["v2"].max()), 9)  # |v|² of Example 1.1, constant
     50.0
