@@ -249,7 +249,9 @@ def test_the_error_names_the_parameter_and_the_limit() -> None:
         al.run("sphere", h=9e-6)
     with pytest.raises(al.AnalyzerLabError, match=r"the limit is 10,000,000"):
         al.run("sphere", h=1.1e-5, t_end=100000)
-    with pytest.raises(al.AnalyzerLabError, match=r"^x is not finite \(NaN or infinite\) from t = 101.05 s on"):
+    with pytest.raises(
+        al.AnalyzerLabError, match=r"^x is not finite \(NaN or infinite\) from t = 101.05 s on"
+    ):
         al.run("sphere", u1="sqrt(101 - t)", t_end=120)
     with pytest.raises(al.AnalyzerLabError, match=r"expected a formula of t, got list"):
         al.run("sphere", u1=[1, 2])
