@@ -65,7 +65,18 @@ class LessonInfo:
 
     @classmethod
     def of(cls, lesson: Lesson) -> LessonInfo:
-        """The declaration of ``lesson``."""
+        """The declaration of a lesson.
+
+        Parameters
+        ----------
+        lesson : Lesson
+            The lesson (from the catalog).
+
+        Returns
+        -------
+        LessonInfo
+            What it declares.
+        """
         return cls(
             id=lesson.id,
             title=lesson.title,

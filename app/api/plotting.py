@@ -20,12 +20,38 @@ class Plottable(Protocol):
 
 
 def with_unit(name: str, unit: str) -> str:
-    """``"x [m]"``, or the name alone for a pure number."""
+    """A series' label with its unit.
+
+    Parameters
+    ----------
+    name : str
+        The series' name.
+    unit : str
+        Its unit (``""`` for a pure number).
+
+    Returns
+    -------
+    str
+        ``"x [m]"``, or the name alone for a pure number.
+    """
     return f"{name} [{unit}]" if unit else name
 
 
 def y_label(names: Sequence[str], units: Sequence[str]) -> str:
-    """The y axis' label: the names with their one unit, or each name with its own."""
+    """The y axis' label.
+
+    Parameters
+    ----------
+    names : sequence of str
+        The series drawn.
+    units : sequence of str
+        Their units, in the same order.
+
+    Returns
+    -------
+    str
+        The names with their one unit (``"x, y [m]"``), or each name with its own.
+    """
     if len(set(units)) == 1:
         return with_unit(", ".join(names), units[0])
     return ", ".join(with_unit(n, u) for n, u in zip(names, units))

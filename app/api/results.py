@@ -75,7 +75,13 @@ class Run:
         return ", ".join(x for x in (self.preset or "defaults", given) if x)
 
     def __getitem__(self, name: str) -> np.ndarray:
-        """The series ``name`` (or ``"t"``, the times)."""
+        """The series ``name`` (or ``"t"``, the times).
+
+        Raises
+        ------
+        AnalyzerLabError
+            For a series the run does not have (the message lists the known ones).
+        """
         if name == "t":
             return self.t
         self._check_names([name])
@@ -143,7 +149,7 @@ class Run:
         frame.attrs["preset"] = self.preset
         return frame
 
-    def default_plot(self) -> tuple[tuple[str, ...], str]:
+    def _default_plot(self) -> tuple[tuple[str, ...], str]:
         """The series of the lesson's first live plot and its title."""
         for spec in find_lesson(self.lesson).plots:
             names = tuple(n for n in spec.series if n in self.series)
@@ -174,7 +180,7 @@ class Run:
         AnalyzerLabError
             For a series the run does not have, or when matplotlib is not installed.
         """
-        names, what = (tuple(series), ", ".join(series)) if series else self.default_plot()
+        names, what = (tuple(series), ", ".join(series)) if series else self._default_plot()
         self._check_names(names)
         return draw([self], names, title or f"{self.lesson} ({self.label}): {what}", ax)
 
@@ -199,7 +205,7 @@ class Run:
         return scene_of(self.lesson, self.preset, self.values, self.t_end, self.label, height)
 
 
-class Runs(list):  # type: ignore[type-arg]
+class Runs(list[Run]):
     """A family of runs, drawn together (a ``list`` of :class:`Run`).
 
     Made by :func:`analyzer_lab.api.runs`.
@@ -230,7 +236,7 @@ class Runs(list):  # type: ignore[type-arg]
         """
         if not self:
             raise AnalyzerLabError("runs: no runs to plot")
-        names, what = (tuple(series), ", ".join(series)) if series else self[0].default_plot()
+        names, what = (tuple(series), ", ".join(series)) if series else self[0]._default_plot()
         for run in self:
             run._check_names(names)
         lessons = ", ".join(dict.fromkeys(run.lesson for run in self))

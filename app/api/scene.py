@@ -69,8 +69,31 @@ class Scene:
 
 
 def played(lesson_id: str, preset: str | None, values: Mapping[str, Any], t_end: float) -> Session:
-    """A session of the lesson, preset and values that has played the run to ``t_end``
-    (frames of :data:`FRAME_DT` lesson seconds, fewer for a long run)."""
+    """A session that has played a run to its end, as the live page plays it.
+
+    Parameters
+    ----------
+    lesson_id : str
+        The lesson's id.
+    preset : str or None
+        The preset the run started from.
+    values : mapping of str to Any
+        Every parameter's value used (a run's ``values``).
+    t_end : float
+        Where the run ends (seconds).
+
+    Returns
+    -------
+    Session
+        Its run log holds frames of :data:`FRAME_DT` lesson seconds (at most
+        :data:`MAX_FRAMES`, longer for a long run); a frame whose points are not finite
+        is not kept.
+
+    Raises
+    ------
+    AnalyzerLabError
+        When the values are refused.
+    """
     import numpy as np
     from analyzer_lab.lessons.kit.contract import ParamError
     from analyzer_lab.session.session import LabError, Session
@@ -104,7 +127,22 @@ def scene_of(
     label: str,
     height: int = 480,
 ) -> Scene:
-    """A run's scene and trail as one HTML page (see :meth:`~analyzer_lab.api.Run.show`)."""
+    """A run's scene and trail as one HTML page (see :meth:`~analyzer_lab.api.Run.show`).
+
+    Parameters
+    ----------
+    lesson_id, preset, values, t_end
+        The run (as :func:`played` takes it).
+    label : str
+        The run's label, in the title.
+    height : int
+        The height in pixels of the scene shown in a notebook.
+
+    Returns
+    -------
+    Scene
+        The browser's HTML replay of the played run.
+    """
     from analyzer_lab.view.replay import replay_html
 
     session = played(lesson_id, preset, values, t_end)

@@ -55,8 +55,26 @@ def cmd_assignments(args: argparse.Namespace) -> int:
 
 
 def find_assignment(target: str, folder: str | None = None) -> Assignment:
-    """The assignment ``target`` names: a file (``*.json`` or a path), else the id of a
-    ready one (or of one in ``folder``); :class:`AssignmentError` (one line) otherwise."""
+    """The assignment ``target`` names.
+
+    Parameters
+    ----------
+    target : str
+        A file (``*.json`` or a path), else the id of a ready assignment (or of one in
+        ``folder``).
+    folder : str, optional
+        A folder of assignment files to look the id up in.
+
+    Returns
+    -------
+    Assignment
+        The assignment, validated.
+
+    Raises
+    ------
+    AssignmentError
+        One line naming the file, the field and the problem, or the unknown id.
+    """
     from analyzer_lab.lessons.assignments import AssignmentError, load_assignment
 
     if target.endswith(".json") or os.sep in target:
@@ -70,7 +88,25 @@ def find_assignment(target: str, folder: str | None = None) -> Assignment:
 
 
 def read_answer(path: str | Path, assignment: Assignment) -> dict[str, Any]:
-    """The values of an answer file, checked against the assignment (what it unlocks)."""
+    """The values of an answer file, checked against the assignment.
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        The answer file: one JSON object of parameter values.
+    assignment : Assignment
+        The assignment it answers (what it unlocks).
+
+    Returns
+    -------
+    dict of str to Any
+        The values.
+
+    Raises
+    ------
+    AssignmentError
+        One line naming the file, the field and the problem.
+    """
     from analyzer_lab.lessons.assignments import AssignmentError, load_answer
     from analyzer_lab.lessons.assignments.spec import MAX_ANSWER_BYTES
 

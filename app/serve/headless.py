@@ -34,6 +34,16 @@ AnalyzerLabError.__module__ = "analyzer_lab"  # its public name: ``analyzer_lab.
 def find_lesson(lesson_id: str) -> Lesson:
     """The lesson with this id (its page alone is imported).
 
+    Parameters
+    ----------
+    lesson_id : str
+        The lesson's id.
+
+    Returns
+    -------
+    Lesson
+        The lesson.
+
     Raises
     ------
     AnalyzerLabError
@@ -52,6 +62,22 @@ def run_lesson(
 ) -> RunResult:
     """Resolve ``values`` over the preset, refuse what ``run`` refuses, simulate, and
     check every sample (see :mod:`analyzer_lab.serve.run_limits`).
+
+    Parameters
+    ----------
+    lesson : Lesson
+        The lesson to run.
+    preset : str or None
+        The preset to start from (``None``: the defaults).
+    values : mapping of str to Any
+        Parameter values over the preset (text as typed, or numbers).
+    t_end : float or None
+        The run's length (``None``: the preset's).
+
+    Returns
+    -------
+    RunResult
+        The finished run, every sample finite (or declared undefined there).
 
     Raises
     ------
@@ -93,14 +119,38 @@ def run_lesson(
 
 
 def claim_jobs(lessons: Sequence[Lesson]) -> list[tuple[Lesson, Claim]]:
-    """Every claim of these lessons, in order."""
+    """Every claim of these lessons, in order.
+
+    Parameters
+    ----------
+    lessons : sequence of Lesson
+        The lessons to check.
+
+    Returns
+    -------
+    list of (Lesson, Claim)
+        Each claim with its lesson.
+    """
     return [(lesson, claim) for lesson in lessons for claim in lesson.claims()]
 
 
 def check_claim(lesson: Lesson, claim: Claim) -> dict[str, Any]:
-    """One claim computed and compared: the row ``analyzer-lab check --json`` prints
-    (``lesson``, ``claim``, ``statement``, ``source``, ``expected``, ``got``, ``pass``).
-    A claim that raises is a failed claim, reported with the exception."""
+    """One claim computed and compared.
+
+    Parameters
+    ----------
+    lesson : Lesson
+        The claim's lesson.
+    claim : Claim
+        The claim.
+
+    Returns
+    -------
+    dict
+        The row ``analyzer-lab check --json`` prints: ``lesson``, ``claim``,
+        ``statement``, ``source``, ``expected``, ``got``, ``pass``. A claim that raises is
+        a failed claim, reported with the exception.
+    """
     try:
         res = claim.check()
         ok, expected, got = res.passed, res.expected, res.got
