@@ -35,6 +35,7 @@ APP_LAYERS = (
     "view",
     "classroom",
     "serve",
+    "api",
     "__init__",
     "__main__",
 )

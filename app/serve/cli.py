@@ -51,45 +51,13 @@ def _parse_sets(items: Sequence[str]) -> dict[str, str]:
 
 
 def cmd_run(args: argparse.Namespace) -> int:
-    import math
-
-    from analyzer_lab.lessons.catalog import get_lesson
-    from analyzer_lab.lessons.kit.contract import ParamError
+    from analyzer_lab.serve.headless import AnalyzerLabError, find_lesson, run_lesson
 
     try:
-        lesson = get_lesson(args.lesson)
-    except KeyError as exc:
-        return _fail(str(exc.args[0]))
-    try:
-        setup = lesson.open(_parse_sets(args.set or []), args.preset)
-    except (ParamError, ValueError) as exc:
+        lesson = find_lesson(args.lesson)
+        result = run_lesson(lesson, args.preset, _parse_sets(args.set or []), args.t_end)
+    except (AnalyzerLabError, ValueError) as exc:
         return _fail(str(exc))
-    t_end = setup.t_end if args.t_end is None else args.t_end
-    if not math.isfinite(t_end) or t_end <= 0 or t_end > 1e5:
-        return _fail(f"--t-end must be a finite number in (0, 1e5], got {t_end}")
-    import warnings
-
-    import numpy as np
-    from analyzer_lab.serve.run_limits import first_non_finite, may_be_undefined, refusal
-
-    # overflow and tolerance warnings are summed up in one line below, not printed
-    with warnings.catch_warnings(), np.errstate(all="ignore"):
-        warnings.simplefilter("ignore")
-        why = refusal(setup, t_end)
-        if why is not None:
-            return _fail(why)
-        try:
-            result = lesson.simulate(setup.params, t_end)
-        except (ParamError, ValueError, ArithmeticError, RuntimeError) as exc:
-            return _fail(str(exc))
-    bad = first_non_finite(result, may_be_undefined(setup))
-    if bad is not None:
-        name, at = bad
-        return _fail(
-            f"{name} is not finite (NaN or infinite) from t = {at:.6g} s on:"
-            " the run is not defined there (shorten --t-end or change the values)"
-        )
-    result.preset = args.preset
     text = json.dumps(result.to_json_dict()) if args.format == "json" else result.to_csv()
     for m in result.messages:
         print(f"note: {m}", file=sys.stderr)
@@ -104,38 +72,24 @@ def cmd_run(args: argparse.Namespace) -> int:
 
 
 def cmd_check(args: argparse.Namespace) -> int:
-    from analyzer_lab.lessons.catalog import all_lessons, get_lesson
+    from analyzer_lab.lessons.catalog import all_lessons
+    from analyzer_lab.serve.headless import AnalyzerLabError, check_claim, claim_jobs, find_lesson
 
     try:
-        chosen = [get_lesson(i) for i in args.lessons] if args.lessons else list(all_lessons())
-    except KeyError as exc:
-        return _fail(str(exc.args[0]))
+        chosen = [find_lesson(i) for i in args.lessons] if args.lessons else list(all_lessons())
+    except AnalyzerLabError as exc:
+        return _fail(str(exc))
     rows = []
     failed = 0
-    jobs = [(l, c) for l in chosen for c in l.claims()]
+    jobs = claim_jobs(chosen)
     for k, (lesson, claim) in enumerate(jobs, 1):
         print(f"[{k}/{len(jobs)}] {lesson.id}: {claim.id} ...", end="", file=sys.stderr, flush=True)
         t0 = time.perf_counter()
-        try:
-            res = claim.check()
-            ok, expected, got = res.passed, res.expected, res.got
-        except Exception as exc:  # a claim that crashes is a failed claim, reported
-            log.warning("%s: claim %s crashed", lesson.id, claim.id, exc_info=True)
-            ok, expected, got = False, "(no exception)", f"{type(exc).__name__}: {exc}"
+        row = check_claim(lesson, claim)
         dt = time.perf_counter() - t0
-        print(f" {'pass' if ok else 'FAIL'} ({dt:.1f} s)", file=sys.stderr, flush=True)
-        failed += not ok
-        rows.append(
-            {
-                "lesson": lesson.id,
-                "claim": claim.id,
-                "statement": claim.statement,
-                "source": claim.source,
-                "expected": expected,
-                "got": got,
-                "pass": ok,
-            }
-        )
+        print(f" {'pass' if row['pass'] else 'FAIL'} ({dt:.1f} s)", file=sys.stderr, flush=True)
+        failed += not row["pass"]
+        rows.append(row)
     if args.json:
         print(json.dumps(rows, indent=1))
     else:
@@ -315,7 +269,11 @@ def main(argv: Sequence[str] | None = None) -> int:
         args = parser.parse_args(argv)
     except SystemExit as exc:
         return int(exc.code or 0)
-    return int(args.func(args))
+    try:
+        return int(args.func(args))
+    except BrokenPipeError:  # the reader stopped early (``| head``): nothing more to say
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return 0
 
 
 if __name__ == "__main__":

@@ -13,6 +13,10 @@ import json
 import os
 import sys
 from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    from analyzer_lab.lessons.assignments import Assignment
 
 EXIT_FAIL = 1
 EXIT_USAGE = 2
@@ -25,17 +29,17 @@ def _fail(message: str) -> int:
     return EXIT_USAGE
 
 
-def _folder(args: argparse.Namespace):
+def _folder(folder: str | None) -> list[Assignment]:
     from analyzer_lab.lessons.assignments import load_folder, ready_assignments
 
-    return load_folder(args.dir) if getattr(args, "dir", None) else ready_assignments()
+    return load_folder(folder) if folder else ready_assignments()
 
 
 def cmd_assignments(args: argparse.Namespace) -> int:
     from analyzer_lab.lessons.assignments import AssignmentError
 
     try:
-        items = _folder(args)
+        items = _folder(getattr(args, "dir", None))
     except AssignmentError as exc:
         return _fail(str(exc))
     if args.json:
@@ -50,33 +54,77 @@ def cmd_assignments(args: argparse.Namespace) -> int:
     return 0
 
 
-def cmd_grade(args: argparse.Namespace) -> int:
-    from analyzer_lab.lessons.assignments import (
-        AssignmentError,
-        grade,
-        load_answer,
-        load_assignment,
-    )
+def find_assignment(target: str, folder: str | None = None) -> Assignment:
+    """The assignment ``target`` names.
+
+    Parameters
+    ----------
+    target : str
+        A file (``*.json`` or a path), else the id of a ready assignment (or of one in
+        ``folder``).
+    folder : str, optional
+        A folder of assignment files to look the id up in.
+
+    Returns
+    -------
+    Assignment
+        The assignment, validated.
+
+    Raises
+    ------
+    AssignmentError
+        One line naming the file, the field and the problem, or the unknown id.
+    """
+    from analyzer_lab.lessons.assignments import AssignmentError, load_assignment
+
+    if target.endswith(".json") or os.sep in target:
+        return load_assignment(target)
+    found = [a for a in _folder(folder) if a.id == target]
+    if not found:
+        raise AssignmentError(
+            "", "", f"{target[:60]!r}: no such assignment ('analyzer-lab assignments' lists them)"
+        )
+    return found[0]
+
+
+def read_answer(path: str | Path, assignment: Assignment) -> dict[str, Any]:
+    """The values of an answer file, checked against the assignment.
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        The answer file: one JSON object of parameter values.
+    assignment : Assignment
+        The assignment it answers (what it unlocks).
+
+    Returns
+    -------
+    dict of str to Any
+        The values.
+
+    Raises
+    ------
+    AssignmentError
+        One line naming the file, the field and the problem.
+    """
+    from analyzer_lab.lessons.assignments import AssignmentError, load_answer
     from analyzer_lab.lessons.assignments.spec import MAX_ANSWER_BYTES
 
+    path = Path(path)
     try:
-        target = args.assignment
-        if target.endswith(".json") or os.sep in target:
-            assignment = load_assignment(target)
-        else:
-            found = [a for a in _folder(args) if a.id == target]
-            if not found:
-                return _fail(
-                    f"{target[:60]!r}: no such assignment ('analyzer-lab assignments' lists them)"
-                )
-            assignment = found[0]
-        path = Path(args.answer)
-        try:
-            raw = path.read_bytes()[: MAX_ANSWER_BYTES + 1]
-        except OSError as exc:
-            return _fail(f"{path}: cannot be read ({exc.strerror})")
-        values = load_answer(raw, assignment, str(path))
-        verdict = grade(assignment, values, str(path))
+        raw = path.read_bytes()[: MAX_ANSWER_BYTES + 1]
+    except OSError as exc:
+        raise AssignmentError(str(path), "", f"cannot be read ({exc.strerror})") from None
+    return load_answer(raw, assignment, str(path))
+
+
+def cmd_grade(args: argparse.Namespace) -> int:
+    from analyzer_lab.lessons.assignments import AssignmentError, grade
+
+    try:
+        assignment = find_assignment(args.assignment, getattr(args, "dir", None))
+        values = read_answer(args.answer, assignment)
+        verdict = grade(assignment, values, str(Path(args.answer)))
     except AssignmentError as exc:
         return _fail(str(exc))
     print(json.dumps(verdict.to_json_dict(), indent=1, ensure_ascii=False))

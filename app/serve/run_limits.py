@@ -17,11 +17,10 @@ from __future__ import annotations
 
 import logging
 import math
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
-import numpy as np
-from analyzer_lab.lessons.kit.budget import clock, work_budget
-from analyzer_lab.lessons.kit.contract import LessonSetup, RunResult
+if TYPE_CHECKING:  # imported where used: ``run --help`` reads the limits without the model
+    from analyzer_lab.lessons.kit.contract import LessonSetup, RunResult
 
 log = logging.getLogger(__name__)
 
@@ -87,6 +86,8 @@ def refusal(setup: LessonSetup, t_end: float) -> str | None:
 def cpu_estimate(setup: LessonSetup, t_end: float) -> float | None:
     """CPU seconds of the whole run, from the setup's stepper timed on its first piece
     (it is advanced; None when the piece could not be run: the run itself reports why)."""
+    from analyzer_lab.lessons.kit.budget import clock, work_budget
+
     span = min(t_end, setup.lesson.t_end)
     piece = span / 50
     try:
@@ -118,6 +119,8 @@ def first_non_finite(
 ) -> tuple[str, float] | None:
     """The first (in time) series value that is not finite: (series, time), or None;
     ``allowed``: series a lesson declares undefined somewhere (:func:`may_be_undefined`)."""
+    import numpy as np
+
     first: tuple[str, float] | None = None
     t = np.asarray(result.t, dtype=float)
     for name, values in result.series.items():
