@@ -132,10 +132,11 @@ class Roster:
 
 
 #: Columns shown (indices of :meth:`Record.row`) and their widths, with and without the
-#: assignment column; each row is its own table with these widths, so they line up.
+#: assignment column; each row is its own table with these widths, so they line up (each
+#: header word fits its column in the panel's width).
 _COLUMNS = {
-    True: ((0, 2, 3, 4), ("46%", "16%", "14%", "24%")),
-    False: ((0, 1, 2, 3, 4), ("34%", "26%", "12%", "10%", "18%")),
+    True: ((0, 2, 3, 4), ("36%", "22%", "18%", "24%")),
+    False: ((0, 1, 2, 3, 4), ("26%", "22%", "19%", "15%", "18%")),
 }
 _SHORT = ["student", "assignment", "attempts", "passed", "first pass [s]"]
 _TABLE = (
