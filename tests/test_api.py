@@ -4,9 +4,7 @@ and bad input refused with the command line's own one-line messages."""
 from __future__ import annotations
 
 import html
-import importlib
 import json
-import os
 import re
 import subprocess
 import sys
@@ -18,18 +16,7 @@ import numpy as np
 import pytest
 from analyzer_lab.lessons.analyzers.sphere import V2_TABLE
 
-
-def require(module: str) -> None:
-    """Skip where an optional package of the ``test`` extra is missing (it fails under
-    ``CI=true``, where ``pip install -e ".[test]"`` installed it)."""
-    try:
-        importlib.import_module(module)
-    except ImportError:
-        missing = f"{module} is not installed: pip install -e '.[test]'"
-        if os.environ.get("CI", "").lower() == "true":
-            pytest.fail(missing + " (CI=true: these tests must run)")
-        pytest.skip(missing)
-
+from tests.support.requirements import require_modules
 
 #: A formula that would create a file if it were evaluated as code.
 PWNED = "/tmp/analyzer-lab-evaluated"
@@ -64,7 +51,7 @@ def test_values_over_a_preset_are_named_in_the_label() -> None:
 
 
 def test_the_textbook_tables_of_examples_1_1_to_1_3() -> None:
-    require("pandas")
+    require_modules("pandas")
     for preset, table in V2_TABLE.items():
         run = al.run("sphere", preset=preset)
         frame = run.to_pandas()
@@ -80,7 +67,7 @@ def test_to_csv_is_the_command_lines_csv(tmp_path: Path, example_1_1: al.Run) ->
 
 
 def test_to_pandas(example_1_1: al.Run) -> None:
-    require("pandas")
+    require_modules("pandas")
     frame = example_1_1.to_pandas()
     assert frame.index.name == "t" and list(frame.columns) == list(example_1_1.series)
     assert frame.attrs["units"]["vx"] == "units/s"
@@ -107,7 +94,7 @@ def test_a_missing_extra_says_which_to_install(
 
 
 def test_plot_returns_titled_unit_labelled_axes(example_1_1: al.Run) -> None:
-    require("matplotlib")
+    require_modules("matplotlib")
     import matplotlib
 
     matplotlib.use("Agg")

@@ -4,15 +4,15 @@ pages and the API's docstrings). The two builds run once per session, side by si
 
 from __future__ import annotations
 
-import os
 import re
 import subprocess
 import sys
 from collections.abc import Iterator
-from importlib.util import find_spec
 from pathlib import Path
 
 import pytest
+
+from tests.support.requirements import require_modules
 
 pytestmark = [pytest.mark.slow, pytest.mark.timeout(900)]
 
@@ -30,24 +30,11 @@ def sphinx(builder: str, out: Path, *options: str) -> subprocess.Popen[str]:
     )
 
 
-def require_docs_tools() -> None:
-    """Skip where the docs' tools of the ``test`` extra are missing (they fail under
-    ``CI=true``, where ``pip install -e ".[test]"`` installed them)."""
-    missing = [
-        m for m in ("sphinx", "myst_nb", "ipykernel", "pandas", "matplotlib") if not find_spec(m)
-    ]
-    if missing:
-        why = f"{', '.join(missing)} not installed: pip install -e '.[test]'"
-        if os.environ.get("CI", "").lower() == "true":
-            pytest.fail(why + " (CI=true: the docs must build)")
-        pytest.skip(why)
-
-
 @pytest.fixture(scope="session")
 def builds(tmp_path_factory: pytest.TempPathFactory) -> Iterator[dict[str, tuple[int, str, Path]]]:
     """The HTML build (notebooks executed) and the doctest build, each: (exit code, what it
     printed, its output folder)."""
-    require_docs_tools()
+    require_modules("sphinx", "myst_nb", "ipykernel", "pandas", "matplotlib")
     html_dir = tmp_path_factory.mktemp("docs-html")
     doctest_dir = tmp_path_factory.mktemp("docs-doctest")
     jobs = {

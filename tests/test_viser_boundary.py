@@ -113,16 +113,18 @@ def test_only_allowed_message_types_reach_viser(server: Any) -> None:
 
 
 def test_client_address_is_the_page_host(server: Any) -> None:
-    seen: list[str] = []
-    server.on_client_connect(lambda c: seen.append(vb.client_address(server, c.client_id)))
+    ids: list[int] = []
+    server.on_client_connect(lambda c: ids.append(c.client_id))
 
-    async def go() -> None:
+    async def go() -> str:
         ws = await _connect(server)
-        await until(lambda: seen, 30, "the page connected")
+        await until(lambda: ids, 30, "the page connected")
+        # the connection is registered beside the connect callbacks: read it once it is
+        address = await until(lambda: vb.client_address(server, ids[-1]), 30, "its address")
         await ws.close()
+        return address
 
-    asyncio.run(go())
-    assert "127.0.0.1" in seen
+    assert asyncio.run(go()) == "127.0.0.1"
     assert vb.client_address(server, 10**9) == ""
 
 

@@ -14,8 +14,8 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
-import pytest
 
+from tests.support.requirements import skip_or_fail
 from tests.support.waiting import wait_until
 
 CHROMIUM = "/usr/bin/chromium"
@@ -56,9 +56,7 @@ def require_browser() -> None:
                 " the browser comes from `apt-get install chromium`)"
             )
     if missing:
-        if os.environ.get("CI", "").lower() == "true":
-            pytest.fail(missing + " (CI=true: browser tests must run)")
-        pytest.skip(missing)
+        skip_or_fail(missing)
 
 
 def quat_matrix(wxyz: np.ndarray) -> np.ndarray:
