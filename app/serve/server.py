@@ -36,7 +36,9 @@ from analyzer_lab.classroom.instructor_code import CodeError, class_code
 from analyzer_lab.classroom.room import Classroom
 from analyzer_lab.lessons.kit.contract import Lesson, Params
 from analyzer_lab.limits import prefer_returned_memory
+from analyzer_lab.serve.back_pressure import PAUSED_NOTICE, BackPressure, Turn
 from analyzer_lab.serve.derivation_jobs import DerivationJobs, build
+from analyzer_lab.serve.fair_share import fair_order
 from analyzer_lab.session.runlog import LRUCache, lesson_scene, params_key
 from analyzer_lab.session.session import STEP_WALL_BUDGET, LabError, Session
 from analyzer_lab.view.math import derivation_to_html
@@ -45,10 +47,12 @@ from analyzer_lab.view.persistence import restore_state
 from analyzer_lab.viser_boundary import (
     PAGE_TITLE,
     WakeBatch,
+    client_address,
     dropped_types,
     event_loop,
     guard_gui_updates,
     make_viser_server,
+    send_lag,
 )
 
 log = logging.getLogger(__name__)
@@ -108,6 +112,10 @@ class LabServer:
             raise LabError(f"unknown lesson {lesson[:60]!r}; known: {', '.join(sorted(ids))}")
         self.default_lesson = lesson
         self.views: dict[int, SessionView] = {}
+        #: the network address each page connected from (the loop's turns are shared by address)
+        self._addresses: dict[int, str] = {}
+        #: pages whose connection does not take its updates get no new frames
+        self.back_pressure = BackPressure()
         self._views_lock = threading.Lock()
         self.stats = LoopStats()
         self._stop = threading.Event()
@@ -139,7 +147,8 @@ class LabServer:
             self._page_pool.submit(self._guarded, self._on_connect, client)
 
         async def disconnect(client: Any) -> None:
-            self._page_pool.submit(self._guarded, self._on_disconnect, client)
+            if not self._stop.is_set():  # pages closed by the server's stop need no freeing
+                self._page_pool.submit(self._guarded, self._on_disconnect, client)
 
         self.server.on_client_connect(connect)
         self.server.on_client_disconnect(disconnect)
@@ -203,6 +212,7 @@ class LabServer:
             self._gone.discard(cid)
             if not gone:
                 self.views[cid] = view
+                self._addresses[cid] = client_address(self.server, cid)
         if gone:
             view.close()
             return
@@ -215,6 +225,8 @@ class LabServer:
     def _on_disconnect(self, client: Any) -> None:
         with self._views_lock:
             view = self.views.pop(client.client_id, None)
+            self._addresses.pop(client.client_id, None)
+            self.back_pressure.forget(client.client_id)
             if view is None:
                 self._gone.add(client.client_id)
         self.classroom.detach(client.client_id, view)  # classroom hook
@@ -261,21 +273,37 @@ class LabServer:
     def _tick_all(self, period: float) -> None:
         """One frame for every session (round-robin, within the time budget)."""
         start = time.monotonic()
-        views = self.open_views()
+        with self._views_lock:
+            pages = [(self._addresses.get(cid, ""), v) for cid, v in self.views.items()]
+        views = fair_order(pages, self._rr)
         substeps = 8 if self.stats.load < 0.5 else 4 if self.stats.load < 0.8 else 1
         batch = WakeBatch(self.server)
         # round-robin with a time budget: under overload every session still gets
         # its turn and viser's sending keeps its share of the interpreter
         budget = start + self.duty * period
         n = len(views)
-        offset = self._rr % n if n else 0
         done = 0
-        for k in range(n):
-            view = views[(offset + k) % n]
+        for k, view in enumerate(views):
             if k and time.monotonic() > budget:
                 break
             done += 1
             session = view.session
+            now = time.monotonic()
+            turn = self.back_pressure.turn(
+                view.client.client_id,
+                send_lag(self.server, view.client.client_id),
+                now,
+                session.playing,
+            )
+            if turn is not Turn.DRAW:
+                view.last_tick = now  # type: ignore[attr-defined]  # its clock waits too
+                if turn is Turn.PAUSE and session.lock.acquire(blocking=False):
+                    try:
+                        session.playing = False
+                        session.notify(PAUSED_NOTICE, "warning")
+                    finally:
+                        session.lock.release()
+                continue
             if not session.lock.acquire(blocking=False):
                 self.stats.skipped += 1
                 continue
@@ -298,7 +326,7 @@ class LabServer:
                 )
             finally:
                 session.lock.release()
-        self._rr = (offset + done) % n if n else 0
+        self._rr = self._rr + done if n else 0
         batch.release()
         view = session = None  # type: ignore[assignment]  # classroom hook: no stale reference once every tab left
         busy = time.monotonic() - start
