@@ -118,7 +118,7 @@ def test_client_address_is_the_page_host(server: Any) -> None:
 
     async def go() -> None:
         ws = await _connect(server)
-        await until(lambda: seen, 5, "the page connected")
+        await until(lambda: seen, 30, "the page connected")
         await ws.close()
 
     asyncio.run(go())
