@@ -39,6 +39,7 @@ from analyzer_lab.limits import prefer_returned_memory
 from analyzer_lab.serve.back_pressure import PAUSED_NOTICE, BackPressure, Turn
 from analyzer_lab.serve.derivation_jobs import DerivationJobs, build
 from analyzer_lab.serve.fair_share import fair_order
+from analyzer_lab.serve.page_opens import WAIT_NOTICE, PageOpens
 from analyzer_lab.session.runlog import LRUCache, lesson_scene, params_key
 from analyzer_lab.session.session import STEP_WALL_BUDGET, LabError, Session
 from analyzer_lab.view.math import derivation_to_html
@@ -141,10 +142,16 @@ class LabServer:
         # pages are built and freed on a pool of their own (building one waits up to 2 s
         # for the browser's saved state), not in the turns of the page callbacks
         self._gone: set[int] = set()  # pages that left while being built
+        #: page builds admitted by network address (a rate with a burst, then a queue)
+        self.page_opens = PageOpens()
         self._page_pool = ThreadPoolExecutor(max_workers=16, thread_name_prefix="analyzer-lab-page")
 
         async def connect(client: Any) -> None:
-            self._page_pool.submit(self._guarded, self._on_connect, client)
+            address = client_address(self.server, client.client_id)
+            if self.page_opens.admit(address, client.client_id, client):
+                self._page_pool.submit(self._guarded, self._on_connect, client)
+            else:
+                self._page_pool.submit(self._guarded, self._tell_to_wait, client)
 
         async def disconnect(client: Any) -> None:
             if not self._stop.is_set():  # pages closed by the server's stop need no freeing
@@ -199,8 +206,16 @@ class LabServer:
         except Exception:  # a page's connection: the server goes on
             log.exception("page %s: %s failed", client.client_id, fn.__name__)
 
+    @staticmethod
+    def _tell_to_wait(client: Any) -> None:
+        client.add_notification("Please wait", WAIT_NOTICE, auto_close_seconds=5.0)
+
     def _on_connect(self, client: Any) -> None:
         cid = client.client_id
+        with self._views_lock:
+            if cid in self._gone:  # it left before its build began: nothing to build
+                self._gone.discard(cid)
+                return
         guard_gui_updates(client.gui, self.server)  # wrong-typed values: one message
         session = Session(self.lessons, self.default_lesson)
         if self.restore:
@@ -223,6 +238,8 @@ class LabServer:
             self.classroom.detach(cid, view)
 
     def _on_disconnect(self, client: Any) -> None:
+        if self.page_opens.drop(client.client_id):
+            return  # it left while waiting its turn: it was never built
         with self._views_lock:
             view = self.views.pop(client.client_id, None)
             self._addresses.pop(client.client_id, None)
@@ -362,6 +379,8 @@ class LabServer:
     def _slow_loop(self) -> None:
         """Derivations and deferred scenes, computed outside the session locks."""
         while not self._stop.wait(0.15):
+            for client in self.page_opens.due():
+                self._page_pool.submit(self._guarded, self._on_connect, client)
             views = self.open_views()
             now = time.monotonic()
             for owner in [k for k, v in self._deriving.items() if v[0].closed]:
