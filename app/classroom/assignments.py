@@ -78,7 +78,13 @@ def verdict_html(g: Grade) -> str:
         items.append(
             f"<li class='al-check' data-check='{esc(c.id)}' data-pass='{'yes' if c.passed else 'no'}'>"
             f"<b style='color:{colour}'>{mark}</b> {esc(c.text)}<br>"
-            f"<span style='color:#555'>{esc(c.message)}</span></li>"
+            f"<span style='color:#555'>{esc(c.message)}</span>"
+            + (
+                f"<br><span class='al-check-feedback' style='color:#1a4d8f'>{esc(c.feedback)}</span>"
+                if c.feedback
+                else ""
+            )
+            + "</li>"
         )
     head = (
         "<b style='color:#1b7a2e'>All checks pass.</b>"
