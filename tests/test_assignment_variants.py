@@ -69,9 +69,9 @@ def test_ten_or_more_ready_assignments_are_varied() -> None:
 
 
 def test_two_students_get_different_numbers_one_student_the_same_twice() -> None:
-    a = next(x for x in READY if x.id == "circle-speed-10")
+    a = next(x for x in READY if x.id == "self-study-circle-speed")
     seen = {variant_for(a, "mech-101", f"student-{k}").index for k in range(40)}
-    assert len(seen) >= 4  # 6 variants, 40 students
+    assert len(seen) >= 4  # 7 variants, 40 students
     first = variant_for(a, "mech-101", "ada")
     other = next(
         variant_for(a, "mech-101", f"student-{k}")
@@ -85,7 +85,7 @@ def test_two_students_get_different_numbers_one_student_the_same_twice() -> None
     # the same numbers in another process (the seed is SHA-256, not Python's hash)
     code = (
         "import json; from analyzer_lab.lessons.assignments import ready_assignments, variant_for;"
-        "a = [x for x in ready_assignments() if x.id == 'circle-speed-10'][0];"
+        "a = [x for x in ready_assignments() if x.id == 'self-study-circle-speed'][0];"
         "print(json.dumps(variant_for(a, 'mech-101', 'ada').values))"
     )
     out = subprocess.run(
