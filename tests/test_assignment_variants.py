@@ -16,7 +16,8 @@ from analyzer_lab.lessons.assignments import (
     release,
     variant_for,
 )
-from analyzer_lab.lessons.assignments.variants import MAX_POOL, pool, seed, space_size
+from analyzer_lab.lessons.assignments.space import MAX_POOL, seed, space_size
+from analyzer_lab.lessons.assignments.variants import pool
 
 READY = ready_assignments()
 VARIED = [a for a in READY if a.varied]
@@ -149,7 +150,10 @@ def test_broken_space_refused_naming_the_variant() -> None:
 @pytest.mark.parametrize(
     ("changes", "words"),
     [
-        ({"task": "{__import__('os').system('touch /tmp/pwned')}"}, "field task: placeholder"),
+        (
+            {"task": "{__import__('os').system('touch /tmp/pwned')}"},
+            "field task: variant 0 (v = 4): placeholder",
+        ),
         ({"task": "{v; import os}"}, "not allowed"),
         ({"task": "{w}"}, "unknown name 'w'"),
         ({"task": "{v:!r}"}, "format"),

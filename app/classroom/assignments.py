@@ -41,6 +41,7 @@ from analyzer_lab.lessons.assignments import (
     release,
 )
 from analyzer_lab.lessons.assignments import draft as draft_assignment
+from analyzer_lab.lessons.assignments.variants import DEFAULT_CLASS
 from analyzer_lab.session.session import LabError
 
 if TYPE_CHECKING:
@@ -49,8 +50,6 @@ if TYPE_CHECKING:
 log = logging.getLogger(__name__)
 
 NONE = "(none)"
-#: the class a board's variants are drawn for until the server names its class
-DEFAULT_CLASS = "class"
 ENV_FOLDER = "ANALYZER_LAB_ASSIGNMENTS"  # analyzer_lab.serve.cli_assignments.ENV_FOLDER
 esc = html.escape
 

@@ -3,6 +3,7 @@
 :mod:`~analyzer_lab.lessons.assignments.spec` is the file format and its validation,
 :mod:`~analyzer_lab.lessons.assignments.grading` runs an answer and measures the checks,
 :mod:`~analyzer_lab.lessons.assignments.library` loads folders and drafts assignments from a state,
+:mod:`~analyzer_lab.lessons.assignments.space` declares varied quantities and their placeholders,
 :mod:`~analyzer_lab.lessons.assignments.variants` draws each student's variant and checks
 every variant before release.
 The model side only: nothing here imports the view.

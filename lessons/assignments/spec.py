@@ -11,7 +11,7 @@ An assignment is plain JSON data (see the README section "Assignments"):
 * ``task``, ``hint``, ``reference`` (text), ``answers`` (``correct``/``wrong`` values);
 * each check may carry ``feedback`` (shown when it fails) and ``feedback_pass`` (when it passes);
 * ``variables`` and ``variants``: varied quantities, one variant per student (see
-  :mod:`analyzer_lab.lessons.assignments.variants`).
+  :mod:`analyzer_lab.lessons.assignments.space`).
 
 Loading validates everything; the first problem raises :class:`AssignmentError`, whose
 message is one line naming the file, the field and what is wrong.  Nothing in a file is
@@ -25,10 +25,21 @@ import keyword
 import math
 import re
 from collections.abc import Mapping
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
+from analyzer_lab.lessons.assignments.space import (
+    SpaceError,
+    Variable,
+    concrete_data,
+    label,
+    parse_sample,
+    parse_variables,
+    pool_indices,
+    space_size,
+    values_at,
+)
 from analyzer_lab.lessons.kit.contract import Lesson, ParamError, Params
 from analyzer_lab.lessons.kit.formula import (
     CONSTANTS,
@@ -90,14 +101,6 @@ class AssignmentError(ValueError):
         self.where = where
         self.field = field_name
         self.message = message
-
-
-@dataclass(frozen=True)
-class Variable:
-    """A varied quantity: its name (usable in ``{...}`` placeholders) and its values."""
-
-    name: str
-    values: tuple[float, ...]
 
 
 @dataclass(frozen=True)
@@ -428,10 +431,58 @@ def parse_assignment(data: Any, where: str = "") -> Assignment:
     if not isinstance(data, dict):
         raise r.fail("", f"an assignment is a JSON object, got {_type(data)}")
     if "variables" in data or "variants" in data:
-        from analyzer_lab.lessons.assignments.variants import parse_varied
-
-        return parse_varied(data, where)
+        return _parse_varied(data, where)
     return parse_concrete(data, where)
+
+
+def _parse_varied(data: Mapping[str, Any], where: str) -> Assignment:
+    """A varied assignment, shown as the first variant it hands out."""
+    try:
+        variables = parse_variables(data.get("variables"))
+        sample = parse_sample(data.get("variants", {}), space_size(variables))
+    except SpaceError as exc:
+        raise AssignmentError(where, exc.field, exc.message) from None
+    answers = data.get("answers")
+    if not isinstance(answers, dict) or not {"correct", "wrong"} <= set(answers):
+        raise AssignmentError(
+            where,
+            "answers",
+            "a varied assignment needs a 'correct' (reference) and a 'wrong' answer",
+        )
+    template = Assignment(
+        id=str(data.get("id", ""))[:60],
+        title="",
+        lesson="",
+        preset=None,
+        start={},
+        t_end=0.0,
+        unlocked=(),
+        checks=(),
+        task="",
+        source=where,
+        data=data,
+        variables=variables,
+        sample=sample,
+    )
+    return variant_assignment(template, pool(template)[0])
+
+
+def pool(a: Assignment) -> tuple[int, ...]:
+    """The indices of the variants of ``a`` that are checked and handed out."""
+    return pool_indices(a.id, space_size(a.variables), a.sample) if a.varied else (0,)
+
+
+def variant_assignment(a: Assignment, index: int) -> Assignment:
+    """Variant ``index`` of a varied assignment, validated as a whole assignment (a
+    refusal names the variant)."""
+    vals = values_at(a.variables, index)
+    try:
+        one = parse_concrete(concrete_data(a.data, vals), a.source)
+    except (SpaceError, AssignmentError) as exc:
+        raise AssignmentError(
+            a.source, exc.field, f"variant {index} ({label(vals)}): {exc.message}"
+        ) from None
+    return replace(one, data=a.data, variables=a.variables, sample=a.sample, variant=vals)
 
 
 def parse_concrete(data: Mapping[str, Any], where: str = "") -> Assignment:
