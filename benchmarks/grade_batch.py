@@ -63,6 +63,11 @@ def main(argv: list[str] | None = None) -> int:
                 f"batch call failed (exit {out.returncode}): {out.stderr[-500:]}", file=sys.stderr
             )
             return 2
+        print(
+            f"one call, {args.files} files: {wall_one:.1f} s wall, {cpu_one:.1f} s CPU",
+            file=sys.stderr,
+            flush=True,
+        )
         wall_many = cpu_many = 0.0
         for k, p in enumerate(files[:separate]):
             w, c, one = timed([args.cli, "grade", a.id, str(p)])
