@@ -203,3 +203,10 @@ def test_grade_holds_each_run_to_the_run_limits(tmp_path: Path) -> None:
     docs = lines(out)
     assert len(docs) == 2 and all("integration steps" in d["error"] for d in docs)
     assert "small-step.json" in docs[0]["error"] and "the limit is 10,000,000" in docs[0]["error"]
+
+
+def test_grade_draws_for_the_same_default_class_as_the_board() -> None:
+    from analyzer_lab.lessons.assignments.space import DEFAULT_CLASS
+    from analyzer_lab.serve.cli_assignments import DEFAULT_CLASS as CLI_CLASS
+
+    assert CLI_CLASS == DEFAULT_CLASS
