@@ -272,11 +272,13 @@ def add_parsers(sub: argparse._SubParsersAction) -> None:
     s.add_argument(
         "--class",
         dest="class_id",
+        metavar="CLASS",
         default=DEFAULT_CLASS,
         help=f"the class whose variants are graded (default {DEFAULT_CLASS!r})",
     )
     s.add_argument(
         "--student",
+        metavar="KEY",
         help="the student whose variant is graded (default: each file's name without .json)",
     )
     s.set_defaults(func=cmd_grade)
