@@ -33,11 +33,15 @@ from analyzer_lab.lessons.assignments import (
     Assignment,
     AssignmentError,
     Grade,
+    Release,
+    Variant,
     grade,
     load_folder,
     ready_assignments,
+    release,
 )
 from analyzer_lab.lessons.assignments import draft as draft_assignment
+from analyzer_lab.lessons.assignments.variants import DEFAULT_CLASS
 from analyzer_lab.session.session import LabError
 
 if TYPE_CHECKING:
@@ -65,9 +69,18 @@ def task_html(a: Assignment) -> str:
         " (the other fields are locked)<br><b>Goal:</b>"
         f"<ul style='margin:2px 0 2px 1.1em;padding:0'>{checks}</ul>"
         + (f"<i>Hint:</i> {esc(a.hint)}<br>" if a.hint else "")
+        + (
+            f"<span class='al-variant' style='color:#555'>Your numbers: {esc(_numbers(a))}</span><br>"
+            if a.variant
+            else ""
+        )
         + (f"<span style='color:#555'>{esc(a.reference)}</span>" if a.reference else ""),
         cls="al-assignment-task",
     )
+
+
+def _numbers(a: Assignment) -> str:
+    return ", ".join(f"{k} = {v:.12g}" for k, v in a.variant.items())
 
 
 def verdict_html(g: Grade) -> str:
@@ -78,7 +91,13 @@ def verdict_html(g: Grade) -> str:
         items.append(
             f"<li class='al-check' data-check='{esc(c.id)}' data-pass='{'yes' if c.passed else 'no'}'>"
             f"<b style='color:{colour}'>{mark}</b> {esc(c.text)}<br>"
-            f"<span style='color:#555'>{esc(c.message)}</span></li>"
+            f"<span style='color:#555'>{esc(c.message)}</span>"
+            + (
+                f"<br><span class='al-check-feedback' style='color:#1a4d8f'>{esc(c.feedback)}</span>"
+                if c.feedback
+                else ""
+            )
+            + "</li>"
         )
     head = (
         "<b style='color:#1b7a2e'>All checks pass.</b>"
@@ -122,6 +141,9 @@ class AssignmentBoard:
         self.roster = Roster()
         self.students: dict[int, StudentPanel] = {}
         self.teachers: dict[int, TeacherPanel] = {}
+        #: the class the students' variants are drawn for
+        self.class_id = DEFAULT_CLASS
+        self._released: dict[str, Release] = {}
 
     @property
     def assignments(self) -> dict[str, Assignment]:
@@ -157,6 +179,25 @@ class AssignmentBoard:
         if panel is not None:
             panel.resume()
 
+    # -- variants: each student's numbers, from the variants checked at release
+
+    def release(self, aid: str) -> Release:
+        """The variants of ``aid`` that passed the release check (checked once, on first
+        use); raises :class:`AssignmentError` naming the variant that failed."""
+        done = self._released.get(aid)
+        if done is None:
+            a = self.assignments[aid]
+            # the ready and served files are checked by their tests; a varied one here
+            done = release(a) if a.varied else Release(a, (Variant(0, {}, a),), 0, 0.0)
+            self._released[aid] = done
+            log.info("assignment %s released: %d variant(s)", aid, len(done.variants))
+        return done
+
+    def variant(self, aid: str, class_id: str, student: str) -> Variant:
+        """The variant of ``aid`` for ``student`` (the typed name, else the page) in
+        ``class_id``: the same every time."""
+        return self.release(aid).for_student(class_id, student)
+
     # -- the class
 
     def choices(self) -> tuple[str, ...]:
@@ -167,6 +208,7 @@ class AssignmentBoard:
         Pages following a demo show the instructor's session: they get it on release."""
         if aid not in self.assignments:
             raise LabError("choose one of the assignments")
+        self.release(aid)  # a variant space that fails its check is never pushed
         self.pushed = aid
         reached = 0
         for cid, panel in list(self.students.items()):
@@ -197,6 +239,7 @@ class StudentPanel:
         self.board = board
         self.view = view
         self.active: Assignment | None = None
+        self.variant: Variant | None = None
         self.pending: str | None = None
         gui = view.client.gui
         order = float(view.status.order) + 0.5
@@ -209,6 +252,7 @@ class StudentPanel:
             self.result = gui.add_html("")
         self.picker.on_update(view.guard(self._on_pick))
         self.check_btn.on_click(view.guard(lambda e: self.check()))
+        self.name.on_update(view.guard(lambda e: self._renumber()))
         inner = view.gate
         view.gate = lambda v, event, again: self._gate(v, event, again, inner)  # type: ignore[assignment]
         self._shown_visible(False)
@@ -226,12 +270,17 @@ class StudentPanel:
             return
         if value not in self.board.assignments:
             raise LabError(f"unknown assignment {str(value)[:60]!r}")
-        self.open(value)
+        try:
+            self.open(value)
+        except AssignmentError as exc:
+            self.close()
+            raise LabError(str(exc)) from None
 
     def open(self, aid: str, pushed: bool = False) -> None:
         """Load the assignment's lesson, preset and start values, lock the other fields
-        (caller holds the session lock)."""
-        a = self.board.assignments[aid]
+        (caller holds the session lock); a varied one with this student's numbers."""
+        self.variant = self.board.variant(aid, self.board.class_id, self.student_key())
+        a = self.variant.assignment
         s = self.view.session
         self.active = None  # the lesson picker must not be refused while switching
         if s.lesson.id != a.lesson:
@@ -270,8 +319,31 @@ class StudentPanel:
             self.view.controls.set_locked(self.locked(), self.view.session.params)
             self._pickers_disabled(True)
 
+    def student_key(self) -> str:
+        """Who the variant is drawn for: the typed name, else this page."""
+        try:
+            return clean_name(self.name.value)
+        except ValueError:
+            return f"page-{self.view.client.client_id}"
+
+    def _renumber(self) -> bool:
+        """The typed name changed: a varied assignment gets that student's numbers
+        (caller holds the lock); True when they changed."""
+        a, v = self.active, self.variant
+        if a is None or v is None or not a.varied:
+            return False
+        now = self.board.variant(a.id, self.board.class_id, self.student_key())
+        if now.index == v.index:
+            return False
+        self.open(a.id)
+        self.result.content = error_html(
+            f"your numbers for this name: {_numbers(now.assignment)} (the start values are reset)"
+        )
+        return True
+
     def close(self) -> None:
         self.active = None
+        self.variant = None
         self.view.controls.set_locked(frozenset(), self.view.session.params)
         self._pickers_disabled(self.view.following)
         if self.picker.value != NONE:
@@ -334,6 +406,8 @@ class StudentPanel:
             name = clean_name(self.name.value)
         except ValueError as exc:
             self.result.content = error_html(str(exc))
+            return
+        if self._renumber():  # the name was changed without its update reaching us
             return
         s = self.view.session
         if s.lesson.id != a.lesson:
