@@ -486,6 +486,7 @@ class SessionView:
         ):
             self._build_plots()
         if heavy:
+            self.plots.show_preset(s.preset)
             content = preset_note_html(s)
             if self.preset_note.content != content:
                 self.preset_note.content = content

@@ -130,6 +130,7 @@ class PlotPanel:
         #: the series of every chart (empty: not defined), as built
         self.layout: tuple[tuple[str, ...], ...] = ()
         self.note: Any = None
+        self.missing: list[str] = []  # the titles of the charts not defined
         self.time_scale = 1.0
         self._rr = 0
         self._fresh_until = 0.0
@@ -172,8 +173,16 @@ class PlotPanel:
                 )
                 self.charts.append(Chart(spec, names, units, handle, data.exponent, _key(log)))
             self.note = self.gui.add_html(_missing_html(missing, preset)) if missing else None
+        self.missing = missing
         self._fresh_until = time.monotonic() + FRESH_DELAY
         return folder
+
+    def show_preset(self, preset: str | None) -> None:
+        """Say whether the charts left out are not defined for a preset or for values."""
+        if self.note is not None:
+            content = _missing_html(self.missing, preset)
+            if self.note.content != content:
+                self.note.content = content
 
     @staticmethod
     def _y_label(units: str, exponent: int) -> str:
