@@ -568,6 +568,7 @@ class SessionView:
             and s.scene_revision == self._drawn_scene_rev
             and s.reset_revision == self._drawn_reset_rev
             and s.camera_revision == self._drawn_camera_rev
+            and not (self.frame_count % cfg.plot_send_every == 0 and self.plots.behind(s.log))
         ):
             if was_playing != s.playing or self.frame_count % cfg.readout_every == 0:
                 self._update_texts()
@@ -585,6 +586,9 @@ class SessionView:
                 self.renderer.push_frames(frames, s.playing, self.frame_count)
                 if self.frame_count % cfg.plot_send_every == 0 or not s.playing:
                     self.plots.send(s.log, all_plots=not s.playing)
+            elif self.frame_count % cfg.plot_send_every == 0:
+                # what came in while the charts were fresh (a step just after a preset)
+                self.plots.send(s.log, all_plots=True)
             if self.frame_count % cfg.readout_every == 0 or not s.playing:
                 self._update_texts()
         self.draw_seconds += time.perf_counter() - t1

@@ -4,7 +4,7 @@ Each chart is drawn from the session's run log (every frame played, not a sample
 them), decimated on the server by min/max per pixel column
 (:func:`~analyzer_lab.view.decimation.minmax_indices`), with the x axis spanning the run
 so far.  A chart shows only the series the lesson defines for the current values; a
-chart with none is not drawn, and one line says which charts are not defined.
+chart with none is not drawn, and one line above the charts names them.
 """
 
 from __future__ import annotations
@@ -146,16 +146,17 @@ class PlotPanel:
     ) -> Any:
         """Create the charts of ``lesson`` in a new folder (inside the caller's
         container), drawn from ``log``; returns the folder.  Charts without a series
-        for these values are left out and named in one line."""
+        for these values are left out and named in one line above the others."""
         self.charts = []
         self.layout = self.layout_for(lesson, params, frame)
         self.time_scale = lesson.time_scale
         folder = self.gui.add_folder(FOLDER)
-        missing = []
+        missing = [spec.title for spec, names in zip(lesson.plots, self.layout) if not names]
         with folder:
+            # first, so that the page says at once why a chart is not there
+            self.note = self.gui.add_html(_missing_html(missing, preset)) if missing else None
             for spec, names in zip(lesson.plots, self.layout):
                 if not names:
-                    missing.append(spec.title)
                     continue
                 units = spec.units or units_of(lesson, names)
                 data = chart_data(log, names, self.columns, lesson.time_scale)
@@ -172,7 +173,6 @@ class PlotPanel:
                     aspect=1.6,
                 )
                 self.charts.append(Chart(spec, names, units, handle, data.exponent, _key(log)))
-            self.note = self.gui.add_html(_missing_html(missing, preset)) if missing else None
         self.missing = missing
         self._fresh_until = time.monotonic() + FRESH_DELAY
         return folder
@@ -199,6 +199,13 @@ class PlotPanel:
         fast_set(handle, "data", data.arrays())
         fast_set(handle, "scales", scales(data))
         chart.shown = _key(log)
+
+    def behind(self, log: RunLog) -> bool:
+        """Whether a chart does not show ``log`` yet and may be sent now."""
+        if not self.charts or time.monotonic() < self._fresh_until:
+            return False
+        key = _key(log)
+        return any(chart.shown != key for chart in self.charts)
 
     def send(self, log: RunLog, all_plots: bool = False) -> None:
         """Upload one chart whose run moved on (round-robin), or every one."""
