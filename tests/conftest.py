@@ -30,6 +30,7 @@ LIVE_FILES = {
     "test_attacks_stepping.py",
     "test_browser.py",
     "test_browser_lessons.py",
+    "test_browser_plots.py",
     "test_assignments_browser.py",
     "test_classroom_browser.py",
     "test_classroom.py",

@@ -87,10 +87,10 @@ class Page:
         self.page.on("pageerror", lambda e: self.errors.append(f"pageerror: {e}"))
         before = set(lab.views)
         self.page.goto(lab.url)
-        self.label("Lesson").wait_for(timeout=30000)
+        self.label("Lesson").wait_for(timeout=90000)
         new = wait_until(lambda: set(lab.views) - before, 20, "the session")
         self.view = lab.views[max(new)]
-        wait_until(lambda: self.page.locator("math").count() > 0, 20, "rendered equations")
+        wait_until(lambda: self.page.locator("math").count() > 0, 60, "rendered equations")
 
     @property
     def session(self) -> Any:
