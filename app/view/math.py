@@ -1,10 +1,13 @@
 """Derivation steps as HTML with MathML (viser's markdown has no math).
 
-sympy's presentation printer (for expressions) and latex2mathml (for LaTeX strings)
-produce MathML; neither escapes the text it copies from symbol names or ``\\text{}``,
-so every MathML string is rebuilt by :func:`sanitize_mathml` from a whitelist of
-MathML elements and attributes with all text re-escaped.  Prose (titles, text,
-equation numbers, the "reconstructed" note) goes through :func:`html.escape`.
+The textbook's printer (:mod:`analyzer_lab.view.mathml_printer`, for expressions) and
+latex2mathml (for LaTeX strings) produce MathML; neither escapes the text it copies
+from ``\\text{}``, so every MathML string is rebuilt by :func:`sanitize_mathml` from a
+whitelist of MathML elements and attributes with all text re-escaped.  Prose (titles,
+text) is escaped and then shows Greek names and one-letter subscripts as the textbook
+prints them (:func:`prose_html`).  Formulas keep the text's size (scripts not below
+:data:`MIN_FORMULA_PX`); a sum wraps at its terms only where the panel is too narrow,
+and what is still too wide scrolls inside its own line.
 """
 
 from __future__ import annotations
@@ -230,9 +233,9 @@ def _signed_terms(side: sp.Basic, printer: TextbookMathML) -> list[str]:
         if k == 0:
             rows.append(printer.doprint(term))
         elif term.could_extract_minus_sign():
-            rows.append(f"<mo>\u2212</mo>{printer.doprint(-term)}")
+            rows.append(f'<mo form="infix">\u2212</mo>{printer.doprint(-term)}')
         else:
-            rows.append(f"<mo>+</mo>{printer.doprint(term)}")
+            rows.append(f'<mo form="infix">+</mo>{printer.doprint(term)}')
     return rows
 
 
@@ -252,7 +255,7 @@ def _pieces(item: sp.Basic | str) -> list[str] | None:
         right = _signed_terms(expr.rhs, printer)
         if len(left) + len(right) < 3:
             return None
-        return [*left[:-1], f"{left[-1]}<mo>=</mo>", *right]
+        return [*left[:-1], f'{left[-1]}<mo form="infix">=</mo>', *right]
     if isinstance(expr, sp.Add):
         return _signed_terms(expr, printer)
     return None
@@ -298,13 +301,13 @@ MIN_FORMULA_PX = 12
 #: MIN_FORMULA_PX, a long line scrolling inside itself, a sum wrapping with a hanging indent.
 DERIVATION_CSS = (
     ".al-derivation .al-eq{margin:4px 0;line-height:normal;overflow-x:auto;overflow-y:hidden;"
-    "padding:2px 0}"
-    ".al-derivation math{font-size:1.05em}"
+    "padding:0.35em 0}"
+    ".al-derivation math{font-size:1.05em;text-align:left}"
     ".al-derivation :is(msub,msup,msubsup,munder,mover,munderover,mroot)>:not(:first-child)"
     f"{{font-size:max({MIN_FORMULA_PX}px,0.75em)}}"
     ".al-derivation mfrac>*{font-size:1em}"
     ".al-derivation .al-wrap{display:flex;flex-wrap:wrap;align-items:baseline;"
-    "column-gap:0.3em;row-gap:0.35em;padding-left:2em}"
+    "column-gap:0;row-gap:0.35em;padding:0.35em 0 0.35em 2em;overflow-x:auto;overflow-y:hidden}"
     ".al-derivation .al-wrap>:first-child{margin-left:-2em}"
     ".al-derivation .al-wrap-text{column-gap:1.2em}"
 )

@@ -99,6 +99,12 @@ class TextbookMathML(MathMLPresentationPrinter):
         mrow.appendChild(self._paren_comma_separated(*e.args))
         return mrow
 
+    def parenthesize(self, item: Any, level: int, strict: bool = False) -> Any:
+        """d²z/dt² of a coordinate is a single factor: m d²z/dt², not m (d²z/dt²)."""
+        if isinstance(item, sp.Derivative) and isinstance(item.expr, (sp.Symbol, AppliedUndef)):
+            return self._print(item)
+        return super().parenthesize(item, level, strict)
+
     def _power(self, base: Any, n: int) -> Any:
         if n < 2:
             return base
