@@ -202,6 +202,7 @@ def test_no_lesson_shows_raw_tex() -> None:
             if out in seen:
                 continue
             seen.add(out)
+            out = re.sub(r"<style>.*?</style>", " ", out, flags=re.S)  # not shown
             maths = re.findall(r"<math.*?</math>", out, flags=re.S)
             prose = re.sub(r"<math.*?</math>", " ", out, flags=re.S)
             prose_text = html_lib.unescape(re.sub(r"<[^>]+>", " ", prose))
