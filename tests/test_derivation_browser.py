@@ -95,11 +95,11 @@ def _choose(tab: Page, lesson_id: str, preset: str) -> None:
         tab.input_for("Lesson").click()
         label = lesson_label(get_lesson(lesson_id))
         tab.page.get_by_role("option", name=label, exact=True).click()
-        wait_until(lambda: tab.session.lesson.id == lesson_id, 20, f"lesson {lesson_id}")
+        wait_until(lambda: tab.session.lesson.id == lesson_id, 60, f"lesson {lesson_id}")
     if tab.session.preset != preset or tab.session.edits():
         tab.input_for("Preset").click()
         tab.page.get_by_role("option", name=preset, exact=True).click()
-        wait_until(lambda: tab.session.preset == preset and not tab.session.edits(), 20, preset)
+        wait_until(lambda: tab.session.preset == preset and not tab.session.edits(), 60, preset)
 
 
 @pytest.mark.parametrize("lesson_id, preset, step", CASES)

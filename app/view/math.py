@@ -262,20 +262,22 @@ def _pieces(item: sp.Basic | str) -> list[str] | None:
 
 
 def formula_html(item: sp.Basic | str) -> str:
-    """One statement as a line of the step: a single display ``<math>``, or a sum whose
+    """One statement as a line of the step: one formula in display style, or a sum whose
     terms wrap onto further (indented) lines only where the panel is too narrow.  A
     piece wider than the panel scrolls inside its line; nothing is shrunk."""
     try:
-        pieces = _pieces(item)
-    except Exception:
-        log.warning("statement not cut into lines: %.80s", item, exc_info=True)
-        pieces = None
-    if not pieces:
+        pieces = _pieces(item) or [
+            _latex_inner(item) if isinstance(item, str) else textbook_mathml(sp.sympify(item))
+        ]
+    except Exception:  # shown as escaped text by expr_to_mathml, which logs why
+        log.warning("statement not printed: %.80s", item, exc_info=True)
         return f'<div class="al-eq">{expr_to_mathml(item)}</div>'
-    kind = "al-wrap al-wrap-text" if isinstance(item, str) else "al-wrap"
     maths = "".join(
         _math(f'<mstyle displaystyle="true"><mrow>{p}</mrow></mstyle>', "inline") for p in pieces
     )
+    if len(pieces) == 1:
+        return f'<div class="al-eq">{maths}</div>'
+    kind = "al-wrap al-wrap-text" if isinstance(item, str) else "al-wrap"
     return f'<div class="al-eq"><div class="{kind}">{maths}</div></div>'
 
 
@@ -302,7 +304,7 @@ MIN_FORMULA_PX = 12
 DERIVATION_CSS = (
     ".al-derivation .al-eq{margin:4px 0;line-height:normal;overflow-x:auto;overflow-y:hidden;"
     "padding:0.35em 0}"
-    ".al-derivation math{font-size:1.05em;text-align:left}"
+    ".al-derivation math{font-size:1.05em}"
     ".al-derivation :is(msub,msup,msubsup,munder,mover,munderover,mroot)>:not(:first-child)"
     f"{{font-size:max({MIN_FORMULA_PX}px,0.75em)}}"
     ".al-derivation mfrac>*{font-size:1em}"
