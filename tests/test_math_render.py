@@ -138,6 +138,19 @@ def test_derivatives_read_as_in_the_textbook() -> None:
     assert part.count("∂") + part.count("&#8706;") == 3 and "<mo>(</mo>" in part
 
 
+def test_a_derivative_is_one_factor_and_a_squared_one_keeps_parentheses() -> None:
+    t, m = sp.Symbol("t"), sp.Symbol("m")
+    phi = sp.Function("phi")(t)
+    square = expr_to_mathml(m * phi.diff(t) ** 2 - m)
+    assert (
+        "<msup><mrow><mo>(</mo><mfrac>" in square and "<mo>)</mo></mrow><mn>2</mn></msup>" in square
+    )
+    assert "\u2212" in square and "<mo>-</mo>" not in square
+    factor = expr_to_mathml(m * phi.diff(t, 2))
+    assert "<mo>&InvisibleTimes;</mo><mfrac>" in factor or "<mo>\u2062</mo><mfrac>" in factor
+    assert "<mo>(</mo>" not in factor
+
+
 def test_names_are_written_as_in_the_textbook() -> None:
     """x_A(t) is x with subscript A (not sympy's lower-cased ``x_a(t)``), \\psi is ψ, an
     equation with a matrix side stays an equation."""

@@ -22,6 +22,7 @@ import sympy as sp
 from sympy.core.function import AppliedUndef
 from sympy.printing.conventions import requires_partial
 from sympy.printing.mathml import MathMLPresentationPrinter
+from sympy.printing.precedence import PRECEDENCE
 
 #: TeX spellings of letters that have no plain name sympy knows, and what they show as.
 TEX_NAMES = {
@@ -100,8 +101,13 @@ class TextbookMathML(MathMLPresentationPrinter):
         return mrow
 
     def parenthesize(self, item: Any, level: int, strict: bool = False) -> Any:
-        """d²z/dt² of a coordinate is a single factor: m d²z/dt², not m (d²z/dt²)."""
-        if isinstance(item, sp.Derivative) and isinstance(item.expr, (sp.Symbol, AppliedUndef)):
+        """d²z/dt² of a coordinate is a single factor: m d²z/dt², not m (d²z/dt²); as the
+        base of a power it keeps its parentheses, (dφ/dt)²."""
+        if (
+            level <= PRECEDENCE["Mul"]
+            and isinstance(item, sp.Derivative)
+            and isinstance(item.expr, (sp.Symbol, AppliedUndef))
+        ):
             return self._print(item)
         return super().parenthesize(item, level, strict)
 
@@ -143,7 +149,7 @@ class TextbookMathML(MathMLPresentationPrinter):
 
 def textbook_mathml(expr: Any) -> str:
     """``expr`` as presentation MathML (the inside of a ``<math>`` element)."""
-    return TextbookMathML({}).doprint(expr)
+    return TextbookMathML({}).doprint(expr).replace("<mo>-</mo>", "<mo>\u2212</mo>")
 
 
 __all__ = ["TEX_NAMES", "TextbookMathML", "tex_free", "textbook_mathml"]
