@@ -72,6 +72,10 @@ class TextbookMathML(MathMLPresentationPrinter):
             el.appendChild(self.dom.createTextNode(text))
         return el
 
+    def doprint(self, expr: Any) -> str:
+        """The MathML of ``expr``, minus signs as the minus character (not a hyphen)."""
+        return super().doprint(expr).replace("<mo>-</mo>", "<mo>\u2212</mo>")
+
     def _print_Symbol(self, sym: Any, style: str = "plain") -> Any:
         accent = _ACCENT.match(sym.name)
         name = sym.name[accent.end() :] if accent else sym.name
@@ -149,7 +153,7 @@ class TextbookMathML(MathMLPresentationPrinter):
 
 def textbook_mathml(expr: Any) -> str:
     """``expr`` as presentation MathML (the inside of a ``<math>`` element)."""
-    return TextbookMathML({}).doprint(expr).replace("<mo>-</mo>", "<mo>\u2212</mo>")
+    return TextbookMathML({}).doprint(expr)
 
 
 __all__ = ["TEX_NAMES", "TextbookMathML", "tex_free", "textbook_mathml"]
