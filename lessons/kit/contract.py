@@ -473,6 +473,12 @@ class Lesson(ABC):
     @abstractmethod
     def stepper(self, params: Params) -> Stepper: ...
 
+    def work_bound(self, params: Params, t_end: float) -> float:
+        """Units of work (:func:`analyzer_lab.lessons.kit.budget.charge`) a run up to
+        ``t_end`` needs at least, known from counts before it starts (fixed steps times
+        stages times points); 0 where the lesson cannot tell in advance."""
+        return 0.0
+
     @abstractmethod
     def scene(self, params: Params) -> SceneSpec: ...
 

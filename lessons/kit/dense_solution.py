@@ -21,7 +21,7 @@ from collections.abc import Callable, Sequence
 from typing import Any, Protocol
 
 import numpy as np
-from analyzer_lab.lessons.kit.budget import spent
+from analyzer_lab.lessons.kit.budget import charge, spent
 from analyzer_lab.lessons.kit.contract import Frame, Lesson, Params, Stepper
 from scipy.integrate import DOP853, RK45, Radau
 
@@ -34,6 +34,9 @@ _T_BOUND = 1e9
 FRAME_GRAIN = 1.0 / 600.0
 #: grain times of one block of a :class:`FrameTable`
 TABLE_BLOCK = 240
+#: Work counted per evaluation of the right-hand side by default
+#: (:func:`analyzer_lab.lessons.kit.budget.charge`, about a microsecond a unit).
+WORK_PER_EVALUATION = 20.0
 
 
 class DenseSolution:
@@ -51,8 +54,11 @@ class DenseSolution:
         method: str = "DOP853",
         rtol: float = 1e-9,
         atol: float = 1e-11,
+        work: float = WORK_PER_EVALUATION,
     ) -> None:
         self._rhs = rhs
+        #: work counted per evaluation of ``rhs`` (a dear model declares more)
+        self.work = float(work)
         self.t0 = float(t0)
         self.dim = len(y0)
         self.failure = ""
@@ -90,6 +96,7 @@ class DenseSolution:
             if taken and spent():
                 return
             taken = True
+            before = int(self._solver.nfev)
             try:
                 message = self._solver.step()
             except (np.linalg.LinAlgError, ZeroDivisionError, FloatingPointError) as exc:
@@ -99,6 +106,7 @@ class DenseSolution:
                 return
             self._steps.append(self._solver.dense_output())
             self._ts.append(float(self._solver.t))
+            charge(self.work * (int(self._solver.nfev) - before))
 
     def state(self, t: Array) -> Array:
         """The solution at the times ``t`` (1-D): shape ``(len(t), dim)``, NaN where it

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 from analyzer_lab.lessons.analyzers.field.analyzer import HOLD_TOL, AnalyzerModel
+from analyzer_lab.lessons.kit.budget import charge
 from analyzer_lab.lessons.kit.integrators import gauss_legendre
 
 #: Largest turning rate times substep (rad) of the constant-speed analyzer per number of
@@ -26,6 +27,9 @@ MAX_TURNS = {1: 0.03, 2: 0.03, 3: 0.03, 4: 0.1, 5: 0.15, 6: 0.25}
 RECHECKS = {1: 2.0, 2: 2.0, 3: 2.0, 4: 1.0, 5: 1.0, 6: 1.0}
 #: Most substeps of one step of the constant-speed analyzer (:meth:`SpeedStepper.step_substeps`).
 MAX_SUBSTEPS = 10_000
+#: Work counted per stage and point of one Newton iteration (see
+#: :func:`analyzer_lab.lessons.kit.budget.charge`: about a microsecond a unit).
+WORK_PER_STAGE = 20
 
 
 class SpeedStepper:
@@ -153,6 +157,7 @@ class SpeedStepper:
             w = np.where(norm <= bound, 0.0, Vs[None, :] / np.where(norm > 0, norm, 1.0))
             f = n * w[..., None]
             self.evaluations += s
+            charge(WORK_PER_STAGE * s * N)
             if Minv is None:
                 Minv = self._newton_inverse(At, n, norm, w, h)
             dK = -(Minv @ (K - f).reshape(N, 3 * s, 1)).reshape(N, s, 3)
