@@ -109,3 +109,11 @@ def test_serve_refuses_invalid_assignment_folder(tmp_path: Path) -> None:
     out = cli("serve", "--no-browser", "--port", "1", "--assignments", str(tmp_path))
     assert out.returncode == 2
     assert "bad.json: field id: is missing" in out.stderr
+
+
+def test_a_5000_digit_whole_number_is_a_clear_refusal(tmp_path: Path) -> None:
+    out = cli("grade", "circle-radius-2", answer(tmp_path, '{"x0": ' + "9" * 5000 + "}"))
+    assert out.returncode == 2, out.stderr
+    lines = out.stderr.strip().splitlines()
+    assert len(lines) == 1 and "Traceback" not in out.stderr
+    assert "holds a whole number of 5000 digits; the limit is 100" in lines[0]
