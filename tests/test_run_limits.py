@@ -125,3 +125,21 @@ def test_plain_numbers(value: float, text: str) -> None:
 
     assert plain_number(value) == text
     assert plain_number(np.float64(value)) == text
+
+
+def test_out_refuses_a_symbolic_link_and_writes_nothing_through_it(tmp_path) -> None:
+    target = tmp_path / "elsewhere.json"
+    target.write_text("kept")
+    link = tmp_path / "out.json"
+    link.symlink_to(target)
+    out = cli("run", "circle", "--out", str(link))
+    assert out.returncode == 2 and "is a symbolic link; refused" in one_error_line(out)
+    assert target.read_text() == "kept"
+    dangling = tmp_path / "dangling.json"
+    dangling.symlink_to(tmp_path / "new.json")
+    out = cli("run", "circle", "--out", str(dangling))
+    assert out.returncode == 2 and not (tmp_path / "new.json").exists()
+    plain = tmp_path / "plain.json"
+    out = cli("run", "circle", "--out", str(plain))
+    assert out.returncode == 0, out.stderr
+    assert plain.read_text().startswith("{")
