@@ -9,6 +9,8 @@ and shortened steps with a :class:`SpeedStepper`.
 
 from __future__ import annotations
 
+from collections.abc import Generator
+
 import numpy as np
 from analyzer_lab.lessons.analyzers.field.analyzer import HOLD_TOL, AnalyzerModel
 from analyzer_lab.lessons.kit.budget import charge
@@ -218,12 +220,32 @@ class SpeedStepper:
         or of a longer one from ``R`` (see :meth:`step`).  Afterwards :attr:`last` holds
         those of this step's last substep.
         """
+        work = self.substepping(t, R, h, coeffs, before, covering)
+        while True:
+            try:
+                next(work)
+            except StopIteration as done:
+                return done.value
+
+    def substepping(
+        self,
+        t: float,
+        R: np.ndarray,
+        h: float,
+        coeffs: tuple[np.ndarray, ...] | None = None,
+        before: tuple[np.ndarray, float] | None = None,
+        covering: tuple[np.ndarray, float] | None = None,
+    ) -> Generator[None, None, np.ndarray]:
+        """:meth:`step_substeps` as work that pauses after every substep (a live run's
+        budget is checked there, and the step goes on where it paused); returns the end."""
         if coeffs is None:
             coeffs = tuple(x[0] for x in self.coefficients(t, h, 1, len(R)))
         m = self.cuts(coeffs, R, h)
         counted: np.ndarray | None = None  # the points not starting at a zero of the field
         while True:
-            out, peaks, solved, last = self._substeps(t, R, h, m, coeffs, before, covering)
+            out, peaks, solved, last = yield from self._substeps(
+                t, R, h, m, coeffs, before, covering
+            )
             turned = peaks * h / m > self.max_turn * self.recheck
             if turned.any() and counted is None:
                 counted = ~self.zero_field(t, R)
@@ -267,10 +289,11 @@ class SpeedStepper:
         coeffs: tuple[np.ndarray, ...],
         before: tuple[np.ndarray, float] | None,
         covering: tuple[np.ndarray, float] | None,
-    ) -> tuple[np.ndarray, np.ndarray, bool, tuple[np.ndarray, float]]:
+    ) -> Generator[None, None, tuple[np.ndarray, np.ndarray, bool, tuple[np.ndarray, float]]]:
         """``m`` equal substeps over ``[t, t + h]``: the end, per point the largest turning
         rate at a stage (:attr:`rates`), whether every substep :attr:`converged`, and the
-        slopes and length of the last substep."""
+        slopes and length of the last substep; pauses (yields) after each substep, once what
+        the substep left in the stepper's attributes has been read."""
         size = self.model.hold_size(R)  # for every substep: see step
         if m == 1:
             out = self.step(R, h, coeffs, before, covering, size=size)
@@ -288,4 +311,5 @@ class SpeedStepper:
             nxt = R + inc
             comp = (nxt - R) - inc
             R = nxt
+            yield
         return R, peaks, solved, before
