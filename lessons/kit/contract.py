@@ -139,6 +139,12 @@ class Stepper(ABC):
     def reset(self) -> Frame:
         """Back to the initial state of the current parameters."""
 
+    @property
+    def computing(self) -> bool:
+        """Whether the time stood still at the last :meth:`advance` only because work
+        under way paused at the budget (a step of many substeps): it moves on later."""
+        return False
+
 
 @dataclass(frozen=True, eq=False)
 class LessonSetup:

@@ -556,6 +556,10 @@ class AnalyzerStepper(Stepper):
         self._start(0.0, self.prepared.r0, self.prepared.F0)
         return self.frame()
 
+    @property
+    def computing(self) -> bool:
+        return self.traj.computing
+
     def advance(self, dt: float) -> Frame:
         """Move on by ``dt``, or less if the work budget runs out first
         (:meth:`Trajectory.reach`)."""

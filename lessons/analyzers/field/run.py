@@ -113,6 +113,11 @@ class Trajectory:
         self._ending: tuple[float, Generator[None, None, None]] | None = None
 
     @property
+    def computing(self) -> bool:
+        """(1.59): whether a block or a node's substep ends paused at the budget."""
+        return self._building is not None or self._ending is not None
+
+    @property
     def gauss_legendre(self) -> bool:
         return self.method.startswith("gauss-legendre")
 
