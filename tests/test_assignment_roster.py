@@ -50,6 +50,21 @@ def test_names_are_escaped_and_csv_defused() -> None:
     assert "no answers checked yet" in head_html("a", True)
 
 
+@pytest.mark.parametrize("name", ["x;=1+1", "x;=cmd|' /C calc'!A0", "x,+1", "x|@SUM(1)", "x\t-1"])
+def test_a_formula_after_any_locales_separator_is_defused(name: str) -> None:
+    r = Roster(Clock())
+    r.attempt(1, name, "a", False, "")
+    text = r.to_csv("a")
+    stored = next(csv.reader(io.StringIO(text.splitlines()[1])))[0]
+    for delimiter in ",;|\t":  # a spreadsheet of any locale splits the line into cells
+        for line in text.splitlines()[1:]:
+            for cell in line.split(delimiter):
+                cell = cell.strip().strip('"').strip()
+                assert cell[:1] not in ("=", "+", "-", "@"), (delimiter, cell)
+    assert stored.replace("'", "") == clean_name(name).replace("'", "")
+    assert text.splitlines()[1].startswith('"')  # every cell quoted: one cell per name
+
+
 @pytest.mark.parametrize(("text", "ok"), [("  Ann   Lee ", "Ann Lee"), ("x" * 99, "x" * 40)])
 def test_clean_name(text: str, ok: str) -> None:
     assert clean_name(text) == ok

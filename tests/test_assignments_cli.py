@@ -210,3 +210,11 @@ def test_grade_draws_for_the_same_default_class_as_the_board() -> None:
     from analyzer_lab.serve.cli_assignments import DEFAULT_CLASS as CLI_CLASS
 
     assert CLI_CLASS == DEFAULT_CLASS
+
+
+def test_a_5000_digit_whole_number_is_a_clear_refusal(tmp_path: Path) -> None:
+    out = cli("grade", "circle-radius-2", answer(tmp_path, '{"x0": ' + "9" * 5000 + "}"))
+    assert out.returncode == 2, out.stderr
+    lines = out.stderr.strip().splitlines()
+    assert len(lines) == 1 and "Traceback" not in out.stderr
+    assert "holds a whole number of 5000 digits; the limit is 100" in lines[0]

@@ -2,8 +2,9 @@
 assignment, the attempts, whether it passed and the time to the first pass.
 
 Plain bookkeeping (no viser): the instructor's live table and its CSV export are built
-from it.  Names are user text: the table escapes them and the CSV defuses leading
-``= + - @`` (spreadsheet formulas).
+from it.  Names are user text: the table escapes them and the CSV defuses every
+``= + - @`` that would start a cell (spreadsheet formulas), at the start of a text and
+after a separator of any locale (``, ; | tab``), and quotes every cell.
 """
 
 from __future__ import annotations
@@ -11,6 +12,7 @@ from __future__ import annotations
 import csv
 import html
 import io
+import re
 import threading
 import time
 import unicodedata
@@ -23,6 +25,17 @@ MAX_NAME_INPUT = 1000
 #: (direction overrides and marks such as U+202E, zero-width characters), surrogates,
 #: private use and unassigned code points.
 REMOVED_CATEGORIES = frozenset({"Cc", "Cf", "Cs", "Co", "Cn"})
+
+
+#: A formula start: ``= + - @`` (after spaces) at the start of a cell or after a separator
+#: a spreadsheet of some locale splits on (``,`` ``;`` ``|`` tab).
+_FORMULA_START = re.compile(r"(^|[,;|\t])(\s*)(?=[=+\-@])")
+
+
+def defuse(cell: str) -> str:
+    """``cell`` with a ``'`` before every ``= + - @`` that would start a spreadsheet cell
+    in some locale (``x;=1+1`` -> ``x;'=1+1``): read as text, never as a formula."""
+    return _FORMULA_START.sub(lambda m: m.group(1) + m.group(2) + "'", cell)
 
 
 def clean_name(text: object) -> str:
@@ -121,12 +134,11 @@ class Roster:
 
     def to_csv(self, assignment: str | None = None) -> str:
         buf = io.StringIO()
-        w = csv.writer(buf, lineterminator="\n")
+        w = csv.writer(buf, lineterminator="\n", quoting=csv.QUOTE_ALL)
         w.writerow(HEADER)
         for r in self.rows(assignment):
             cells = r.row()
-            if cells[0][:1] in ("=", "+", "-", "@"):
-                cells[0] = "'" + cells[0]
+            cells[0] = defuse(cells[0])
             w.writerow(cells)
         return buf.getvalue()
 

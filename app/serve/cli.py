@@ -7,6 +7,7 @@ Headless commands import no view code; ``serve`` imports the viser app lazily.
 from __future__ import annotations
 
 import argparse
+import errno
 import json
 import logging
 import os
@@ -53,6 +54,8 @@ def _parse_sets(items: Sequence[str]) -> dict[str, str]:
 def cmd_run(args: argparse.Namespace) -> int:
     from analyzer_lab.serve.headless import AnalyzerLabError, find_lesson, run_lesson
 
+    if args.out and os.path.islink(args.out):
+        return _fail(f"--out {args.out}: is a symbolic link; refused (name the file itself)")
     try:
         lesson = find_lesson(args.lesson)
         result = run_lesson(lesson, args.preset, _parse_sets(args.set or []), args.t_end)
@@ -62,7 +65,12 @@ def cmd_run(args: argparse.Namespace) -> int:
     for m in result.messages:
         print(f"note: {m}", file=sys.stderr)
     if args.out:
-        with open(args.out, "w", encoding="utf-8") as fh:
+        try:  # a link put there since the check is not followed either
+            fd = os.open(args.out, os.O_WRONLY | os.O_CREAT | os.O_TRUNC | os.O_NOFOLLOW, 0o644)
+        except OSError as exc:
+            reason = "is a symbolic link" if exc.errno == errno.ELOOP else exc.strerror
+            return _fail(f"--out {args.out}: {reason}; refused")
+        with os.fdopen(fd, "w", encoding="utf-8") as fh:
             fh.write(text)
     else:
         sys.stdout.write(text)

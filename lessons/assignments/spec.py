@@ -570,12 +570,33 @@ def parse_concrete(data: Mapping[str, Any], where: str = "") -> Assignment:
     )
 
 
+#: Most digits of a whole number in a JSON file (a float has 17 significant ones).
+MAX_INT_DIGITS = 100
+
+
+class _LongNumber(ValueError):
+    """A whole number of more than :data:`MAX_INT_DIGITS` digits."""
+
+
+def _whole_number(digits: str) -> int:
+    if len(digits.lstrip("-")) > MAX_INT_DIGITS:
+        raise _LongNumber(len(digits.lstrip("-")))
+    return int(digits)
+
+
 def decode_json(text: str | bytes, where: str, limit: int) -> Any:
-    """JSON text -> data, refusing oversize or malformed input in one line."""
+    """JSON text -> data, refusing oversize or malformed input (and whole numbers of more
+    than :data:`MAX_INT_DIGITS` digits) in one line."""
     if len(text) > limit:
         raise AssignmentError(where, "", f"is {len(text)} bytes; the limit is {limit}")
     try:
-        return json.loads(text)
+        return json.loads(text, parse_int=_whole_number)
+    except _LongNumber as exc:
+        raise AssignmentError(
+            where,
+            "",
+            f"holds a whole number of {exc.args[0]} digits; the limit is {MAX_INT_DIGITS}",
+        ) from None
     except (json.JSONDecodeError, UnicodeDecodeError, RecursionError) as exc:
         msg = exc.msg if isinstance(exc, json.JSONDecodeError) else type(exc).__name__
         pos = (
