@@ -53,8 +53,11 @@ NONE = "(none)"
 #: Seconds between two reads of the course record for the instructor's table (the
 #: attempts of pages on other workers arrive within this).
 POLL_SECONDS = 1.0
-#: Seconds a page waits for its browser's saved student token.
-TOKEN_WAIT = 3.0
+#: Seconds a page waits for its browser's saved student token (in a thread of its own; a
+#: check meanwhile waits for it rather than joining a second time).
+TOKEN_WAIT = 20.0
+#: Seconds a check waits for that token (then the page joins with what it typed).
+CHECK_WAIT = 3.0
 NOT_RECORDED = (
     "Your attempt could not be recorded: the course record cannot be reached ({why}). "
     "It does not count yet; check again in a moment."
@@ -287,6 +290,7 @@ class StudentPanel:
             self.result = gui.add_html("")
         #: the student this page records for (decided on the server: a signed token or a join)
         self.student: Student | None = None
+        self._restored = threading.Event()  # set once the saved token was read (or not)
         self.picker.on_update(view.guard(self._on_pick))
         self.check_btn.on_click(view.guard(lambda e: self.check()))
         inner = view.gate
@@ -312,11 +316,26 @@ class StudentPanel:
         its student from the token its browser kept; a token this server did not sign
         is refused and the page is told why."""
         try:
+            student = self._read_token()
+        finally:
+            self._restored.set()
+        if student is not None:
+            with self.view.session.lock:
+                self._joined(student)
+
+    def _read_token(self) -> Student | None:
+        try:
             token = self.view.client.local_storage.get_item(TOKEN_KEY, timeout=TOKEN_WAIT)
-        except (RuntimeError, TimeoutError):  # the page left, blocks its storage or is silent
-            return
+        except TimeoutError:
+            log.warning(
+                "page %s: its browser did not answer for its student token",
+                self.view.client.client_id,
+            )
+            return None
+        except RuntimeError:  # the page left or blocks its storage
+            return None
         if token is None or token == "":
-            return
+            return None
         try:
             student = self.board.course.restore(token)
         except JoinError as exc:
@@ -325,12 +344,14 @@ class StudentPanel:
                 self.view.client.local_storage.remove_item(TOKEN_KEY)
             except RuntimeError:  # the page left meanwhile
                 pass
-            return
+            return None
         except StoreError as exc:
             self._tell(f"your student record cannot be read now: {exc}", "yellow")
-            return
-        with self.view.session.lock:
-            self._joined(student)
+            return None
+        if self.student is not None:  # the page joined meanwhile: it stays who it joined as
+            return None
+        self.student = student
+        return student
 
     def _tell(self, text: str, color: str) -> None:
         try:
@@ -490,6 +511,8 @@ class StudentPanel:
             if field is not None:
                 self.view.controls.show_error(field, str(exc))
             return
+        if self.student is None:  # a token still on its way from the browser counts first
+            self._restored.wait(CHECK_WAIT)
         student = self.student or self.join()
         if student is None:
             return

@@ -494,8 +494,8 @@ def serve(
         print(f"analyzer-lab: error: {exc}", file=sys.stderr)
         return 2
     try:
-        where = resolve(data, db, class_name)
-        course = open_course(where, roster, join_code)
+        record = resolve(data, db, class_name)
+        course = open_course(record, roster, join_code)
     except CourseRecordError as exc:
         print(f"analyzer-lab: error: {exc}", file=sys.stderr)
         return 2
@@ -528,7 +528,7 @@ def serve(
         flush=True,
     )  # classroom hook
     print(
-        f"Course record: {redact(where.db)}, class {where.class_name!r}, "
+        f"Course record: {redact(record.db)}, class {record.class_name!r}, "
         f"join code {course.info.join_code}",
         flush=True,
     )

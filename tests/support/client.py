@@ -10,14 +10,24 @@ import time
 from typing import Any
 
 from tests.support.waiting import until
-from tests.support.wire import POINT_NODE, camera_message, decode_frame, encode, gui_update
+from tests.support.wire import (
+    POINT_NODE,
+    camera_message,
+    decode_frame,
+    encode,
+    gui_update,
+    storage_answer,
+)
 
 
 class ProtoClient:
     """One page as a websocket client: GUI by label, point updates, bytes."""
 
-    def __init__(self, url: str) -> None:
+    def __init__(self, url: str, storage: dict[str, str] | None = None) -> None:
         self.url = url if url.startswith("ws") else url.replace("http", "ws", 1)
+        #: the page's local storage as the server writes and reads it (share one dict
+        #: between clients: two tabs of one browser, or a reload)
+        self.storage: dict[str, str] = {} if storage is None else storage
         self.gui: dict[str, str] = {}  # label -> uuid (the newest element with that label)
         self.values: dict[str, Any] = {}  # uuid -> value the server set
         self.stamps: dict[str, float] = {}  # uuid -> when the server last set its value
@@ -86,6 +96,12 @@ class ProtoClient:
                                 self.values[m["uuid"]] = m["value"]
                             if "content" in props:
                                 self.html[m["uuid"]] = props["content"]
+                        elif t == "LocalStorageSetItemMessage":
+                            self.storage[str(m.get("key"))] = str(m.get("value"))
+                        elif t == "LocalStorageRemoveItemMessage":
+                            self.storage.pop(str(m.get("key")), None)
+                        elif t == "LocalStorageGetItemRequestMessage":
+                            await ws.send(encode(storage_answer(m, self.storage)))
                         elif t == "NotificationShowMessage":
                             props = m.get("props", {}) if isinstance(m.get("props"), dict) else m
                             self.notifications.append(
