@@ -140,7 +140,7 @@ class Tab:
 
     def open_task(self) -> None:
         self.select("Assignment", TASK)
-        self.page.locator(".al-assignment-task").first.wait_for(timeout=30000)
+        self.page.locator(".al-assignment-task").first.wait_for(timeout=90000)
 
     def answer(self, u: str) -> str:
         """Type ``u``, check; returns the verdict the page was told ("yes"/"no")."""
@@ -250,7 +250,9 @@ def test_a_forged_token_is_refused_and_the_page_told_why(
         tab.fill("Join code", JOIN)
         tab.fill("Your name", "s2")
         tab.answer("1")
-        token = tab.page.evaluate("() => window.localStorage.getItem('analyzer-lab-student')")
+        token = tab.page.evaluate(
+            "() => window.localStorage.getItem('viser-user:analyzer-lab-student')"
+        )
         parts = token.split(".")
         store = SqlStore(url)
         info = store.get_class("default")
@@ -259,7 +261,9 @@ def test_a_forged_token_is_refused_and_the_page_told_why(
         store.close()
         parts[2] = str(ann.id)  # Bob's token, Chen's id
         forged = ".".join(parts)
-        tab.page.evaluate("(t) => window.localStorage.setItem('analyzer-lab-student', t)", forged)
+        tab.page.evaluate(
+            "(t) => window.localStorage.setItem('viser-user:analyzer-lab-student', t)", forged
+        )
         tab.reload()
         tab.page.get_by_text("not signed by this server").first.wait_for(timeout=20000)
         tab.open_task()
@@ -289,6 +293,24 @@ async def _student_checks(page: ProtoClient, told: int) -> str:
     return await until(fresh, 60, f"the page's answer to check {told + 1}")
 
 
+def _run_in_thread(coro: Any) -> None:
+    """Run ``coro`` on an event loop of its own thread (the module's browser keeps one
+    running in this thread)."""
+    failed: list[BaseException] = []
+
+    def target() -> None:
+        try:
+            asyncio.run(coro)
+        except BaseException as exc:  # handed to the test's thread
+            failed.append(exc)
+
+    worker = threading.Thread(target=target, name="course-record-pages")
+    worker.start()
+    worker.join()
+    if failed:
+        raise failed[0]
+
+
 def _rows(page: ProtoClient) -> list[str]:
     return [h for h in page.html.values() if "al-roster-row" in h]
 
@@ -312,6 +334,11 @@ def test_two_workers_share_the_record_and_a_database_that_goes_down(
         await inst.become_instructor(CODE)
         student = await ProtoClient(f"ws://127.0.0.1:{port + 2}/").start()
         await student.set("Assignment", TASK, 0.3)
+        await until(
+            lambda: any("al-assignment-task" in h for h in student.html.values()),
+            90,
+            "the assignment opened",
+        )
         await student.set("Join code", JOIN, 0.1)
         await student.set("Your name", "Dana", 0.1)
         box = await _student_checks(student, 0)
@@ -338,7 +365,7 @@ def test_two_workers_share_the_record_and_a_database_that_goes_down(
         await student.close()
 
     try:
-        asyncio.run(go())
+        _run_in_thread(go())
         store = SqlStore(postgres.url)
         info = store.get_class("two-workers")
         assert info is not None

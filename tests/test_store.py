@@ -220,3 +220,45 @@ def test_postgres_down_refuses_writes_and_loses_nothing(postgres: PostgresCluste
     course.record(ann, _grade(True), {"u": "2"})
     assert [a.passed for a in course.attempts()] == [False, True]
     store.close()
+
+
+# ------------------------------------------------------------------ the grades command
+
+
+def test_the_grades_command_reads_the_record(tmp_path: Path) -> None:
+    import csv
+    import io
+    import subprocess
+    import sys
+
+    store = SqlStore(f"sqlite:///{tmp_path / 'analyzer-lab.sqlite3'}")
+    course = Course(store, store.open_class("default", ROSTER, join_code="JOIN42"), SECRET)
+    ann = course.join("JOIN42", "s1")
+    course.record(ann, _grade(False), {"u": "1"})
+    course.record(ann, _grade(True), {"u": "2"})
+    store.close()
+
+    def grades(*args: str) -> subprocess.CompletedProcess:
+        return subprocess.run(
+            [sys.executable, "-m", "analyzer_lab", "grades", "--data", str(tmp_path), *args],
+            capture_output=True,
+            text=True,
+            timeout=120,
+        )
+
+    out = grades("--format", "canvas")
+    assert out.returncode == 0, out.stderr
+    rows = list(csv.reader(io.StringIO(out.stdout)))
+    assert rows == [
+        ["Student", "ID", "SIS User ID", "SIS Login ID", "Section", "a1"],
+        ["Ann Lee", "", "s1", "ann@uni.example", "G1", "1"],
+        ["Bob", "", "s2", "", "G2", ""],
+    ]
+    out = grades("--format", "long", "--out", str(tmp_path / "long.csv"))
+    assert out.returncode == 0 and out.stdout == ""
+    long = list(csv.reader(open(tmp_path / "long.csv", encoding="utf-8")))
+    assert long[1][:5] == ["s1", "Ann Lee", "a1", "1", "2"]
+    out = grades("--class", "nope")
+    assert out.returncode == 2 and "no class 'nope'" in out.stderr
+    out = grades("--db", "mysql://x")
+    assert out.returncode == 2 and "--db must be postgresql://" in out.stderr
