@@ -333,6 +333,9 @@ def test_two_workers_share_the_record_and_a_database_that_goes_down(
         inst = await ProtoClient(f"ws://127.0.0.1:{port + 1}/").start()
         await inst.become_instructor(CODE)
         student = await ProtoClient(f"ws://127.0.0.1:{port + 2}/").start()
+        await student.wait_for("Run", 60)
+        await student.wait_for("Check my answer", 60)
+        await asyncio.sleep(1.0)  # the page's own inputs are in (its token read too)
         await student.set("Assignment", TASK, 0.3)
         await until(
             lambda: any("al-assignment-task" in h for h in student.html.values()),
