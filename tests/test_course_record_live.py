@@ -80,6 +80,9 @@ class Server:
         for line in proc.stdout:
             self.lines.append(line)
 
+    def tail(self) -> str:
+        return "".join(self.lines[-30:])
+
     def kill9(self) -> None:
         assert self.proc is not None
         self.proc.send_signal(signal.SIGKILL)
@@ -215,7 +218,10 @@ def test_attempts_survive_reload_restart_and_kill_9(
         server.start()  # the same port: the page's origin, and its storage, are the same
         tab.reload()
         tab.open_task()
-        wait_until(lambda: "Ann Lee (s1)" in _who(tab), 40, "the student after kill -9")
+        try:
+            wait_until(lambda: "Ann Lee (s1)" in _who(tab), 40, "the student after kill -9")
+        except AssertionError as exc:
+            raise AssertionError(f"{exc}; the server said:\n{server.tail()}") from None
         told.append(tab.answer("2"))
         # a plain restart
         server.stop()
@@ -265,8 +271,17 @@ def test_a_forged_token_is_refused_and_the_page_told_why(
             "(t) => window.localStorage.setItem('viser-user:analyzer-lab-student', t)", forged
         )
         tab.reload()
-        tab.page.get_by_text("not signed by this server").first.wait_for(timeout=20000)
         tab.open_task()
+        wait_until(
+            lambda: (
+                "not signed by this server"
+                in tab.page.locator(".al-student-refused").all_inner_texts()[0]
+                if tab.page.locator(".al-student-refused").count()
+                else False
+            ),
+            60,
+            "the refusal of the forged token",
+        )
         assert tab.input_for("Your name").is_visible()  # not Chen, not Bob: join again
         # and Bob's own id cannot be taken by a second page
         tab.fill("Join code", JOIN)

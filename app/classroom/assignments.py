@@ -56,6 +56,7 @@ POLL_SECONDS = 1.0
 #: Seconds a page waits for its browser's saved student token (in a thread of its own; a
 #: check meanwhile waits for it rather than joining a second time).
 TOKEN_WAIT = 20.0
+TOKEN_TRIES = 3
 #: Seconds a check waits for that token (then the page joins with what it typed).
 CHECK_WAIT = 3.0
 NOT_RECORDED = (
@@ -324,22 +325,28 @@ class StudentPanel:
                 self._joined(student)
 
     def _read_token(self) -> Student | None:
-        try:
-            token = self.view.client.local_storage.get_item(TOKEN_KEY, timeout=TOKEN_WAIT)
-        except TimeoutError:
-            log.warning(
-                "page %s: its browser did not answer for its student token",
-                self.view.client.client_id,
-            )
-            return None
-        except RuntimeError:  # the page left or blocks its storage
-            return None
+        token = None
+        for _ in range(TOKEN_TRIES):  # a busy browser answers late: ask again
+            try:
+                token = self.view.client.local_storage.get_item(TOKEN_KEY, timeout=TOKEN_WAIT)
+                break
+            except TimeoutError:
+                log.warning(
+                    "page %s: its browser did not answer for its student token",
+                    self.view.client.client_id,
+                )
+            except RuntimeError:  # the page left or blocks its storage
+                return None
+            if self.view.closed:
+                return None
         if token is None or token == "":
             return None
         try:
             student = self.board.course.restore(token)
         except JoinError as exc:
-            self._tell(f"your saved student record was refused: {exc}; join again", "red")
+            text = f"your saved student record was refused: {exc}; join again"
+            self.who.content = _box(esc(text), "#a61b1b", "al-student-refused")
+            self._tell(text, "red")
             try:
                 self.view.client.local_storage.remove_item(TOKEN_KEY)
             except RuntimeError:  # the page left meanwhile
