@@ -56,6 +56,9 @@ def _attempt(student: int, passed: bool, assignment: str = "a1") -> NewAttempt:
 
 
 def test_schema_is_at_the_newest_revision_and_reopening_changes_nothing(store: SqlStore) -> None:
+    from analyzer_lab.classroom.ports import CourseStore
+
+    assert isinstance(store, CourseStore)
     assert store.revision() == "0001"
     info = store.open_class(_class_name(), ROSTER)
     again = SqlStore(store.url)
