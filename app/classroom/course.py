@@ -78,7 +78,7 @@ class Course:
         try:
             name = clean_name(who)
         except ValueError:
-            raise JoinError("type your name (or your student id) first") from None
+            raise JoinError("type your name first (or your student id)") from None
         student = self.store.find_roster(self.info.id, name)
         if student is None and self.info.closed:
             named = self.store.find_name(self.info.id, name)
