@@ -55,8 +55,8 @@ NONE = "(none)"
 POLL_SECONDS = 1.0
 #: Seconds a page waits for its browser's saved student token (in a thread of its own; a
 #: check meanwhile waits for it rather than joining a second time).
-TOKEN_WAIT = 20.0
-TOKEN_TRIES = 3
+TOKEN_WAIT = 3.0
+TOKEN_TRIES = 5
 #: Seconds a check waits for that token (then the page joins with what it typed).
 CHECK_WAIT = 3.0
 NOT_RECORDED = (
