@@ -32,11 +32,14 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from analyzer_lab.classroom.bus import Bus, BusError, make_bus
+from analyzer_lab.classroom.course import Course
 from analyzer_lab.classroom.instructor_code import CodeError, class_code
 from analyzer_lab.classroom.room import Classroom
+from analyzer_lab.classroom.store.sql_store import redact
 from analyzer_lab.lessons.kit.contract import Lesson, Params
 from analyzer_lab.limits import prefer_returned_memory
 from analyzer_lab.serve.back_pressure import PAUSED_NOTICE, BackPressure, Turn
+from analyzer_lab.serve.course_record import CourseRecordError, open_course, resolve
 from analyzer_lab.serve.derivation_jobs import DerivationJobs, build
 from analyzer_lab.serve.fair_share import fair_order
 from analyzer_lab.serve.page_opens import WAIT_NOTICE, PageOpens
@@ -92,6 +95,7 @@ class LabServer:
         warm_up: bool = True,
         instructor_code: str | None = None,
         bus: Bus | None = None,
+        course: Course | None = None,
     ) -> None:
         prefer_returned_memory()
         self.fps = float(fps)
@@ -138,7 +142,7 @@ class LabServer:
         )
         self._report_draws = 0.0
         #: the classroom, handed this server as its Lab
-        self.classroom = Classroom(self, instructor_code, bus)
+        self.classroom = Classroom(self, instructor_code, bus, course)
         # pages are built and freed on a pool of their own (building one waits up to 2 s
         # for the browser's saved state), not in the turns of the page callbacks
         self._gone: set[int] = set()  # pages that left while being built
@@ -507,8 +511,15 @@ def serve(
     bus_url: str | None = None,
     worker_name: str | None = None,
     instructor_code_file: str | None = None,
+    data: str | None = None,
+    db: str | None = None,
+    class_name: str | None = None,
+    roster: str | None = None,
+    join_code: str | None = None,
 ) -> int:
-    """Run the lab until interrupted; returns the exit code.  ``bus_url``: the class bus
+    """Run the lab until interrupted; returns the exit code.  The course record: the
+    class ``class_name`` in ``db`` (default: the SQLite file in the data folder ``data``),
+    ``roster`` a CSV file of its students (:mod:`analyzer_lab.serve.course_record`).  ``bus_url``: the class bus
     shared with other servers (``redis://HOST:PORT``; default in-process); the code comes
     from ``instructor_code``, ``instructor_code_file`` or the environment
     (:func:`~analyzer_lab.classroom.instructor_code.class_code`)."""
@@ -530,7 +541,21 @@ def serve(
         print(f"analyzer-lab: error: {exc}", file=sys.stderr)
         return 2
     try:
-        lab = LabServer(host=host, port=port, lesson=lesson, fps=fps, instructor_code=code, bus=bus)
+        record = resolve(data, db, class_name)
+        course = open_course(record, roster, join_code)
+    except CourseRecordError as exc:
+        print(f"analyzer-lab: error: {exc}", file=sys.stderr)
+        return 2
+    try:
+        lab = LabServer(
+            host=host,
+            port=port,
+            lesson=lesson,
+            fps=fps,
+            instructor_code=code,
+            bus=bus,
+            course=course,
+        )
     except LabError as exc:
         print(f"analyzer-lab: error: {exc}", file=sys.stderr)
         return 2
@@ -549,6 +574,11 @@ def serve(
         f"Instructor code: {lab.classroom.code}  (type it in a page's Instructor folder)",
         flush=True,
     )  # classroom hook
+    print(
+        f"Course record: {redact(record.db)}, class {record.class_name!r}, "
+        f"join code {course.info.join_code}",
+        flush=True,
+    )
     _report_bus(bus)
     if host in ("0.0.0.0", "::", ""):
         print(

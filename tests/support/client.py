@@ -10,17 +10,33 @@ import time
 from typing import Any
 
 from tests.support.waiting import until
-from tests.support.wire import POINT_NODE, camera_message, decode_frame, encode, gui_update
+from tests.support.wire import (
+    POINT_NODE,
+    camera_message,
+    decode_frame,
+    encode,
+    gui_update,
+    storage_answer,
+)
 
 
 class ProtoClient:
     """One page as a websocket client: GUI by label, point updates, bytes."""
 
-    def __init__(self, url: str, source: str = "", rcvbuf: int = 0) -> None:
-        """``source``: the loopback address to connect from (another "machine", e.g.
-        ``127.0.0.2``); ``rcvbuf``: a small socket receive buffer (a page that stops
-        reading fills it, and the server's send buffer, quickly)."""
+    def __init__(
+        self,
+        url: str,
+        storage: dict[str, str] | None = None,
+        source: str = "",
+        rcvbuf: int = 0,
+    ) -> None:
+        """``storage``: the page's local storage as the server writes and reads it (share
+        one dict between clients: two tabs of one browser, or a reload); ``source``: the
+        loopback address to connect from (another "machine", e.g. ``127.0.0.2``);
+        ``rcvbuf``: a small socket receive buffer (a page that stops reading fills it,
+        and the server's send buffer, quickly)."""
         self.url = url if url.startswith("ws") else url.replace("http", "ws", 1)
+        self.storage: dict[str, str] = {} if storage is None else storage
         self.source = source
         self.rcvbuf = rcvbuf
         self.gui: dict[str, str] = {}  # label -> uuid (the newest element with that label)
@@ -92,6 +108,12 @@ class ProtoClient:
                                 self.values[m["uuid"]] = m["value"]
                             if "content" in props:
                                 self.html[m["uuid"]] = props["content"]
+                        elif t == "LocalStorageSetItemMessage":
+                            self.storage[str(m.get("key"))] = str(m.get("value"))
+                        elif t == "LocalStorageRemoveItemMessage":
+                            self.storage.pop(str(m.get("key")), None)
+                        elif t == "LocalStorageGetItemRequestMessage":
+                            await ws.send(encode(storage_answer(m, self.storage)))
                         elif t == "NotificationShowMessage":
                             props = m.get("props", {}) if isinstance(m.get("props"), dict) else m
                             self.notifications.append(
