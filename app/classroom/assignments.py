@@ -495,10 +495,11 @@ class StudentPanel:
             self._pickers_disabled(True)
 
     def student_key(self) -> str:
-        """Who the variant is drawn for: the student this page joined as (the same on
-        every page and worker), else the typed name, else this page."""
-        if self.student is not None:  # a roster id as the university writes it
-            return self.student.roster_id or f"student-{self.student.id}"
+        """Who the variant is drawn for: the student this page joined as (their roster
+        id, else their name: the same on every page and worker, and the key ``grade
+        --student`` takes), else the typed name, else this page."""
+        if self.student is not None:  # a roster id as the university writes it, else the name
+            return self.student.roster_id or self.student.name
         try:
             return clean_name(self.name.value)
         except ValueError:
@@ -582,6 +583,14 @@ class StudentPanel:
             return
         if self._renumber():  # who this page is changed without the update reaching us
             return
+        if self.student is None:  # a token still on its way from the browser counts first
+            self._restored.wait(CHECK_WAIT)
+        variant = self.variant
+        student = self.student or self.join()
+        if student is None:
+            return
+        if self.variant is not variant:  # joined as a student with other numbers: theirs first
+            return
         s = self.view.session
         if s.lesson.id != a.lesson:
             self.result.content = error_html(f"this assignment is about the lesson {a.lesson}")
@@ -595,11 +604,6 @@ class StudentPanel:
             field = exc.field if exc.field in self.view.controls.widgets else None
             if field is not None:
                 self.view.controls.show_error(field, str(exc))
-            return
-        if self.student is None:  # a token still on its way from the browser counts first
-            self._restored.wait(CHECK_WAIT)
-        student = self.student or self.join()
-        if student is None:
             return
         try:  # recorded first: the page is told only what the record holds
             variant = self.variant.label if self.variant is not None else ""
