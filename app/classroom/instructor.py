@@ -106,10 +106,7 @@ class Presenter:
                 pass
             self.folder.expand_by_default = True
         else:
-            try:
-                gui.main_panel.float()
-            except PANEL_ERRORS:
-                pass
+            self.view.dock_panel()
         self.top_prev.visible = on
         self.top_next.visible = on
         self.view.readout.order = -2998.0 if on else self._readout_order

@@ -221,6 +221,10 @@ class SceneRenderer:
         self.label_scale = 1.0  # larger in presenter mode
         #: where the camera was put by the last framing: (position, look_at)
         self.framed: tuple[np.ndarray, np.ndarray] | None = None
+        #: the box the last framing fitted (low, high corners) and the canvas it fitted
+        #: it into (width, height in the page's pixels)
+        self.framed_box: tuple[np.ndarray, np.ndarray] | None = None
+        self.framed_canvas: tuple[int, int] | None = None
 
     def visible_vectors(self) -> set[str]:
         names = list(self.spec.moving_vectors) if self.spec is not None else []
@@ -428,19 +432,53 @@ class SceneRenderer:
         if self.spec is not None:
             self.frame_camera(*scene_bounds(self.spec))
 
-    def frame_camera(self, lo: np.ndarray, hi: np.ndarray, size: float) -> None:
-        """Look at the scene's box from an oblique direction, from the distance at which
-        its bounding sphere fills :data:`FILL` of the canvas's shorter side (from the
-        field of view and aspect the page reports); clipping planes and orbit limits
-        sized to the scene (a machine in millimetres, a unit sphere)."""
+    def canvas_size(self) -> tuple[int, int] | None:
+        """The canvas's size the page reported last (None before it reported one)."""
+        try:
+            cam = self.client.camera
+            size = (int(cam.image_width), int(cam.image_height))
+        except (TypeError, ValueError, AttributeError, RuntimeError):
+            return None
+        return size if size[0] > 0 and size[1] > 0 else None
+
+    def follow_canvas(self) -> bool:
+        """Frame the same box again, from where the camera looks now, when the canvas
+        changed shape since it was framed (a phone turned, a panel docked or collapsed);
+        True when it did."""
+        size = self.canvas_size()
+        if size is None or self.framed_box is None or size == self.framed_canvas:
+            return False
+        if self.framed_canvas is not None:
+            w0, h0 = self.framed_canvas
+            if abs(math.log((size[0] / size[1]) / (w0 / h0))) < 0.05 and (
+                abs(math.log(min(size) / min(w0, h0))) < 0.05
+            ):
+                self.framed_canvas = size
+                return False
+        lo, hi = self.framed_box
+        self.frame_camera(lo, hi, float(np.max(hi - lo)), keep_direction=True)
+        return True
+
+    def frame_camera(
+        self, lo: np.ndarray, hi: np.ndarray, size: float, keep_direction: bool = False
+    ) -> None:
+        """Look at the scene's box from an oblique direction (``keep_direction``: from
+        where the camera looks now), from the distance at which its bounding sphere fills
+        :data:`FILL` of the canvas's shorter side (from the field of view and aspect the
+        page reports); clipping planes and orbit limits sized to the scene (a machine in
+        millimetres, a unit sphere)."""
         center = (lo + hi) / 2
         radius = max(0.5 * float(np.linalg.norm(hi - lo)), 1e-6)
         # a plane lesson is seen from above (slightly tilted), a space scene obliquely
         planar = self.spec is not None and self.spec.planar
         direction = np.array([0.12, -0.35, 1.0]) if planar else np.array([1.0, 0.75, 0.6])
-        direction /= np.linalg.norm(direction)
         try:
             cam = self.client.camera
+            if keep_direction:
+                seen = np.asarray(cam.position, dtype=float) - np.asarray(cam.look_at, dtype=float)
+                if np.all(np.isfinite(seen)) and np.linalg.norm(seen) > 0:
+                    direction = seen
+            direction = direction / np.linalg.norm(direction)
             fov, aspect = _fov_aspect(cam)
             half = math.tan(fov / 2.0) * min(1.0, aspect)
             dist = radius / (FILL * half)
@@ -453,6 +491,8 @@ class SceneRenderer:
             cam.position = tuple(map(float, center + direction * dist))
             cam.look_at = tuple(map(float, center))
             self.framed = (center + direction * dist, center)
+            self.framed_box = (np.asarray(lo, dtype=float), np.asarray(hi, dtype=float))
+            self.framed_canvas = self.canvas_size()
         except Exception:
             log.exception("the camera of page %s was not framed", self.client.client_id)
 
