@@ -165,6 +165,8 @@ def ray_mesh_hit(
 #: Share of the canvas's shorter side the scene's bounding sphere fills when framed.
 FILL = 0.62
 DEFAULT_FOV = math.radians(50.0)
+#: Room left ahead of a run that left the framed box (share of the new box's side).
+RUN_MARGIN = 0.25
 
 
 def _fov_aspect(cam: viser.CameraHandle) -> tuple[float, float]:
@@ -459,6 +461,32 @@ class SceneRenderer:
         self.frame_camera(lo, hi, float(np.max(hi - lo)), keep_direction=True)
         return True
 
+    def follow_run(self, frame: Frame) -> bool:
+        """Frame again, from where the camera looks now, when the run's moving points or
+        bodies left the framed box: the new box holds the old one and the run, with
+        :data:`RUN_MARGIN` of room ahead; True when it did."""
+        if self.framed_box is None:
+            return False
+        pts = [np.asarray(p, dtype=float).reshape(-1, 3) for p in frame.points.values()]
+        pts += [np.asarray(pos, dtype=float).reshape(-1, 3) for pos, _ in frame.poses.values()]
+        if not pts:
+            return False
+        run = np.concatenate(pts, axis=0)
+        run = run[np.all(np.isfinite(run), axis=1)]
+        if not len(run):
+            return False
+        lo, hi = self.framed_box
+        slack = 0.02 * float(np.max(hi - lo))
+        if np.all(run >= lo - slack) and np.all(run <= hi + slack):
+            return False
+        new_lo = np.minimum(lo, run.min(axis=0))
+        new_hi = np.maximum(hi, run.max(axis=0))
+        room = RUN_MARGIN * (new_hi - new_lo)
+        new_lo = np.where(run.min(axis=0) < lo - slack, new_lo - room, new_lo)
+        new_hi = np.where(run.max(axis=0) > hi + slack, new_hi + room, new_hi)
+        self.frame_camera(new_lo, new_hi, float(np.max(new_hi - new_lo)), keep_direction=True)
+        return True
+
     def frame_camera(
         self, lo: np.ndarray, hi: np.ndarray, size: float, keep_direction: bool = False
     ) -> None:
@@ -519,6 +547,7 @@ class SceneRenderer:
                     tr.color_by = (float(by[1]), float(by[2])) if by else None
                     tr.add(fr.points[name], fr.scalars.get(by[0]) if by else None)
         last = frames[-1]
+        self.follow_run(last)
         for name, color in spec.moving_points.items():
             pts = last.points.get(name)
             if pts is None:
