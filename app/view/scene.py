@@ -174,8 +174,8 @@ def _fov_aspect(cam: viser.CameraHandle) -> tuple[float, float]:
     try:
         fov = float(cam.fov) or DEFAULT_FOV
         aspect = float(cam.image_width) / float(cam.image_height)
-    except (TypeError, ValueError, ArithmeticError, AttributeError):
-        return DEFAULT_FOV, 1.6
+    except (AssertionError, TypeError, ValueError, ArithmeticError, AttributeError):
+        return DEFAULT_FOV, 1.6  # viser asserts that the page reported its camera once
     if not (math.isfinite(aspect) and aspect > 0):
         aspect = 1.6
     return fov, aspect
@@ -439,8 +439,8 @@ class SceneRenderer:
         try:
             cam = self.client.camera
             size = (int(cam.image_width), int(cam.image_height))
-        except (TypeError, ValueError, AttributeError, RuntimeError):
-            return None
+        except (AssertionError, TypeError, ValueError, AttributeError, RuntimeError):
+            return None  # viser asserts that the page reported its camera once
         return size if size[0] > 0 and size[1] > 0 else None
 
     def follow_canvas(self) -> bool:
@@ -502,7 +502,7 @@ class SceneRenderer:
         direction = np.array([0.12, -0.35, 1.0]) if planar else np.array([1.0, 0.75, 0.6])
         try:
             cam = self.client.camera
-            if keep_direction:
+            if keep_direction and self.canvas_size() is not None:  # the page reported it
                 seen = np.asarray(cam.position, dtype=float) - np.asarray(cam.look_at, dtype=float)
                 if np.all(np.isfinite(seen)) and np.linalg.norm(seen) > 0:
                     direction = seen
