@@ -65,14 +65,19 @@ GEOMETRY_JS = """(minText) => {
   };
   for (const el of document.body.querySelectorAll('*')) {
     if (scene.contains(el)) continue;
+    if (el.closest('.mantine-Notifications-root')) continue;  // toasts slide in and out
     const cs = getComputedStyle(el);
     if (cs.display === 'none' || cs.visibility === 'hidden') continue;
     if (el.offsetParent === null && cs.position !== 'fixed') continue;
     const r = el.getBoundingClientRect();
     if (r.width < 1 || r.height < 1) continue;
-    let clip = null;  // the nearest box that clips this element horizontally
+    let clip = null;  // what of the page the boxes that clip this element leave visible
     for (let a = el.parentElement; a && a !== document.body; a = a.parentElement) {
-      if (getComputedStyle(a).overflowX !== 'visible') { clip = a.getBoundingClientRect(); break; }
+      if (getComputedStyle(a).overflowX === 'visible') continue;
+      const b = a.getBoundingClientRect();
+      clip = clip === null ? {left: b.left, right: b.right, top: b.top, bottom: b.bottom} : {
+        left: Math.max(clip.left, b.left), right: Math.min(clip.right, b.right),
+        top: Math.max(clip.top, b.top), bottom: Math.min(clip.bottom, b.bottom)};
     }
     if (clip && (r.bottom <= clip.top || r.top >= clip.bottom)) continue;  // scrolled out of sight
     if (!scrollsByDesign(el)) {
@@ -173,7 +178,9 @@ def check_screen(tab: Page, size: str, what: str) -> None:
         return round(g["canvas"][2] * g["dpr"]), round(g["canvas"][3] * g["dpr"])
 
     try:
-        cam = wait_until(lambda: settled_camera(tab, canvas_px()), 20, f"the framed camera ({size})")
+        cam = wait_until(
+            lambda: settled_camera(tab, canvas_px()), 20, f"the framed camera ({size})"
+        )
     except AssertionError as exc:
         r, c = tab.view.renderer, tab.view.client.camera
         raise AssertionError(
@@ -270,7 +277,7 @@ def test_every_lesson_fits_every_screen_before_and_after_play(screen: Page, less
     screen.select("Speed", PLAY_SPEED)
     screen.button("Play")
     started = time.monotonic()
-    wait_until(lambda: screen.session.playing, 5, "play")
+    wait_until(lambda: screen.session.playing, 20, "play")
     time.sleep(max(0.0, PLAY_SECONDS - (time.monotonic() - started)))
     with screen.session.lock:
         screen.session.pause()

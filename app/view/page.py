@@ -54,9 +54,10 @@ RETIRE_DELAY = 1.5  # seconds a replaced GUI folder stays (hidden) before it is 
 
 
 #: The panel docked at the right edge (px): the canvas is what it leaves free, so the
-#: scene is framed there (a tablet keeps 436 of its 820 px).  Phones get viser's bottom
+#: scene is framed there (a tablet keeps 420 of its 820 px).  viser's widgets take 384 px
+#: (``control_width="large"``); the rest is the panel's scroll bar.  Phones get viser's bottom
 #: sheet instead (see :data:`analyzer_lab.viser_boundary.PHONE_LAYOUT`).
-PANEL_WIDTH = 384
+PANEL_WIDTH = 400
 
 
 @dataclass

@@ -507,7 +507,10 @@ class SceneRenderer:
                 if np.all(np.isfinite(seen)) and np.linalg.norm(seen) > 0:
                     direction = seen
             direction = direction / np.linalg.norm(direction)
+            canvas = self.canvas_size()  # the size this framing is for (read before the fit)
             fov, aspect = _fov_aspect(cam)
+            if canvas is not None:
+                aspect = canvas[0] / canvas[1]
             half = math.tan(fov / 2.0) * min(1.0, aspect)
             dist = radius / (FILL * half)
             cam.far = max(100.0, 20.0 * dist)
@@ -520,7 +523,7 @@ class SceneRenderer:
             cam.look_at = tuple(map(float, center))
             self.framed = (center + direction * dist, center)
             self.framed_box = (np.asarray(lo, dtype=float), np.asarray(hi, dtype=float))
-            self.framed_canvas = self.canvas_size()
+            self.framed_canvas = canvas  # a size reported meanwhile is framed at the next check
         except Exception:
             log.exception("the camera of page %s was not framed", self.client.client_id)
 
