@@ -143,9 +143,14 @@ def settled_camera(tab: Page, canvas_px: tuple[int, int]) -> Any | None:
     """The camera the page reports once it is the one the view framed for this canvas."""
     r = tab.view.renderer
     cam = tab.view.client.camera
-    if r.framed is None or r.framed_canvas != canvas_px:
+    # viser may draw into a smaller buffer than the canvas (adaptive resolution): compare
+    # shapes, not pixel counts
+    shape = canvas_px[0] / canvas_px[1]
+    if r.framed is None or r.framed_canvas is None:
         return None
-    if (int(cam.image_width), int(cam.image_height)) != canvas_px:
+    if abs(r.framed_canvas[0] / r.framed_canvas[1] / shape - 1) > 0.01:
+        return None
+    if abs(float(cam.image_width) / float(cam.image_height) / shape - 1) > 0.01:
         return None
     position, look_at = np.asarray(cam.position, float), np.asarray(cam.look_at, float)
     scale = float(np.linalg.norm(r.framed[0] - r.framed[1]))

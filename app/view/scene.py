@@ -178,6 +178,8 @@ def _fov_aspect(cam: viser.CameraHandle) -> tuple[float, float]:
         return DEFAULT_FOV, 1.6  # viser asserts that the page reported its camera once
     if not (math.isfinite(aspect) and aspect > 0):
         aspect = 1.6
+    if not (math.radians(5.0) <= fov <= math.radians(150.0)):  # a page between two layouts
+        fov = DEFAULT_FOV
     return fov, aspect
 
 
