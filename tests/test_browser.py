@@ -69,9 +69,11 @@ def test_sphere_example_plays_slider_changes_motion_and_plots_update(tab: Page) 
     tab.tab("Plots")
     charts = tab.page.locator(".uplot")
     wait_until(lambda: charts.count() == len(tab.session.lesson.plots), 5, "uPlot charts")
-    c0 = charts.first.screenshot()
+    # the chart's frame (its uPlot is drawn anew as the x range grows with the run)
+    frame = tab.page.locator(".uplot-container").first
+    c0 = frame.screenshot()
     time.sleep(1.0)  # a second of playing: the chart's picture moves on
-    c1 = charts.first.screenshot(path=str(ARTIFACTS / "plot-velocity.png"))
+    c1 = frame.screenshot(path=str(ARTIFACTS / "plot-velocity.png"))
     assert c0 != c1
     tab.button("Pause")
     assert tab.errors == []

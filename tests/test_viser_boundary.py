@@ -120,7 +120,7 @@ def test_client_address_is_the_page_host(server: Any) -> None:
 
     async def go() -> None:
         ws = await _connect(server)
-        await until(lambda: seen, 5, "the page connected")
+        await until(lambda: seen, 30, "the page connected")
         await ws.close()
 
     asyncio.run(go())
@@ -320,3 +320,14 @@ def test_prop_hints_are_worked_out_once_per_class(server: Any) -> None:
     a.remove()
     with pytest.raises(RuntimeError):
         a.colors = np.zeros((1, 2, 3), np.uint8)
+
+
+def test_send_lag_reads_the_senders_cursor_and_is_zero_for_an_unknown_page(
+    make_lab: Any,
+) -> None:
+    from analyzer_lab.viser_boundary import send_lag
+
+    lab = make_lab(lesson="sphere", warm_up=False)
+    assert send_lag(lab.server, 12345) == 0
+    state = lab.server._websock_server._client_state_from_id
+    assert isinstance(state, dict)

@@ -14,6 +14,7 @@ viser whose internals were not checked:
 * :func:`order_callbacks`: one connection's callbacks run in the order its messages came,
   round-robin over connections within a CPU budget (:class:`OrderedExecutor`);
 * :func:`client_address`: the network address a page connected from;
+* :func:`send_lag`: how many messages a page's sender is behind (a page that does not read);
 * :class:`WakeBatch`: the messages of one frame-loop tick wake viser's loop once;
 * :func:`fast_set`: one property of a handle set on the hot path;
 * :func:`recording_scene`: a scene API whose messages are only recorded (HTML replay);
@@ -21,11 +22,12 @@ viser whose internals were not checked:
   to its sender;
 * :func:`event_loop`: the server's own event loop (the frame loop runs in it).
 
-The face of a package: each concern is a private module (``_patches``, ``_websocket``,
+The face of a package: each concern is a private module (``_patches``, ``_websocket``, ``_backlog``,
 ``_callbacks``, ``_page``, ``_hot_path``, ``_recording``, ``_gui_guard``); the rest of the
 lab imports only the names below.
 """
 
+from analyzer_lab.viser_boundary._backlog import send_lag as send_lag
 from analyzer_lab.viser_boundary._callbacks import CONNECTION as CONNECTION
 from analyzer_lab.viser_boundary._callbacks import OrderedExecutor as OrderedExecutor
 from analyzer_lab.viser_boundary._callbacks import order_callbacks as order_callbacks

@@ -133,6 +133,10 @@ class OrderedExecutor:
                 self.budget.spend(used)
                 self.stats["run"] += 1
                 self.stats["cpu"] += used
+            # the worker waits for its next callback holding nothing of this one: its
+            # arguments (a GUI event, its handle, the page's view) would otherwise stay
+            # alive as this thread's locals after the page left
+            del fut, fn, args, kwargs
             with self._cond:
                 queue = self._queues[key]
                 if queue:

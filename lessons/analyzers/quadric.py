@@ -343,7 +343,10 @@ class QuadricLesson(AnalyzerLesson):
             DerivationStep(
                 "The solution family",
                 text,
-                [sp.Eq(sp.Symbol(f"(1.50) for u{i + 1}"), W[:, i].T) for i in range(3)],
+                [
+                    sp.Eq(sp.Symbol(f"(1.50) for u{i + 1}"), W[:, i].T, evaluate=False)
+                    for i in range(3)
+                ],
                 "(1.50)",
                 reconstructed="derived, not in source: the rank check behind 'three"
                 " coefficients can be set arbitrarily'",

@@ -139,6 +139,12 @@ class Stepper(ABC):
     def reset(self) -> Frame:
         """Back to the initial state of the current parameters."""
 
+    @property
+    def computing(self) -> bool:
+        """Whether the time stood still at the last :meth:`advance` only because work
+        under way paused at the budget (a step of many substeps): it moves on later."""
+        return False
+
 
 @dataclass(frozen=True, eq=False)
 class LessonSetup:
@@ -474,6 +480,12 @@ class Lesson(ABC):
 
     @abstractmethod
     def stepper(self, params: Params) -> Stepper: ...
+
+    def work_bound(self, params: Params, t_end: float) -> float:
+        """Units of work (:func:`analyzer_lab.lessons.kit.budget.charge`) a run up to
+        ``t_end`` needs at least, known from counts before it starts (fixed steps times
+        stages times points); 0 where the lesson cannot tell in advance."""
+        return 0.0
 
     @abstractmethod
     def scene(self, params: Params) -> SceneSpec: ...

@@ -86,7 +86,7 @@ class SelfStudy2(ManipulatorLesson):
     problem = "C2.1-C2.6"
     source = "Textbook chapter 2, self-study tasks C2.1-C2.6 (Figs 2.13-2.16, 2.3, 2.6)"
     summary = (
-        "Each task's Lagrange equations derived with sympy (LagrangesMethod) and integrated live: "
+        "Each task's Lagrange equations of the 2nd kind, derived symbolically and integrated live: "
         "a rotating link, a slider on a line, two-DOF arms, a Cartesian 3-axis stage, a planar "
         "positioner with rotation, and the three-inductor table with fixed or circular inductors."
     )
