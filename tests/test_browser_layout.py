@@ -282,7 +282,7 @@ def test_every_lesson_fits_every_screen_before_and_after_play(screen: Page, less
     screen.select("Speed", PLAY_SPEED)
     screen.button("Play")
     started = time.monotonic()
-    wait_until(lambda: screen.session.playing, 20, "play")
+    wait_until(lambda: screen.session.playing or screen.session.frame.t > 0, 20, "play")
     time.sleep(max(0.0, PLAY_SECONDS - (time.monotonic() - started)))
     with screen.session.lock:
         screen.session.pause()

@@ -165,6 +165,8 @@ def ray_mesh_hit(
 #: Share of the canvas's shorter side the scene's bounding sphere fills when framed.
 FILL = 0.62
 DEFAULT_FOV = math.radians(50.0)
+#: A canvas side below this (px) is a page between two layouts, not a size to frame for.
+MIN_CANVAS_PX = 48
 #: Room left ahead of a run that left the framed box (share of the new box's side).
 RUN_MARGIN = 0.25
 
@@ -443,7 +445,9 @@ class SceneRenderer:
             size = (int(cam.image_width), int(cam.image_height))
         except (AssertionError, TypeError, ValueError, AttributeError, RuntimeError):
             return None  # viser asserts that the page reported its camera once
-        return size if size[0] > 0 and size[1] > 0 else None
+        if min(size) < MIN_CANVAS_PX:  # a page between two layouts: wait for its size
+            return None
+        return size
 
     def follow_canvas(self) -> bool:
         """Frame the same box again, from where the camera looks now, when the canvas
