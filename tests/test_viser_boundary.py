@@ -38,6 +38,8 @@ def test_the_page_is_titled_and_the_share_tunnel_cannot_start(server: Any) -> No
     page = urllib.request.urlopen(f"http://127.0.0.1:{server.get_port()}/").read().decode()
     assert f"<title>{vb.PAGE_TITLE}</title>" in page
     assert vb.KEYS_STAY_IN_FIELDS in page  # typed keys do not reach the camera
+    assert vb.PHONE_LAYOUT in page  # on a phone the panel is a sheet below the canvas
+    assert vb.READABLE_TEXT in page
     handlers = server._websock_server._incoming_handlers
     assert _messages.ShareUrlRequest not in handlers
     assert server.request_share_url() is None

@@ -293,9 +293,9 @@ def _as_list(math: sp.Basic | Sequence[sp.Basic] | str | None) -> list[sp.Basic 
 
 RECON_STYLE = (
     "background:#fff3cd;color:#7a5600;border:1px solid #e0c060;border-radius:4px;"
-    "padding:0 4px;font-size:0.8em"
+    "padding:0 4px;font-size:max(11px,0.8em)"
 )
-SOURCE_STYLE = "color:#555;font-size:0.85em;margin-left:6px"
+SOURCE_STYLE = "color:#555;font-size:max(11px,0.85em);margin-left:6px"
 #: The smallest text a formula shows (px): sub- and superscripts shrink to 75 % of their
 #: base but not below this; a formula never shrinks to fit, it scrolls inside its line.
 MIN_FORMULA_PX = 12
@@ -315,8 +315,14 @@ DERIVATION_CSS = (
 )
 
 
+#: A figure is never scaled so far down that its smallest text is below this (CSS px): on a
+#: narrow panel it keeps this size and scrolls sideways inside its step.
+FIGURE_TEXT_PX = 11.5
+
+
 def _fit_svg(svg: str) -> str:
-    """A figure scaled to the panel's width (its drawing size kept as the viewBox)."""
+    """A figure scaled to the panel's width (its drawing size kept as the viewBox), but
+    not below the width at which its smallest text is :data:`FIGURE_TEXT_PX`."""
     clean = sanitize_svg(svg)
     m = re.match(r"<svg([^>]*)>", clean)
     if not m:
@@ -327,7 +333,14 @@ def _fit_svg(svg: str) -> str:
     if "viewBox" not in attrs and w and h:
         attrs += f' viewBox="0 0 {w.group(1)} {h.group(1)}"'
     attrs = re.sub(r'\s(width|height)="[^"]*"', "", attrs)
-    return f'<svg{attrs} width="100%" preserveAspectRatio="xMidYMid meet">' + clean[m.end() :]
+    style = ""
+    box = re.search(r'viewBox="[-\d.]+[\s,]+[-\d.]+[\s,]+([\d.]+)', attrs)
+    sizes = [float(v) for v in re.findall(r'font-size(?:="|:\s*)([\d.]+)', clean)]
+    if box and sizes and min(sizes) > 0:
+        style = f' style="min-width:{float(box.group(1)) * FIGURE_TEXT_PX / min(sizes):.0f}px"'
+    return (
+        f'<svg{attrs} width="100%"{style} preserveAspectRatio="xMidYMid meet">' + clean[m.end() :]
+    )
 
 
 def _tag_of(note: str | None) -> tuple[str, str]:
@@ -360,9 +373,13 @@ def step_to_html(step: DerivationStep, index: int | None = None) -> str:
     for item in _as_list(step.math):
         parts.append(formula_html(item))
     if step.svg:
-        parts.append(f'<div class="al-figure" style="width:100%">{_fit_svg(step.svg)}</div>')
+        parts.append(
+            f'<div class="al-figure" style="width:100%;overflow-x:auto">{_fit_svg(step.svg)}</div>'
+        )
     if tag:
-        parts.append(f'<div style="font-size:0.8em;color:#7a5600">{tag}: {esc(why)}</div>')
+        parts.append(
+            f'<div style="font-size:max(11px,0.8em);color:#7a5600">{tag}: {esc(why)}</div>'
+        )
     parts.append("</div>")
     return "".join(parts)
 

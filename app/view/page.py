@@ -53,6 +53,13 @@ LESSON_PICKER, PRESET_PICKER, PAUSE_AT_END = "Lesson", "Preset", "pause at t_end
 RETIRE_DELAY = 1.5  # seconds a replaced GUI folder stays (hidden) before it is removed
 
 
+#: The panel docked at the right edge (px): the canvas is what it leaves free, so the
+#: scene is framed there (a tablet keeps 420 of its 820 px).  viser's widgets take 384 px
+#: (``control_width="large"``); the rest is the panel's scroll bar.  Phones get viser's bottom
+#: sheet instead (see :data:`analyzer_lab.viser_boundary.PHONE_LAYOUT`).
+PANEL_WIDTH = 400
+
+
 @dataclass
 class ViewConfig:
     """Rates of the view (per session)."""
@@ -192,6 +199,16 @@ class SessionView:
                 w.disabled = on
         self.controls.set_read_only(on, self.session.params)
 
+    def dock_panel(self, width: float = PANEL_WIDTH) -> None:
+        """Dock the page's panel at the right edge, ``width`` px wide (a page that left
+        meanwhile is passed over)."""
+        gui = self.client.gui
+        try:
+            gui.main_panel.dock_right()
+            gui.main_panel.set_width(width)
+        except (RuntimeError, ValueError):
+            log.debug("page %s: the panel was not docked", self.client.client_id, exc_info=True)
+
     def mark_dirty(self) -> None:
         """Draw the session's current frame at the next tick."""
         self._frame_dirty = True
@@ -207,6 +224,7 @@ class SessionView:
             brand_color=(40, 90, 160),
         )
         gui.set_panel_label("Analyzer Lab")
+        self.dock_panel()
         s = self.session
         self.banner = gui.add_html("", visible=False)
         self._labels = {lesson_label(lesson): lesson.id for lesson in s.lessons.values()}
@@ -556,6 +574,8 @@ class SessionView:
         if self._retired and time.monotonic() >= self._retired[0][0]:
             self._remove_retired()
         s = self.session
+        if self.frame_count % self.config.readout_every == 0:
+            self.renderer.follow_canvas()  # the canvas changed shape: frame it again
         was_playing = s.playing
         t0 = time.perf_counter()
         frames = s.tick(wall_dt) if s.playing else []

@@ -4,7 +4,9 @@ viser 1.1.1 offers no public API for these, and each is checked by a test of its
 (``tests/test_viser_boundary.py``); :func:`check_viser_version` refuses to start on a
 viser whose internals were not checked:
 
-* :func:`make_viser_server`: our page title (a copy of viser's page), no share tunnel;
+* :func:`make_viser_server`: our page title (a copy of viser's page), no share tunnel, on
+  phones the panel as a sheet below the canvas (:data:`PHONE_LAYOUT`), no text of viser's
+  below 11 px (:data:`READABLE_TEXT`);
 * :func:`harden_websocket`: the websocket refuses messages over :data:`WS_MAX_BYTES` before
   reading them (the transport's ``max_size``), only :data:`ALLOWED_MESSAGES` reach viser's
   handlers, each connection is paced (a flooding page waits on its own socket) and waits
@@ -38,6 +40,8 @@ from analyzer_lab.viser_boundary._hot_path import fast_set as fast_set
 from analyzer_lab.viser_boundary._hot_path import set_pose as set_pose
 from analyzer_lab.viser_boundary._page import KEYS_STAY_IN_FIELDS as KEYS_STAY_IN_FIELDS
 from analyzer_lab.viser_boundary._page import PAGE_TITLE as PAGE_TITLE
+from analyzer_lab.viser_boundary._page import PHONE_LAYOUT as PHONE_LAYOUT
+from analyzer_lab.viser_boundary._page import READABLE_TEXT as READABLE_TEXT
 from analyzer_lab.viser_boundary._page import make_viser_server as make_viser_server
 from analyzer_lab.viser_boundary._patches import VISER_VERSION as VISER_VERSION
 from analyzer_lab.viser_boundary._patches import check_viser_version as check_viser_version
