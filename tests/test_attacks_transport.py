@@ -206,12 +206,57 @@ async def _slow_derivation(url: str, seconds: float) -> dict[str, Any]:
     return {"message": shown, "after": took}
 
 
+#: The attackers' machine (another loopback address: the server tells them apart).
+ATTACKER = "127.0.0.2"
+
+
+async def _not_reading(url: str, seconds: float) -> dict[str, Any]:
+    """Thirty pages from another address play a family of 24 curves at 8x, then never
+    read their websocket again."""
+    end = time.monotonic() + seconds
+
+    async def one() -> ProtoClient:
+        c = await ProtoClient(url, source=ATTACKER, rcvbuf=4096).start()
+        await c.wait_for("Run", 60)
+        await c.set("curves in the family", 24, 0.1)
+        await play(c)
+        await c.set("Speed", "8x", 0.1)
+        c.stop_reading()
+        return c
+
+    opened = await asyncio.gather(*(one() for _ in range(30)), return_exceptions=True)
+    pages = [c for c in opened if isinstance(c, ProtoClient)]
+    await asyncio.sleep(max(0.0, end - time.monotonic()))
+    for c in pages:
+        c.ws.transport.abort()  # a page that does not read cannot close cleanly
+    return {"pages": len(pages)}
+
+
+async def _churn(url: str, seconds: float) -> dict[str, Any]:
+    """Three hundred pages from another address, each leaving while its GUI is built."""
+    end = time.monotonic() + seconds
+
+    async def one() -> None:
+        c = await ProtoClient(url, source=ATTACKER).start()
+        await asyncio.sleep(0.05)  # the build has been asked for
+        await c.close()
+
+    aborted = 0
+    while aborted < 300 and time.monotonic() < end:
+        await asyncio.gather(*(one() for _ in range(30)))
+        aborted += 30
+    await asyncio.sleep(max(0.0, end - time.monotonic()))
+    return {"aborted": aborted}
+
+
 ATTACKS: dict[str, Callable[[str, float], Awaitable[dict[str, Any]]]] = {
     "form-dirty": _form_dirty,
     "oversized": _oversized,
     "guess": _guessers,
     "lessons": _lesson_flood,
     "slow-derivation": _slow_derivation,
+    "not-reading": _not_reading,
+    "churn": _churn,
 }
 
 
@@ -411,6 +456,24 @@ def test_oversized_messages_are_refused_unread(server: Any) -> None:
     async def go() -> None:
         _, figures, _ = await _measured(server, "oversized: 6 x 49 MB messages", 10.0)
         assert figures["closes"].get(1009, 0) >= 6  # "message too big", from the header
+
+    asyncio.run(go())
+
+
+def test_pages_that_do_not_read_are_held_back(server: Any) -> None:
+    async def go() -> None:
+        _, figures, _ = await _measured(
+            server, "not-reading: 30 pages at 8x (family of 24) stop reading", 30.0
+        )
+        assert figures["pages"] >= 27, figures
+
+    asyncio.run(go())
+
+
+def test_pages_leaving_mid_build_do_not_slow_the_class(server: Any) -> None:
+    async def go() -> None:
+        _, figures, _ = await _measured(server, "churn: 300 pages leave mid-build", 15.0)
+        assert figures["aborted"] >= 300, figures
 
     asyncio.run(go())
 
