@@ -41,6 +41,7 @@ LIVE_FILES = {
     "test_frontdoor.py",
     "test_server.py",
     "test_attacks_transport.py",
+    "test_attacks_pages.py",
     "test_loadtest.py",
     "test_course_record_live.py",
 }
@@ -75,7 +76,7 @@ def postgres() -> Iterator[PostgresCluster]:
 
 def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
     for item in items:
-        if item.path.name in LIVE_FILES:
+        if item.path.name in LIVE_FILES or item.get_closest_marker("browser") is not None:
             item.add_marker(pytest.mark.live)
 
 

@@ -460,24 +460,6 @@ def test_oversized_messages_are_refused_unread(server: Any) -> None:
     asyncio.run(go())
 
 
-def test_pages_that_do_not_read_are_held_back(server: Any) -> None:
-    async def go() -> None:
-        _, figures, _ = await _measured(
-            server, "not-reading: 30 pages at 8x (family of 24) stop reading", 30.0
-        )
-        assert figures["pages"] >= 27, figures
-
-    asyncio.run(go())
-
-
-def test_pages_leaving_mid_build_do_not_slow_the_class(server: Any) -> None:
-    async def go() -> None:
-        _, figures, _ = await _measured(server, "churn: 300 pages leave mid-build", 15.0)
-        assert figures["aborted"] >= 300, figures
-
-    asyncio.run(go())
-
-
 def test_guessing_never_refuses_the_instructor(server: Any) -> None:
     url = server[0]
     tries: list[bool] = []

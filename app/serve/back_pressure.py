@@ -8,8 +8,8 @@ from dataclasses import dataclass, field
 from enum import Enum
 
 #: A page whose sender is this many messages behind gets no new frame (a reading page is
-#: at most a few frames, a few tens of messages, behind).
-LAG_SKIP = 300
+#: a few frames, tens of messages, behind; a slow browser on a busy machine some hundreds).
+LAG_SKIP = 2000
 #: A page behind for this long has its playback paused and is told why.
 STALL_PAUSE = 5.0
 
