@@ -1,7 +1,8 @@
 """Attacks by pages from another address (127.0.0.2) against ``python -m analyzer_lab
 serve`` in a subprocess, measured like :mod:`tests.test_attacks_transport` (a normal page's
 updates/s before, during and after; the server's memory), on a server of their own: pages
-that stop reading their websocket, and pages that leave while their GUI is built."""
+that leave while their GUI is built.  (Pages that stop reading are held by
+:mod:`tests.test_back_pressure`.)"""
 
 from __future__ import annotations
 
@@ -23,16 +24,6 @@ def server(serve: Callable[..., ServeProcess]) -> Iterator[tuple[str, subprocess
     yield live.url, live.proc
     for row in ROWS:
         print(row)
-
-
-def test_pages_that_do_not_read_are_held_back(server: Any) -> None:
-    async def go() -> None:
-        _, figures, _ = await _measured(
-            server, "not-reading: 30 pages at 8x (family of 24) stop reading", 30.0
-        )
-        assert figures["pages"] >= 27, figures
-
-    asyncio.run(go())
 
 
 def test_pages_leaving_mid_build_do_not_slow_the_class(server: Any) -> None:

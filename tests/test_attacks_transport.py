@@ -210,28 +210,6 @@ async def _slow_derivation(url: str, seconds: float) -> dict[str, Any]:
 ATTACKER = "127.0.0.2"
 
 
-async def _not_reading(url: str, seconds: float) -> dict[str, Any]:
-    """Thirty pages from another address play a family of 24 curves at 8x, then never
-    read their websocket again."""
-    end = time.monotonic() + seconds
-
-    async def one() -> ProtoClient:
-        c = await ProtoClient(url, source=ATTACKER, rcvbuf=4096).start()
-        await c.wait_for("Run", 60)
-        await c.set("curves in the family", 24, 0.1)
-        await play(c)
-        await c.set("Speed", "8x", 0.1)
-        c.stop_reading()
-        return c
-
-    opened = await asyncio.gather(*(one() for _ in range(30)), return_exceptions=True)
-    pages = [c for c in opened if isinstance(c, ProtoClient)]
-    await asyncio.sleep(max(0.0, end - time.monotonic()))
-    for c in pages:
-        c.ws.transport.abort()  # a page that does not read cannot close cleanly
-    return {"pages": len(pages)}
-
-
 async def _churn(url: str, seconds: float) -> dict[str, Any]:
     """Three hundred pages from another address, each leaving while its GUI is built."""
     end = time.monotonic() + seconds
@@ -255,7 +233,6 @@ ATTACKS: dict[str, Callable[[str, float], Awaitable[dict[str, Any]]]] = {
     "guess": _guessers,
     "lessons": _lesson_flood,
     "slow-derivation": _slow_derivation,
-    "not-reading": _not_reading,
     "churn": _churn,
 }
 
