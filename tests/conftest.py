@@ -11,7 +11,8 @@ Fixtures: ``lab`` (an in-process server for the module; a module that needs othe
 options overrides it with ``make_lab``), ``serve`` (``python -m analyzer_lab serve``
 subprocesses for the module), ``browser`` (Debian's Chromium through Playwright), ``tab``
 (a fresh page) and ``shared_tab`` (a page reused through the module), ``redis_server``
-(a redis-server for one test).  The helpers behind them are in :mod:`tests.support`.
+(a redis-server for one test), ``postgres`` (a PostgreSQL cluster for the module).
+The helpers behind them are in :mod:`tests.support`.
 """
 
 from __future__ import annotations
@@ -23,6 +24,7 @@ from typing import Any
 import pytest
 
 from tests.support.browser import ARTIFACTS, CHROMIUM, LAUNCH_ARGS, Page, require_browser
+from tests.support.postgres import PostgresCluster
 from tests.support.redis_server import RedisServer
 from tests.support.servers import ServeProcess
 
@@ -30,6 +32,7 @@ LIVE_FILES = {
     "test_attacks_stepping.py",
     "test_browser.py",
     "test_browser_lessons.py",
+    "test_browser_plots.py",
     "test_assignments_browser.py",
     "test_classroom_browser.py",
     "test_classroom.py",
@@ -38,13 +41,42 @@ LIVE_FILES = {
     "test_frontdoor.py",
     "test_server.py",
     "test_attacks_transport.py",
+    "test_attacks_pages.py",
     "test_loadtest.py",
+    "test_course_record_live.py",
 }
+
+
+@pytest.fixture(scope="session", autouse=True)
+def course_record_data(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Path]:
+    """Servers started by the tests keep their course record in a temporary data folder
+    (never the user's own)."""
+    import os
+
+    from analyzer_lab.classroom.store.location import ENV_DATA
+
+    folder = tmp_path_factory.mktemp("analyzer-lab-data")
+    before = os.environ.get(ENV_DATA)
+    os.environ[ENV_DATA] = str(folder)
+    yield folder
+    if before is None:
+        os.environ.pop(ENV_DATA, None)
+    else:
+        os.environ[ENV_DATA] = before
+
+
+@pytest.fixture(scope="module")
+def postgres() -> Iterator[PostgresCluster]:
+    """A PostgreSQL cluster made for this module on a free loopback port (skipped without
+    Debian's postgresql; failing under CI=true), removed at its end."""
+    cluster = PostgresCluster().create()
+    yield cluster
+    cluster.remove()
 
 
 def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
     for item in items:
-        if item.path.name in LIVE_FILES:
+        if item.path.name in LIVE_FILES or item.get_closest_marker("browser") is not None:
             item.add_marker(pytest.mark.live)
 
 

@@ -109,3 +109,112 @@ def test_serve_refuses_invalid_assignment_folder(tmp_path: Path) -> None:
     out = cli("serve", "--no-browser", "--port", "1", "--assignments", str(tmp_path))
     assert out.returncode == 2
     assert "bad.json: field id: is missing" in out.stderr
+
+
+# ------------------------------------------------------------------ many files in one call
+
+
+def lines(out: subprocess.CompletedProcess) -> list[dict]:
+    return [json.loads(line) for line in out.stdout.splitlines()]
+
+
+def test_batch_grade_json_lines_and_exit_codes_over_the_batch(tmp_path: Path) -> None:
+    folder = tmp_path / "answers"
+    folder.mkdir()
+    answer(folder, {"x0": 2, "y0": 0}, "a-right.json")
+    answer(folder, {"x0": 0, "y0": -2}, "b-right.json")
+    answer(folder, {"x0": 3, "y0": 4}, "c-wrong.json")
+    answer(folder, "not json", "notes.txt")  # not an answer file: left out
+    out = cli("grade", "circle-radius-2", str(folder))
+    assert out.returncode == 1, out.stderr
+    docs = lines(out)
+    assert [Path(d["file"]).name for d in docs] == ["a-right.json", "b-right.json", "c-wrong.json"]
+    assert [d["pass"] for d in docs] == [True, True, False]
+    assert docs[2]["checks"][0]["miss"] == pytest.approx(3.0, rel=1e-6)
+    assert "graded 3 file(s): 2 pass, 1 fail, 0 refused" in out.stderr
+    # all pass: 0; a refused file anywhere: 2, and the others are still graded
+    out = cli(
+        "grade", "circle-radius-2", str(folder / "a-right.json"), str(folder / "b-right.json")
+    )
+    assert out.returncode == 0 and [d["pass"] for d in lines(out)] == [True, True]
+    bad = answer(tmp_path, {"x0": "__import__('os')"}, "bad.json")
+    out = cli("grade", "circle-radius-2", bad, str(folder))
+    assert out.returncode == 2
+    docs = lines(out)
+    assert len(docs) == 4 and "error" in docs[0] and "field x0" in docs[0]["error"]
+    assert [d.get("pass") for d in docs[1:]] == [True, True, False]
+    assert "1 refused" in out.stderr
+    out = cli("grade", "circle-radius-2", str(tmp_path / "none.json"), str(folder))
+    assert out.returncode == 2 and "cannot be read" in lines(out)[0]["error"]
+
+
+def test_batch_grade_of_a_varied_assignment_uses_each_students_variant(tmp_path: Path) -> None:
+    from analyzer_lab.lessons.assignments import variant_for
+
+    a = next(x for x in ready_assignments() if x.id == "self-study-circle-speed")
+    students = [f"student-{k}" for k in range(6)]
+    for name in students:  # each answers their own numbers in class mech-101
+        v = variant_for(a, "mech-101", name)
+        answer(tmp_path, dict(v.assignment.answers["correct"]), f"{name}.json")
+    out = cli("grade", a.id, str(tmp_path), "--class", "mech-101")
+    assert out.returncode == 0, out.stderr
+    docs = lines(out)
+    assert [d["student"] for d in docs] == students
+    for d, name in zip(docs, students, strict=True):
+        assert d["variant"] == dict(variant_for(a, "mech-101", name).values)
+    # in another class the same files meet other numbers: exactly those whose variant differs fail
+    out = cli("grade", a.id, str(tmp_path), "--class", "mech-202")
+    expected = [
+        variant_for(a, "mech-202", n).values == variant_for(a, "mech-101", n).values
+        for n in students
+    ]
+    assert [d["pass"] for d in lines(out)] == expected
+    assert out.returncode == (0 if all(expected) else 1)
+    # --student names one student for every file
+    one = cli("grade", a.id, str(tmp_path / "student-0.json"), "--student", "student-0")
+    assert (
+        one.returncode == 1
+        or variant_for(a, "class", "student-0").values
+        == variant_for(a, "mech-101", "student-0").values
+    )
+    assert json.loads(one.stdout)["student"] == "student-0"
+
+
+def test_grade_holds_each_run_to_the_run_limits(tmp_path: Path) -> None:
+    spec = {
+        "format": "analyzer-lab assignment",
+        "version": 1,
+        "id": "long-run",
+        "title": "Long run",
+        "lesson": "sphere-constant-speed",
+        "preset": "varying-controls",
+        "t_end": 200,
+        "unlocked": ["V", "h"],
+        "checks": [
+            {"id": "speed", "kind": "within", "quantity": "speed", "target": "1", "tolerance": 1e-6}
+        ],
+        "task": "Constant speed.",
+    }
+    path = tmp_path / "long-run.json"
+    path.write_text(json.dumps(spec))
+    small = answer(tmp_path, {"V": "1", "h": 1e-5}, "small-step.json")
+    out = cli("grade", str(path), small, small)
+    assert out.returncode == 2
+    docs = lines(out)
+    assert len(docs) == 2 and all("integration steps" in d["error"] for d in docs)
+    assert "small-step.json" in docs[0]["error"] and "the limit is 10,000,000" in docs[0]["error"]
+
+
+def test_grade_draws_for_the_same_default_class_as_the_board() -> None:
+    from analyzer_lab.lessons.assignments.space import DEFAULT_CLASS
+    from analyzer_lab.serve.cli_assignments import DEFAULT_CLASS as CLI_CLASS
+
+    assert CLI_CLASS == DEFAULT_CLASS
+
+
+def test_a_5000_digit_whole_number_is_a_clear_refusal(tmp_path: Path) -> None:
+    out = cli("grade", "circle-radius-2", answer(tmp_path, '{"x0": ' + "9" * 5000 + "}"))
+    assert out.returncode == 2, out.stderr
+    lines = out.stderr.strip().splitlines()
+    assert len(lines) == 1 and "Traceback" not in out.stderr
+    assert "holds a whole number of 5000 digits; the limit is 100" in lines[0]

@@ -206,12 +206,34 @@ async def _slow_derivation(url: str, seconds: float) -> dict[str, Any]:
     return {"message": shown, "after": took}
 
 
+#: The attackers' machine (another loopback address: the server tells them apart).
+ATTACKER = "127.0.0.2"
+
+
+async def _churn(url: str, seconds: float) -> dict[str, Any]:
+    """Three hundred pages from another address, each leaving while its GUI is built."""
+    end = time.monotonic() + seconds
+
+    async def one() -> None:
+        c = await ProtoClient(url, source=ATTACKER).start()
+        await asyncio.sleep(0.05)  # the build has been asked for
+        await c.close()
+
+    aborted = 0
+    while aborted < 300 and time.monotonic() < end:
+        await asyncio.gather(*(one() for _ in range(30)))
+        aborted += 30
+    await asyncio.sleep(max(0.0, end - time.monotonic()))
+    return {"aborted": aborted}
+
+
 ATTACKS: dict[str, Callable[[str, float], Awaitable[dict[str, Any]]]] = {
     "form-dirty": _form_dirty,
     "oversized": _oversized,
     "guess": _guessers,
     "lessons": _lesson_flood,
     "slow-derivation": _slow_derivation,
+    "churn": _churn,
 }
 
 

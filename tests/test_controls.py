@@ -50,6 +50,39 @@ def test_folders_follow_the_declared_modes_groups_and_titles(gui: Any) -> None:
     assert "c1_5" in visible and "c1_4" not in visible
 
 
+def _shown(c: ParamControls) -> set[str]:
+    return {name for name, widgets in c.widgets.items() if all(w.visible for w in widgets)}
+
+
+def test_only_the_fields_of_the_chosen_mode_are_shown(gui: Any) -> None:
+    lesson = get_lesson("self-study-1")
+    c = _controls(gui)
+    c.build(lesson, lesson.resolve(preset="C1.5b-cone"))
+    assert {"a", "b", "c"} <= _shown(c) and "p" not in _shown(c)  # the cone has no p
+    c.sync(lesson, lesson.resolve(preset="C1.5c-paraboloid"), force=True)
+    assert {"a", "b", "p"} <= _shown(c) and "c" not in _shown(c)
+
+    quadric = get_lesson("quadric")
+    c = _controls(gui)
+    c.build(quadric, quadric.resolve(preset="sphere"))
+    assert "R" in _shown(c) and not {"a", "b", "c"} & _shown(c)
+    assert not c.folders["coefficients"][1].visible
+    c.sync(quadric, quadric.resolve(preset="coefficients"), force=True)
+    group, folder = c.folders["coefficients"]
+    assert folder.visible and group.expanded  # open when it is the surface's only description
+    assert not c.folders["shape"][1].visible
+    c.sync(quadric, quadric.resolve(preset="elliptic-cone"), force=True)
+    assert {"a", "b", "c"} <= _shown(c) and "R" not in _shown(c)
+
+    positioner = get_lesson("linear-positioner")
+    c = _controls(gui)
+    c.build(positioner, positioner.resolve(preset="forward-harmonic"))
+    assert not c.folders["program"][1].visible and "F_dv" in _shown(c)
+    c.sync(positioner, positioner.resolve(preset="inverse-cosine-move"), force=True)
+    assert c.folders["program"][1].visible and "F_dv" not in _shown(c)  # found, not given
+    assert "R_sopr" in _shown(c)  # given in both problems
+
+
 def test_a_formula_of_t_turns_its_slider_off(gui: Any) -> None:
     lesson = get_lesson("circle")
     name = next(p.name for p in lesson.params if p.kind == "formula" and p.min is not None)

@@ -116,20 +116,78 @@ def test_time_derivative_uses_an_ordinary_d() -> None:
     t = sp.Symbol("t")
     out = expr_to_mathml(sp.Derivative(sp.Function("x")(t), t))
     assert "\u2146" not in out and "&dd;" not in out
-    assert "<mo>d</mo>" in out
+    assert '<mi mathvariant="normal">d</mi>' in out
 
 
-def test_long_equation_is_broken_into_lines_that_fit() -> None:
-    from analyzer_lab.view.math import LINE_GLYPHS, MAX_LINE_GLYPHS, math_width
+def test_derivatives_read_as_in_the_textbook() -> None:
+    """d²φ/dt² (the power on d above, on t below), the function by its name alone; a
+    partial derivative of a function of several variables with ∂."""
+    t, s = sp.symbols("t s")
+    out = expr_to_mathml(sp.Derivative(sp.Function("phi")(t), (t, 2)))
+    d2 = '<msup><mi mathvariant="normal">d</mi><mn>2</mn></msup>'
+    assert (
+        f"<mfrac><mrow>{d2}<mi>&#966;</mi></mrow>" in out
+        or f"<mfrac><mrow>{d2}<mi>φ</mi></mrow>" in out
+    )
+    assert (
+        '<mrow><mi mathvariant="normal">d</mi><msup><mi>t</mi><mn>2</mn></msup></mrow></mfrac>'
+        in out
+    )
+    assert "phi" not in out and "(" not in out
+    part = expr_to_mathml(sp.Derivative(sp.Function("f")(t, s), t, s))
+    assert part.count("∂") + part.count("&#8706;") == 3 and "<mo>(</mo>" in part
+
+
+def test_a_derivative_is_one_factor_and_a_squared_one_keeps_parentheses() -> None:
+    t, m = sp.Symbol("t"), sp.Symbol("m")
+    phi = sp.Function("phi")(t)
+    square = expr_to_mathml(m * phi.diff(t) ** 2 - m)
+    assert (
+        "<msup><mrow><mo>(</mo><mfrac>" in square and "<mo>)</mo></mrow><mn>2</mn></msup>" in square
+    )
+    assert "\u2212" in square and "<mo>-</mo>" not in square
+    factor = expr_to_mathml(m * phi.diff(t, 2))
+    assert "<mo>&InvisibleTimes;</mo><mfrac>" in factor or "<mo>\u2062</mo><mfrac>" in factor
+    assert "<mo>(</mo>" not in factor
+
+
+def test_names_are_written_as_in_the_textbook() -> None:
+    """x_A(t) is x with subscript A (not sympy's lower-cased ``x_a(t)``), \\psi is ψ, an
+    equation with a matrix side stays an equation."""
+    t = sp.Symbol("t")
+    out = expr_to_mathml(sp.Function("x_A")(t) + sp.Symbol(r"\psi"))
+    assert "<msub><mi>x</mi><mi>A</mi></msub>" in out and "x_a" not in out
+    assert "ψ" in out or "&#968;" in out
+    eq = expr_to_mathml(sp.Eq(sp.Symbol(r"\psi"), sp.Matrix([[0]]), evaluate=False))
+    assert "False" not in eq and "<mtable>" in eq and "<mo>=</mo>" in eq
+    dot = expr_to_mathml(sp.Symbol(r"\dot\varphi_0"))
+    assert '<msub><mover accent="true">' in dot and "dot" not in dot
+
+
+def test_a_long_sum_wraps_at_its_terms_only_where_needed() -> None:
+    """A long sum is one formula per term, in a wrapping row (the browser breaks the line
+    only when the panel is too narrow); a short one is a single formula."""
+    from analyzer_lab.view.math import formula_html
 
     xs = sp.symbols("x1:13")
     eq = sp.Eq(sp.Symbol("y"), sum(sp.Symbol(f"a{k}") * x**2 for k, x in enumerate(xs)))
-    out = expr_to_mathml(eq)
-    assert "<mtable" in out and out.count("<mtr>") >= 3
-    rows = out.split("<mtr>")[1:]
-    assert all(math_width(f"<math>{r.split('</mtr>')[0]}</math>") <= LINE_GLYPHS + 12 for r in rows)
-    short = expr_to_mathml(sp.Eq(sp.Symbol("y"), xs[0] + xs[1]))
-    assert "<mtable" not in short and math_width(short) < MAX_LINE_GLYPHS
+    out = formula_html(eq)
+    assert 'class="al-wrap"' in out and out.count("<math") == 13  # "y =" and 12 terms
+    assert out.count(">=</mo>") == 1 and out.count(">+</mo>") == 11
+    short = formula_html(sp.Eq(sp.Symbol("y"), xs[0]))
+    assert "al-wrap" not in short and short.count("<math") == 1
+    minus = formula_html(sp.Eq(sp.Symbol("y"), xs[0] - xs[1] + xs[2]))
+    assert minus.count("<math") == 4 and "\u2212" in minus
+    tex = formula_html(r"a=1,\quad b=2,\quad c=3")
+    assert 'class="al-wrap al-wrap-text"' in tex and tex.count("<math") == 3
+
+
+def test_formulas_never_shrink_below_a_readable_size() -> None:
+    from analyzer_lab.view.math import MIN_FORMULA_PX, derivation_to_html
+
+    out = derivation_to_html([DerivationStep("s", math=sp.Symbol("x") ** 2)])
+    assert "cqi" not in out and "clamp(" not in out and MIN_FORMULA_PX >= 12
+    assert f"max({MIN_FORMULA_PX}px" in out and "overflow-x:auto" in out
 
 
 def test_figures_scale_to_the_panel_width() -> None:
@@ -157,6 +215,7 @@ def test_no_lesson_shows_raw_tex() -> None:
             if out in seen:
                 continue
             seen.add(out)
+            out = re.sub(r"<style>.*?</style>", " ", out, flags=re.S)  # not shown
             maths = re.findall(r"<math.*?</math>", out, flags=re.S)
             prose = re.sub(r"<math.*?</math>", " ", out, flags=re.S)
             prose_text = html_lib.unescape(re.sub(r"<[^>]+>", " ", prose))

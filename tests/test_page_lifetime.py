@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import asyncio
 import gc
+import time
 from collections.abc import Callable
 from typing import Any
 
@@ -96,3 +97,35 @@ def test_a_page_that_stays_keeps_its_session(churn_lab: Any) -> None:
 
     counts = asyncio.run(one_stays())
     assert counts["views"] == 1 and counts["sessions"] == 1
+
+
+def test_pages_opened_in_hundreds_from_one_address_wait_others_open_at_once(
+    churn_lab: Any,
+) -> None:
+    url = f"ws://127.0.0.1:{churn_lab.port}/"
+    opens = churn_lab.page_opens
+    queued = opens.queued
+
+    async def flood_then_one() -> float:
+        async def aborted_from_another_machine() -> None:
+            c = await ProtoClient(url, source="127.0.0.2").start()
+            await asyncio.sleep(0.05)  # the build has been asked for
+            await c.close()
+
+        await asyncio.gather(*(aborted_from_another_machine() for _ in range(120)))
+        t = time.monotonic()
+        normal = await ProtoClient(url).start()
+        await normal.wait_for("Run", 60)
+        took = time.monotonic() - t
+        await normal.close()
+        return took
+
+    took = asyncio.run(flood_then_one())
+    assert opens.queued > queued  # the flood went over the burst and waited
+    assert took < 20.0
+    left = wait_until(
+        lambda: _when(_alive(churn_lab), lambda a: not any(a.values()) and not opens.waiting()),
+        timeout=60.0,
+        what="the flood's pages to be dropped or released",
+    )
+    assert left == dict.fromkeys(left, 0)

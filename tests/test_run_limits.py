@@ -11,7 +11,7 @@ import pytest
 from analyzer_lab.lessons.catalog import all_lessons, get_lesson
 from analyzer_lab.lessons.kit.formula import plain_number
 from analyzer_lab.lessons.kit.params import ParamError
-from analyzer_lab.serve.run_limits import MAX_CPU_SECONDS, MAX_POINT_STEPS, MAX_VALUES, refusal
+from analyzer_lab.serve.run_limits import MAX_POINT_STEPS, MAX_VALUES, MAX_WORK, refusal
 
 
 def cli(*args: str, timeout: float = 300) -> subprocess.CompletedProcess:
@@ -48,7 +48,7 @@ def test_a_result_not_finite_past_ten_t_end_exits_2_naming_quantity_and_time() -
         (("--set", "family=24", "--t-end", "100000"), "integration steps"),
         (
             ("--set", "integrator=DOP853", "--set", "rtol=1e-14", "--t-end", "100000"),
-            "would compute for about",
+            "units of work (counted on a piece of it)",
         ),
     ],
 )
@@ -65,7 +65,7 @@ def test_the_limits_are_stated_in_help() -> None:
     text = " ".join(out.stdout.split())
     assert out.returncode == 0
     assert f"{MAX_POINT_STEPS:,} fixed integration steps" in text
-    assert f"more than {MAX_CPU_SECONDS:g} s" in text
+    assert f"more than {MAX_WORK:,} units of work" in text
     assert f"more than {MAX_VALUES:,} numbers" in text
 
 
@@ -125,3 +125,21 @@ def test_plain_numbers(value: float, text: str) -> None:
 
     assert plain_number(value) == text
     assert plain_number(np.float64(value)) == text
+
+
+def test_out_refuses_a_symbolic_link_and_writes_nothing_through_it(tmp_path) -> None:
+    target = tmp_path / "elsewhere.json"
+    target.write_text("kept")
+    link = tmp_path / "out.json"
+    link.symlink_to(target)
+    out = cli("run", "circle", "--out", str(link))
+    assert out.returncode == 2 and "is a symbolic link; refused" in one_error_line(out)
+    assert target.read_text() == "kept"
+    dangling = tmp_path / "dangling.json"
+    dangling.symlink_to(tmp_path / "new.json")
+    out = cli("run", "circle", "--out", str(dangling))
+    assert out.returncode == 2 and not (tmp_path / "new.json").exists()
+    plain = tmp_path / "plain.json"
+    out = cli("run", "circle", "--out", str(plain))
+    assert out.returncode == 0, out.stderr
+    assert plain.read_text().startswith("{")

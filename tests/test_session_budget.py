@@ -129,3 +129,19 @@ def test_a_restored_states_dropped_values_are_in_the_newest_notice() -> None:
     assert text.startswith("restored your last lesson and parameters (sphere), but: h:")
     assert "value dropped" in text
     assert s.raw_values()["u1"] == "2"
+
+
+def test_a_typed_speed_of_1e4_keeps_every_tick_within_the_budget() -> None:
+    # one step of (1.59) cut into 10^4 substeps: charged substep by substep, never a whole
+    # step (about 1.7 s) or a block of steps (a minute) inside one tick
+    s = Session(LESSONS, "sphere-constant-speed", "varying-controls")
+    s.pause_at_end = False
+    s.play()
+    s.set_values({"V": "1e4"})
+    worst = 0.0
+    for _ in range(60):
+        c0 = clock()
+        s.tick(TICK)
+        worst = max(worst, clock() - c0)
+    assert worst < STEP_BUDGET + 0.05, worst
+    assert s.playing

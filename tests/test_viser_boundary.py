@@ -38,6 +38,8 @@ def test_the_page_is_titled_and_the_share_tunnel_cannot_start(server: Any) -> No
     page = urllib.request.urlopen(f"http://127.0.0.1:{server.get_port()}/").read().decode()
     assert f"<title>{vb.PAGE_TITLE}</title>" in page
     assert vb.KEYS_STAY_IN_FIELDS in page  # typed keys do not reach the camera
+    assert vb.PHONE_LAYOUT in page  # on a phone the panel is a sheet below the canvas
+    assert vb.READABLE_TEXT in page
     handlers = server._websock_server._incoming_handlers
     assert _messages.ShareUrlRequest not in handlers
     assert server.request_share_url() is None
@@ -320,3 +322,14 @@ def test_prop_hints_are_worked_out_once_per_class(server: Any) -> None:
     a.remove()
     with pytest.raises(RuntimeError):
         a.colors = np.zeros((1, 2, 3), np.uint8)
+
+
+def test_send_lag_reads_the_senders_cursor_and_is_zero_for_an_unknown_page(
+    make_lab: Any,
+) -> None:
+    from analyzer_lab.viser_boundary import send_lag
+
+    lab = make_lab(lesson="sphere", warm_up=False)
+    assert send_lag(lab.server, 12345) == 0
+    state = lab.server._websock_server._client_state_from_id
+    assert isinstance(state, dict)

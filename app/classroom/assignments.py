@@ -4,7 +4,8 @@ class in a live table (CSV download) and authors new ones from the current state
 
 One :class:`AssignmentBoard` per classroom (``room.board``) holds the assignments
 (the ready ones plus ``serve --assignments DIR``), the pushed one and the
-:class:`~analyzer_lab.classroom.roster.Roster`; it knows the classroom as a
+:class:`~analyzer_lab.classroom.course.Course` (the course record: who each page is,
+every attempt written before its verdict is shown); it knows the classroom as a
 :class:`~analyzer_lab.classroom.ports.RoomForBoard`.  Each page gets a :class:`StudentPanel`;
 the instructor's page also a :class:`TeacherPanel` (with the authoring fields).  The
 classroom tells the board of its pages with four calls (:meth:`~AssignmentBoard.attach`,
@@ -26,18 +27,25 @@ import time
 from collections.abc import Set
 from typing import TYPE_CHECKING, Any
 
+from analyzer_lab.classroom.course import TOKEN_KEY, Course
 from analyzer_lab.classroom.ports import RoomForBoard
-from analyzer_lab.classroom.roster import Roster, clean_name, head_html, row_html
+from analyzer_lab.classroom.roster import Progress, clean_name, head_html, row_html
+from analyzer_lab.classroom.store.grades import export as export_grades
+from analyzer_lab.classroom.store.records import JoinError, StoreError, Student
 from analyzer_lab.classroom.table_rows import RowTable
 from analyzer_lab.lessons.assignments import (
     Assignment,
     AssignmentError,
     Grade,
+    Release,
+    Variant,
     grade,
     load_folder,
     ready_assignments,
+    release,
 )
 from analyzer_lab.lessons.assignments import draft as draft_assignment
+from analyzer_lab.lessons.assignments.variants import DEFAULT_CLASS
 from analyzer_lab.session.session import LabError
 
 if TYPE_CHECKING:
@@ -46,6 +54,19 @@ if TYPE_CHECKING:
 log = logging.getLogger(__name__)
 
 NONE = "(none)"
+#: Seconds between two reads of the course record for the instructor's table (the
+#: attempts of pages on other workers arrive within this).
+POLL_SECONDS = 1.0
+#: Seconds a page waits for its browser's saved student token (in a thread of its own; a
+#: check meanwhile waits for it rather than joining a second time).
+TOKEN_WAIT = 3.0
+TOKEN_TRIES = 5
+#: Seconds a check waits for that token (then the page joins with what it typed).
+CHECK_WAIT = 3.0
+NOT_RECORDED = (
+    "Your attempt could not be recorded: the course record cannot be reached ({why}). "
+    "It does not count yet; check again in a moment."
+)
 ENV_FOLDER = "ANALYZER_LAB_ASSIGNMENTS"  # analyzer_lab.serve.cli_assignments.ENV_FOLDER
 esc = html.escape
 
@@ -65,9 +86,18 @@ def task_html(a: Assignment) -> str:
         " (the other fields are locked)<br><b>Goal:</b>"
         f"<ul style='margin:2px 0 2px 1.1em;padding:0'>{checks}</ul>"
         + (f"<i>Hint:</i> {esc(a.hint)}<br>" if a.hint else "")
+        + (
+            f"<span class='al-variant' style='color:#555'>Your numbers: {esc(_numbers(a))}</span><br>"
+            if a.variant
+            else ""
+        )
         + (f"<span style='color:#555'>{esc(a.reference)}</span>" if a.reference else ""),
         cls="al-assignment-task",
     )
+
+
+def _numbers(a: Assignment) -> str:
+    return ", ".join(f"{k} = {v:.12g}" for k, v in a.variant.items())
 
 
 def verdict_html(g: Grade) -> str:
@@ -78,7 +108,13 @@ def verdict_html(g: Grade) -> str:
         items.append(
             f"<li class='al-check' data-check='{esc(c.id)}' data-pass='{'yes' if c.passed else 'no'}'>"
             f"<b style='color:{colour}'>{mark}</b> {esc(c.text)}<br>"
-            f"<span style='color:#555'>{esc(c.message)}</span></li>"
+            f"<span style='color:#555'>{esc(c.message)}</span>"
+            + (
+                f"<br><span class='al-check-feedback' style='color:#1a4d8f'>{esc(c.feedback)}</span>"
+                if c.feedback
+                else ""
+            )
+            + "</li>"
         )
     head = (
         "<b style='color:#1b7a2e'>All checks pass.</b>"
@@ -111,17 +147,30 @@ def load_assignments(lesson_ids: Set[str]) -> dict[str, Assignment]:
 
 
 class AssignmentBoard:
-    """The classroom's assignments, the pushed one, the roster and every page's panel."""
+    """The classroom's assignments, the pushed one, the course record and every page's
+    panel."""
 
-    def __init__(self, room: RoomForBoard, lesson_ids: Set[str]) -> None:
+    def __init__(
+        self, room: RoomForBoard, lesson_ids: Set[str], course: Course | None = None
+    ) -> None:
         self.room = room
         self.lesson_ids = frozenset(lesson_ids)
         self.lock = threading.RLock()
         self._assignments: dict[str, Assignment] | None = None
         self.pushed: str | None = None
-        self.roster = Roster()
+        #: the class's course record (an in-memory one when the server was given none)
+        self.course = course if course is not None else Course.in_memory()
+        #: the instructor's table, folded from the course record
+        self.progress = Progress()
+        self.store_problem: str | None = None  # why the last read of the record failed
         self.students: dict[int, StudentPanel] = {}
         self.teachers: dict[int, TeacherPanel] = {}
+        #: the class the students' variants are drawn for
+        self.class_id = self.course.info.name if course is not None else DEFAULT_CLASS
+        self._released: dict[str, Release] = {}
+        self._stop = threading.Event()
+        self._poke = threading.Event()
+        self._poller: threading.Thread | None = None
 
     @property
     def assignments(self) -> dict[str, Assignment]:
@@ -141,7 +190,6 @@ class AssignmentBoard:
         """A page left."""
         self.students.pop(client_id, None)
         self.teachers.pop(client_id, None)
-        self.roster.forget_page(client_id)
 
     def grant(self, view: SessionView) -> None:
         """The page became the instructor: the class's folder replaces its own."""
@@ -150,12 +198,38 @@ class AssignmentBoard:
         if student is not None:
             student.close()
         self.teachers[cid] = TeacherPanel(self, view)
+        with self.lock:
+            if self._poller is None:
+                self._poller = threading.Thread(
+                    target=self._poll, name="analyzer-lab-course-record", daemon=True
+                )
+                self._poller.start()
+        self._poke.set()
 
     def released(self, view: SessionView) -> None:
         """A follower has its own session again (caller holds its lock)."""
         panel = self.students.get(view.client.client_id)
         if panel is not None:
             panel.resume()
+
+    # -- variants: each student's numbers, from the variants checked at release
+
+    def release(self, aid: str) -> Release:
+        """The variants of ``aid`` that passed the release check (checked once, on first
+        use); raises :class:`AssignmentError` naming the variant that failed."""
+        done = self._released.get(aid)
+        if done is None:
+            a = self.assignments[aid]
+            # the ready and served files are checked by their tests; a varied one here
+            done = release(a) if a.varied else Release(a, (Variant(0, {}, a),), 0, 0.0)
+            self._released[aid] = done
+            log.info("assignment %s released: %d variant(s)", aid, len(done.variants))
+        return done
+
+    def variant(self, aid: str, class_id: str, student: str) -> Variant:
+        """The variant of ``aid`` for ``student`` (the typed name, else the page) in
+        ``class_id``: the same every time."""
+        return self.release(aid).for_student(class_id, student)
 
     # -- the class
 
@@ -167,6 +241,7 @@ class AssignmentBoard:
         Pages following a demo show the instructor's session: they get it on release."""
         if aid not in self.assignments:
             raise LabError("choose one of the assignments")
+        self.release(aid)  # a variant space that fails its check is never pushed
         self.pushed = aid
         reached = 0
         for cid, panel in list(self.students.items()):
@@ -186,8 +261,49 @@ class AssignmentBoard:
         return reached
 
     def changed(self) -> None:
-        for t in list(self.teachers.values()):
-            t.update()
+        """Something the table shows changed here: read the record now."""
+        self._poke.set()
+
+    def refresh(self) -> bool:
+        """Fold the record's new attempts into the table (any worker's); True if any."""
+        try:
+            new = self.course.attempts(self.progress.last_id)
+            names = {}
+            if any(a.student_id not in self.progress.names for a in new):
+                names = {st.id: st.name for st in self.course.students()}
+        except StoreError as exc:
+            if self.store_problem is None:
+                log.warning("the course record cannot be read: %s", exc)
+            self.store_problem = str(exc)
+            return False
+        self.store_problem = None
+        self.progress.names.update(names)
+        return self.progress.fold(new, self.progress.names) > 0
+
+    def _poll(self) -> None:
+        """Read the record every :data:`POLL_SECONDS` (at once when poked) while an
+        instructor's table is open."""
+        while not self._stop.is_set():
+            self._poke.wait(POLL_SECONDS)
+            self._poke.clear()
+            if self._stop.is_set():
+                break
+            if not self.teachers:
+                continue
+            try:
+                self.refresh()
+                for t in list(self.teachers.values()):
+                    t.update()
+            except Exception:  # the table's thread goes on; the log says what failed
+                log.exception("the instructor's table could not be updated")
+
+    def grades(self, fmt: str) -> str:
+        """The class's grades (:mod:`analyzer_lab.classroom.store.grades`)."""
+        return export_grades(fmt, list(self.course.students()), self.course.attempts())
+
+    def stop(self) -> None:
+        self._stop.set()
+        self._poke.set()
 
 
 class StudentPanel:
@@ -197,6 +313,7 @@ class StudentPanel:
         self.board = board
         self.view = view
         self.active: Assignment | None = None
+        self.variant: Variant | None = None
         self.pending: str | None = None
         gui = view.client.gui
         order = float(view.status.order) + 0.5
@@ -204,20 +321,123 @@ class StudentPanel:
         with self.folder:
             self.picker = gui.add_dropdown("Assignment", board.choices(), initial_value=NONE)
             self.task = gui.add_html("")
-            self.name = gui.add_text("Your name", initial_value="", hint="shown to the instructor")
+            self.who = gui.add_html("")
+            self.code = gui.add_text(
+                "Join code", initial_value="", hint="the class's join code from the instructor"
+            )
+            self.name = gui.add_text(
+                "Your name",
+                initial_value="",
+                hint="your student id or your name, shown to the instructor",
+            )
             self.check_btn = gui.add_button("Check my answer")
             self.result = gui.add_html("")
+        #: the student this page records for (decided on the server: a signed token or a join)
+        self.student: Student | None = None
+        self._restored = threading.Event()  # set once the saved token was read (or not)
         self.picker.on_update(view.guard(self._on_pick))
         self.check_btn.on_click(view.guard(lambda e: self.check()))
+        self.name.on_update(view.guard(lambda e: self._renumber()))
         inner = view.gate
         view.gate = lambda v, event, again: self._gate(v, event, again, inner)  # type: ignore[assignment]
         self._shown_visible(False)
+        threading.Thread(
+            target=self._restore, name="analyzer-lab-student-token", daemon=True
+        ).start()
 
     # -- opening and closing
 
     def _shown_visible(self, on: bool) -> None:
-        for w in (self.task, self.name, self.check_btn, self.result):
+        for w in (self.task, self.who, self.check_btn, self.result):
             w.visible = on
+        joined = self.student is not None
+        self.name.visible = on and not joined
+        self.code.visible = on and not joined and self.board.course.needs_code
+
+    # -- who this page is
+
+    def _restore(self) -> None:
+        """A page that joined before (reload, another tab, the next lecture) brings back
+        its student from the token its browser kept; a token this server did not sign
+        is refused and the page is told why."""
+        try:
+            student = self._read_token()
+        finally:
+            self._restored.set()
+        if student is not None:
+            with self.view.session.lock:
+                self._joined(student)
+
+    def _read_token(self) -> Student | None:
+        token = None
+        for _ in range(TOKEN_TRIES):  # a busy browser answers late: ask again
+            try:
+                token = self.view.client.local_storage.get_item(TOKEN_KEY, timeout=TOKEN_WAIT)
+                break
+            except TimeoutError:
+                log.warning(
+                    "page %s: its browser did not answer for its student token",
+                    self.view.client.client_id,
+                )
+            except RuntimeError:  # the page left or blocks its storage
+                return None
+            if self.view.closed:
+                return None
+        if token is None or token == "":
+            return None
+        try:
+            student = self.board.course.restore(token)
+        except JoinError as exc:
+            text = f"your saved student record was refused: {exc}; join again"
+            self.who.content = _box(esc(text), "#a61b1b", "al-student-refused")
+            self._tell(text, "red")
+            try:
+                self.view.client.local_storage.remove_item(TOKEN_KEY)
+            except RuntimeError:  # the page left meanwhile
+                pass
+            return None
+        except StoreError as exc:
+            self._tell(f"your student record cannot be read now: {exc}", "yellow")
+            return None
+        if self.student is not None:  # the page joined meanwhile: it stays who it joined as
+            return None
+        self.student = student
+        return student
+
+    def _tell(self, text: str, color: str) -> None:
+        try:
+            self.view.client.add_notification(
+                "Course record", text, auto_close_seconds=8.0, color=color
+            )
+        except RuntimeError:  # the page left meanwhile
+            pass
+
+    def _joined(self, student: Student) -> None:
+        self.student = student
+        ident = f" ({esc(student.roster_id)})" if student.roster_id else ""
+        self.who.content = _box(
+            f"Recorded as <b class='al-student'>{esc(student.name)}</b>{ident}",
+            cls="al-student-who",
+        )
+        self._shown_visible(self.active is not None)
+        self._renumber()
+
+    def join(self) -> Student | None:
+        """Join the class with the typed code and name or id (the result says why not)."""
+        try:
+            student = self.board.course.join(self.code.value, self.name.value)
+        except JoinError as exc:
+            self.result.content = error_html(str(exc))
+            return None
+        except StoreError as exc:
+            self.result.content = error_html(NOT_RECORDED.format(why=exc))
+            return None
+        try:
+            self.view.client.local_storage.set_item(TOKEN_KEY, self.board.course.token(student))
+        except RuntimeError:  # the page left meanwhile
+            pass
+        self._joined(student)
+        return student
 
     def _on_pick(self, event: Any) -> None:
         value = event.target.value
@@ -226,12 +446,17 @@ class StudentPanel:
             return
         if value not in self.board.assignments:
             raise LabError(f"unknown assignment {str(value)[:60]!r}")
-        self.open(value)
+        try:
+            self.open(value)
+        except AssignmentError as exc:
+            self.close()
+            raise LabError(str(exc)) from None
 
     def open(self, aid: str, pushed: bool = False) -> None:
         """Load the assignment's lesson, preset and start values, lock the other fields
-        (caller holds the session lock)."""
-        a = self.board.assignments[aid]
+        (caller holds the session lock); a varied one with this student's numbers."""
+        self.variant = self.board.variant(aid, self.board.class_id, self.student_key())
+        a = self.variant.assignment
         s = self.view.session
         self.active = None  # the lesson picker must not be refused while switching
         if s.lesson.id != a.lesson:
@@ -242,7 +467,6 @@ class StudentPanel:
             s.set_values(dict(a.start))
         self.active = a
         self.pending = None
-        self.board.roster.open(self.view.client.client_id, aid)
         self.view.after_state_change()
         self.view.refresh(heavy=True)
         self.view.controls.set_locked(self.locked(), s.params)
@@ -270,8 +494,35 @@ class StudentPanel:
             self.view.controls.set_locked(self.locked(), self.view.session.params)
             self._pickers_disabled(True)
 
+    def student_key(self) -> str:
+        """Who the variant is drawn for: the student this page joined as (their roster
+        id, else their name: the same on every page and worker, and the key ``grade
+        --student`` takes), else the typed name, else this page."""
+        if self.student is not None:  # a roster id as the university writes it, else the name
+            return self.student.roster_id or self.student.name
+        try:
+            return clean_name(self.name.value)
+        except ValueError:
+            return f"page-{self.view.client.client_id}"
+
+    def _renumber(self) -> bool:
+        """The typed name changed: a varied assignment gets that student's numbers
+        (caller holds the lock); True when they changed."""
+        a, v = self.active, self.variant
+        if a is None or v is None or not a.varied:
+            return False
+        now = self.board.variant(a.id, self.board.class_id, self.student_key())
+        if now.index == v.index:
+            return False
+        self.open(a.id)
+        self.result.content = error_html(
+            f"your numbers for this name: {_numbers(now.assignment)} (the start values are reset)"
+        )
+        return True
+
     def close(self) -> None:
         self.active = None
+        self.variant = None
         self.view.controls.set_locked(frozenset(), self.view.session.params)
         self._pickers_disabled(self.view.following)
         if self.picker.value != NONE:
@@ -330,10 +581,15 @@ class StudentPanel:
         if a is None:
             self.result.content = error_html("choose an assignment first")
             return
-        try:
-            name = clean_name(self.name.value)
-        except ValueError as exc:
-            self.result.content = error_html(str(exc))
+        if self._renumber():  # who this page is changed without the update reaching us
+            return
+        if self.student is None:  # a token still on its way from the browser counts first
+            self._restored.wait(CHECK_WAIT)
+        variant = self.variant
+        student = self.student or self.join()
+        if student is None:
+            return
+        if self.variant is not variant:  # joined as a student with other numbers: theirs first
             return
         s = self.view.session
         if s.lesson.id != a.lesson:
@@ -349,9 +605,14 @@ class StudentPanel:
             if field is not None:
                 self.view.controls.show_error(field, str(exc))
             return
+        try:  # recorded first: the page is told only what the record holds
+            variant = self.variant.label if self.variant is not None else ""
+            self.board.course.record(student, g, values, variant)
+        except StoreError as exc:
+            log.warning("page %s: an attempt not recorded: %s", self.view.client.client_id, exc)
+            self.result.content = error_html(NOT_RECORDED.format(why=exc))
+            return
         self.result.content = verdict_html(g)
-        last = "pass" if g.passed else "; ".join(f"{c.id}: miss {c.miss:.3g}" for c in g.failed)
-        self.board.roster.attempt(self.view.client.client_id, name, a.id, g.passed, last)
         self.board.changed()
 
 
@@ -370,6 +631,10 @@ class TeacherPanel:
             self.push_btn = gui.add_button("Push assignment to all")
             self.table = gui.add_html("")
             self.csv_btn = gui.add_button("Download results (CSV)")
+            self.grades_btn = gui.add_button(
+                "Download grades (Moodle CSV)",
+                hint="one row per student, one column per assignment: 1 passed, 0 not yet",
+            )
             self.author = gui.add_folder("Author from this state", expand_by_default=False)
             with self.author:
                 gui.add_html(
@@ -393,6 +658,7 @@ class TeacherPanel:
         self._rows_of: str | None = None
         self.push_btn.on_click(self._cb(self._push))
         self.csv_btn.on_click(self._cb(self._csv))
+        self.grades_btn.on_click(self._cb(self._grades))
         self.a_btn.on_click(self._cb(self._draft))
         self.suggest()
         self.update()
@@ -426,10 +692,20 @@ class TeacherPanel:
         )
 
     def _csv(self) -> None:
-        data = self.board.roster.to_csv(self.board.pushed).encode("utf-8")
+        data = self.board.progress.to_csv(self.board.pushed).encode("utf-8")
         stamp = time.strftime("%Y%m%d-%H%M%S")
         self.view.client.send_file_download(
             f"assignment-results-{stamp}.csv", data, save_immediately=True
+        )
+
+    def _grades(self) -> None:
+        try:
+            data = self.board.grades("moodle").encode("utf-8")
+        except StoreError as exc:
+            raise LabError(f"the grades cannot be read: {exc}") from exc
+        stamp = time.strftime("%Y%m%d-%H%M%S")
+        self.view.client.send_file_download(
+            f"grades-moodle-{stamp}.csv", data, save_immediately=True
         )
 
     def suggest(self) -> None:
@@ -483,13 +759,23 @@ class TeacherPanel:
             if pushed != self._rows_of:  # another assignment: another set of rows
                 self.rows.clear()
                 self._rows_of = pushed
-            records = self.board.roster.rows(pushed)
+            records = self.board.progress.rows(pushed)
             title = (
                 f"Pushed: <b>{esc(pushed)}</b>"
                 if pushed
                 else "No assignment pushed: every answer checked"
             )
+            course = self.board.course
+            if course.needs_code:
+                title += f"<br>Join code: <b class='al-join-code'>{esc(course.info.join_code)}</b>"
+            if self.board.store_problem:
+                title += (
+                    "<br><span class='al-store-down' style='color:#a61b1b'>The course record "
+                    f"cannot be read: {esc(self.board.store_problem)}</span>"
+                )
             content = _box(title) + head_html(pushed, not records)
             if self.table.content != content:
                 self.table.content = content
-            return self.rows.show([((r.page, r.assignment), row_html(r, pushed)) for r in records])
+            return self.rows.show(
+                [((r.student, r.assignment), row_html(r, pushed)) for r in records]
+            )

@@ -55,7 +55,7 @@ class Presenter:
             )
             self.bookmarks = gui.add_html("")
             gui.add_html(
-                '<div style="font-size:0.8em;color:#555">Keys: PageDown / N = next, PageUp / P = previous '
+                '<div style="font-size:max(11px,0.8em);color:#555">Keys: PageDown / N = next, PageUp / P = previous '
                 "(also in the command palette).</div>"
             )
         self.style = gui.add_html("")
@@ -106,10 +106,7 @@ class Presenter:
                 pass
             self.folder.expand_by_default = True
         else:
-            try:
-                gui.main_panel.float()
-            except PANEL_ERRORS:
-                pass
+            self.view.dock_panel()
         self.top_prev.visible = on
         self.top_next.visible = on
         self.view.readout.order = -2998.0 if on else self._readout_order
@@ -143,9 +140,9 @@ class Presenter:
                 f"{html.escape(p.name)}: {html.escape(p.title)}</li>"
             )
         content = (
-            f'<ol class="al-bookmarks" style="font-size:0.85em;padding-left:1.4em">{"".join(items)}</ol>'
+            f'<ol class="al-bookmarks" style="font-size:max(11px,0.85em);padding-left:1.4em">{"".join(items)}</ol>'
             if items
-            else '<div class="al-bookmarks" style="font-size:0.85em">(this lesson has no presets)</div>'
+            else '<div class="al-bookmarks" style="font-size:max(11px,0.85em)">(this lesson has no presets)</div>'
         )
         if self.bookmarks.content != content:
             self.bookmarks.content = content

@@ -13,6 +13,15 @@ import threading
 from typing import TYPE_CHECKING, Any, Protocol, runtime_checkable
 
 if TYPE_CHECKING:
+    from collections.abc import Sequence
+
+    from analyzer_lab.classroom.store.records import (
+        Attempt,
+        ClassInfo,
+        NewAttempt,
+        RosterEntry,
+        Student,
+    )
     from analyzer_lab.lessons.kit.contract import Lesson, Params
     from analyzer_lab.session.session import Session
     from analyzer_lab.view.page import SessionView
@@ -136,4 +145,43 @@ class RoomForBoard(Protocol):
     def is_following(self, client_id: int) -> bool: ...
 
 
-__all__ = ["Camera", "Lab", "RoomForBoard", "RoomForLink", "RoomForPanels"]
+@runtime_checkable
+class CourseStore(Protocol):
+    """The course record (:mod:`analyzer_lab.classroom.store`): classes, students and
+    attempts, returned as plain data; every method raises
+    :class:`~analyzer_lab.classroom.store.records.StoreError` when the database cannot be
+    reached or refuses."""
+
+    def ping(self) -> None: ...
+
+    def get_class(self, name: str) -> ClassInfo | None: ...
+
+    def open_class(
+        self,
+        name: str,
+        roster: Sequence[RosterEntry] | None = None,
+        join_code: str | None = None,
+    ) -> ClassInfo: ...
+
+    def students(self, class_id: int) -> list[Student]: ...
+
+    def student(self, student_id: int) -> Student | None: ...
+
+    def find_roster(self, class_id: int, roster_id: str) -> Student | None: ...
+
+    def find_name(self, class_id: int, name: str) -> list[Student]: ...
+
+    def enrol(self, class_id: int, name: str) -> Student: ...
+
+    def claim(self, student_id: int) -> bool: ...
+
+    def record(self, attempt: NewAttempt) -> Attempt:
+        """Write one attempt; committed when this returns."""
+        ...
+
+    def attempts(self, class_id: int, after: int = 0) -> list[Attempt]:
+        """The class's attempts with an id above ``after``, oldest first."""
+        ...
+
+
+__all__ = ["Camera", "CourseStore", "Lab", "RoomForBoard", "RoomForLink", "RoomForPanels"]

@@ -45,6 +45,7 @@ from typing import TYPE_CHECKING, Any
 
 from analyzer_lab.classroom.assignments import AssignmentBoard
 from analyzer_lab.classroom.bus import Bus, LocalBus
+from analyzer_lab.classroom.course import Course
 from analyzer_lab.classroom.input_gate import InputGate
 from analyzer_lab.classroom.instructor import InstructorPanel, Presenter
 from analyzer_lab.classroom.instructor_code import (
@@ -78,7 +79,13 @@ class Classroom:
     """Instructor sign-in, follow/release, push, notify and presenter mode for the
     server it is handed (``lab.classroom``)."""
 
-    def __init__(self, lab: Lab, code: str | None = None, bus: Bus | None = None) -> None:
+    def __init__(
+        self,
+        lab: Lab,
+        code: str | None = None,
+        bus: Bus | None = None,
+        course: Course | None = None,
+    ) -> None:
         self.lab = lab
         self.code = code if code else generate_code()
         problem = code_problem(self.code)
@@ -111,7 +118,7 @@ class Classroom:
         #: the other servers of the class (an in-process bus by default)
         self.link = ClassLink(self, bus if bus is not None else LocalBus(self.code))
         #: the assignments, the pushed one and the class's progress on them
-        self.board = AssignmentBoard(self, {lesson.id for lesson in lab.lessons})
+        self.board = AssignmentBoard(self, {lesson.id for lesson in lab.lessons}, course)
         self._thread = threading.Thread(
             target=self._run, name="analyzer-lab-classroom", daemon=True
         )
@@ -603,6 +610,7 @@ class Classroom:
         self._stop.set()
         self.wake.set()
         self.link.close()
+        self.board.stop()
 
 
 __all__ = ["Classroom"]

@@ -1,9 +1,11 @@
-"""The class's progress on assignments: per student (a typed name, no accounts) and
-assignment, the attempts, whether it passed and the time to the first pass.
+"""The class's progress on assignments: per student and assignment, the attempts,
+whether it passed and the time from the first attempt to the first pass, folded from the
+course record's attempts (:mod:`analyzer_lab.classroom.store`).
 
 Plain bookkeeping (no viser): the instructor's live table and its CSV export are built
-from it.  Names are user text: the table escapes them and the CSV defuses leading
-``= + - @`` (spreadsheet formulas).
+from it.  Names are user text: the table escapes them and the CSV defuses every
+``= + - @`` that would start a cell (spreadsheet formulas), at the start of a text and
+after a separator of any locale (``, ; | tab``), and quotes every cell.
 """
 
 from __future__ import annotations
@@ -11,10 +13,13 @@ from __future__ import annotations
 import csv
 import html
 import io
+import re
 import threading
-import time
 import unicodedata
+from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
+
+from analyzer_lab.classroom.store.records import Attempt
 
 MAX_NAME = 40
 #: Longest text looked at (a name is cut to MAX_NAME after cleaning).
@@ -23,6 +28,17 @@ MAX_NAME_INPUT = 1000
 #: (direction overrides and marks such as U+202E, zero-width characters), surrogates,
 #: private use and unassigned code points.
 REMOVED_CATEGORIES = frozenset({"Cc", "Cf", "Cs", "Co", "Cn"})
+
+
+#: A formula start: ``= + - @`` (after spaces) at the start of a cell or after a separator
+#: a spreadsheet of some locale splits on (``,`` ``;`` ``|`` tab).
+_FORMULA_START = re.compile(r"(^|[,;|\t])(\s*)(?=[=+\-@])")
+
+
+def defuse(cell: str) -> str:
+    """``cell`` with a ``'`` before every ``= + - @`` that would start a spreadsheet cell
+    in some locale (``x;=1+1`` -> ``x;'=1+1``): read as text, never as a formula."""
+    return _FORMULA_START.sub(lambda m: m.group(1) + m.group(2) + "'", cell)
 
 
 def clean_name(text: object) -> str:
@@ -45,17 +61,16 @@ def clean_name(text: object) -> str:
 
 @dataclass
 class Record:
-    """One student's work on one assignment."""
+    """One student's work on one assignment, folded from the course record."""
 
-    page: int
+    student: int
     name: str
     assignment: str
-    opened: float
+    first: float  # the first attempt's time (epoch seconds)
     attempts: int = 0
     passed: bool = False
-    first_pass: float | None = None  # seconds from opening to the first pass
+    first_pass: float | None = None  # seconds from the first attempt to the first pass
     last: str = ""  # the last verdict in words
-    revision: int = 0  # rises with every attempt (the table sends a row when it changed)
 
     def row(self) -> list[str]:
         return [
@@ -70,63 +85,59 @@ class Record:
 HEADER = ["student", "assignment", "attempts", "passed", "seconds to first pass"]
 
 
-class Roster:
-    """Records by (page, assignment); thread-safe."""
+def verdict_words(a: Attempt) -> str:
+    if a.passed:
+        return "pass"
+    return "; ".join(
+        f"{c.id}: miss {c.miss:.3g}" for c in a.checks if not c.passed and c.miss is not None
+    )
 
-    def __init__(self, clock=time.monotonic) -> None:
-        self.clock = clock
+
+class Progress:
+    """The class's progress by (student, assignment), folded from the store's attempts
+    (each read once: :meth:`fold` takes the ones after :attr:`last_id`); thread-safe."""
+
+    def __init__(self) -> None:
         self.lock = threading.Lock()
-        self.opened: dict[tuple[int, str], float] = {}
         self.records: dict[tuple[int, str], Record] = {}
-        self.revision = 0
+        self.names: dict[int, str] = {}  # student id -> name, as read from the record
+        self.last_id = 0
 
-    def open(self, page: int, assignment: str, when: float | None = None) -> None:
-        """A page opened an assignment (the time to first pass counts from here)."""
+    def fold(self, attempts: Iterable[Attempt], names: Mapping[int, str]) -> int:
+        """Add attempts (oldest first); returns how many were new."""
+        n = 0
         with self.lock:
-            self.opened.setdefault((page, assignment), self.clock() if when is None else when)
-
-    def attempt(self, page: int, name: str, assignment: str, passed: bool, last: str) -> Record:
-        """A graded attempt of a page (its name may change between attempts; it is
-        cleaned by :func:`clean_name` here, whoever passes it)."""
-        name = clean_name(name)
-        now = self.clock()
-        with self.lock:
-            key = (page, assignment)
-            opened = self.opened.setdefault(key, now)
-            rec = self.records.get(key)
-            if rec is None:
-                rec = self.records[key] = Record(page, name, assignment, opened)
-            rec.name = name
-            rec.attempts += 1
-            rec.revision += 1
-            rec.last = last
-            if passed and not rec.passed:
-                rec.passed = True
-                rec.first_pass = max(0.0, now - rec.opened)
-            self.revision += 1
-            return rec
-
-    def forget_page(self, page: int) -> None:
-        """A page left: its open times go (its records stay in the table)."""
-        with self.lock:
-            for key in [k for k in self.opened if k[0] == page and k not in self.records]:
-                del self.opened[key]
+            for a in attempts:
+                if a.id <= self.last_id:
+                    continue
+                self.last_id = a.id
+                n += 1
+                key = (a.student_id, a.assignment)
+                rec = self.records.get(key)
+                if rec is None:
+                    name = names.get(a.student_id, f"student #{a.student_id}")
+                    rec = self.records[key] = Record(a.student_id, name, a.assignment, a.at)
+                rec.attempts += 1
+                rec.last = verdict_words(a)
+                if a.passed and not rec.passed:
+                    rec.passed = True
+                    rec.first_pass = max(0.0, a.at - rec.first)
+        return n
 
     def rows(self, assignment: str | None = None) -> list[Record]:
         with self.lock:
             recs = [
                 r for r in self.records.values() if assignment is None or r.assignment == assignment
             ]
-        return sorted(recs, key=lambda r: (r.assignment, r.name.lower(), r.page))
+        return sorted(recs, key=lambda r: (r.assignment, r.name.lower(), r.student))
 
     def to_csv(self, assignment: str | None = None) -> str:
         buf = io.StringIO()
-        w = csv.writer(buf, lineterminator="\n")
+        w = csv.writer(buf, lineterminator="\n", quoting=csv.QUOTE_ALL)
         w.writerow(HEADER)
         for r in self.rows(assignment):
             cells = r.row()
-            if cells[0][:1] in ("=", "+", "-", "@"):
-                cells[0] = "'" + cells[0]
+            cells[0] = defuse(cells[0])
             w.writerow(cells)
         return buf.getvalue()
 

@@ -7,6 +7,7 @@ Headless commands import no view code; ``serve`` imports the viser app lazily.
 from __future__ import annotations
 
 import argparse
+import errno
 import json
 import logging
 import os
@@ -53,6 +54,8 @@ def _parse_sets(items: Sequence[str]) -> dict[str, str]:
 def cmd_run(args: argparse.Namespace) -> int:
     from analyzer_lab.serve.headless import AnalyzerLabError, find_lesson, run_lesson
 
+    if args.out and os.path.islink(args.out):
+        return _fail(f"--out {args.out}: is a symbolic link; refused (name the file itself)")
     try:
         lesson = find_lesson(args.lesson)
         result = run_lesson(lesson, args.preset, _parse_sets(args.set or []), args.t_end)
@@ -62,7 +65,12 @@ def cmd_run(args: argparse.Namespace) -> int:
     for m in result.messages:
         print(f"note: {m}", file=sys.stderr)
     if args.out:
-        with open(args.out, "w", encoding="utf-8") as fh:
+        try:  # a link put there since the check is not followed either
+            fd = os.open(args.out, os.O_WRONLY | os.O_CREAT | os.O_TRUNC | os.O_NOFOLLOW, 0o644)
+        except OSError as exc:
+            reason = "is a symbolic link" if exc.errno == errno.ELOOP else exc.strerror
+            return _fail(f"--out {args.out}: {reason}; refused")
+        with os.fdopen(fd, "w", encoding="utf-8") as fh:
             fh.write(text)
     else:
         sys.stdout.write(text)
@@ -129,6 +137,20 @@ def cmd_serve(args: argparse.Namespace) -> int:
             parse_redis_url(bus)
         except BusError as exc:
             return _fail(str(exc))
+    from analyzer_lab.serve.course_record import (
+        CourseRecordError,
+        export_environment,
+        open_course,
+        resolve,
+    )
+
+    try:  # opened (made, upgraded, the roster imported) once, before any worker starts
+        where = resolve(args.data, args.db, args.class_name)
+        if workers > 1:
+            open_course(where, args.roster, args.join_code).store.close()
+    except CourseRecordError as exc:
+        return _fail(str(exc))
+    export_environment(where)
     if workers > 1:
         if bus is None or bus == "local":
             return _fail(
@@ -161,7 +183,54 @@ def cmd_serve(args: argparse.Namespace) -> int:
         bus_url=bus,
         worker_name=getattr(args, "worker_name", None),
         instructor_code_file=getattr(args, "instructor_code_file", None),
+        roster=args.roster,
+        join_code=args.join_code,
     )  # fps: classroom hook
+
+
+def _record_options(s: argparse.ArgumentParser) -> None:
+    s.add_argument(
+        "--data",
+        metavar="DIR",
+        default=None,
+        help="the data folder: the SQLite course record and the secret that signs students' "
+        "tokens (default $XDG_DATA_HOME/analyzer-lab or ~/.local/share/analyzer-lab)",
+    )
+    s.add_argument(
+        "--db",
+        metavar="URL",
+        default=None,
+        help="the course record in a database server: postgresql://USER:PASS@HOST:PORT/NAME "
+        "(default: the SQLite file in the data folder)",
+    )
+    s.add_argument(
+        "--class",
+        dest="class_name",
+        metavar="NAME",
+        default=None,
+        help="the class (default 'default')",
+    )
+
+
+def cmd_grades(args: argparse.Namespace) -> int:
+    from analyzer_lab.classroom.store.grades import export
+    from analyzer_lab.classroom.store.records import StoreError
+    from analyzer_lab.serve.course_record import CourseRecordError, open_course, resolve
+
+    try:
+        course = open_course(resolve(args.data, args.db, args.class_name), create=False)
+        text = export(args.format, list(course.students()), course.attempts(), args.assignment)
+    except (CourseRecordError, StoreError, ValueError) as exc:
+        return _fail(str(exc))
+    if args.out:
+        try:
+            with open(args.out, "w", encoding="utf-8", newline="") as fh:
+                fh.write(text)
+        except OSError as exc:
+            return _fail(f"cannot write {args.out}: {exc.strerror}")
+    else:
+        sys.stdout.write(text)
+    return 0
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -229,7 +298,36 @@ def build_parser() -> argparse.ArgumentParser:
         help="this server's name on the bus (default: random; unique within a class)",
     )
     s.add_argument("--assignments", metavar="DIR", help="also offer the assignment files in DIR")
+    _record_options(s)
+    s.add_argument(
+        "--roster",
+        metavar="CSV",
+        help="open the class with this roster (columns: student id, name, email, group); "
+        "only its students can join",
+    )
+    s.add_argument(
+        "--join-code", metavar="CODE", help="the class's join code (default: generated once)"
+    )
     s.set_defaults(func=cmd_serve)
+
+    s = sub.add_parser(
+        "grades",
+        help="export the class's grades (Moodle, Canvas or long CSV)",
+        description="Export the class's grades from the course record. Score: 1 per "
+        "assignment passed (every check of one attempt passed), 0 attempted and not "
+        "passed, empty never attempted (Moodle, Canvas).",
+    )
+    _record_options(s)
+    s.add_argument("--format", choices=("moodle", "canvas", "long"), default="moodle")
+    s.add_argument(
+        "--assignment",
+        action="append",
+        default=[],
+        metavar="ID",
+        help="a column for this assignment (repeatable; default: every assignment attempted)",
+    )
+    s.add_argument("--out", metavar="FILE", help="write here (default: standard output)")
+    s.set_defaults(func=cmd_grades)
 
     s = sub.add_parser("lessons", help="list the lessons")
     s.add_argument("--json", action="store_true")

@@ -3,7 +3,19 @@
 ``grade ASSIGNMENT ANSWER.json`` prints the per-check verdict as JSON and exits 0 when
 every check passes, 1 when one fails, 2 on bad input (one line on stderr saying what is
 wrong and where).  ``ASSIGNMENT`` is the id of a ready assignment (or of one in
-``--dir``) or the path of an assignment file.  No view code is imported.
+``--dir``) or the path of an assignment file.
+
+``grade ASSIGNMENT FOLDER_OR_FILES...`` (more than one file, or a folder of ``*.json``)
+grades them all in one process and prints JSON lines, one per file in the order given
+(a folder's files sorted by name): the verdict with ``"file"``, or ``{"file", "error"}``
+for a file refused as bad input.  The exit code follows the same rule over the batch: 2
+when a file was refused, else 1 when one failed a check, else 0.
+
+A varied assignment grades each file against the variant of its student: ``--student``,
+else the file's name without ``.json``, in ``--class``; only variants that passed the
+release check are graded against.  Each answer's run is held to the run limits of
+``analyzer-lab run`` (:mod:`analyzer_lab.serve.run_limits`) before it starts.  No view
+code is imported.
 """
 
 from __future__ import annotations
@@ -20,6 +32,11 @@ if TYPE_CHECKING:
 
 EXIT_FAIL = 1
 EXIT_USAGE = 2
+#: answer files one ``grade`` call takes at most
+MAX_BATCH = 10_000
+#: the class of variants when none is named (``variants.DEFAULT_CLASS``, read without
+#: importing the model; the classroom's board draws for it too)
+DEFAULT_CLASS = "class"
 #: where ``serve --assignments DIR`` tells the view (and any worker process) its folder
 ENV_FOLDER = "ANALYZER_LAB_ASSIGNMENTS"
 
@@ -118,19 +135,99 @@ def read_answer(path: str | Path, assignment: Assignment) -> dict[str, Any]:
     return load_answer(raw, assignment, str(path))
 
 
+def answer_files(targets: list[str]) -> list[Path]:
+    """The answer files ``targets`` name: files as given, a folder's ``*.json`` sorted."""
+    from analyzer_lab.lessons.assignments import AssignmentError
+
+    out: list[Path] = []
+    for t in targets:
+        p = Path(t)
+        out.extend(sorted(p.glob("*.json")) if p.is_dir() else [p])
+        if len(out) > MAX_BATCH:
+            raise AssignmentError(t, "", f"makes more than {MAX_BATCH} answer files to grade")
+    return out
+
+
+class Grader:
+    """Grades answer files against one assignment (its variants released once)."""
+
+    def __init__(self, assignment: Assignment, class_id: str, student: str | None) -> None:
+        from analyzer_lab.lessons.assignments import release
+
+        self.assignment = assignment
+        self.class_id = class_id
+        self.student = student
+        self.released = release(assignment) if assignment.varied else None
+
+    def grade_file(self, path: Path) -> dict[str, Any]:
+        """The verdict on one file as JSON data (raises :class:`AssignmentError` when the
+        file is refused)."""
+        from analyzer_lab.lessons.assignments import grade
+
+        a = self.assignment
+        values = read_answer(path, a)
+        doc: dict[str, Any] = {"file": str(path)}
+        if self.released is not None:
+            student = self.student or path.stem
+            a = self.released.for_student(self.class_id, student).assignment
+            doc["student"] = student
+        check_run_limits(a, values, str(path))
+        doc.update(grade(a, values, str(path)).to_json_dict())
+        return doc
+
+
+def check_run_limits(a: Assignment, values: dict[str, Any], where: str) -> None:
+    """Refuse (before it starts) an answer whose run is over the limits of ``run``."""
+    from analyzer_lab.lessons.assignments import AssignmentError
+    from analyzer_lab.lessons.catalog import get_lesson
+    from analyzer_lab.lessons.kit.contract import ParamError
+    from analyzer_lab.serve.run_limits import refusal
+
+    try:
+        setup = get_lesson(a.lesson).open({**a.start, **values}, a.preset)
+    except (ParamError, ValueError):  # grading names the value
+        return
+    why = refusal(setup, a.t_end)
+    if why is not None:
+        raise AssignmentError(where, "", why.replace("--t-end", "the assignment's t_end"))
+
+
 def cmd_grade(args: argparse.Namespace) -> int:
-    from analyzer_lab.lessons.assignments import AssignmentError, grade
+    from analyzer_lab.lessons.assignments import AssignmentError
 
     try:
         assignment = find_assignment(args.assignment, getattr(args, "dir", None))
-        values = read_answer(args.answer, assignment)
-        verdict = grade(assignment, values, str(Path(args.answer)))
+        files = answer_files(args.answers)
+        grader = Grader(assignment, args.class_id, args.student)
     except AssignmentError as exc:
         return _fail(str(exc))
-    print(json.dumps(verdict.to_json_dict(), indent=1, ensure_ascii=False))
-    for c in verdict.failed:
-        print(f"FAIL {c.id}: {c.message}", file=sys.stderr)
-    return 0 if verdict.passed else EXIT_FAIL
+    if len(args.answers) == 1 and len(files) == 1 and not Path(args.answers[0]).is_dir():
+        try:
+            doc = grader.grade_file(files[0])
+        except AssignmentError as exc:
+            return _fail(str(exc))
+        print(json.dumps(doc, indent=1, ensure_ascii=False))
+        failed = [c for c in doc["checks"] if not c["pass"]]
+        for c in failed:
+            print(f"FAIL {c['id']}: {c['message']}", file=sys.stderr)
+        return 0 if doc["pass"] else EXIT_FAIL
+    refused = failed = 0
+    for f in files:
+        try:
+            doc = grader.grade_file(f)
+        except AssignmentError as exc:
+            refused += 1
+            print(json.dumps({"file": str(f), "error": str(exc)}, ensure_ascii=False), flush=True)
+            print(f"analyzer-lab: error: {exc}", file=sys.stderr)
+            continue
+        failed += not doc["pass"]
+        print(json.dumps(doc, ensure_ascii=False), flush=True)
+    print(
+        f"graded {len(files)} file(s): {len(files) - failed - refused} pass,"
+        f" {failed} fail, {refused} refused",
+        file=sys.stderr,
+    )
+    return EXIT_USAGE if refused else EXIT_FAIL if failed else 0
 
 
 def use_folder_for_serve(folder: str | None) -> str | None:
@@ -154,8 +251,34 @@ def add_parsers(sub: argparse._SubParsersAction) -> None:
     s.add_argument("--dir", help="a folder of assignment files (default: the ready ones)")
     s.set_defaults(func=cmd_assignments)
 
-    s = sub.add_parser("grade", help="check an answer file against an assignment")
+    s = sub.add_parser(
+        "grade",
+        help="check answer files against an assignment",
+        description=(
+            "Grade one answer file (an indented JSON verdict) or many, or folders of them,"
+            " in one process (JSON lines, one per file). Exit 0 when all pass, 1 when one"
+            " fails a check, 2 when one is refused as bad input. Each answer's run is held"
+            " to the limits of 'run'."
+        ),
+    )
     s.add_argument("assignment", help="an assignment id or an assignment file")
-    s.add_argument("answer", help="a JSON object of the unlocked parameters' values")
+    s.add_argument(
+        "answers",
+        nargs="+",
+        metavar="FOLDER_OR_FILES",
+        help="answer files (JSON objects of the unlocked parameters' values) or folders of them",
+    )
     s.add_argument("--dir", help="a folder of assignment files (default: the ready ones)")
+    s.add_argument(
+        "--class",
+        dest="class_id",
+        metavar="CLASS",
+        default=DEFAULT_CLASS,
+        help=f"the class whose variants are graded (default {DEFAULT_CLASS!r})",
+    )
+    s.add_argument(
+        "--student",
+        metavar="KEY",
+        help="the student whose variant is graded (default: each file's name without .json)",
+    )
     s.set_defaults(func=cmd_grade)

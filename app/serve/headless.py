@@ -88,7 +88,12 @@ def run_lesson(
 
     import numpy as np
     from analyzer_lab.lessons.kit.contract import ParamError
-    from analyzer_lab.serve.run_limits import first_non_finite, may_be_undefined, refusal
+    from analyzer_lab.serve.run_limits import (
+        first_non_finite,
+        may_be_undefined,
+        refusal,
+        run_within_limit,
+    )
 
     try:
         setup = lesson.open(values, preset)
@@ -104,7 +109,7 @@ def run_lesson(
         if why is not None:
             raise AnalyzerLabError(why)
         try:
-            result = lesson.simulate(setup.params, t_end)
+            result = run_within_limit(setup, t_end)
         except (ParamError, ValueError, ArithmeticError, RuntimeError) as exc:
             raise AnalyzerLabError(str(exc)) from None
     bad = first_non_finite(result, may_be_undefined(setup))

@@ -1,12 +1,19 @@
 """What ``analyzer-lab run`` refuses before it starts, and the finiteness of what it ran.
 
-Three limits, stated in ``run --help`` and the README:
+Every limit is a count, so a run is refused or accepted alike on a quiet and on a busy
+machine; stated in ``run --help`` and the README:
 
 * fixed integration steps: ``t_end / h`` times the points of a family, at most
   :data:`MAX_POINT_STEPS`;
-* computing: the lesson's own stepper is timed on a short piece of the run (at most
-  :data:`PROBE_CPU` seconds) and the whole run is estimated from it; at most
-  :data:`MAX_CPU_SECONDS`;
+* computing: units of work, each an evaluation of the equations (a solver step's
+  right-hand sides, a Gauss-Legendre step's stages, every substep, times the points)
+  weighted by its known cost (about a microsecond a unit), at most :data:`MAX_WORK`.
+  Before the run they are known from the lesson's fixed steps
+  (:meth:`~analyzer_lab.lessons.kit.contract.Lesson.work_bound`) or counted on its first
+  piece (at most :data:`PROBE_WORK` of them) and the whole run estimated from that count;
+  during the run the count stops it where it passes the limit
+  (:func:`analyzer_lab.lessons.kit.budget.work_limit`).  Building the model (deriving,
+  lambdifying) is not stepping and is never counted;
 * memory: samples times series of the result, at most :data:`MAX_VALUES` numbers.
 
 A run that got through has every sample checked: the first value that is not finite
@@ -26,19 +33,23 @@ log = logging.getLogger(__name__)
 
 #: Fixed integration steps of a run (``t_end / h`` times the points of a family).
 MAX_POINT_STEPS = 10_000_000
-#: Estimated CPU seconds of a run.
-MAX_CPU_SECONDS = 120.0
+#: Units of work of a run (evaluations of the equations over steps, substeps and points,
+#: each weighted by its known cost: about a microsecond a unit).
+MAX_WORK = 50_000_000
+#: Units of work counted on the start of a run to estimate the whole.
+PROBE_WORK = 500_000
 #: Numbers in the result (samples times series): about 160 MB as floats.
 MAX_VALUES = 20_000_000
-#: CPU seconds spent timing the lesson's stepper before the run.
-PROBE_CPU = 0.5
 
 LIMITS_TEXT = (
     f"run refuses, before it starts, a run of more than {MAX_POINT_STEPS:,} fixed"
-    f" integration steps (t_end / h times the points of a family), one estimated (from a"
-    f" timed piece of the run) to compute for more than {MAX_CPU_SECONDS:g} s, or one whose"
+    f" integration steps (t_end / h times the points of a family), one of more than"
+    f" {MAX_WORK:,} units of work (evaluations of the equations weighted by their known"
+    " cost, counted over steps, substeps and points on a piece of the run, never timed:"
+    " the same on a busy machine), or one whose"
     f" result would hold more than {MAX_VALUES:,} numbers (samples times series); a run"
-    " whose result is not finite somewhere exits with code 2 naming the quantity and time"
+    " that passes that count while it runs stops there; a run whose result is not finite"
+    " somewhere exits with code 2 naming the quantity and time"
 )
 
 
@@ -63,6 +74,9 @@ def refusal(setup: LessonSetup, t_end: float) -> str | None:
                 f" {float(h):g} times {points} point(s)); the limit is {MAX_POINT_STEPS:,}:"
                 " use a larger h, a shorter --t-end or a smaller family"
             )
+    bound = lesson.work_bound(params, t_end)
+    if bound > MAX_WORK:
+        return _too_much(bound, "counted from its steps, stages and points")
     grid = getattr(lesson, "run_grid", None)
     if callable(grid):
         samples = len(grid(params, t_end))
@@ -73,39 +87,61 @@ def refusal(setup: LessonSetup, t_end: float) -> str | None:
                 f" {len(lesson.series_for(params))} series); the limit is {MAX_VALUES:,}:"
                 " use a shorter --t-end or a smaller family"
             )
-    estimate = cpu_estimate(setup, t_end)
-    if estimate is not None and estimate > MAX_CPU_SECONDS:
-        return (
-            f"this run would compute for about {estimate:.3g} s (timed on a piece of it);"
-            f" the limit is {MAX_CPU_SECONDS:g} s: use a larger step or tolerance, or a"
-            " shorter --t-end"
-        )
+    estimate = work_estimate(setup, t_end)
+    if estimate is not None and estimate > MAX_WORK:
+        if math.isinf(estimate):
+            return (
+                f"this run's first piece alone needs more than {10 * PROBE_WORK:,} units of"
+                " work (counted, not timed): use a larger step or tolerance, or gentler values"
+            )
+        return _too_much(estimate, "counted on a piece of it")
     return None
 
 
-def cpu_estimate(setup: LessonSetup, t_end: float) -> float | None:
-    """CPU seconds of the whole run, from the setup's stepper timed on its first piece
-    (it is advanced; None when the piece could not be run: the run itself reports why)."""
-    from analyzer_lab.lessons.kit.budget import clock, work_budget
+def _too_much(work: float, how: str) -> str:
+    return (
+        f"this run needs about {work:.3g} units of work ({how}); the limit"
+        f" is {MAX_WORK:,}: use a larger step or tolerance, a shorter --t-end or a smaller"
+        " family"
+    )
+
+
+def work_estimate(setup: LessonSetup, t_end: float) -> float | None:
+    """Evaluations of the whole run, from those counted while the setup's stepper runs its
+    first pieces (it is advanced; at most :data:`PROBE_WORK` are counted, and the model's
+    build is not); None when the piece could not be run (the run itself reports why)."""
+    from analyzer_lab.lessons.kit.budget import WorkLimitError, work_limit
 
     span = min(t_end, setup.lesson.t_end)
     piece = span / 50
+    used, covered = 0.0, 0.0
     try:
-        stepper = setup.stepper
-        start = clock()
-        with work_budget(PROBE_CPU):
-            while stepper.t < span - 1e-12 * max(1.0, span) and clock() - start < PROBE_CPU:
+        stepper = setup.stepper  # the model is built here, outside the count
+        with work_limit(PROBE_WORK * 10) as count:
+            while stepper.t < span - 1e-12 * max(1.0, span) and count.used < PROBE_WORK:
                 before = stepper.t
                 stepper.advance(min(piece, span - stepper.t))
                 if stepper.t <= before:
                     break
-        used, covered = clock() - start, stepper.t
+                used, covered = count.used, stepper.t
+    except WorkLimitError:  # one piece alone counted more than ten probes
+        return math.inf
     except (ValueError, ArithmeticError, RuntimeError):  # the run itself reports it
-        log.debug("%s: the run was not timed", setup.lesson.id, exc_info=True)
+        log.debug("%s: the run was not counted", setup.lesson.id, exc_info=True)
         return None
     if covered <= 0:
         return None
     return used / covered * t_end
+
+
+def run_within_limit(setup: LessonSetup, t_end: float) -> RunResult:
+    """The lesson's run of ``setup`` up to ``t_end``, stopped by
+    :class:`~analyzer_lab.lessons.kit.budget.WorkLimitError` where it passes
+    :data:`MAX_WORK` evaluations."""
+    from analyzer_lab.lessons.kit.budget import work_limit
+
+    with work_limit(MAX_WORK):
+        return setup.lesson.simulate(setup.params, t_end)
 
 
 def may_be_undefined(setup: LessonSetup) -> frozenset[str]:
@@ -141,10 +177,12 @@ def first_non_finite(
 
 __all__: list[Any] = [
     "LIMITS_TEXT",
-    "MAX_CPU_SECONDS",
     "MAX_POINT_STEPS",
     "MAX_VALUES",
-    "cpu_estimate",
+    "MAX_WORK",
+    "PROBE_WORK",
     "first_non_finite",
     "refusal",
+    "run_within_limit",
+    "work_estimate",
 ]

@@ -32,11 +32,17 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from analyzer_lab.classroom.bus import Bus, BusError, make_bus
+from analyzer_lab.classroom.course import Course
 from analyzer_lab.classroom.instructor_code import CodeError, class_code
 from analyzer_lab.classroom.room import Classroom
+from analyzer_lab.classroom.store.sql_store import redact
 from analyzer_lab.lessons.kit.contract import Lesson, Params
 from analyzer_lab.limits import prefer_returned_memory
+from analyzer_lab.serve.back_pressure import PAUSED_NOTICE, BackPressure, Turn
+from analyzer_lab.serve.course_record import CourseRecordError, open_course, resolve
 from analyzer_lab.serve.derivation_jobs import DerivationJobs, build
+from analyzer_lab.serve.fair_share import fair_order
+from analyzer_lab.serve.page_opens import WAIT_NOTICE, PageOpens
 from analyzer_lab.session.runlog import LRUCache, lesson_scene, params_key
 from analyzer_lab.session.session import STEP_WALL_BUDGET, LabError, Session
 from analyzer_lab.view.math import derivation_to_html
@@ -45,10 +51,12 @@ from analyzer_lab.view.persistence import restore_state
 from analyzer_lab.viser_boundary import (
     PAGE_TITLE,
     WakeBatch,
+    client_address,
     dropped_types,
     event_loop,
     guard_gui_updates,
     make_viser_server,
+    send_lag,
 )
 
 log = logging.getLogger(__name__)
@@ -87,6 +95,7 @@ class LabServer:
         warm_up: bool = True,
         instructor_code: str | None = None,
         bus: Bus | None = None,
+        course: Course | None = None,
     ) -> None:
         prefer_returned_memory()
         self.fps = float(fps)
@@ -108,6 +117,10 @@ class LabServer:
             raise LabError(f"unknown lesson {lesson[:60]!r}; known: {', '.join(sorted(ids))}")
         self.default_lesson = lesson
         self.views: dict[int, SessionView] = {}
+        #: the network address each page connected from (the loop's turns are shared by address)
+        self._addresses: dict[int, str] = {}
+        #: pages whose connection does not take its updates get no new frames
+        self.back_pressure = BackPressure()
         self._views_lock = threading.Lock()
         self.stats = LoopStats()
         self._stop = threading.Event()
@@ -129,17 +142,24 @@ class LabServer:
         )
         self._report_draws = 0.0
         #: the classroom, handed this server as its Lab
-        self.classroom = Classroom(self, instructor_code, bus)
+        self.classroom = Classroom(self, instructor_code, bus, course)
         # pages are built and freed on a pool of their own (building one waits up to 2 s
         # for the browser's saved state), not in the turns of the page callbacks
         self._gone: set[int] = set()  # pages that left while being built
+        #: page builds admitted by network address (a rate with a burst, then a queue)
+        self.page_opens = PageOpens()
         self._page_pool = ThreadPoolExecutor(max_workers=16, thread_name_prefix="analyzer-lab-page")
 
         async def connect(client: Any) -> None:
-            self._page_pool.submit(self._guarded, self._on_connect, client)
+            address = client_address(self.server, client.client_id)
+            if self.page_opens.admit(address, client.client_id, client):
+                self._page_pool.submit(self._guarded, self._on_connect, client)
+            else:
+                self._page_pool.submit(self._guarded, self._tell_to_wait, client)
 
         async def disconnect(client: Any) -> None:
-            self._page_pool.submit(self._guarded, self._on_disconnect, client)
+            if not self._stop.is_set():  # pages closed by the server's stop need no freeing
+                self._page_pool.submit(self._guarded, self._on_disconnect, client)
 
         self.server.on_client_connect(connect)
         self.server.on_client_disconnect(disconnect)
@@ -190,8 +210,16 @@ class LabServer:
         except Exception:  # a page's connection: the server goes on
             log.exception("page %s: %s failed", client.client_id, fn.__name__)
 
+    @staticmethod
+    def _tell_to_wait(client: Any) -> None:
+        client.add_notification("Please wait", WAIT_NOTICE, auto_close_seconds=5.0)
+
     def _on_connect(self, client: Any) -> None:
         cid = client.client_id
+        with self._views_lock:
+            if cid in self._gone:  # it left before its build began: nothing to build
+                self._gone.discard(cid)
+                return
         guard_gui_updates(client.gui, self.server)  # wrong-typed values: one message
         session = Session(self.lessons, self.default_lesson)
         if self.restore:
@@ -203,6 +231,7 @@ class LabServer:
             self._gone.discard(cid)
             if not gone:
                 self.views[cid] = view
+                self._addresses[cid] = client_address(self.server, cid)
         if gone:
             view.close()
             return
@@ -213,8 +242,12 @@ class LabServer:
             self.classroom.detach(cid, view)
 
     def _on_disconnect(self, client: Any) -> None:
+        if self.page_opens.drop(client.client_id):
+            return  # it left while waiting its turn: it was never built
         with self._views_lock:
             view = self.views.pop(client.client_id, None)
+            self._addresses.pop(client.client_id, None)
+            self.back_pressure.forget(client.client_id)
             if view is None:
                 self._gone.add(client.client_id)
         self.classroom.detach(client.client_id, view)  # classroom hook
@@ -261,21 +294,37 @@ class LabServer:
     def _tick_all(self, period: float) -> None:
         """One frame for every session (round-robin, within the time budget)."""
         start = time.monotonic()
-        views = self.open_views()
+        with self._views_lock:
+            pages = [(self._addresses.get(cid, ""), v) for cid, v in self.views.items()]
+        views = fair_order(pages, self._rr)
         substeps = 8 if self.stats.load < 0.5 else 4 if self.stats.load < 0.8 else 1
         batch = WakeBatch(self.server)
         # round-robin with a time budget: under overload every session still gets
         # its turn and viser's sending keeps its share of the interpreter
         budget = start + self.duty * period
         n = len(views)
-        offset = self._rr % n if n else 0
         done = 0
-        for k in range(n):
-            view = views[(offset + k) % n]
+        for k, view in enumerate(views):
             if k and time.monotonic() > budget:
                 break
             done += 1
             session = view.session
+            now = time.monotonic()
+            turn = self.back_pressure.turn(
+                view.client.client_id,
+                send_lag(self.server, view.client.client_id),
+                now,
+                session.playing,
+            )
+            if turn is not Turn.DRAW:
+                view.last_tick = now  # type: ignore[attr-defined]  # its clock waits too
+                if turn is Turn.PAUSE and session.lock.acquire(blocking=False):
+                    try:
+                        session.playing = False
+                        session.notify(PAUSED_NOTICE, "warning")
+                    finally:
+                        session.lock.release()
+                continue
             if not session.lock.acquire(blocking=False):
                 self.stats.skipped += 1
                 continue
@@ -298,7 +347,7 @@ class LabServer:
                 )
             finally:
                 session.lock.release()
-        self._rr = (offset + done) % n if n else 0
+        self._rr = self._rr + done if n else 0
         batch.release()
         view = session = None  # type: ignore[assignment]  # classroom hook: no stale reference once every tab left
         busy = time.monotonic() - start
@@ -334,6 +383,8 @@ class LabServer:
     def _slow_loop(self) -> None:
         """Derivations and deferred scenes, computed outside the session locks."""
         while not self._stop.wait(0.15):
+            for client in self.page_opens.due():
+                self._page_pool.submit(self._guarded, self._on_connect, client)
             views = self.open_views()
             now = time.monotonic()
             for owner in [k for k, v in self._deriving.items() if v[0].closed]:
@@ -460,8 +511,15 @@ def serve(
     bus_url: str | None = None,
     worker_name: str | None = None,
     instructor_code_file: str | None = None,
+    data: str | None = None,
+    db: str | None = None,
+    class_name: str | None = None,
+    roster: str | None = None,
+    join_code: str | None = None,
 ) -> int:
-    """Run the lab until interrupted; returns the exit code.  ``bus_url``: the class bus
+    """Run the lab until interrupted; returns the exit code.  The course record: the
+    class ``class_name`` in ``db`` (default: the SQLite file in the data folder ``data``),
+    ``roster`` a CSV file of its students (:mod:`analyzer_lab.serve.course_record`).  ``bus_url``: the class bus
     shared with other servers (``redis://HOST:PORT``; default in-process); the code comes
     from ``instructor_code``, ``instructor_code_file`` or the environment
     (:func:`~analyzer_lab.classroom.instructor_code.class_code`)."""
@@ -483,7 +541,21 @@ def serve(
         print(f"analyzer-lab: error: {exc}", file=sys.stderr)
         return 2
     try:
-        lab = LabServer(host=host, port=port, lesson=lesson, fps=fps, instructor_code=code, bus=bus)
+        record = resolve(data, db, class_name)
+        course = open_course(record, roster, join_code)
+    except CourseRecordError as exc:
+        print(f"analyzer-lab: error: {exc}", file=sys.stderr)
+        return 2
+    try:
+        lab = LabServer(
+            host=host,
+            port=port,
+            lesson=lesson,
+            fps=fps,
+            instructor_code=code,
+            bus=bus,
+            course=course,
+        )
     except LabError as exc:
         print(f"analyzer-lab: error: {exc}", file=sys.stderr)
         return 2
@@ -502,6 +574,11 @@ def serve(
         f"Instructor code: {lab.classroom.code}  (type it in a page's Instructor folder)",
         flush=True,
     )  # classroom hook
+    print(
+        f"Course record: {redact(record.db)}, class {record.class_name!r}, "
+        f"join code {course.info.join_code}",
+        flush=True,
+    )
     _report_bus(bus)
     if host in ("0.0.0.0", "::", ""):
         print(

@@ -41,9 +41,12 @@ class RunLog:
 
     def __init__(self, limit: int = MAX_LOG) -> None:
         self.limit = max(2, int(limit))
+        #: bumped by every change of the rows (a row added, the log cleared or thinned)
+        self.revision = 0
         self.clear()
 
     def clear(self) -> None:
+        self.revision += 1
         self.count = 0
         self.stride = 1
         self._skip = 0
@@ -125,6 +128,7 @@ class RunLog:
             values = [float(v) for v in values]
             row[self._where if self._where is not None else slice(None)] = values
         self.count += 1
+        self.revision += 1
         if self.count >= self.limit:
             keep = np.arange(0, self.count, 2)
             m = len(keep)

@@ -394,6 +394,8 @@ class Session:
                     self.playing = False
                     self.notify(stop, "error")
                     break
+                if self.stepper.t <= t_prev and self.stepper.computing:
+                    break  # work paused at the budget: the time moves at a later tick
                 frames.append(frame)
                 self.log.add(frame)
                 if self.stepper.t <= t_prev:

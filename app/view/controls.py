@@ -3,7 +3,8 @@
 The lesson's mode selectors come first, then its parameter groups in the declared
 order with their titles; a lesson with a start point gets "Snap to surface" in the
 group that holds it.  :meth:`ParamControls.sync` shows the session's values without
-overwriting a value the user has just typed elsewhere.
+overwriting a value the user has just typed elsewhere, and only the groups and fields
+that apply to the current mode (a group's or a parameter's ``when``).
 """
 
 from __future__ import annotations
@@ -129,7 +130,7 @@ class ParamControls:
                 }:
                     gui.add_button("Snap to surface").on_click(self.guard(self.on_snap))
                     gui.add_html(
-                        '<div style="font-size:0.8em;color:#555">'
+                        '<div style="font-size:max(11px,0.8em);color:#555">'
                         "Click the surface to set the start point.</div>"
                     )
         return folders
@@ -184,6 +185,8 @@ class ParamControls:
         for w in widgets:
             if (self.read_only or p.name in self.locked) and not w.disabled:
                 w.disabled = True
+            if not p.applies(params):  # e.g. the paraboloid's p while the cone is chosen
+                w.visible = False
         if p.kind in ("choice", "bool", "int"):
             widgets[0].on_update(self.guard(lambda e, p=p: self.on_value(p, e.target.value)))
         if any(isinstance(w.value, str) for w in widgets):
@@ -214,7 +217,7 @@ class ParamControls:
         if line is None:
             return False
         line.content = (
-            '<div class="al-field-error" style="color:#a61b1b;font-size:0.85em">'
+            '<div class="al-field-error" style="color:#a61b1b;font-size:max(11px,0.85em)">'
             f"{html.escape(message)}</div>"
         )
         line.visible = True
@@ -250,9 +253,15 @@ class ParamControls:
             if folder.visible != shown:
                 folder.visible = shown
         for name, widgets in self.widgets.items():
-            if name not in params or name in failing:
+            if name not in params:
                 continue
             p = lesson.param(name)
+            applies = p.applies(params)
+            for w in widgets:
+                if w.visible != applies:
+                    w.visible = applies
+            if name in failing:
+                continue
             value = params[name]
             for w in widgets:
                 try:

@@ -1,10 +1,13 @@
 """Derivation steps as HTML with MathML (viser's markdown has no math).
 
-sympy's presentation printer (for expressions) and latex2mathml (for LaTeX strings)
-produce MathML; neither escapes the text it copies from symbol names or ``\\text{}``,
-so every MathML string is rebuilt by :func:`sanitize_mathml` from a whitelist of
-MathML elements and attributes with all text re-escaped.  Prose (titles, text,
-equation numbers, the "reconstructed" note) goes through :func:`html.escape`.
+The textbook's printer (:mod:`analyzer_lab.view.mathml_printer`, for expressions) and
+latex2mathml (for LaTeX strings) produce MathML; neither escapes the text it copies
+from ``\\text{}``, so every MathML string is rebuilt by :func:`sanitize_mathml` from a
+whitelist of MathML elements and attributes with all text re-escaped.  Prose (titles,
+text) is escaped and then shows Greek names and one-letter subscripts as the textbook
+prints them (:func:`prose_html`).  Formulas keep the text's size (scripts not below
+:data:`MIN_FORMULA_PX`); a sum wraps at its terms only where the panel is too narrow,
+and what is still too wide scrolls inside its own line.
 """
 
 from __future__ import annotations
@@ -14,11 +17,10 @@ import logging
 import re
 from collections.abc import Iterable, Sequence
 from html.parser import HTMLParser
-from typing import Any
 
 import sympy as sp
 from analyzer_lab.lessons.kit.contract import DerivationStep
-from sympy.core.function import AppliedUndef
+from analyzer_lab.view.mathml_printer import TextbookMathML, tex_free, textbook_mathml
 
 MATHML_TAGS = frozenset(
     """math mrow mi mn mo ms mtext mspace msup msub msubsup mfrac msqrt mroot mtable mtr mtd
@@ -146,111 +148,137 @@ def sanitize_svg(markup: str) -> str:
     return s.result()
 
 
-#: TeX spellings that must never reach a student as text, and what they show as.
-TEX_NAMES = {
-    "varphi": "φ",
-    "vartheta": "ϑ",
-    "varepsilon": "ε",
-    "varpi": "ϖ",
-    "varrho": "ϱ",
-    "varsigma": "ς",
-}
-_TEX_COMMAND = re.compile(r"\\([A-Za-z]+)")
-
-
 def plain_name(name: str) -> str:
     """A symbol name as plain text: TeX commands and braces removed (``z_{z\\,pr}`` ->
     ``z_z pr``, ``\\varphi`` -> ``φ``), markup characters escaped."""
-    text = name.replace("\\,", " ").replace("\\;", " ").replace("\\ ", " ")
-    text = _TEX_COMMAND.sub(lambda m: TEX_NAMES.get(m.group(1), m.group(1)), text)
-    for tex, shown in TEX_NAMES.items():
-        text = re.sub(rf"(?<![A-Za-z]){tex}(?![A-Za-z])", shown, text)
-    text = text.replace("{", "").replace("}", "")
-    return html.escape(text, quote=True)
+    return html.escape(tex_free(name), quote=True)
 
 
-def _escape_names(expr: sp.Basic) -> sp.Basic:
-    """Symbols/undefined functions get plain, escaped names, so sympy's printer (which
-    copies names verbatim) yields displayable, inert text with no TeX in it."""
-    subs: dict[Any, Any] = {}
-    for s in expr.atoms(sp.Symbol):
-        shown = plain_name(s.name)
-        if shown != s.name:
-            subs[s] = sp.Symbol(shown, **s.assumptions0)
-    for f in expr.atoms(AppliedUndef):
-        name = f.func.__name__
-        shown = plain_name(name)
-        if shown != name:
-            subs[f] = sp.Function(shown)(*f.args)
-    return expr.xreplace(subs) if subs else expr
+#: Greek letters spelled out in prose, as the textbook prints them.
+GREEK_WORDS = {
+    "alpha": "α",
+    "beta": "β",
+    "gamma": "γ",
+    "delta": "δ",
+    "epsilon": "ε",
+    "zeta": "ζ",
+    "theta": "θ",
+    "kappa": "κ",
+    "lambda": "λ",
+    "mu": "μ",
+    "nu": "ν",
+    "xi": "ξ",
+    "pi": "π",
+    "rho": "ρ",
+    "sigma": "σ",
+    "tau": "τ",
+    "phi": "φ",
+    "chi": "χ",
+    "psi": "ψ",
+    "omega": "ω",
+    "Gamma": "Γ",
+    "Delta": "Δ",
+    "Theta": "Θ",
+    "Lambda": "Λ",
+    "Sigma": "Σ",
+    "Phi": "Φ",
+    "Psi": "Ψ",
+    "Omega": "Ω",
+}
+_GREEK_WORD = re.compile(r"(?<![A-Za-z])(" + "|".join(GREEK_WORDS) + r")(?![A-Za-z])")
+#: A one-letter name with a short subscript in prose: ``x_A``, ``M_φ``, ``t_end``.
+_SUBSCRIPT = re.compile(r"(?<![\w'])([A-Za-zα-ωΑ-Ω])_([A-Za-z0-9α-ωΑ-Ω]{1,4})(?![\w])")
+
+
+def prose_html(text: str) -> str:
+    """Prose as HTML, escaped, with names written as in the textbook: ``phi`` is φ,
+    ``x_A`` is x with subscript A."""
+    out = _GREEK_WORD.sub(lambda m: GREEK_WORDS[m.group(1)], html.escape(text))
+    return _SUBSCRIPT.sub(r"\1<sub>\2</sub>", out)
+
+
+def _math(inner: str, display: str) -> str:
+    return sanitize_mathml(f'<math display="{display}">{inner}</math>')
+
+
+def _latex_inner(text: str) -> str:
+    import latex2mathml.converter
+
+    raw = latex2mathml.converter.convert(text)
+    return re.sub(r"<math[^>]*>", "", raw, count=1).replace("</math>", "")
 
 
 def expr_to_mathml(expr: sp.Basic | str, display: str = "block") -> str:
     """One sympy expression/equation (or a LaTeX string) as a sanitized ``<math>`` element."""
     display = "inline" if display == "inline" else "block"
     if isinstance(expr, str):
-        import latex2mathml.converter
-
         try:
-            raw = latex2mathml.converter.convert(expr)
+            return _math(_latex_inner(expr), display)
         except Exception:  # an unparsable LaTeX string is shown as escaped text
             log.warning("LaTeX not converted to MathML: %.80s", expr, exc_info=True)
             return f'<math display="{display}"><mtext>{html.escape(expr)}</mtext></math>'
-        raw = re.sub(r"<math[^>]*>", "", raw, count=1).replace("</math>", "")
-    else:
-        from sympy.printing.mathml import mathml
-
-        try:
-            raw = mathml(_escape_names(sp.sympify(expr)), printer="presentation")
-        except Exception:
-            log.warning("expression not printed as MathML: %.80s", expr, exc_info=True)
-            return f'<math display="{display}"><mtext>{html.escape(str(expr))}</mtext></math>'
-    # sympy prints d/dt with the double-struck differential d (U+2146): ordinary d
-    raw = raw.replace("&dd;", "d").replace("\u2146", "d")
-    out = sanitize_mathml(f'<math display="{display}">{raw}</math>')
-    if not isinstance(expr, str) and math_width(out) > MAX_LINE_GLYPHS:
-        return _broken_lines(expr, display) or out
-    return out
+    try:
+        return _math(textbook_mathml(sp.sympify(expr)), display)
+    except Exception:
+        log.warning("expression not printed as MathML: %.80s", expr, exc_info=True)
+        return f'<math display="{display}"><mtext>{html.escape(str(expr))}</mtext></math>'
 
 
-#: Longer formulas are broken into lines at their top-level + and - (see _broken_lines).
-MAX_LINE_GLYPHS = 80
-LINE_GLYPHS = 48
-
-
-def _row(expr: sp.Basic) -> str:
-    from sympy.printing.mathml import mathml
-
-    raw = mathml(_escape_names(expr), printer="presentation")
-    return raw.replace("&dd;", "d").replace("\u2146", "d")
-
-
-def _broken_lines(expr: Any, display: str) -> str | None:
-    """An equation ``lhs = a + b + ...`` (or a long sum) as aligned lines of a table, a
-    few terms per line, so that it reads in a narrow panel without scrolling."""
-    expr = sp.sympify(expr)
-    lhs, rhs = (expr.lhs, expr.rhs) if isinstance(expr, sp.Equality) else (None, expr)
-    if not isinstance(rhs, sp.Add):
-        return None
-    lines: list[list[sp.Basic]] = [[]]
-    used = 0.0
-    for term in sp.Add.make_args(rhs):
-        w = math_width(f"<math>{_row(term)}</math>")
-        if lines[-1] and used + w > LINE_GLYPHS:
-            lines.append([])
-            used = 0.0
-        lines[-1].append(term)
-        used += w + 1.0
+def _signed_terms(side: sp.Basic, printer: TextbookMathML) -> list[str]:
+    """The terms of a sum as MathML rows, each after the first with its own sign."""
+    if not isinstance(side, sp.Add):
+        return [printer.doprint(side)]
     rows = []
-    for k, terms in enumerate(lines):
-        part = _row(sp.Add(*terms, evaluate=False))
+    for k, term in enumerate(printer._as_ordered_terms(side)):
         if k == 0:
-            head = f"{_row(lhs)}<mo>=</mo>" if lhs is not None else ""
-        else:  # a continued line starts with its sign
-            head = "" if terms[0].could_extract_minus_sign() else "<mo>+</mo>"
-        rows.append(f'<mtr><mtd columnalign="left"><mrow>{head}{part}</mrow></mtd></mtr>')
-    table = f'<mtable columnalign="left">{"".join(rows)}</mtable>'
-    return sanitize_mathml(f'<math display="{display}">{table}</math>')
+            rows.append(printer.doprint(term))
+        elif term.could_extract_minus_sign():
+            rows.append(f'<mo form="infix">\u2212</mo>{printer.doprint(-term)}')
+        else:
+            rows.append(f'<mo form="infix">+</mo>{printer.doprint(term)}')
+    return rows
+
+
+def _pieces(item: sp.Basic | str) -> list[str] | None:
+    """A statement cut where a line may break: a sum at its terms (``lhs =`` stays with
+    the line before), a LaTeX string at its top-level ``\\quad``.  ``None`` when it is
+    one piece."""
+    if isinstance(item, str):
+        parts = [p.strip() for p in re.split(r"\\quad(?![A-Za-z])", item) if p.strip()]
+        if len(parts) < 2 or any(p.count("{") != p.count("}") for p in parts):
+            return None
+        return [_latex_inner(p) for p in parts]
+    expr = sp.sympify(item)
+    printer = TextbookMathML({})
+    if isinstance(expr, sp.Equality):
+        left = _signed_terms(expr.lhs, printer)
+        right = _signed_terms(expr.rhs, printer)
+        if len(left) + len(right) < 3:
+            return None
+        return [*left[:-1], f'{left[-1]}<mo form="infix">=</mo>', *right]
+    if isinstance(expr, sp.Add):
+        return _signed_terms(expr, printer)
+    return None
+
+
+def formula_html(item: sp.Basic | str) -> str:
+    """One statement as a line of the step: one formula in display style, or a sum whose
+    terms wrap onto further (indented) lines only where the panel is too narrow.  A
+    piece wider than the panel scrolls inside its line; nothing is shrunk."""
+    try:
+        pieces = _pieces(item) or [
+            _latex_inner(item) if isinstance(item, str) else textbook_mathml(sp.sympify(item))
+        ]
+    except Exception:  # shown as escaped text by expr_to_mathml, which logs why
+        log.warning("statement not printed: %.80s", item, exc_info=True)
+        return f'<div class="al-eq">{expr_to_mathml(item)}</div>'
+    maths = "".join(
+        _math(f'<mstyle displaystyle="true"><mrow>{p}</mrow></mstyle>', "inline") for p in pieces
+    )
+    if len(pieces) == 1:
+        return f'<div class="al-eq">{maths}</div>'
+    kind = "al-wrap al-wrap-text" if isinstance(item, str) else "al-wrap"
+    return f'<div class="al-eq"><div class="{kind}">{maths}</div></div>'
 
 
 def _as_list(math: sp.Basic | Sequence[sp.Basic] | str | None) -> list[sp.Basic | str]:
@@ -265,57 +293,36 @@ def _as_list(math: sp.Basic | Sequence[sp.Basic] | str | None) -> list[sp.Basic 
 
 RECON_STYLE = (
     "background:#fff3cd;color:#7a5600;border:1px solid #e0c060;border-radius:4px;"
-    "padding:0 4px;font-size:0.8em"
+    "padding:0 4px;font-size:max(11px,0.8em)"
 )
-SOURCE_STYLE = "color:#555;font-size:0.85em;margin-left:6px"
+SOURCE_STYLE = "color:#555;font-size:max(11px,0.85em);margin-left:6px"
+#: The smallest text a formula shows (px): sub- and superscripts shrink to 75 % of their
+#: base but not below this; a formula never shrinks to fit, it scrolls inside its line.
+MIN_FORMULA_PX = 12
+#: The derivation's style sheet: formulas at the text's size, scripts not below
+#: MIN_FORMULA_PX, a long line scrolling inside itself, a sum wrapping with a hanging indent.
+DERIVATION_CSS = (
+    ".al-derivation .al-eq{margin:4px 0;line-height:normal;overflow-x:auto;overflow-y:hidden;"
+    "padding:0.35em 0}"
+    ".al-derivation math{font-size:1.05em}"
+    ".al-derivation :is(msub,msup,msubsup,munder,mover,munderover,mroot)>:not(:first-child)"
+    f"{{font-size:max({MIN_FORMULA_PX}px,0.75em)}}"
+    ".al-derivation mfrac>*{font-size:1em}"
+    ".al-derivation .al-wrap{display:flex;flex-wrap:wrap;align-items:baseline;"
+    "column-gap:0;row-gap:0.35em;padding:0.35em 0 0.35em 2em;overflow-x:auto;overflow-y:hidden}"
+    ".al-derivation .al-wrap>:first-child{margin-left:-2em}"
+    ".al-derivation .al-wrap-text{column-gap:1.2em}"
+)
 
 
-#: Average width of a rendered math glyph in em (a deliberate over-estimate: fit first).
-GLYPH_EM = 0.72
-
-
-def math_width(mathml: str) -> float:
-    """The width of a MathML formula in glyphs, estimated from its structure: a fraction
-    is as wide as its wider part, scripts count at 70 %, rows add up."""
-    import xml.etree.ElementTree as ET
-
-    try:
-        root = ET.fromstring(mathml)
-    except ET.ParseError:
-        return float(len(re.sub(r"<[^>]+>", "", mathml)))
-
-    def width(el: ET.Element) -> float:
-        tag = el.tag.rsplit("}", 1)[-1]
-        kids = list(el)
-        if tag in ("mi", "mn", "mtext", "ms"):
-            return float(len((el.text or "").strip()) or 1)
-        if tag == "mo":
-            text = (el.text or "").strip()
-            return len(text) + (0.6 if text in "=+-−<>≤≥±" else 0.2)
-        if tag == "mfrac":
-            return max((width(k) for k in kids), default=0.0) + 0.4
-        if tag in ("msup", "msub", "munder", "mover"):
-            return width(kids[0]) + 0.7 * sum(width(k) for k in kids[1:]) if kids else 0.0
-        if tag in ("msubsup", "munderover"):
-            return width(kids[0]) + 0.7 * max((width(k) for k in kids[1:]), default=0.0)
-        if tag in ("msqrt", "mroot"):
-            return sum(width(k) for k in kids) + 1.0
-        if tag == "mtable":
-            return max((width(k) for k in kids), default=0.0)
-        return sum(width(k) for k in kids)
-
-    return max(width(root), 1.0)
-
-
-def _fit_font(mathml: str) -> str:
-    """A font size that fits the formula into its container's width (CSS container
-    units), never above the surrounding size and never below 45 % of it."""
-    em = math_width(mathml) * GLYPH_EM
-    return f"clamp(0.4em, {96.0 / em:.2f}cqi, 1em)"
+#: A figure is never scaled so far down that its smallest text is below this (CSS px): on a
+#: narrow panel it keeps this size and scrolls sideways inside its step.
+FIGURE_TEXT_PX = 11.5
 
 
 def _fit_svg(svg: str) -> str:
-    """A figure scaled to the panel's width (its drawing size kept as the viewBox)."""
+    """A figure scaled to the panel's width (its drawing size kept as the viewBox), but
+    not below the width at which its smallest text is :data:`FIGURE_TEXT_PX`."""
     clean = sanitize_svg(svg)
     m = re.match(r"<svg([^>]*)>", clean)
     if not m:
@@ -326,7 +333,14 @@ def _fit_svg(svg: str) -> str:
     if "viewBox" not in attrs and w and h:
         attrs += f' viewBox="0 0 {w.group(1)} {h.group(1)}"'
     attrs = re.sub(r'\s(width|height)="[^"]*"', "", attrs)
-    return f'<svg{attrs} width="100%" preserveAspectRatio="xMidYMid meet">' + clean[m.end() :]
+    style = ""
+    box = re.search(r'viewBox="[-\d.]+[\s,]+[-\d.]+[\s,]+([\d.]+)', attrs)
+    sizes = [float(v) for v in re.findall(r'font-size(?:="|:\s*)([\d.]+)', clean)]
+    if box and sizes and min(sizes) > 0:
+        style = f' style="min-width:{float(box.group(1)) * FIGURE_TEXT_PX / min(sizes):.0f}px"'
+    return (
+        f'<svg{attrs} width="100%"{style} preserveAspectRatio="xMidYMid meet">' + clean[m.end() :]
+    )
 
 
 def _tag_of(note: str | None) -> tuple[str, str]:
@@ -345,7 +359,7 @@ def step_to_html(step: DerivationStep, index: int | None = None) -> str:
     esc = html.escape
     head = f"{index}. " if index is not None else ""
     parts = ['<div class="al-step" style="margin:0 0 12px 0">']
-    parts.append(f"<div><b>{esc(head + step.title)}</b>")
+    parts.append(f"<div><b>{esc(head)}{prose_html(step.title)}</b>")
     if step.source:
         parts.append(f'<span class="al-source" style="{SOURCE_STYLE}">{esc(step.source)}</span>')
     tag, why = _tag_of(step.reconstructed)
@@ -355,18 +369,17 @@ def step_to_html(step: DerivationStep, index: int | None = None) -> str:
         )
     parts.append("</div>")
     if step.text:
-        parts.append(f'<div style="font-size:0.9em;margin:2px 0">{esc(step.text)}</div>')
+        parts.append(f'<div style="font-size:0.9em;margin:2px 0">{prose_html(step.text)}</div>')
     for item in _as_list(step.math):
-        mathml = expr_to_mathml(item)
-        parts.append(
-            '<div style="container-type:inline-size;width:100%">'
-            f'<div class="al-eq" style="font-size:{_fit_font(mathml)};line-height:normal;'
-            f'margin:4px 0;overflow-x:auto;overflow-y:hidden">{mathml}</div></div>'
-        )
+        parts.append(formula_html(item))
     if step.svg:
-        parts.append(f'<div class="al-figure" style="width:100%">{_fit_svg(step.svg)}</div>')
+        parts.append(
+            f'<div class="al-figure" style="width:100%;overflow-x:auto">{_fit_svg(step.svg)}</div>'
+        )
     if tag:
-        parts.append(f'<div style="font-size:0.8em;color:#7a5600">{tag}: {esc(why)}</div>')
+        parts.append(
+            f'<div style="font-size:max(11px,0.8em);color:#7a5600">{tag}: {esc(why)}</div>'
+        )
     parts.append("</div>")
     return "".join(parts)
 
@@ -375,12 +388,16 @@ def derivation_to_html(steps: Iterable[DerivationStep], header: str = "") -> str
     """The whole derivation as one HTML block (numbered steps)."""
     body = "".join(step_to_html(s, i) for i, s in enumerate(steps, 1))
     top = f'<div style="margin-bottom:8px">{html.escape(header)}</div>' if header else ""
-    return f'<div class="al-derivation" style="font-size:0.95em;line-height:1.35">{top}{body}</div>'
+    return (
+        f'<div class="al-derivation" style="font-size:0.95em;line-height:1.35">'
+        f"<style>{DERIVATION_CSS}</style>{top}{body}</div>"
+    )
 
 
 __all__ = [
     "derivation_to_html",
     "expr_to_mathml",
+    "formula_html",
     "sanitize_mathml",
     "sanitize_svg",
     "step_to_html",

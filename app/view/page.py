@@ -53,6 +53,13 @@ LESSON_PICKER, PRESET_PICKER, PAUSE_AT_END = "Lesson", "Preset", "pause at t_end
 RETIRE_DELAY = 1.5  # seconds a replaced GUI folder stays (hidden) before it is removed
 
 
+#: The panel docked at the right edge (px): the canvas is what it leaves free, so the
+#: scene is framed there (a tablet keeps 420 of its 820 px).  viser's widgets take 384 px
+#: (``control_width="large"``); the rest is the panel's scroll bar.  Phones get viser's bottom
+#: sheet instead (see :data:`analyzer_lab.viser_boundary.PHONE_LAYOUT`).
+PANEL_WIDTH = 400
+
+
 @dataclass
 class ViewConfig:
     """Rates of the view (per session)."""
@@ -61,8 +68,6 @@ class ViewConfig:
     trail_every: int = 2  # frames between trail uploads
     trail_chunk: int = 24  # points per trail chunk
     trail_max_points: int = 3000  # per moving point family member
-    plot_every: int = 3  # frames between plot samples (12 Hz at 36 fps)
-    plot_window: int = 400  # samples of the whole run kept per plot (decimated)
     plot_send_every: int = 6  # frames between plot uploads (round-robin over plots)
     readout_every: int = 6  # frames between time readouts
 
@@ -98,7 +103,8 @@ class SessionView:
         self.draw_seconds = 0.0  # time spent queueing the frame's updates
         self.renderer = SceneRenderer(client, self.config)
         self.renderer.on_surface_click = self._on_surface_click
-        self.plots = PlotPanel(client.gui, self.config.plot_window)
+        self.plots = PlotPanel(client.gui)
+        self._plots_folder: Any = None
         self.controls = ParamControls(
             client.gui, self.guard, self._on_slider, self._on_text, self._on_value, self._on_snap
         )
@@ -193,6 +199,16 @@ class SessionView:
                 w.disabled = on
         self.controls.set_read_only(on, self.session.params)
 
+    def dock_panel(self, width: float = PANEL_WIDTH) -> None:
+        """Dock the page's panel at the right edge, ``width`` px wide (a page that left
+        meanwhile is passed over)."""
+        gui = self.client.gui
+        try:
+            gui.main_panel.dock_right()
+            gui.main_panel.set_width(width)
+        except (RuntimeError, ValueError):
+            log.debug("page %s: the panel was not docked", self.client.client_id, exc_info=True)
+
     def mark_dirty(self) -> None:
         """Draw the session's current frame at the next tick."""
         self._frame_dirty = True
@@ -208,6 +224,7 @@ class SessionView:
             brand_color=(40, 90, 160),
         )
         gui.set_panel_label("Analyzer Lab")
+        self.dock_panel()
         s = self.session
         self.banner = gui.add_html("", visible=False)
         self._labels = {lesson_label(lesson): lesson.id for lesson in s.lessons.values()}
@@ -247,14 +264,7 @@ class SessionView:
         # The old folders are hidden now and removed a little later: the page applies the
         # property updates of a batch of messages after the batch's removals, so a chart
         # update that is already on its way must still find its chart.
-        self.plots.plots = []
-        due = time.monotonic() + RETIRE_DELAY
-        for f in self._lesson_folders:
-            try:
-                f.visible = False
-            except RuntimeError:  # already removed (the page is closing)
-                log.debug("page %s: a folder was already removed", self.client.client_id)
-            self._retired.append((due, f))
+        self._retire(self._lesson_folders)
         lesson = self.session.lesson
         with self.tab_controls:
             self._lesson_folders = self.controls.build(lesson, self.session.params)
@@ -278,11 +288,7 @@ class SessionView:
                     PAUSE_AT_END, initial_value=self.session.pause_at_end
                 )
                 self.pause_cb.on_update(self.guard(self._on_pause_at_end))
-        with self.tab_plots:
-            folder = gui.add_folder("Live plots (the whole run)")
-            self._lesson_folders.append(folder)
-            with folder:
-                self.plots.build(lesson)
+        self._build_plots()
         self.exports.show_default_step(lesson, self.session.t_end)
         esc = html.escape
         self.lesson_head.content = (
@@ -290,6 +296,27 @@ class SessionView:
             f'<span style="color:#555">{esc(lesson.source)}</span><br>{esc(lesson.summary)}</div>'
         )
         self._drawn_lesson = lesson.id
+
+    def _retire(self, folders: list[Any]) -> None:
+        """Hide ``folders`` now and remove them a little later (see
+        :meth:`_build_lesson_gui`)."""
+        due = time.monotonic() + RETIRE_DELAY
+        for f in folders:
+            try:
+                f.visible = False
+            except RuntimeError:  # already removed (the page is closing)
+                log.debug("page %s: a folder was already removed", self.client.client_id)
+            self._retired.append((due, f))
+
+    def _build_plots(self) -> None:
+        """(Re)build the charts for the session's lesson and values (the series a
+        preset defines can differ from another's)."""
+        s = self.session
+        self.plots.charts = []
+        if self._plots_folder is not None:
+            self._retire([self._plots_folder])
+        with self.tab_plots:
+            self._plots_folder = self.plots.build(s.lesson, s.params, s.log, s.frame, s.preset)
 
     def sync_widgets(self, force: bool = False) -> None:
         """Show the session's values in the widgets (programmatic: callbacks ignore it).
@@ -341,7 +368,6 @@ class SessionView:
         s = self.session
         if frames:
             self.renderer.push_frames(frames[-MAX_DRAWN_FRAMES:], s.playing, self.frame_count)
-            self.plots.add(s.frame)
         self._frame_dirty = True
         self._save_state()
 
@@ -469,18 +495,23 @@ class SessionView:
             self._drawn_camera_rev = s.camera_revision
         if self._drawn_reset_rev != s.reset_revision:
             self.renderer.reset_live()
-            self.plots.clear()
             self._drawn_reset_rev = s.reset_revision
             self._frame_dirty = True
+        if (
+            heavy
+            and not new_lesson
+            and self.plots.layout != self.plots.layout_for(s.lesson, s.params, s.frame)
+        ):
+            self._build_plots()
         if heavy:
+            self.plots.show_preset(s.preset)
             content = preset_note_html(s)
             if self.preset_note.content != content:
                 self.preset_note.content = content
         if self._frame_dirty:
             self._frame_dirty = False
             self.renderer.push_frames([s.frame], s.playing, self.frame_count)
-            self.plots.add(s.frame)
-            self.plots.send(all_plots=True)
+            self.plots.send(s.log, all_plots=True)
         self._update_texts()
 
     def render_derivation(self) -> None:
@@ -543,6 +574,8 @@ class SessionView:
         if self._retired and time.monotonic() >= self._retired[0][0]:
             self._remove_retired()
         s = self.session
+        if self.frame_count % self.config.readout_every == 0:
+            self.renderer.follow_canvas()  # the canvas changed shape: frame it again
         was_playing = s.playing
         t0 = time.perf_counter()
         frames = s.tick(wall_dt) if s.playing else []
@@ -555,6 +588,7 @@ class SessionView:
             and s.scene_revision == self._drawn_scene_rev
             and s.reset_revision == self._drawn_reset_rev
             and s.camera_revision == self._drawn_camera_rev
+            and not (self.frame_count % cfg.plot_send_every == 0 and self.plots.behind(s.log))
         ):
             if was_playing != s.playing or self.frame_count % cfg.readout_every == 0:
                 self._update_texts()
@@ -570,10 +604,11 @@ class SessionView:
                 self.refresh()
             if frames:
                 self.renderer.push_frames(frames, s.playing, self.frame_count)
-                if self.frame_count % cfg.plot_every == 0 or not s.playing:
-                    self.plots.add(frames[-1], always=True)
                 if self.frame_count % cfg.plot_send_every == 0 or not s.playing:
-                    self.plots.send(all_plots=not s.playing)
+                    self.plots.send(s.log, all_plots=not s.playing)
+            elif self.frame_count % cfg.plot_send_every == 0:
+                # what came in while the charts were fresh (a step just after a preset)
+                self.plots.send(s.log, all_plots=True)
             if self.frame_count % cfg.readout_every == 0 or not s.playing:
                 self._update_texts()
         self.draw_seconds += time.perf_counter() - t1

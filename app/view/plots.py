@@ -1,14 +1,25 @@
-"""Live plots: the lesson's declared plots as uPlot charts, with axis titles and units."""
+"""Live plots: the lesson's declared plots as uPlot charts of the whole run so far.
+
+Each chart is drawn from the session's run log (every frame played, not a sample of
+them), decimated on the server by min/max per pixel column
+(:func:`~analyzer_lab.view.decimation.minmax_indices`), with the x axis spanning the run
+so far.  A chart shows only the series the lesson defines for the current values; a
+chart with none is not drawn, and one line above the charts names them.
+"""
 
 from __future__ import annotations
 
+import html
 import math
 import time
-from collections.abc import Sequence
+from collections.abc import Iterable, Sequence
+from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
-from analyzer_lab.lessons.kit.contract import Frame, Lesson, PlotSpec
+from analyzer_lab.lessons.kit.contract import Frame, Lesson, Params, PlotSpec
+from analyzer_lab.session.runlog import RunLog
+from analyzer_lab.view.decimation import minmax_indices
 from analyzer_lab.viser_boundary import fast_set
 
 if TYPE_CHECKING:
@@ -18,6 +29,10 @@ PLOT_COLORS = ("#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#17becf",
 #: seconds after the charts are created during which no data is sent (a busy browser
 #: can take a while; an early update is reported as an update of a missing component)
 FRESH_DELAY = 1.5
+#: Pixel columns the run is decimated to (a chart in the panel is about 350 px wide).
+COLUMNS = 360
+#: The folder of the charts.
+FOLDER = "Live plots (the whole run)"
 
 
 def units_of(lesson: Lesson, names: Sequence[str]) -> str:
@@ -27,137 +42,209 @@ def units_of(lesson: Lesson, names: Sequence[str]) -> str:
     return found.pop() if len(found) == 1 else ""
 
 
-class PlotBuffer:
-    """The whole run of one :class:`PlotSpec`'s series, decimated for the wire: at most
-    ``capacity`` samples; when full, every other sample is dropped and samples are
-    taken half as often, so the plot always spans t = 0 to now."""
+def chart_series(spec: PlotSpec, defined: Iterable[str]) -> tuple[str, ...]:
+    """The series of ``spec`` that the run has (of the names ``defined``), in its order."""
+    names = set(defined)
+    return tuple(n for n in spec.series if n in names)
 
-    def __init__(self, spec: PlotSpec, capacity: int) -> None:
-        self.spec = spec
-        self.capacity = max(8, capacity - capacity % 2)
-        self.t: list[float] = []
-        self.values: dict[str, list[float]] = {name: [] for name in spec.series}
-        self.stride = 1  # frames offered per sample kept
-        self._offered = 0
-        self.dirty = False
 
-    def clear(self) -> None:
-        self.t.clear()
-        for v in self.values.values():
-            v.clear()
-        self.stride = 1
-        self._offered = 0
-        self.dirty = True
+def defined_series(lesson: Lesson, params: Params, frame: Frame) -> frozenset[str]:
+    """The series a run of ``lesson`` with ``params`` has: those the lesson declares for
+    these values, and those its frames carry."""
+    return frozenset(s.name for s in lesson.series_for(params)) | frozenset(frame.scalars)
 
-    def add(self, frame: Frame) -> None:
-        self._offered += 1
-        if self._offered % self.stride and self.t:
-            return
-        self.t.append(float(frame.t))
-        for name, buf in self.values.items():
-            v = frame.scalars.get(name, math.nan)
-            buf.append(float(v) if v is not None and math.isfinite(float(v)) else math.nan)
-        if len(self.t) > self.capacity:
-            self.t[:] = self.t[::2]
-            for buf in self.values.values():
-                buf[:] = buf[::2]
-            self.stride *= 2
-        self.dirty = True
 
-    def scale(self) -> int:
-        """The power of ten the values are shown in (0 for ordinary sizes): a drift of
-        1e-16 is plotted in units of 1e-16 so that its ticks read."""
-        values = np.abs(np.asarray([x for v in self.values.values() for x in v], dtype=float))
-        finite = values[np.isfinite(values)]
-        top = float(finite.max()) if finite.size else 0.0
-        if top == 0.0 or 1e-3 <= top < 1e5:
-            return 0
-        return int(math.floor(math.log10(top)))
+def scale_of(columns: Sequence[np.ndarray]) -> int:
+    """The power of ten the values are shown in (0 for ordinary sizes): a drift of
+    1e-16 is plotted in units of 1e-16 so that its ticks read."""
+    tops = [float(np.nanmax(np.abs(c))) for c in columns if c.size and np.isfinite(c).any()]
+    finite = [x for x in tops if math.isfinite(x)]
+    top = max(finite) if finite else 0.0
+    if top == 0.0 or 1e-3 <= top < 1e5:
+        return 0
+    return int(math.floor(math.log10(top)))
 
-    def data(self, exponent: int = 0) -> tuple[np.ndarray, ...]:
-        if not self.t:
-            return (np.zeros(1),) + tuple(np.zeros(1) for _ in self.values)
-        k = 10.0**-exponent
-        return (np.asarray(self.t, dtype=float),) + tuple(
-            np.asarray(v, dtype=float) * k for v in self.values.values()
-        )
+
+@dataclass(frozen=True)
+class ChartData:
+    """What one chart draws: the times, the series (in units of 10^``exponent``) and the
+    x range (the run so far)."""
+
+    t: np.ndarray
+    values: tuple[np.ndarray, ...]
+    exponent: int
+    x_range: tuple[float, float]
+
+    def arrays(self) -> tuple[np.ndarray, ...]:
+        return (self.t, *self.values)
+
+
+def chart_data(
+    log: RunLog, names: Sequence[str], columns: int = COLUMNS, min_span: float = 1.0
+) -> ChartData:
+    """The series ``names`` of the whole run ``log``, decimated to ``columns`` pixel
+    columns by min/max; a series the log lacks is NaN (a gap).  A run of one instant
+    spans ``min_span`` seconds."""
+    t = log.t
+    if not len(t):
+        t = np.zeros(1)
+    known = set(log.scalar_names) if len(log) else set()
+    full = [log.scalar(n) if n in known else np.full(len(t), np.nan) for n in names]
+    keep = minmax_indices(t, full, columns)
+    kept_t = np.ascontiguousarray(t[keep])
+    kept = [np.ascontiguousarray(v[keep]) for v in full]
+    exponent = scale_of(kept)
+    if exponent:
+        kept = [v * 10.0**-exponent for v in kept]
+    t0, t1 = float(kept_t[0]), float(kept_t[-1])
+    if not t1 > t0:
+        t1 = t0 + min_span
+    return ChartData(kept_t, tuple(kept), exponent, (t0, t1))
+
+
+def scales(data: ChartData) -> dict[str, Any]:
+    """uPlot's scales: x fixed to the run so far, y fitted to the values."""
+    return {"x": {"time": False, "range": data.x_range}, "y": {"auto": True}}
+
+
+@dataclass
+class Chart:
+    """One chart on the page: its series and the log state it shows."""
+
+    spec: PlotSpec
+    names: tuple[str, ...]
+    units: str
+    handle: Any
+    exponent: int = 0
+    shown: tuple[int, int] | None = None  # (id of the log, its revision) uploaded
 
 
 class PlotPanel:
-    """The lesson's plots in one page: buffers fed by frames, uploads round-robin."""
+    """The lesson's plots in one page: charts drawn from the session's run log,
+    uploaded round-robin when the log has moved on."""
 
-    def __init__(self, gui: viser.GuiApi, window: int) -> None:
+    def __init__(self, gui: viser.GuiApi, columns: int = COLUMNS) -> None:
         self.gui = gui
-        self.window = window
-        self.plots: list[tuple[PlotBuffer, Any]] = []
-        self.units: list[str] = []
-        self.exponents: list[int] = []
+        self.columns = columns
+        self.charts: list[Chart] = []
+        #: the series of every chart (empty: not defined), as built
+        self.layout: tuple[tuple[str, ...], ...] = ()
+        self.note: Any = None
+        self.missing: list[str] = []  # the titles of the charts not defined
+        self.time_scale = 1.0
         self._rr = 0
         self._fresh_until = 0.0
 
-    def build(self, lesson: Lesson) -> None:
-        """Create the charts of ``lesson`` (inside the caller's folder): the series'
-        names in the legend, t and the unit on the axes."""
-        self.plots = []
-        self.units = []
-        self.exponents: list[int] = []
-        for spec in lesson.plots:
-            buf = PlotBuffer(spec, self.window)
-            series = [{"label": "t"}] + [
-                {"label": name, "stroke": PLOT_COLORS[i % len(PLOT_COLORS)], "width": 1.5}
-                for i, name in enumerate(spec.series)
-            ]
-            units = spec.units or units_of(lesson, spec.series)
-            handle = self.gui.add_uplot(
-                buf.data(),
-                tuple(series),
-                title=spec.title,
-                scales={"x": {"time": False}, "y": {"auto": True}},
-                axes=({"label": "t [s]"}, {"label": units or "value"}),
-                aspect=1.6,
-            )
-            buf.dirty = False
-            self.plots.append((buf, handle))
-            self.units.append(units)
-            self.exponents.append(0)
+    @staticmethod
+    def layout_for(lesson: Lesson, params: Params, frame: Frame) -> tuple[tuple[str, ...], ...]:
+        """The series every chart of ``lesson`` shows for ``params`` (empty: none)."""
+        defined = defined_series(lesson, params, frame)
+        return tuple(chart_series(spec, defined) for spec in lesson.plots)
+
+    def build(
+        self, lesson: Lesson, params: Params, log: RunLog, frame: Frame, preset: str | None
+    ) -> Any:
+        """Create the charts of ``lesson`` in a new folder (inside the caller's
+        container), drawn from ``log``; returns the folder.  Charts without a series
+        for these values are left out and named in one line above the others."""
+        self.charts = []
+        self.layout = self.layout_for(lesson, params, frame)
+        self.time_scale = lesson.time_scale
+        folder = self.gui.add_folder(FOLDER)
+        missing = [spec.title for spec, names in zip(lesson.plots, self.layout) if not names]
+        with folder:
+            # first, so that the page says at once why a chart is not there
+            self.note = self.gui.add_html(_missing_html(missing, preset)) if missing else None
+            for spec, names in zip(lesson.plots, self.layout):
+                if not names:
+                    continue
+                units = spec.units or units_of(lesson, names)
+                data = chart_data(log, names, self.columns, lesson.time_scale)
+                series = [{"label": "t"}] + [
+                    {"label": name, "stroke": PLOT_COLORS[i % len(PLOT_COLORS)], "width": 1.5}
+                    for i, name in enumerate(names)
+                ]
+                handle = self.gui.add_uplot(
+                    data.arrays(),
+                    tuple(series),
+                    title=spec.title,
+                    scales=scales(data),
+                    axes=({"label": "t [s]"}, {"label": self._y_label(units, data.exponent)}),
+                    aspect=1.6,
+                )
+                self.charts.append(Chart(spec, names, units, handle, data.exponent, _key(log)))
+        self.missing = missing
         self._fresh_until = time.monotonic() + FRESH_DELAY
+        return folder
 
-    def _upload(self, k: int) -> None:
-        buf, handle = self.plots[k]
-        exponent = buf.scale()
-        if exponent != self.exponents[k]:
-            self.exponents[k] = exponent
-            label = self.units[k] or "value"
-            if exponent:
-                label = f"× 1e{exponent} {self.units[k]}".strip()
-            handle.axes = ({"label": "t [s]"}, {"label": label})
-        fast_set(handle, "data", buf.data(exponent))
-        buf.dirty = False
+    def show_preset(self, preset: str | None) -> None:
+        """Say whether the charts left out are not defined for a preset or for values."""
+        if self.note is not None:
+            content = _missing_html(self.missing, preset)
+            if self.note.content != content:
+                self.note.content = content
 
-    def clear(self) -> None:
-        for buf, _ in self.plots:
-            buf.clear()
+    @staticmethod
+    def _y_label(units: str, exponent: int) -> str:
+        if exponent:
+            return f"× 1e{exponent} {units}".strip()
+        return units or "value"
 
-    def add(self, frame: Frame, always: bool = False) -> None:
-        """Sample ``frame`` into every plot (``always``: even if it has that time)."""
-        for buf, _ in self.plots:
-            if always or not buf.t or buf.t[-1] != frame.t:
-                buf.add(frame)
+    def _upload(self, chart: Chart, log: RunLog) -> None:
+        data = chart_data(log, chart.names, self.columns, self.time_scale)
+        handle = chart.handle
+        if data.exponent != chart.exponent:
+            chart.exponent = data.exponent
+            handle.axes = ({"label": "t [s]"}, {"label": self._y_label(chart.units, data.exponent)})
+        fast_set(handle, "data", data.arrays())
+        fast_set(handle, "scales", scales(data))
+        chart.shown = _key(log)
 
-    def send(self, all_plots: bool = False) -> None:
-        """Upload one changed plot (round-robin), or every changed one."""
-        if not self.plots or time.monotonic() < self._fresh_until:
+    def behind(self, log: RunLog) -> bool:
+        """Whether a chart does not show ``log`` yet and may be sent now."""
+        if not self.charts or time.monotonic() < self._fresh_until:
+            return False
+        key = _key(log)
+        return any(chart.shown != key for chart in self.charts)
+
+    def send(self, log: RunLog, all_plots: bool = False) -> None:
+        """Upload one chart whose run moved on (round-robin), or every one."""
+        if not self.charts or time.monotonic() < self._fresh_until:
             return
+        key = _key(log)
         if all_plots:
-            for k, (buf, _) in enumerate(self.plots):
-                if buf.dirty:
-                    self._upload(k)
+            for chart in self.charts:
+                if chart.shown != key:
+                    self._upload(chart, log)
             return
-        for _ in range(len(self.plots)):
-            self._rr = (self._rr + 1) % len(self.plots)
-            if self.plots[self._rr][0].dirty:
-                self._upload(self._rr)
+        for _ in range(len(self.charts)):
+            self._rr = (self._rr + 1) % len(self.charts)
+            chart = self.charts[self._rr]
+            if chart.shown != key:
+                self._upload(chart, log)
                 return
 
 
-__all__ = ["PlotBuffer", "PlotPanel", "units_of"]
+def _key(log: RunLog) -> tuple[int, int]:
+    return id(log), log.revision
+
+
+def _missing_html(titles: Sequence[str], preset: str | None) -> str:
+    which = "this preset" if preset else "these values"
+    names = ", ".join(f"“{html.escape(t)}”" for t in titles)
+    return (
+        f'<div class="al-plots-undefined" style="font-size:0.9em;color:#444">'
+        f"Not defined for {which}: {names}.</div>"
+    )
+
+
+__all__ = [
+    "COLUMNS",
+    "ChartData",
+    "PlotPanel",
+    "chart_data",
+    "chart_series",
+    "defined_series",
+    "scale_of",
+    "units_of",
+]

@@ -76,4 +76,4 @@ def preset_note_html(s: Session) -> str:
         body = f"<b>{esc(pr.title)}</b>" + (f"<br>{esc(pr.note)}" if pr.note else "")
     else:
         body = ""
-    return f'<div class="al-preset-note" style="font-size:0.85em">{body}</div>'
+    return f'<div class="al-preset-note" style="font-size:max(11px,0.85em)">{body}</div>'

@@ -165,6 +165,10 @@ def ray_mesh_hit(
 #: Share of the canvas's shorter side the scene's bounding sphere fills when framed.
 FILL = 0.62
 DEFAULT_FOV = math.radians(50.0)
+#: A canvas side below this (px) is a page between two layouts, not a size to frame for.
+MIN_CANVAS_PX = 48
+#: Room left ahead of a run that left the framed box (share of the new box's side).
+RUN_MARGIN = 0.25
 
 
 def _fov_aspect(cam: viser.CameraHandle) -> tuple[float, float]:
@@ -172,10 +176,12 @@ def _fov_aspect(cam: viser.CameraHandle) -> tuple[float, float]:
     try:
         fov = float(cam.fov) or DEFAULT_FOV
         aspect = float(cam.image_width) / float(cam.image_height)
-    except (TypeError, ValueError, ArithmeticError, AttributeError):
-        return DEFAULT_FOV, 1.6
+    except (AssertionError, TypeError, ValueError, ArithmeticError, AttributeError):
+        return DEFAULT_FOV, 1.6  # viser asserts that the page reported its camera once
     if not (math.isfinite(aspect) and aspect > 0):
         aspect = 1.6
+    if not (math.radians(5.0) <= fov <= math.radians(150.0)):  # a page between two layouts
+        fov = DEFAULT_FOV
     return fov, aspect
 
 
@@ -221,6 +227,10 @@ class SceneRenderer:
         self.label_scale = 1.0  # larger in presenter mode
         #: where the camera was put by the last framing: (position, look_at)
         self.framed: tuple[np.ndarray, np.ndarray] | None = None
+        #: the box the last framing fitted (low, high corners) and the canvas it fitted
+        #: it into (width, height in the page's pixels)
+        self.framed_box: tuple[np.ndarray, np.ndarray] | None = None
+        self.framed_canvas: tuple[int, int] | None = None
 
     def visible_vectors(self) -> set[str]:
         names = list(self.spec.moving_vectors) if self.spec is not None else []
@@ -428,20 +438,85 @@ class SceneRenderer:
         if self.spec is not None:
             self.frame_camera(*scene_bounds(self.spec))
 
-    def frame_camera(self, lo: np.ndarray, hi: np.ndarray, size: float) -> None:
-        """Look at the scene's box from an oblique direction, from the distance at which
-        its bounding sphere fills :data:`FILL` of the canvas's shorter side (from the
-        field of view and aspect the page reports); clipping planes and orbit limits
-        sized to the scene (a machine in millimetres, a unit sphere)."""
+    def canvas_size(self) -> tuple[int, int] | None:
+        """The canvas's size the page reported last (None before it reported one)."""
+        try:
+            cam = self.client.camera
+            size = (int(cam.image_width), int(cam.image_height))
+        except (AssertionError, TypeError, ValueError, AttributeError, RuntimeError):
+            return None  # viser asserts that the page reported its camera once
+        if min(size) < MIN_CANVAS_PX:  # a page between two layouts: wait for its size
+            return None
+        return size
+
+    def follow_canvas(self) -> bool:
+        """Frame the same box again, from where the camera looks now, when the canvas
+        changed shape since it was framed (a phone turned, a panel docked or collapsed);
+        True when it did."""
+        size = self.canvas_size()
+        if size is None or self.framed_box is None or size == self.framed_canvas:
+            return False
+        if self.framed_canvas is not None:
+            w0, h0 = self.framed_canvas
+            if abs(math.log((size[0] / size[1]) / (w0 / h0))) < 0.05 and (
+                abs(math.log(min(size) / min(w0, h0))) < 0.05
+            ):
+                self.framed_canvas = size
+                return False
+        lo, hi = self.framed_box
+        self.frame_camera(lo, hi, float(np.max(hi - lo)), keep_direction=True)
+        return True
+
+    def follow_run(self, frame: Frame) -> bool:
+        """Frame again, from where the camera looks now, when the run's moving points or
+        bodies left the framed box: the new box holds the old one and the run, with
+        :data:`RUN_MARGIN` of room ahead; True when it did."""
+        if self.framed_box is None:
+            return False
+        pts = [np.asarray(p, dtype=float).reshape(-1, 3) for p in frame.points.values()]
+        pts += [np.asarray(pos, dtype=float).reshape(-1, 3) for pos, _ in frame.poses.values()]
+        if not pts:
+            return False
+        run = np.concatenate(pts, axis=0)
+        run = run[np.all(np.isfinite(run), axis=1)]
+        if not len(run):
+            return False
+        lo, hi = self.framed_box
+        slack = 0.02 * float(np.max(hi - lo))
+        if np.all(run >= lo - slack) and np.all(run <= hi + slack):
+            return False
+        new_lo = np.minimum(lo, run.min(axis=0))
+        new_hi = np.maximum(hi, run.max(axis=0))
+        room = RUN_MARGIN * (new_hi - new_lo)
+        new_lo = np.where(run.min(axis=0) < lo - slack, new_lo - room, new_lo)
+        new_hi = np.where(run.max(axis=0) > hi + slack, new_hi + room, new_hi)
+        self.frame_camera(new_lo, new_hi, float(np.max(new_hi - new_lo)), keep_direction=True)
+        return True
+
+    def frame_camera(
+        self, lo: np.ndarray, hi: np.ndarray, size: float, keep_direction: bool = False
+    ) -> None:
+        """Look at the scene's box from an oblique direction (``keep_direction``: from
+        where the camera looks now), from the distance at which its bounding sphere fills
+        :data:`FILL` of the canvas's shorter side (from the field of view and aspect the
+        page reports); clipping planes and orbit limits sized to the scene (a machine in
+        millimetres, a unit sphere)."""
         center = (lo + hi) / 2
         radius = max(0.5 * float(np.linalg.norm(hi - lo)), 1e-6)
         # a plane lesson is seen from above (slightly tilted), a space scene obliquely
         planar = self.spec is not None and self.spec.planar
         direction = np.array([0.12, -0.35, 1.0]) if planar else np.array([1.0, 0.75, 0.6])
-        direction /= np.linalg.norm(direction)
         try:
             cam = self.client.camera
+            if keep_direction and self.canvas_size() is not None:  # the page reported it
+                seen = np.asarray(cam.position, dtype=float) - np.asarray(cam.look_at, dtype=float)
+                if np.all(np.isfinite(seen)) and np.linalg.norm(seen) > 0:
+                    direction = seen
+            direction = direction / np.linalg.norm(direction)
+            canvas = self.canvas_size()  # the size this framing is for (read before the fit)
             fov, aspect = _fov_aspect(cam)
+            if canvas is not None:
+                aspect = canvas[0] / canvas[1]
             half = math.tan(fov / 2.0) * min(1.0, aspect)
             dist = radius / (FILL * half)
             cam.far = max(100.0, 20.0 * dist)
@@ -453,6 +528,8 @@ class SceneRenderer:
             cam.position = tuple(map(float, center + direction * dist))
             cam.look_at = tuple(map(float, center))
             self.framed = (center + direction * dist, center)
+            self.framed_box = (np.asarray(lo, dtype=float), np.asarray(hi, dtype=float))
+            self.framed_canvas = canvas  # a size reported meanwhile is framed at the next check
         except Exception:
             log.exception("the camera of page %s was not framed", self.client.client_id)
 
@@ -479,6 +556,7 @@ class SceneRenderer:
                     tr.color_by = (float(by[1]), float(by[2])) if by else None
                     tr.add(fr.points[name], fr.scalars.get(by[0]) if by else None)
         last = frames[-1]
+        self.follow_run(last)
         for name, color in spec.moving_points.items():
             pts = last.points.get(name)
             if pts is None:

@@ -27,16 +27,54 @@ document.addEventListener("keydown", function (e) {
 </script>"""
 
 
+#: Phones (viser's bottom sheet, under Mantine's ``xs`` breakpoint of 36em): the sheet leaves
+#: its fixed place over the canvas for a row of its own below it, as wide as the screen and at
+#: most half its height (its content scrolls), so the canvas, and the scene framed in it, is
+#: exactly the part of the screen the panel leaves free.  Notifications stay on the screen
+#: at every size (viser centres their box on its left edge once a panel is docked).
+#: The sheet is the only fixed Paper of viser's page; its parent is the row that holds the
+#: canvas.
+PHONE_LAYOUT = """<style>
+@media (max-width: 36em) {
+  div:has(> .mantine-Paper-root[style*="position: fixed"]) {
+    flex-direction: column !important;
+  }
+  div:has(> .mantine-Paper-root[style*="position: fixed"]) > div:has(canvas) {
+    flex: 1 1 0 !important; min-height: 0 !important; height: auto !important;
+  }
+  .mantine-Paper-root[style*="position: fixed"] {
+    position: static !important; width: 100% !important; max-height: 50vh !important;
+    flex: 0 0 auto !important;
+  }
+  .mantine-Paper-root[style*="position: fixed"] [style*="width: 20em"] {
+    width: 100% !important;
+  }
+}
+.mantine-Notifications-root {
+  left: 0.5em !important; right: auto !important; transform: none !important;
+  width: min(20em, calc(100% - 1em)) !important; max-width: none !important;
+}
+</style>"""
+
+
+#: No text of viser's own widgets below 11 px (its compact buttons print 10 px).
+READABLE_TEXT = """<style>
+.mantine-Button-root { --button-fz: max(11px, 0.75rem) !important; }
+</style>"""
+
+
 def _client_root() -> Path:
-    """viser's client page with our title (and :data:`KEYS_STAY_IN_FIELDS`), in a private
-    temporary directory."""
+    """viser's client page with our title (with :data:`KEYS_STAY_IN_FIELDS`,
+    :data:`PHONE_LAYOUT` and :data:`READABLE_TEXT`), in a private temporary directory."""
     import viser
 
     src = Path(viser.__file__).resolve().parent / "client" / "build" / "index.html"
     text = src.read_text(encoding="utf-8")
     text = text.replace("<title>Viser</title>", f"<title>{PAGE_TITLE}</title>", 1)
     text = text.replace('content="Viser client"', f'content="{PAGE_TITLE}"', 1)
-    text = text.replace("</head>", KEYS_STAY_IN_FIELDS + "</head>", 1)
+    text = text.replace(
+        "</head>", KEYS_STAY_IN_FIELDS + PHONE_LAYOUT + READABLE_TEXT + "</head>", 1
+    )
     root = Path(tempfile.mkdtemp(prefix="analyzer-lab-page-"))
     (root / "index.html").write_text(text, encoding="utf-8")
     return root

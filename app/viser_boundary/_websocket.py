@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import asyncio
 import logging
+import socket
 import threading
 from collections.abc import Callable
 from typing import Any
@@ -20,6 +21,10 @@ WS_BURST = 300.0
 WS_TOTAL_RATE = 1000.0
 WS_TOTAL_BURST = 1000.0
 WS_MAX_BYTES = 64 * 1024
+#: The kernel's send buffer per connection (bytes; the kernel doubles it): a page that
+#: stops reading is behind after this much, not after the several megabytes the kernel
+#: would otherwise grow the buffer to (a page takes a few kB per frame).
+WS_SEND_BUFFER = 128 * 1024
 #: The messages a page of the lab sends (viser 1.1.1's client -> server messages that the
 #: app uses): its camera, values of its own widgets, command hotkeys (presenter mode),
 #: clicks on scene surfaces and answers from the browser's storage.  Everything else
@@ -69,6 +74,17 @@ def _limited_serve(serve: Callable[..., Any]) -> Callable[..., Any]:
     return limited
 
 
+def _bound_send_buffer(websocket: Any) -> None:
+    """Fix the connection's kernel send buffer at :data:`WS_SEND_BUFFER`."""
+    sock = websocket.transport.get_extra_info("socket") if websocket.transport else None
+    if sock is None:
+        return
+    try:
+        sock.setsockopt(socket.SOL_SOCKET, socket.SO_SNDBUF, WS_SEND_BUFFER)
+    except OSError:  # a socket that is already closing
+        log.debug("send buffer not set", exc_info=True)
+
+
 def harden_websocket() -> None:
     """Patch viser's websocket server (before it starts): the transport refuses messages
     over :data:`WS_MAX_BYTES` unread; the per-connection message consumer drops every
@@ -92,6 +108,7 @@ def harden_websocket() -> None:
         ) -> None:
             bucket = TokenBucket(WS_RATE, WS_BURST)
             key = id(websocket)
+            _bound_send_buffer(websocket)
             while True:
                 raw = await websocket.recv()
                 if not isinstance(raw, (bytes, bytearray)):

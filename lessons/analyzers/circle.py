@@ -259,7 +259,7 @@ class CircleLesson(PlanarLesson):
             ),
             DerivationStep(
                 "Every coefficient vanishes",
-                "Solved by sympy: b2 stays free; call it u.",
+                "Solved symbolically: b2 stays free; call it u.",
                 [sp.Eq(k, v) for k, v in sol.items()],
                 "(1.39)",
             ),

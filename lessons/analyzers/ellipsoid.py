@@ -185,7 +185,9 @@ class EllipsoidLesson(AnalyzerLesson):
                         + sp.Symbol("y0") ** 2 / b**2
                         + sp.Symbol("z0") ** 2 / c**2,
                     ),
-                    sp.Eq(sp.Symbol("semi-axes"), sp.sqrt(G0) * sp.Matrix([a, b, c])),
+                    sp.Eq(
+                        sp.Symbol("semi-axes"), sp.sqrt(G0) * sp.Matrix([a, b, c]), evaluate=False
+                    ),
                 ],
                 "Problem 1.6 text",
             ),

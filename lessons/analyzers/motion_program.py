@@ -536,7 +536,11 @@ class MotionProgramLesson(Lesson):
             (
                 "Velocity without numerical differentiation",
                 "The unit tangent times the speed law.",
-                sp.Eq(Xv.diff(t), sp.Symbol("r'(phi)/|r'(phi)|") * sp.Function("v")(t)),
+                sp.Eq(
+                    Xv.diff(t),
+                    sp.Function("r'")(PHI) / sp.Abs(sp.Function("r'")(PHI)) * sp.Function("v")(t),
+                    evaluate=False,
+                ),
                 "(1.11)",
                 "implementation detail, not printed in the source",
             ),
@@ -554,7 +558,10 @@ class MotionProgramLesson(Lesson):
                 "u_ij = Xdot_i X_j / D with D = X^2 + Y^2 + Z^2: a rank-one matrix"
                 " with U X = Xdot, so X(t) solves (1.5). The dot belongs to the row variable (the"
                 " other reading fails U X = Xdot).",
-                [sp.Eq(sp.Symbol("U"), Xv.diff(t) * Xv.T / Dsym), sp.Eq(Dsym, X**2 + Y**2 + Z**2)],
+                [
+                    sp.Eq(sp.Symbol("U"), Xv.diff(t) * Xv.T / Dsym, evaluate=False),
+                    sp.Eq(Dsym, X**2 + Y**2 + Z**2),
+                ],
                 "(1.15)",
                 None,
             ),

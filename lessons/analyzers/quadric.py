@@ -48,6 +48,13 @@ from analyzer_lab.lessons.kit.contract import (
 )
 
 SURFACE_CHOICES = (*CONSTRUCTORS, "coefficients")
+
+
+def _surfaces_using(name: str) -> tuple[str, ...]:
+    """The surface types whose equation has the parameter ``name`` (R, a, b or c)."""
+    return tuple(k for k, spec in CONSTRUCTORS.items() if name in spec.params)
+
+
 #: A start point on each constructor's default surface.
 STARTS = {
     "sphere": (1.0, 0.0, 0.0),
@@ -123,8 +130,8 @@ class QuadricLesson(AnalyzerLesson):
     modes = ("surface",)
     surface_groups = (
         Group("mode", "Surface type", change="restart"),
-        Group("shape", "Surface parameters R, a, b, c"),
-        Group("coefficients", "Coefficients a11 ... a44 (surface = coefficients)", expanded=False),
+        Group("shape", "Surface parameters", when=("surface", tuple(CONSTRUCTORS))),
+        Group("coefficients", "Coefficients a11 ... a44", when=("surface", ("coefficients",))),
     )
     surface_params = (
         Param(
@@ -136,10 +143,20 @@ class QuadricLesson(AnalyzerLesson):
             group="mode",
             help="a type with its parameters, or 'coefficients' to type a11 ... a44",
         ),
-        Param("R", "float", 1.0, "R (sphere)", min=1e-3, max=1e3, step=0.1, group="shape"),
-        Param("a", "float", 1.0, "a", min=1e-3, max=1e3, step=0.1, group="shape"),
-        Param("b", "float", 1.0, "b", min=1e-3, max=1e3, step=0.1, group="shape"),
-        Param("c", "float", 1.0, "c", min=1e-3, max=1e3, step=0.1, group="shape"),
+        *(
+            Param(
+                n,
+                "float",
+                1.0,
+                n,
+                min=1e-3,
+                max=1e3,
+                step=0.1,
+                group="shape",
+                when=("surface", _surfaces_using(n)),
+            )
+            for n in ("R", "a", "b", "c")
+        ),
         *(
             Param(
                 n,
@@ -326,7 +343,10 @@ class QuadricLesson(AnalyzerLesson):
             DerivationStep(
                 "The solution family",
                 text,
-                [sp.Eq(sp.Symbol(f"(1.50) for u{i + 1}"), W[:, i].T) for i in range(3)],
+                [
+                    sp.Eq(sp.Symbol(f"(1.50) for u{i + 1}"), W[:, i].T, evaluate=False)
+                    for i in range(3)
+                ],
                 "(1.50)",
                 reconstructed="derived, not in source: the rank check behind 'three"
                 " coefficients can be set arbitrarily'",

@@ -119,8 +119,14 @@ def _formula(name: str, default: str, label: str, group: str, help: str = "") ->
     return Param(name, "formula", default, label, min=-20, max=20, step=0.1, group=group, help=help)
 
 
-def _length(name: str, default: float, label: str, group: str) -> Param:
-    return Param(name, "float", default, label, min=1e-3, max=1e3, step=0.1, group=group)
+def _length(
+    name: str,
+    default: float,
+    label: str,
+    group: str,
+    when: tuple[str, tuple[str, ...]] | None = None,
+) -> Param:
+    return Param(name, "float", default, label, min=1e-3, max=1e3, step=0.1, group=group, when=when)
 
 
 def _presets() -> tuple[Preset, ...]:
@@ -229,8 +235,8 @@ class SelfStudy1Lesson(PlanarLesson):
         _length("ellipse_b", 1.0, "b (semi-axis along y)", "c1_4"),
         _length("a", 1.0, "a", "c1_5"),
         _length("b", 1.0, "b", "c1_5"),
-        _length("c", 1.0, "c", "c1_5"),
-        _length("p", 0.5, "p (paraboloid)", "c1_5"),
+        _length("c", 1.0, "c", "c1_5", when=("task", ("C1.5b-cone", "C1.5d-hyperboloid"))),
+        _length("p", 0.5, "p", "c1_5", when=("task", ("C1.5c-paraboloid",))),
         _formula("u1", "1", "u1(t)", "c1_5"),
         _formula("u2", "0.3", "u2(t)", "c1_5"),
         _formula("u3", "0.2", "u3(t)", "c1_5"),

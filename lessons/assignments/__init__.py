@@ -2,7 +2,10 @@
 
 :mod:`~analyzer_lab.lessons.assignments.spec` is the file format and its validation,
 :mod:`~analyzer_lab.lessons.assignments.grading` runs an answer and measures the checks,
-:mod:`~analyzer_lab.lessons.assignments.library` loads folders and drafts assignments from a state.
+:mod:`~analyzer_lab.lessons.assignments.library` loads folders and drafts assignments from a state,
+:mod:`~analyzer_lab.lessons.assignments.space` declares varied quantities and their placeholders,
+:mod:`~analyzer_lab.lessons.assignments.variants` draws each student's variant and checks
+every variant before release.
 The model side only: nothing here imports the view.
 """
 
@@ -22,6 +25,7 @@ from analyzer_lab.lessons.assignments.spec import (
     load_assignment,
     parse_assignment,
 )
+from analyzer_lab.lessons.assignments.variants import Release, Variant, release, variant_for
 
 __all__ = [
     "FORMAT",
@@ -39,4 +43,8 @@ __all__ = [
     "load_folder",
     "parse_assignment",
     "ready_assignments",
+    "release",
+    "variant_for",
+    "Release",
+    "Variant",
 ]

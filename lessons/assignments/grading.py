@@ -37,6 +37,8 @@ class CheckOutcome:
     bound: float
     miss: float
     message: str
+    #: the author's feedback for this outcome (on failure, or on a pass when given)
+    feedback: str = ""
 
     def to_json_dict(self) -> dict[str, Any]:
         def num(v: float) -> float | None:
@@ -51,6 +53,7 @@ class CheckOutcome:
             "bound": num(self.bound),
             "miss": num(self.miss),
             "message": self.message,
+            "feedback": self.feedback,
         }
 
 
@@ -64,12 +67,15 @@ class Grade:
     checks: list[CheckOutcome]
     values: dict[str, Any] = field(default_factory=dict)
     messages: list[str] = field(default_factory=list)
+    #: the variant's values of the varied quantities (empty when not varied)
+    variant: dict[str, float] = field(default_factory=dict)
 
     def to_json_dict(self) -> dict[str, Any]:
         return {
             "assignment": self.assignment,
             "lesson": self.lesson,
             "pass": self.passed,
+            "variant": dict(self.variant),
             "values": dict(self.values),
             "checks": [c.to_json_dict() for c in self.checks],
             "messages": list(self.messages),
@@ -127,6 +133,8 @@ def grade(a: Assignment, values: Mapping[str, Any], where: str = "answer") -> Gr
     vals = check_answer_values(a, dict(values), where)
     run = run_answer(a, vals, where)
     outcomes = [measure(c, run) for c in a.checks]
+    for c, o in zip(a.checks, outcomes):
+        o.feedback = c.feedback_pass if o.passed else c.feedback
     return Grade(
         assignment=a.id,
         lesson=a.lesson,
@@ -134,6 +142,7 @@ def grade(a: Assignment, values: Mapping[str, Any], where: str = "answer") -> Gr
         checks=outcomes,
         values=vals,
         messages=list(run.messages),
+        variant=dict(a.variant),
     )
 
 

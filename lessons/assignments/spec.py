@@ -8,7 +8,10 @@ An assignment is plain JSON data (see the README section "Assignments"):
 * ``checks``: declared checks over the run (``within``, ``at-most``, ``at-least``,
   ``in-plane``, ``on-circle``, ``reaches``); expressions go through the formula whitelist
   of :mod:`analyzer_lab.lessons.kit.formula` with ``t`` and the lesson's series as variables;
-* ``task``, ``hint``, ``reference`` (text), ``answers`` (``correct``/``wrong`` values).
+* ``task``, ``hint``, ``reference`` (text), ``answers`` (``correct``/``wrong`` values);
+* each check may carry ``feedback`` (shown when it fails) and ``feedback_pass`` (when it passes);
+* ``variables`` and ``variants``: varied quantities, one variant per student (see
+  :mod:`analyzer_lab.lessons.assignments.space`).
 
 Loading validates everything; the first problem raises :class:`AssignmentError`, whose
 message is one line naming the file, the field and what is wrong.  Nothing in a file is
@@ -22,10 +25,21 @@ import keyword
 import math
 import re
 from collections.abc import Mapping
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
+from analyzer_lab.lessons.assignments.space import (
+    SpaceError,
+    Variable,
+    concrete_data,
+    label,
+    parse_sample,
+    parse_variables,
+    pool_indices,
+    space_size,
+    values_at,
+)
 from analyzer_lab.lessons.kit.contract import Lesson, ParamError, Params
 from analyzer_lab.lessons.kit.formula import (
     CONSTANTS,
@@ -44,6 +58,7 @@ MAX_CHECKS = 8
 MAX_UNLOCKED = 24
 MAX_TEXT = 2000
 MAX_SHORT = 160
+MAX_FEEDBACK = 600
 MAX_T_END = 1e4
 KINDS = ("within", "at-most", "at-least", "in-plane", "on-circle", "reaches")
 REDUCTIONS = ("max-abs", "max", "min", "final", "mean", "rms")
@@ -63,6 +78,8 @@ _TOP = {
     "hint",
     "reference",
     "answers",
+    "variables",
+    "variants",
 }
 _CHECK_FIELDS: dict[str, set[str]] = {
     "within": {"quantity", "target", "tolerance", "from", "to", "at"},
@@ -118,6 +135,8 @@ class Check:
     radius: float | None = None
     point: tuple[float, ...] = ()
     by: float | None = None
+    feedback: str = ""
+    feedback_pass: str = ""
 
     def describe(self) -> str:
         """One line in words (the ``label`` when the file gives one)."""
@@ -170,6 +189,17 @@ class Assignment:
     answers: Mapping[str, Mapping[str, Any]] = field(default_factory=dict)
     source: str = ""
     data: Mapping[str, Any] = field(default_factory=dict, repr=False, compare=False)
+    #: the varied quantities (none: every student gets the same numbers)
+    variables: tuple[Variable, ...] = ()
+    #: how many variants of the space are checked and handed out (None: all of them)
+    sample: int | None = None
+    #: this variant's values of the varied quantities (empty when not varied)
+    variant: Mapping[str, float] = field(default_factory=dict)
+
+    @property
+    def varied(self) -> bool:
+        """Whether students get different numbers."""
+        return bool(self.variables)
 
     def summary(self) -> dict[str, Any]:
         """JSON-friendly listing entry."""
@@ -184,6 +214,7 @@ class Assignment:
             "hint": self.hint,
             "reference": self.reference,
             "source": self.source,
+            "variables": {v.name: list(v.values) for v in self.variables},
         }
 
 
@@ -326,11 +357,13 @@ def parse_check(
     kind = r.text(obj, "kind", f"{fld}.kind", 20, True)
     if kind not in KINDS:
         raise r.fail(f"{fld}.kind", f"{kind[:20]!r} is not one of {', '.join(KINDS)}")
-    extra = set(obj) - _CHECK_FIELDS[kind] - {"id", "kind", "label"}
+    extra = set(obj) - _CHECK_FIELDS[kind] - {"id", "kind", "label", "feedback", "feedback_pass"}
     if extra:
         raise r.fail(f"{fld}", f"unknown field {sorted(extra)[0][:30]!r} for a {kind} check")
     label = r.text(obj, "label", f"{fld}.label", MAX_SHORT, False)
     kw: dict[str, Any] = {"id": cid, "kind": kind, "label": label}
+    kw["feedback"] = r.text(obj, "feedback", f"{fld}.feedback", MAX_FEEDBACK, False)
+    kw["feedback_pass"] = r.text(obj, "feedback_pass", f"{fld}.feedback_pass", MAX_FEEDBACK, False)
     kw.update(_times(obj, r, fld, t_end))
     if kind == "within":
         kw["quantity"] = parse_quantity(obj.get("quantity"), lesson, params, r, f"{fld}.quantity")
@@ -394,11 +427,69 @@ def _values(v: Any, r: _Reader, fld: str, lesson: Lesson) -> dict[str, Any]:
 
 def parse_assignment(data: Any, where: str = "") -> Assignment:
     """Validate decoded JSON as an assignment; raise :class:`AssignmentError`."""
-    from analyzer_lab.lessons.catalog import get_lesson
-
     r = _Reader(where)
     if not isinstance(data, dict):
         raise r.fail("", f"an assignment is a JSON object, got {_type(data)}")
+    if "variables" in data or "variants" in data:
+        return _parse_varied(data, where)
+    return parse_concrete(data, where)
+
+
+def _parse_varied(data: Mapping[str, Any], where: str) -> Assignment:
+    """A varied assignment, shown as the first variant it hands out."""
+    try:
+        variables = parse_variables(data.get("variables"))
+        sample = parse_sample(data.get("variants", {}), space_size(variables))
+    except SpaceError as exc:
+        raise AssignmentError(where, exc.field, exc.message) from None
+    answers = data.get("answers")
+    if not isinstance(answers, dict) or not {"correct", "wrong"} <= set(answers):
+        raise AssignmentError(
+            where,
+            "answers",
+            "a varied assignment needs a 'correct' (reference) and a 'wrong' answer",
+        )
+    template = Assignment(
+        id=str(data.get("id", ""))[:60],
+        title="",
+        lesson="",
+        preset=None,
+        start={},
+        t_end=0.0,
+        unlocked=(),
+        checks=(),
+        task="",
+        source=where,
+        data=data,
+        variables=variables,
+        sample=sample,
+    )
+    return variant_assignment(template, pool(template)[0])
+
+
+def pool(a: Assignment) -> tuple[int, ...]:
+    """The indices of the variants of ``a`` that are checked and handed out."""
+    return pool_indices(a.id, space_size(a.variables), a.sample) if a.varied else (0,)
+
+
+def variant_assignment(a: Assignment, index: int) -> Assignment:
+    """Variant ``index`` of a varied assignment, validated as a whole assignment (a
+    refusal names the variant)."""
+    vals = values_at(a.variables, index)
+    try:
+        one = parse_concrete(concrete_data(a.data, vals), a.source)
+    except (SpaceError, AssignmentError) as exc:
+        raise AssignmentError(
+            a.source, exc.field, f"variant {index} ({label(vals)}): {exc.message}"
+        ) from None
+    return replace(one, data=a.data, variables=a.variables, sample=a.sample, variant=vals)
+
+
+def parse_concrete(data: Mapping[str, Any], where: str = "") -> Assignment:
+    """Validate an assignment without varied quantities (or one variant of a varied one)."""
+    from analyzer_lab.lessons.catalog import get_lesson
+
+    r = _Reader(where)
     if data.get("format") != FORMAT:
         raise r.fail("format", f"must be {FORMAT!r}")
     if data.get("version") != VERSION or isinstance(data.get("version"), bool):
@@ -479,12 +570,33 @@ def parse_assignment(data: Any, where: str = "") -> Assignment:
     )
 
 
+#: Most digits of a whole number in a JSON file (a float has 17 significant ones).
+MAX_INT_DIGITS = 100
+
+
+class _LongNumber(ValueError):
+    """A whole number of more than :data:`MAX_INT_DIGITS` digits."""
+
+
+def _whole_number(digits: str) -> int:
+    if len(digits.lstrip("-")) > MAX_INT_DIGITS:
+        raise _LongNumber(len(digits.lstrip("-")))
+    return int(digits)
+
+
 def decode_json(text: str | bytes, where: str, limit: int) -> Any:
-    """JSON text -> data, refusing oversize or malformed input in one line."""
+    """JSON text -> data, refusing oversize or malformed input (and whole numbers of more
+    than :data:`MAX_INT_DIGITS` digits) in one line."""
     if len(text) > limit:
         raise AssignmentError(where, "", f"is {len(text)} bytes; the limit is {limit}")
     try:
-        return json.loads(text)
+        return json.loads(text, parse_int=_whole_number)
+    except _LongNumber as exc:
+        raise AssignmentError(
+            where,
+            "",
+            f"holds a whole number of {exc.args[0]} digits; the limit is {MAX_INT_DIGITS}",
+        ) from None
     except (json.JSONDecodeError, UnicodeDecodeError, RecursionError) as exc:
         msg = exc.msg if isinstance(exc, json.JSONDecodeError) else type(exc).__name__
         pos = (

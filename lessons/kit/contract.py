@@ -139,6 +139,12 @@ class Stepper(ABC):
     def reset(self) -> Frame:
         """Back to the initial state of the current parameters."""
 
+    @property
+    def computing(self) -> bool:
+        """Whether the time stood still at the last :meth:`advance` only because work
+        under way paused at the budget (a step of many substeps): it moves on later."""
+        return False
+
 
 @dataclass(frozen=True, eq=False)
 class LessonSetup:
@@ -298,15 +304,17 @@ class Lesson(ABC):
                 errors.append(f"start point {n!r} is not a parameter")
         if self.start_point is not None and len(self.start_point) not in (2, 3):
             errors.append("the start point has 2 or 3 coordinates")
-        for g in self.groups:
-            if g.when is not None:
-                mode, values = g.when
+        conditions = [(f"group {g.name!r}", g.when) for g in self.groups]
+        conditions += [(f"parameter {p.name!r}", p.when) for p in self.params]
+        for what, when in conditions:
+            if when is not None:
+                mode, values = when
                 if mode not in self.modes:
-                    errors.append(f"group {g.name!r}: {mode!r} is not one of the modes")
+                    errors.append(f"{what}: {mode!r} is not one of the modes")
                 elif self.param(mode).kind == "choice":
                     unknown = set(values) - set(self.param(mode).choices)
                     if unknown:
-                        errors.append(f"group {g.name!r}: {sorted(unknown)} are not choices")
+                        errors.append(f"{what}: {sorted(unknown)} are not choices")
         if self.family is not None and (
             self.family not in names or self.param(self.family).kind != "int"
         ):
@@ -473,6 +481,12 @@ class Lesson(ABC):
     @abstractmethod
     def stepper(self, params: Params) -> Stepper: ...
 
+    def work_bound(self, params: Params, t_end: float) -> float:
+        """Units of work (:func:`analyzer_lab.lessons.kit.budget.charge`) a run up to
+        ``t_end`` needs at least, known from counts before it starts (fixed steps times
+        stages times points); 0 where the lesson cannot tell in advance."""
+        return 0.0
+
     @abstractmethod
     def scene(self, params: Params) -> SceneSpec: ...
 
@@ -512,6 +526,7 @@ class Lesson(ABC):
                     "max": p.max,
                     "choices": list(p.choices),
                     "group": p.group,
+                    "when": [p.when[0], list(p.when[1])] if p.when else None,
                 }
                 for p in self.params
             ],

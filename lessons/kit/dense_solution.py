@@ -21,7 +21,7 @@ from collections.abc import Callable, Sequence
 from typing import Any, Protocol
 
 import numpy as np
-from analyzer_lab.lessons.kit.budget import spent
+from analyzer_lab.lessons.kit.budget import charge, spent
 from analyzer_lab.lessons.kit.contract import Frame, Lesson, Params, Stepper
 from scipy.integrate import DOP853, RK45, Radau
 
@@ -34,6 +34,12 @@ _T_BOUND = 1e9
 FRAME_GRAIN = 1.0 / 600.0
 #: grain times of one block of a :class:`FrameTable`
 TABLE_BLOCK = 240
+#: Solver steps a solution keeps (a long live run): past it the older half is dropped, and a
+#: read before the steps kept replays the solution from its start (the same steps).
+KEEP_STEPS = 20_000
+#: Work counted per evaluation of the right-hand side by default
+#: (:func:`analyzer_lab.lessons.kit.budget.charge`, about a microsecond a unit).
+WORK_PER_EVALUATION = 20.0
 
 
 class DenseSolution:
@@ -51,8 +57,15 @@ class DenseSolution:
         method: str = "DOP853",
         rtol: float = 1e-9,
         atol: float = 1e-11,
+        work: float = WORK_PER_EVALUATION,
     ) -> None:
         self._rhs = rhs
+        #: work counted per evaluation of ``rhs`` (a dear model declares more)
+        self.work = float(work)
+        self._start = (np.array(y0, dtype=float), method, rtol, atol)
+        #: solver steps dropped from the front (:data:`KEEP_STEPS`)
+        self.dropped = 0
+        self._replay: DenseSolution | None = None
         self.t0 = float(t0)
         self.dim = len(y0)
         self.failure = ""
@@ -75,6 +88,11 @@ class DenseSolution:
     @property
     def steps(self) -> int:
         """The solver steps taken so far."""
+        return self.dropped + len(self._steps)
+
+    @property
+    def kept(self) -> int:
+        """The solver steps kept (at most :data:`KEEP_STEPS`)."""
         return len(self._steps)
 
     @property
@@ -90,6 +108,7 @@ class DenseSolution:
             if taken and spent():
                 return
             taken = True
+            before = int(self._solver.nfev)
             try:
                 message = self._solver.step()
             except (np.linalg.LinAlgError, ZeroDivisionError, FloatingPointError) as exc:
@@ -99,6 +118,19 @@ class DenseSolution:
                 return
             self._steps.append(self._solver.dense_output())
             self._ts.append(float(self._solver.t))
+            if len(self._steps) > KEEP_STEPS:  # a long run keeps a window of steps
+                n = KEEP_STEPS // 2
+                del self._steps[:n], self._ts[:n]
+                self.dropped += n
+            charge(self.work * (int(self._solver.nfev) - before))
+
+    def _replayed(self, t: Array) -> Array:
+        """The states at times before the steps kept: the solution stepped again from its
+        start (a solver's steps depend only on the equations, start and tolerances)."""
+        if self._replay is None or self._replay.t_covered > float(np.min(t)):
+            y0, method, rtol, atol = self._start
+            self._replay = DenseSolution(self._rhs, self.t0, y0, method, rtol, atol, self.work)
+        return self._replay.state(t)
 
     def state(self, t: Array) -> Array:
         """The solution at the times ``t`` (1-D): shape ``(len(t), dim)``, NaN where it
@@ -109,14 +141,17 @@ class DenseSolution:
         if not self._steps:
             out[t == self.t0] = self._solver.y
             return out
+        early = (t >= self.t0) & (t < self._ts[0])
+        if early.any():
+            out[early] = self._replayed(t[early])
         if len(t) == 1:  # a frame: one lookup
             k = bisect.bisect_right(self._ts, float(t[0])) - 1
             k = min(k, len(self._steps) - 1)
-            if t[0] >= self.t0 and t[0] <= self._ts[-1]:
+            if t[0] >= self._ts[0] and t[0] <= self._ts[-1]:
                 out[0] = self._steps[k](float(t[0]))
             return out
         idx = np.clip(np.searchsorted(self._ts, t, side="right") - 1, 0, len(self._steps) - 1)
-        ok = (t >= self.t0) & (t <= self._ts[-1])
+        ok = (t >= self._ts[0]) & (t <= self._ts[-1])
         for k in np.unique(idx[ok]):
             sel = ok & (idx == k)
             out[sel] = self._steps[k](t[sel]).T

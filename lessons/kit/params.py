@@ -47,6 +47,8 @@ class Param:
       * ``bool``: on/off (text ``on/off/true/false/1/0`` accepted).
     ``group`` names one of the lesson's declared :class:`Group` entries (its title and
     place in the panel come from there, never from the name).
+    ``when``: ``(mode, values)``: the parameter matters (and is shown) only while the mode
+    parameter ``mode`` has one of ``values`` (e.g. the cone's c but not the paraboloid's p).
     """
 
     name: str
@@ -60,6 +62,14 @@ class Param:
     choices: tuple[str, ...] = ()
     group: str = "controls"
     help: str = ""
+    when: tuple[str, tuple[str, ...]] | None = None
+
+    def applies(self, params: Mapping[str, Any]) -> bool:
+        """Whether the parameter matters for these values (see ``when``)."""
+        if self.when is None:
+            return True
+        mode, values = self.when
+        return str(params.get(mode)) in values
 
     def parse(self, raw: Any) -> Value:
         """Validate one raw value (text or number); raise :class:`ParamError`."""

@@ -19,7 +19,7 @@ from typing import Any
 
 import numpy as np
 import scipy.integrate
-from analyzer_lab.lessons.kit.budget import spent
+from analyzer_lab.lessons.kit.budget import charge, spent
 from analyzer_lab.lessons.kit.contract import Frame, Params, Stepper
 from scipy.integrate import OdeSolution, solve_ivp
 
@@ -27,6 +27,9 @@ Array = np.ndarray
 Rhs = Callable[[float, Array], Array]
 #: lesson time covered by one solve_ivp call of a :class:`DenseSolution` (s)
 CHUNK = 2.0
+#: Work counted per evaluation of the right-hand side by default
+#: (:func:`analyzer_lab.lessons.kit.budget.charge`, about a microsecond a unit).
+WORK_PER_EVALUATION = 20.0
 _FAILURES = (np.linalg.LinAlgError, ZeroDivisionError, FloatingPointError, ValueError)
 
 
@@ -48,8 +51,11 @@ class DenseSolution:
         atol: float = 1e-11,
         method: str = "DOP853",
         chunk: float = CHUNK,
+        work: float = WORK_PER_EVALUATION,
     ) -> None:
         self._rhs, self._tol, self._method = rhs, (rtol, atol), method
+        #: work counted per evaluation of ``rhs``
+        self.work = float(work)
         self._chunk = float(chunk)
         #: finished pieces: first and last time, the solution on them
         self._pieces: list[tuple[float, float, OdeSolution]] = []
@@ -169,6 +175,7 @@ class DenseSolution:
             atol=self._tol[1],
             dense_output=True,
         )
+        charge(self.work * int(sol.nfev))
         return sol, (bad[0] if bad else None)
 
     def __call__(self, t: Array) -> Array:
@@ -250,16 +257,19 @@ class _Chunk:
                 return np.zeros_like(yy)
             return out
 
+        self.work = owner.work
         method = getattr(scipy.integrate, owner._method)
         self.solver = method(guarded, a, owner._y_end, b, rtol=owner._tol[0], atol=owner._tol[1])
 
     def step(self) -> None:
+        before = int(self.solver.nfev)
         message = self.solver.step()
         if self.solver.status == "failed" or self.bad:
             self.failure = str(message or "the solver failed")
-            return
-        self.ts.append(float(self.solver.t))
-        self.interpolants.append(self.solver.dense_output())
+        else:
+            self.ts.append(float(self.solver.t))
+            self.interpolants.append(self.solver.dense_output())
+        charge(self.work * (int(self.solver.nfev) - before))
 
 
 class ClosedForm:

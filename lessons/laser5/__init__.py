@@ -492,7 +492,7 @@ class Laser5Axis(Lesson):
                 reconstructed="not in the article: the sagitta of the swept arc, an estimate",
             ),
             DerivationStep(
-                "Method 1: no rotation within a segment",
+                "First method: no rotation within a segment",
                 "The beam is set along the mean normal and kept; admissible if the end normals "
                 "differ by at most twice the tolerance epsilon (then the mean is within epsilon "
                 "of both). The laser is switched off and on for every re-orientation.",
@@ -502,7 +502,7 @@ class Laser5Axis(Lesson):
                 reconstructed="'difference of normals within double tolerance' read as an angle",
             ),
             DerivationStep(
-                "Method 2: recursive bisection",
+                "Second method: recursive bisection",
                 "A segment deviating by more than delta_p is halved; the normal at the split is "
                 "the mean of the end normals. The sagitta is quadratic in the angle change, so "
                 "each split cuts the deviation to about a quarter. Near the vertical the point "

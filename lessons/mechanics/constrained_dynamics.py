@@ -307,7 +307,7 @@ class ConstrainedDynamics(Lesson):
         steps = algorithm_steps()
         sym = lambda name, value: sp.Eq(sp.Symbol(name), value, evaluate=False)  # noqa: E731
         steps += [
-            DerivationStep("This example: A (from LagrangesMethod)", "", sym("A", cs.A)),
+            DerivationStep("This example: A (from the Lagrange equations)", "", sym("A", cs.A)),
             DerivationStep(
                 "This example: B",
                 "Generalized forces plus the velocity and gravity terms of the Lagrange equations.",

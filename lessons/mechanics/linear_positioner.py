@@ -147,7 +147,7 @@ class LinearPositioner(PositionerLesson):
                 "(2.2)",
             ),
             DerivationStep(
-                "Equation of motion (LagrangesMethod)",
+                "Equation of motion (Lagrange equation of the 2nd kind)",
                 "Projection on the X axis.",
                 m.equations()[0],
                 "(2.2)",

@@ -208,7 +208,7 @@ class Planar2Axis(PositionerLesson):
                 "(2.10)",
             ),
             DerivationStep(
-                "Equations of motion (LagrangesMethod)",
+                "Equations of motion (Lagrange equations of the 2nd kind)",
                 (
                     "The printed y-row has dU/dx, dA/dx (typo) and (2.11') a minus before dA: "
                     "the corrected form is shown."

@@ -222,7 +222,7 @@ class Planar3Axis(PositionerLesson):
                 "(2.16)",
             ),
             DerivationStep(
-                "Equations of motion (LagrangesMethod)",
+                "Equations of motion (Lagrange equations of the 2nd kind)",
                 "Not written out in the source; derived from (2.12), (2.15), (2.16).",
                 m.equations(),
                 "(2.13)-(2.16)",

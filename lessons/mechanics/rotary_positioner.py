@@ -180,7 +180,7 @@ class RotaryPositioner(PositionerLesson):
                 "(2.3)",
             ),
             DerivationStep(
-                "Equation of rotation (LagrangesMethod)",
+                "Equation of rotation (Lagrange equation of the 2nd kind)",
                 "Moment of the drive and the resistance about Z.",
                 m.equations()[0],
                 "(2.4)",

@@ -86,7 +86,7 @@ class SelfStudy2(ManipulatorLesson):
     problem = "C2.1-C2.6"
     source = "Textbook chapter 2, self-study tasks C2.1-C2.6 (Figs 2.13-2.16, 2.3, 2.6)"
     summary = (
-        "Each task's Lagrange equations derived with sympy (LagrangesMethod) and integrated live: "
+        "Each task's Lagrange equations of the 2nd kind, derived symbolically and integrated live: "
         "a rotating link, a slider on a line, two-DOF arms, a Cartesian 3-axis stage, a planar "
         "positioner with rotation, and the three-inductor table with fixed or circular inductors."
     )
@@ -122,9 +122,23 @@ class SelfStudy2(ManipulatorLesson):
             group="c2_1",
             help="J0 alone, or J0 plus m1 concentrated at M (the source does not say)",
         ),
-        Param("Mc_reading", "choice", "0.1 phi", "C2.1b: M_c", choices=MC_READINGS, group="c2_1"),
         Param(
-            "Mg_reading", "choice", MG_READING[0], "C2.1c: M_g", choices=MG_READING, group="c2_1"
+            "Mc_reading",
+            "choice",
+            "0.1 phi",
+            "C2.1b: M_c",
+            choices=MC_READINGS,
+            group="c2_1",
+            when=_task("C2.1b"),
+        ),
+        Param(
+            "Mg_reading",
+            "choice",
+            MG_READING[0],
+            "C2.1c: M_g",
+            choices=MG_READING,
+            group="c2_1",
+            when=_task("C2.1c"),
         ),
         _num("l_OM", 0.2, "l_OM", "m", 0.001, 10.0, "c2_1"),
         _num("m1", 0.4, "m1", "kg", 0.001, 1e4, "c2_1"),

@@ -76,6 +76,11 @@ POSE_UNITS = {"x_D": "m", "y_D": "m", "z_D": "m", "alpha": "rad", "beta": "rad",
 BAUMGARTE = 10.0  # 1/s, alpha = beta of the stabilized forward runs
 REST = {f"{n}_t": "0" for n in POSE} | {"z_D_t": "0.2"}
 
+#: Work counted per evaluation of the table's equations of motion (a 12-coordinate
+#: multibody model: about 25 times a small model's; see
+#: :func:`analyzer_lab.lessons.kit.budget.charge`).
+WORK_PER_EVALUATION = 500.0
+
 
 def _number(
     name: str, default: float, label: str, unit: str, lo: float, hi: float, group: str = "body"
@@ -262,7 +267,7 @@ class Table6DOF(DynamicsLesson):
             q0, qd0, _, _ = program_state(*ev(0.0), p)
             y = np.concatenate([q0, qd0])
         rhs = table_model().system.rhs(p, self.forces_of(params), BAUMGARTE, BAUMGARTE)
-        return DenseSolution(rhs, t0, y, rtol=1e-7, atol=1e-9)
+        return DenseSolution(rhs, t0, y, rtol=1e-7, atol=1e-9, work=WORK_PER_EVALUATION)
 
     def inverse_table(self, params: Params) -> InverseTable:
         """The inverse problem's table for played frames (one per parameter set)."""

@@ -334,13 +334,26 @@ class CarriageForcedVibration(Lesson):
                 ),
             ],
             markers=[
-                MarkerItem("omega0 on the characteristic", here, (220, 40, 40), 0.05 * L, "omega0"),
+                MarkerItem(
+                    "omega0 on the characteristic",
+                    here,
+                    (220, 40, 40),
+                    0.05 * L,
+                    "ω0 (forcing): amplitude A0",
+                ),
                 MarkerItem(
                     "omega (natural)",
                     np.array([[-2.5 * L + 5 * L * o.omega / w[-1], 3 * L, 0]]),
                     (40, 40, 220),
                     0.04 * L,
-                    "omega",
+                    "ω (natural)",
+                ),
+                MarkerItem(
+                    "characteristic title",
+                    np.array([[-2.5 * L, 3 * L, 1.05 * float(np.max(Ashow))]]),
+                    (200, 80, 0),
+                    0.001 * L,
+                    "steady amplitude A0 over the forcing frequency ω0",
                 ),
             ],
             moving_points={"q(t) trace": (40, 120, 40)},

@@ -74,7 +74,9 @@ def quat_matrix(wxyz: np.ndarray) -> np.ndarray:
 class Page:
     """One tab of the lab: the Playwright page, its console errors and its server-side view."""
 
-    def __init__(self, lab: Any, browser: Any, context: Any = None) -> None:
+    def __init__(
+        self, lab: Any, browser: Any, context: Any = None, ready_seconds: float = 60.0
+    ) -> None:
         self.lab = lab
         self.context = context or browser.new_context(
             viewport={"width": 1100, "height": 760}, accept_downloads=True
@@ -85,10 +87,12 @@ class Page:
         self.page.on("pageerror", lambda e: self.errors.append(f"pageerror: {e}"))
         before = set(lab.views)
         self.page.goto(lab.url)
-        self.label("Lesson").wait_for(timeout=30000)
+        self.label("Lesson").wait_for(timeout=90000)
         new = wait_until(lambda: set(lab.views) - before, 20, "the session")
         self.view = lab.views[max(new)]
-        wait_until(lambda: self.page.locator("math").count() > 0, 20, "rendered equations")
+        wait_until(
+            lambda: self.page.locator("math").count() > 0, ready_seconds, "rendered equations"
+        )
 
     @property
     def session(self) -> Any:

@@ -10,14 +10,35 @@ import time
 from typing import Any
 
 from tests.support.waiting import until
-from tests.support.wire import POINT_NODE, camera_message, decode_frame, encode, gui_update
+from tests.support.wire import (
+    POINT_NODE,
+    camera_message,
+    decode_frame,
+    encode,
+    gui_update,
+    storage_answer,
+)
 
 
 class ProtoClient:
     """One page as a websocket client: GUI by label, point updates, bytes."""
 
-    def __init__(self, url: str) -> None:
+    def __init__(
+        self,
+        url: str,
+        storage: dict[str, str] | None = None,
+        source: str = "",
+        rcvbuf: int = 0,
+    ) -> None:
+        """``storage``: the page's local storage as the server writes and reads it (share
+        one dict between clients: two tabs of one browser, or a reload); ``source``: the
+        loopback address to connect from (another "machine", e.g. ``127.0.0.2``);
+        ``rcvbuf``: a small socket receive buffer (a page that stops reading fills it,
+        and the server's send buffer, quickly)."""
         self.url = url if url.startswith("ws") else url.replace("http", "ws", 1)
+        self.storage: dict[str, str] = {} if storage is None else storage
+        self.source = source
+        self.rcvbuf = rcvbuf
         self.gui: dict[str, str] = {}  # label -> uuid (the newest element with that label)
         self.values: dict[str, Any] = {}  # uuid -> value the server set
         self.stamps: dict[str, float] = {}  # uuid -> when the server last set its value
@@ -49,6 +70,7 @@ class ProtoClient:
         try:
             async with websockets.connect(
                 self.url,
+                **self._socket(),
                 subprotocols=[f"viser-v{viser.__version__}"],
                 max_size=None,
                 compression=None,
@@ -86,6 +108,12 @@ class ProtoClient:
                                 self.values[m["uuid"]] = m["value"]
                             if "content" in props:
                                 self.html[m["uuid"]] = props["content"]
+                        elif t == "LocalStorageSetItemMessage":
+                            self.storage[str(m.get("key"))] = str(m.get("value"))
+                        elif t == "LocalStorageRemoveItemMessage":
+                            self.storage.pop(str(m.get("key")), None)
+                        elif t == "LocalStorageGetItemRequestMessage":
+                            await ws.send(encode(storage_answer(m, self.storage)))
                         elif t == "NotificationShowMessage":
                             props = m.get("props", {}) if isinstance(m.get("props"), dict) else m
                             self.notifications.append(
@@ -124,6 +152,28 @@ class ProtoClient:
         await self.set("Instructor code", code, 0.1)
         await self.click("Become instructor")
         await self.wait_for("Follow me")
+
+    def _socket(self) -> dict[str, Any]:
+        """``sock=`` a connected socket from :attr:`source` with :attr:`rcvbuf` (nothing:
+        the default connection)."""
+        if not (self.source or self.rcvbuf):
+            return {}
+        import socket
+        from urllib.parse import urlsplit
+
+        parts = urlsplit(self.url)
+        sock = socket.socket(socket.AF_INET, socket.SOCK_STREAM)
+        if self.rcvbuf:
+            sock.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, self.rcvbuf)
+        if self.source:
+            sock.bind((self.source, 0))
+        sock.connect((parts.hostname or "127.0.0.1", parts.port or 80))
+        sock.setblocking(False)
+        return {"sock": sock}
+
+    def stop_reading(self) -> None:
+        """Never read the websocket again (the connection stays open)."""
+        self.ws.transport.pause_reading()
 
     async def close(self) -> None:
         if self.ws is not None:

@@ -108,6 +108,21 @@ class WatchedPage:
         await self.ws.send(encode(gui_update(self.gui[label], value)))
         await asyncio.sleep(pause)
 
+    async def warmed_up(self, updates: int = 60, timeout: float = 60.0) -> None:
+        """Wait until the page plays steadily: ``updates`` point updates received, then two
+        one-second windows whose rates differ by less than a quarter (the server's first
+        frames of a lesson, and a loaded machine's, come slower)."""
+        end = time.monotonic() + timeout
+        while self.point_updates < updates:
+            assert time.monotonic() < end, f"{self.point_updates} updates after {timeout} s"
+            await asyncio.sleep(0.1)
+        previous = await self.rate(1.0, 2)
+        while time.monotonic() < end:
+            now = await self.rate(1.0, 2)
+            if previous > 0 and abs(now - previous) < 0.25 * previous:
+                return
+            previous = now
+
     async def rate(self, seconds: float, pieces: int = 8) -> float:
         """Point updates per second over the next ``seconds``: the median of ``pieces``
         windows (a burst of load from other processes on the machine moves one window,
@@ -150,7 +165,10 @@ async def attack(
     (``proc``: the server's psutil process; ``log_at``: the size of its log before)."""
     log_at = os.path.getsize(log_path) if log_path else 0
     normal = await normal_page(url)
-    await asyncio.sleep(1.0)  # settled before the baseline
+    await normal.warmed_up()
+    # what the normal page was told before any attacker existed is its own (a slow notice
+    # while the server warmed up on a loaded machine): a leak is what arrives after this
+    quiet_at = len(normal.texts)
     baseline = await normal.rate(window)
     mem_before = rss_mb(proc)
     attacker = await WatchedPage(url).open()
@@ -187,7 +205,8 @@ async def attack(
         "mem_before": mem_before,
         "mem_after": mem_after,
         "attacker": attacker.texts,
-        "normal": normal.texts,
+        "normal": normal.texts[quiet_at:],
+        "normal_before": normal.texts[:quiet_at],
         "log_at": log_at,
     }
 

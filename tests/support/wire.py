@@ -48,6 +48,17 @@ def gui_update(uuid: str, value: Any) -> Any:
     return _messages.GuiUpdateMessage(uuid=uuid, updates={"value": value})
 
 
+def storage_answer(request: dict[str, Any], storage: dict[str, str]) -> Any:
+    """The page's answer to the server's request for one item of its local storage."""
+    from viser import _messages
+
+    return _messages.LocalStorageGetItemResponseMessage(
+        value=storage.get(str(request.get("key"))),
+        error=None,
+        request_uuid=str(request.get("request_uuid")),
+    )
+
+
 def decode_frame(raw: bytes, decompressor: Any = None) -> list[dict[str, Any]]:
     """The messages of one server frame (binary buffers are not decoded)."""
     import msgspec

@@ -11,6 +11,7 @@ stepper, the scene and the plots.  Runs and live steppers read one
 
 from __future__ import annotations
 
+import math
 from abc import abstractmethod
 from collections.abc import Mapping
 from dataclasses import dataclass, field
@@ -44,7 +45,7 @@ from analyzer_lab.lessons.analyzers.field.params import (
     SPEED_PARAMS,
     START_PARAMS,
 )
-from analyzer_lab.lessons.analyzers.field.run import Trajectory
+from analyzer_lab.lessons.analyzers.field.run import WORK_PER_STAGE, Trajectory
 from analyzer_lab.lessons.analyzers.surfaces.quadric import Quadric
 from analyzer_lab.lessons.kit.contract import (
     METHOD,
@@ -305,6 +306,17 @@ class AnalyzerLesson(Lesson):
             t = np.append(t, t_end)
         return t
 
+    def work_bound(self, params: Params, t_end: float) -> float:
+        """A Gauss-Legendre run takes ``t_end / h`` steps of ``s`` stages for every point
+        (the constant-speed form more: substeps and Newton iterations)."""
+        method = str(params["integrator"])
+        if not method.startswith("gauss-legendre"):
+            return 0.0
+        steps = math.ceil(float(t_end) / float(params["h"]))
+        stages = int(method.rsplit("-", 1)[1])
+        points = int(params[self.family]) if self.family is not None else 1
+        return float(WORK_PER_STAGE * steps * stages * points)
+
     def simulate(self, params: Params, t_end: float | None = None) -> RunResult:
         t_end = self.t_end if t_end is None else float(t_end)
         prepared = self.prepare(params)
@@ -543,6 +555,10 @@ class AnalyzerStepper(Stepper):
     def reset(self) -> Frame:
         self._start(0.0, self.prepared.r0, self.prepared.F0)
         return self.frame()
+
+    @property
+    def computing(self) -> bool:
+        return self.traj.computing
 
     def advance(self, dt: float) -> Frame:
         """Move on by ``dt``, or less if the work budget runs out first

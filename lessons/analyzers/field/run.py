@@ -17,6 +17,7 @@ same trajectory.  :func:`integrate` samples one for the claims and the benchmark
 from __future__ import annotations
 
 import bisect
+from collections.abc import Generator
 from dataclasses import dataclass
 from typing import Any
 
@@ -25,7 +26,7 @@ import scipy.integrate
 from analyzer_lab.lessons.analyzers.field.analyzer import AnalyzerModel
 from analyzer_lab.lessons.analyzers.field.speed_flow import UniformSpeed
 from analyzer_lab.lessons.analyzers.field.speed_stepper import MAX_TURNS, SpeedStepper
-from analyzer_lab.lessons.kit.budget import spent
+from analyzer_lab.lessons.kit.budget import charge, spent
 from analyzer_lab.lessons.kit.integrators import apply_propagators, gl_propagators
 
 __all__ = ["MAX_TURNS", "AnalyzerRun", "SpeedStepper", "Trajectory", "integrate"]
@@ -42,6 +43,11 @@ SHORT_MAPS = 256
 #: (1.59): a shortened step cut into more substeps than this reads the kept substep ends
 #: of its whole step (see :meth:`Trajectory._from_substep_ends`).
 KEEP_SUBSTEPS = 16
+#: Work counted (:func:`analyzer_lab.lessons.kit.budget.charge`, about a microsecond a
+#: unit) per stage and point of a Gauss-Legendre step of (1.50), and per evaluation and
+#: point of a scipy solver.
+WORK_PER_STAGE = 4
+WORK_PER_EVALUATION = 10
 
 
 class Trajectory:
@@ -101,6 +107,15 @@ class Trajectory:
         self._incoming: list[tuple[np.ndarray, float] | None] = [None]
         #: (1.59): node time, substep length, states and incoming slopes of one whole step
         self._substep_ends: tuple[float, float, list[np.ndarray], list[Any]] | None = None
+        #: (1.59): the next block being computed, paused where a live budget ran out
+        self._building: Generator[None, None, None] | None = None
+        #: (1.59): a node's substep ends being computed, paused likewise
+        self._ending: tuple[float, Generator[None, None, None]] | None = None
+
+    @property
+    def computing(self) -> bool:
+        """(1.59): whether a block or a node's substep ends paused at the budget."""
+        return self._building is not None or self._ending is not None
 
     @property
     def gauss_legendre(self) -> bool:
@@ -129,10 +144,46 @@ class Trajectory:
             while k >= self._k0 + len(self._nodes):
                 if taken and spent():
                     return self.t0 + (self._k0 + len(self._nodes) - 1) * self.h
-                self._next_block()
+                if self._speed is None:
+                    self._next_block()
+                    taken = True
+                    continue
+                # (1.59): one step may be cut into thousands of substeps; the block goes
+                # on substep by substep, and pauses where the budget runs out
+                work = self._building = self._building or self._speed_block()
+                for _ in work:
+                    if spent():
+                        return self.t0 + (self._k0 + len(self._nodes) - 1) * self.h
+                self._building = None
                 taken = True
+            if self._speed is not None and not self._ends_ready(k, t):
+                return self.t0 + k * self.h
             return t
         return self._cover(t)
+
+    def _ends_ready(self, k: int, t: float) -> bool:
+        """(1.59): whether ``t`` can be read from the node ``k`` within the budget: on the
+        node, a shortened step of few substeps, or the kept substep ends of that node's
+        step (computed here substep by substep, pausing where the budget runs out)."""
+        assert self._speed is not None
+        tk = self.t0 + k * self.h
+        if t - tk <= 1e-12 * max(1.0, abs(t)):
+            return True
+        kept = self._substep_ends
+        if kept is not None and kept[0] == tk:
+            return True
+        r = self._nodes[k - self._k0]
+        if self._ending is None or self._ending[0] != tk:
+            coeffs = tuple(x[0] for x in self._speed.coefficients(tk, t - tk, 1, len(r)))
+            if self._cuts(coeffs, r, t - tk) <= KEEP_SUBSTEPS:
+                return True
+            before = self._incoming[k - self._k0]
+            self._ending = (tk, self._keeping_ends(tk, r, before))
+        for _ in self._ending[1]:
+            if spent():
+                return False
+        self._ending = None
+        return True
 
     # -- Gauss-Legendre ------------------------------------------------------------------
 
@@ -152,31 +203,49 @@ class Trajectory:
             self._next_block()
         return self._nodes[k - self._k0]
 
-    def _next_block(self) -> None:
+    def _speed_block(self) -> Generator[None, None, None]:
+        """(1.59): the next block of nodes, pausing after every substep; the block (and the
+        compensation of its sums) is taken only when it is whole."""
+        assert self._speed is not None
         k0 = self._k0 + len(self._nodes) - 1
         t = self.t0 + k0 * self.h
         r = self._nodes[-1]
-        if self._speed is not None:
-            nodes = np.empty((SPEED_BLOCK + 1, *r.shape))
-            nodes[0] = r
-            batch = self._speed.coefficients(t, self.h, SPEED_BLOCK, len(r))
-            incoming = [self._incoming[-1]]
-            for j in range(SPEED_BLOCK):
-                coeffs = tuple(x[j] for x in batch)
-                step = self._speed.step_substeps(t + j * self.h, r, self.h, coeffs, incoming[-1])
-                incoming.append(self._speed.last)
-                inc = (step - r) - self._comp
-                nxt = r + inc
-                self._comp = (nxt - r) - inc
-                r = nodes[j + 1] = nxt
-            self._incoming = incoming
+        comp = self._comp
+        nodes = np.empty((SPEED_BLOCK + 1, *r.shape))
+        nodes[0] = r
+        batch = self._speed.coefficients(t, self.h, SPEED_BLOCK, len(r))
+        incoming = [self._incoming[-1]]
+        for j in range(SPEED_BLOCK):
+            coeffs = tuple(x[j] for x in batch)
+            work = self._speed.substepping(t + j * self.h, r, self.h, coeffs, incoming[-1])
+            step = yield from work
+            incoming.append(self._speed.last)
+            inc = (step - r) - comp
+            nxt = r + inc
+            comp = (nxt - r) - inc
+            r = nodes[j + 1] = nxt
+            # every whole step is taken at once: a live run shows it while the block goes on
+            self._incoming = list(incoming)
             self.nfev = self._speed.evaluations
+            self._comp = comp
+            self._k0, self._nodes = k0, nodes[: j + 2]
+
+    def _next_block(self) -> None:
+        if self._speed is not None:
+            work = self._building = self._building or self._speed_block()
+            for _ in work:
+                pass
+            self._building = None
+            return
+        k0 = self._k0 + len(self._nodes) - 1
+        t = self.t0 + k0 * self.h
+        r = self._nodes[-1]
+        charge(WORK_PER_STAGE * BLOCK * self.stages * len(r))
+        if self._map is not None:
+            D, phi = (np.broadcast_to(m, (BLOCK, *m.shape[1:])) for m in self._map)
         else:
-            if self._map is not None:
-                D, phi = (np.broadcast_to(m, (BLOCK, *m.shape[1:])) for m in self._map)
-            else:
-                D, phi = gl_propagators(self._coeffs, t, self.h, BLOCK, self.stages)
-            nodes, self._comp = apply_propagators(D, phi, r, self._comp)
+            D, phi = gl_propagators(self._coeffs, t, self.h, BLOCK, self.stages)
+        nodes, self._comp = apply_propagators(D, phi, r, self._comp)
         self._k0, self._nodes = k0, nodes
 
     def _short_step(self, tk: float, r: np.ndarray, rest: float) -> np.ndarray:
@@ -221,21 +290,13 @@ class Trajectory:
         assert self._speed is not None
         kept = self._substep_ends
         if kept is None or kept[0] != tk:
-            coeffs = tuple(x[0] for x in self._speed.coefficients(tk, self.h, 1, len(r)))
-            m = self._cuts(coeffs, r, self.h)
-            hs = self.h / m
-            batch = self._speed.coefficients(tk, hs, m, len(r))
-            ends, slopes = [r], [before]
-            comp = np.zeros_like(r)
-            for i in range(m):
-                step = self._speed.step(r, hs, tuple(x[i] for x in batch), slopes[-1])
-                slopes.append((self._speed.K, hs))
-                inc = (step - r) - comp
-                nxt = r + inc
-                comp = (nxt - r) - inc
-                r = nxt
-                ends.append(r)
-            kept = self._substep_ends = (tk, hs, ends, slopes)
+            if self._ending is None or self._ending[0] != tk:
+                self._ending = (tk, self._keeping_ends(tk, r, before))
+            for _ in self._ending[1]:
+                pass
+            self._ending = None
+            kept = self._substep_ends
+            assert kept is not None
         _, hs, ends, slopes = kept
         i = min(int(np.floor(rest / hs)), len(ends) - 2)
         d = rest - i * hs
@@ -243,6 +304,33 @@ class Trajectory:
             return ends[i]
         covering = slopes[i + 1]
         return self._speed.step_substeps(tk + i * hs, ends[i], d, None, slopes[i], covering)
+
+    def _keeping_ends(
+        self, tk: float, r: np.ndarray, before: tuple[np.ndarray, float] | None
+    ) -> Generator[None, None, None]:
+        """Keeps the ends of the ``m`` equal substeps of the whole step from the node
+        ``(tk, r)`` (:meth:`_from_substep_ends`), pausing after each; the stepper's warm
+        start is left as it was (a block paused meanwhile goes on from its own)."""
+        assert self._speed is not None
+        speed = self._speed
+        coeffs = tuple(x[0] for x in speed.coefficients(tk, self.h, 1, len(r)))
+        m = self._cuts(coeffs, r, self.h)
+        hs = self.h / m
+        batch = speed.coefficients(tk, hs, m, len(r))
+        ends, slopes = [r], [before]
+        comp = np.zeros_like(r)
+        for i in range(m):
+            warm = speed.K, speed.last
+            step = speed.step(r, hs, tuple(x[i] for x in batch), slopes[-1])
+            slopes.append((speed.K, hs))
+            speed.K, speed.last = warm
+            inc = (step - r) - comp
+            nxt = r + inc
+            comp = (nxt - r) - inc
+            r = nxt
+            ends.append(r)
+            yield
+        self._substep_ends = (tk, hs, ends, slopes)
 
     def _short_map(self, rest: float) -> tuple[np.ndarray, np.ndarray]:
         """The step map of a shortened step of a time-independent field (1.50), or of (1.59)
@@ -294,8 +382,10 @@ class Trajectory:
                 raise RuntimeError(f"the {self.method} solver failed at t = {solver.t:.6g} s")
             if budget and taken and spent():
                 return float(solver.t)
+            before = int(solver.nfev)
             solver.step()
             taken = True
+            charge(WORK_PER_EVALUATION * (int(solver.nfev) - before) * len(self.r0))
             if solver.status == "failed":
                 raise RuntimeError(f"the {self.method} solver failed at t = {solver.t:.6g} s")
             self._ends.append(float(solver.t))

@@ -9,8 +9,11 @@ and shortened steps with a :class:`SpeedStepper`.
 
 from __future__ import annotations
 
+from collections.abc import Generator
+
 import numpy as np
 from analyzer_lab.lessons.analyzers.field.analyzer import HOLD_TOL, AnalyzerModel
+from analyzer_lab.lessons.kit.budget import charge
 from analyzer_lab.lessons.kit.integrators import gauss_legendre
 
 #: Largest turning rate times substep (rad) of the constant-speed analyzer per number of
@@ -26,6 +29,9 @@ MAX_TURNS = {1: 0.03, 2: 0.03, 3: 0.03, 4: 0.1, 5: 0.15, 6: 0.25}
 RECHECKS = {1: 2.0, 2: 2.0, 3: 2.0, 4: 1.0, 5: 1.0, 6: 1.0}
 #: Most substeps of one step of the constant-speed analyzer (:meth:`SpeedStepper.step_substeps`).
 MAX_SUBSTEPS = 10_000
+#: Work counted per stage and point of one Newton iteration (see
+#: :func:`analyzer_lab.lessons.kit.budget.charge`: about a microsecond a unit).
+WORK_PER_STAGE = 20
 
 
 class SpeedStepper:
@@ -153,6 +159,7 @@ class SpeedStepper:
             w = np.where(norm <= bound, 0.0, Vs[None, :] / np.where(norm > 0, norm, 1.0))
             f = n * w[..., None]
             self.evaluations += s
+            charge(WORK_PER_STAGE * s * N)
             if Minv is None:
                 Minv = self._newton_inverse(At, n, norm, w, h)
             dK = -(Minv @ (K - f).reshape(N, 3 * s, 1)).reshape(N, s, 3)
@@ -213,12 +220,32 @@ class SpeedStepper:
         or of a longer one from ``R`` (see :meth:`step`).  Afterwards :attr:`last` holds
         those of this step's last substep.
         """
+        work = self.substepping(t, R, h, coeffs, before, covering)
+        while True:
+            try:
+                next(work)
+            except StopIteration as done:
+                return done.value
+
+    def substepping(
+        self,
+        t: float,
+        R: np.ndarray,
+        h: float,
+        coeffs: tuple[np.ndarray, ...] | None = None,
+        before: tuple[np.ndarray, float] | None = None,
+        covering: tuple[np.ndarray, float] | None = None,
+    ) -> Generator[None, None, np.ndarray]:
+        """:meth:`step_substeps` as work that pauses after every substep (a live run's
+        budget is checked there, and the step goes on where it paused); returns the end."""
         if coeffs is None:
             coeffs = tuple(x[0] for x in self.coefficients(t, h, 1, len(R)))
         m = self.cuts(coeffs, R, h)
         counted: np.ndarray | None = None  # the points not starting at a zero of the field
         while True:
-            out, peaks, solved, last = self._substeps(t, R, h, m, coeffs, before, covering)
+            out, peaks, solved, last = yield from self._substeps(
+                t, R, h, m, coeffs, before, covering
+            )
             turned = peaks * h / m > self.max_turn * self.recheck
             if turned.any() and counted is None:
                 counted = ~self.zero_field(t, R)
@@ -262,10 +289,11 @@ class SpeedStepper:
         coeffs: tuple[np.ndarray, ...],
         before: tuple[np.ndarray, float] | None,
         covering: tuple[np.ndarray, float] | None,
-    ) -> tuple[np.ndarray, np.ndarray, bool, tuple[np.ndarray, float]]:
+    ) -> Generator[None, None, tuple[np.ndarray, np.ndarray, bool, tuple[np.ndarray, float]]]:
         """``m`` equal substeps over ``[t, t + h]``: the end, per point the largest turning
         rate at a stage (:attr:`rates`), whether every substep :attr:`converged`, and the
-        slopes and length of the last substep."""
+        slopes and length of the last substep; pauses (yields) after each substep, once what
+        the substep left in the stepper's attributes has been read."""
         size = self.model.hold_size(R)  # for every substep: see step
         if m == 1:
             out = self.step(R, h, coeffs, before, covering, size=size)
@@ -283,4 +311,5 @@ class SpeedStepper:
             nxt = R + inc
             comp = (nxt - R) - inc
             R = nxt
+            yield
         return R, peaks, solved, before

@@ -208,8 +208,7 @@ def derivation_steps(params: Params, model: Model) -> list[DerivationStep]:
         DerivationStep("Generalized forces", model.forces_text, None, src),
         DerivationStep(
             "Lagrange equations of the 2nd kind",
-            "d/dt dT/dq' - dT/dq = -dU/dq + Q (2.5), derived by "
-            "sympy.physics.mechanics.LagrangesMethod.",
+            "d/dt ∂T/∂q' - ∂T/∂q = -∂U/∂q + Q (2.5), derived symbolically from T, U and Q.",
             r"\frac{d}{dt}\frac{\partial T}{\partial \dot q_i}-\frac{\partial T}{\partial q_i}"
             r"=-\frac{\partial U}{\partial q_i}+Q_i",
             "(2.5), (2.13)",

@@ -45,7 +45,7 @@ T_ = dynamicsymbols._t  # the time of the sympy models
 Array = np.ndarray
 
 FORCES = Group("forces", "Forces and moments")
-PROGRAM = Group("program", "Motion law (inverse problem)")
+PROGRAM = Group("program", "Motion law (inverse problem)", when=("problem", ("inverse",)))
 START = Group("initial", "Start state (forward problem)", change="restart")
 
 
@@ -123,6 +123,7 @@ def positioner_params(
                 group="forces",
                 help="given in the forward problem"
                 + (", found in the inverse problem" if i.unknown else " and the inverse problem"),
+                when=("problem", ("forward",)) if i.unknown else None,
             )
         )
     for c in coords:

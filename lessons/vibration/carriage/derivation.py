@@ -94,7 +94,7 @@ def _lagrange_steps() -> list[DerivationStep]:
             "(2.41)",
         ),
         DerivationStep(
-            "Single-coupled equations (sympy LagrangesMethod of E - W)",
+            "Single-coupled equations (Lagrange equations of E - W)",
             "",
             [eq[2], eq[5]],
             "(2.42)",
@@ -105,7 +105,7 @@ def _lagrange_steps() -> list[DerivationStep]:
             "Matrix form",
             "M q'' + K q = 0 with q = (x, y, z, phi_x, phi_y, phi_z); the full model whose "
             "eigenvalues are compared below.",
-            [sp.Eq(sp.Symbol("M"), M), sp.Eq(sp.Symbol("K"), K)],
+            [sp.Eq(sp.Symbol("M"), M, evaluate=False), sp.Eq(sp.Symbol("K"), K, evaluate=False)],
             "(2.42)-(2.44)",
         ),
     ]
@@ -200,7 +200,7 @@ def _coupled_steps() -> list[DerivationStep]:
             "= (a-b)^2/4 + C_x^2h^2/(mI_y).",
             r"\varpi_{x,\varphi y}=" + _ROOTS % {"c": "x", "k": "y"},
             "(2.66)",
-            reconstructed="partly lost in extraction; re-derived by solving (2.65) with sympy",
+            reconstructed="partly lost in extraction; re-derived by solving (2.65) symbolically",
         ),
         DerivationStep(
             "Upper coupled frequency",
@@ -321,7 +321,7 @@ def forced_vibration_steps(o: ForcedOscillator, w_grid: np.ndarray) -> list[Deri
         DerivationStep(
             "Lagrange equation with resistance and a periodic force",
             "L = E - W, E = m q'^2/2, W = c q^2/2; generalized force -b q' + F0 sin(omega0 t) "
-            "(sympy LagrangesMethod).",
+            "(Lagrange equation of the 2nd kind).",
             S.lagrange,
             "(2.78)",
             reconstructed="the second printed form has '-P q''; the resistance coefficient is b",
@@ -371,7 +371,7 @@ def forced_vibration_steps(o: ForcedOscillator, w_grid: np.ndarray) -> list[Deri
             "",
             [sp.Eq(M, S.M), sp.Eq(N, S.N)],
             "(2.86)-(2.87)",
-            reconstructed="lost in extraction; solved from (2.84) with sympy",
+            reconstructed="lost in extraction; solved symbolically from (2.84)",
         ),
         DerivationStep(
             "Amplitude", "M = A0 sin phi1, N = A0 cos phi1.", sp.Eq(A0, amplitude), "(2.88)"

@@ -1,0 +1,337 @@
+"""Every lesson on a phone (390x844), a tablet (820x1180), a laptop (1400x900), a
+projector (1280x720) and a 1920x1080 screen, in a real browser: the panel leaves the
+canvas free (docked at the right edge, a sheet below the canvas on a phone), the scene's
+projected box lies inside the canvas and covers 15-85 % of its shorter side at the start
+and after about 5 s of play at 8x, no panel element runs past the panel or the screen,
+no panel text outside formulas is smaller than 11 px, and a touch on the canvas turns
+the camera.
+
+One page serves the module: it is resized between the screens.  Every lesson's first
+preset is checked at every size, after real play; every other preset on the phone, at the
+start and at t = 40 s (where 5 s at 8x lead).  Screenshots go to
+``$LAYOUT_SHOTS`` (default ``/tmp/layout-shots``).
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import time
+from collections.abc import Iterator
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pytest
+
+from tests.support.browser import DISMISS_JS, Page, quat_matrix
+from tests.support.waiting import wait_until
+
+pytestmark = [pytest.mark.browser, pytest.mark.timeout(900)]
+
+SIZES = {
+    "phone": (390, 844),
+    "tablet": (820, 1180),
+    "laptop": (1400, 900),
+    "projector": (1280, 720),
+    "hd": (1920, 1080),
+}
+#: The scene's projected box covers this share of the free canvas's shorter side.
+COVER = (0.15, 0.85)
+#: Smallest text of the panel (CSS px).
+MIN_TEXT_PX = 11.0
+#: Play this long (wall seconds) at this speed; on the phone, go to the time it leads to.
+PLAY_SECONDS, PLAY_SPEED = 5.0, "8x"
+SHOTS = Path(os.environ.get("LAYOUT_SHOTS", "/tmp/layout-shots"))
+
+#: The canvas's rectangle, and what of the page outside the canvas runs past the screen,
+#: past a clipping box (content cut off), or into the canvas; the smallest panel texts.
+GEOMETRY_JS = """(minText) => {
+  const canvas = document.querySelector('canvas');
+  const c = canvas.getBoundingClientRect();
+  const scene = canvas.parentElement.parentElement;  // the canvas and its 3D labels
+  const W = window.innerWidth, H = window.innerHeight;
+  const over = [], small = [];
+  const name = (el) => el.tagName.toLowerCase() + (typeof el.className === 'string' && el.className
+      ? '.' + el.className.split(' ')[0] : '') + ' "' + (el.textContent || '').trim().slice(0, 30) + '"';
+  const scrollsByDesign = (el) => {
+    for (let a = el.parentElement; a; a = a.parentElement) {
+      if (typeof a.className === 'string' && /(^|\\s)al-/.test(a.className)) {
+        const o = getComputedStyle(a).overflowX;
+        if (o === 'auto' || o === 'scroll') return true;
+      }
+    }
+    return false;
+  };
+  for (const el of document.body.querySelectorAll('*')) {
+    if (scene.contains(el)) continue;
+    if (el.closest('.mantine-Notifications-root')) continue;  // toasts slide in and out
+    const cs = getComputedStyle(el);
+    if (cs.display === 'none' || cs.visibility === 'hidden') continue;
+    if (el.offsetParent === null && cs.position !== 'fixed') continue;
+    const r = el.getBoundingClientRect();
+    if (r.width < 1 || r.height < 1) continue;
+    let clip = null;  // what of the page the boxes that clip this element leave visible
+    for (let a = el.parentElement; a && a !== document.body; a = a.parentElement) {
+      if (getComputedStyle(a).overflowX === 'visible') continue;
+      const b = a.getBoundingClientRect();
+      clip = clip === null ? {left: b.left, right: b.right, top: b.top, bottom: b.bottom} : {
+        left: Math.max(clip.left, b.left), right: Math.min(clip.right, b.right),
+        top: Math.max(clip.top, b.top), bottom: Math.min(clip.bottom, b.bottom)};
+    }
+    if (clip && (r.bottom <= clip.top || r.top >= clip.bottom)) continue;  // scrolled out of sight
+    if (!scrollsByDesign(el)) {
+      if (r.left < -1 || r.right > W + 1) over.push(name(el) + ' runs past the screen: '
+          + Math.round(r.left) + '..' + Math.round(r.right) + ' of ' + W);
+      else if (clip && (r.left < clip.left - 1 || r.right > clip.right + 1)) over.push(name(el)
+          + ' is cut off: ' + Math.round(r.left) + '..' + Math.round(r.right) + ' in '
+          + Math.round(clip.left) + '..' + Math.round(clip.right));
+    }
+    const ix = Math.min(r.right, c.right) - Math.max(r.left, c.left);
+    const iy = Math.min(r.bottom, c.bottom) - Math.max(r.top, c.top);
+    if (ix > 1 && iy > 1 && cs.position !== 'fixed' && !el.contains(canvas)
+        && !el.closest('.mantine-Notification-root, .mantine-Notifications-root')) {
+      over.push(name(el) + ' lies over the canvas');
+    }
+    if (el.closest('math')) continue;  // formulas: their sizes are the derivations' own test
+    let px = parseFloat(cs.fontSize);
+    if (el.ownerSVGElement && el.getScreenCTM) {  // a figure's text, as the figure is scaled
+      const m = el.getScreenCTM();
+      if (m) px *= Math.sqrt(Math.abs(m.a * m.d - m.b * m.c));
+    }
+    for (const n of el.childNodes) {
+      if (n.nodeType === 3 && n.textContent.trim() && px < minText) {
+        small.push(name(el) + ' ' + px.toFixed(1) + 'px');
+        break;
+      }
+    }
+  }
+  return {canvas: [c.left, c.top, c.width, c.height], size: [W, H], over: over.slice(0, 8),
+          small: small.slice(0, 8), dpr: window.devicePixelRatio};
+}"""
+
+
+def projected_box(camera: Any, lo: np.ndarray, hi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The box's corners on the canvas in pixels from its centre (x right, y down), from
+    the camera the page reports (viser's camera frame: x right, y down, z forward)."""
+    corners = np.array(
+        [[a, b, c] for a in (lo[0], hi[0]) for b in (lo[1], hi[1]) for c in (lo[2], hi[2])]
+    )
+    R = quat_matrix(np.asarray(camera.wxyz, dtype=float))
+    p = (corners - np.asarray(camera.position, dtype=float)) @ R  # world -> camera
+    assert np.all(p[:, 2] > 0), "the scene is (partly) behind the camera"
+    f = (float(camera.image_height) / 2) / math.tan(float(camera.fov) / 2)
+    return f * p[:, 0] / p[:, 2], f * p[:, 1] / p[:, 2]
+
+
+def run_box(session: Any) -> tuple[np.ndarray, np.ndarray]:
+    """The declared scene's box together with where the run's points and bodies are now."""
+    lo = np.asarray(session.scene.bounds[0], dtype=float)
+    hi = np.asarray(session.scene.bounds[1], dtype=float)
+    fr = session.frame
+    pts = [np.asarray(p, dtype=float).reshape(-1, 3) for p in fr.points.values()]
+    pts += [np.asarray(pos, dtype=float).reshape(-1, 3) for pos, _ in fr.poses.values()]
+    if pts:
+        run = np.concatenate(pts)
+        run = run[np.all(np.isfinite(run), axis=1)]
+        if len(run):
+            lo, hi = np.minimum(lo, run.min(axis=0)), np.maximum(hi, run.max(axis=0))
+    return lo, hi
+
+
+def settled_camera(tab: Page, canvas_px: tuple[int, int]) -> Any | None:
+    """The camera the page reports once it is the one the view framed for this canvas."""
+    r = tab.view.renderer
+    cam = tab.view.client.camera
+    # viser may draw into a smaller buffer than the canvas (adaptive resolution): compare
+    # shapes, not pixel counts
+    shape = canvas_px[0] / canvas_px[1]
+    if r.framed is None or r.framed_canvas is None:
+        return None
+    if abs(r.framed_canvas[0] / r.framed_canvas[1] / shape - 1) > 0.01:
+        return None
+    if abs(float(cam.image_width) / float(cam.image_height) / shape - 1) > 0.01:
+        return None
+    position, look_at = np.asarray(cam.position, float), np.asarray(cam.look_at, float)
+    scale = float(np.linalg.norm(r.framed[0] - r.framed[1]))
+    forward = quat_matrix(np.asarray(cam.wxyz, dtype=float))[:, 2]
+    aim = (r.framed[1] - r.framed[0]) / scale
+    if not (
+        np.allclose(position, r.framed[0], rtol=0.0, atol=1e-3 * scale)
+        and np.allclose(look_at, r.framed[1], rtol=0.0, atol=1e-3 * scale)
+        and float(forward @ aim) > 1 - 1e-4
+    ):
+        return None
+    return cam
+
+
+def check_screen(tab: Page, size: str, what: str) -> None:
+    """The page at one screen size: the panel leaves the canvas, the scene's box (and
+    the run's) is framed inside it, nothing runs over, no small text."""
+    w, h = SIZES[size]
+    page = tab.page
+    if page.viewport_size != {"width": w, "height": h}:
+        page.set_viewport_size({"width": w, "height": h})
+    geo = wait_until(
+        lambda: (g := page.evaluate(GEOMETRY_JS, MIN_TEXT_PX))["size"] == [w, h] and g,
+        10,
+        "the resized page",
+    )
+
+    def canvas_px() -> tuple[int, int]:
+        g = page.evaluate(GEOMETRY_JS, MIN_TEXT_PX)
+        return round(g["canvas"][2] * g["dpr"]), round(g["canvas"][3] * g["dpr"])
+
+    try:
+        cam = wait_until(
+            lambda: settled_camera(tab, canvas_px()), 20, f"the framed camera ({size})"
+        )
+    except AssertionError as exc:
+        r, c = tab.view.renderer, tab.view.client.camera
+        raise AssertionError(
+            f"{exc}: canvas {canvas_px()}, framed {r.framed} for {r.framed_canvas}, the page's "
+            f"camera {c.position} -> {c.look_at} ({c.image_width}x{c.image_height})"
+        ) from None
+    geo = page.evaluate(GEOMETRY_JS, MIN_TEXT_PX)
+    where = f"{tab.session.lesson.id} / {tab.session.preset} at {size} {what}"
+    assert geo["over"] == [], f"{where}: {geo['over']}"
+    assert geo["small"] == [], f"{where}: text below {MIN_TEXT_PX} px: {geo['small']}"
+    left, top, cw, ch = geo["canvas"]
+    if size == "phone":
+        assert cw >= w - 1 and ch >= 0.4 * h, f"{where}: the canvas is {cw}x{ch}"
+    else:
+        assert ch >= h - 1 and cw >= 0.5 * w, f"{where}: the canvas is {cw}x{ch}"
+    lo, hi = run_box(tab.session)
+    u, v = projected_box(cam, lo, hi)
+    W, H = float(cam.image_width), float(cam.image_height)
+    assert np.all(np.abs(u) <= W / 2) and np.all(np.abs(v) <= H / 2), (
+        f"{where}: the scene leaves the canvas ({W:.0f}x{H:.0f}): "
+        f"x {u.min():.0f}..{u.max():.0f}, y {v.min():.0f}..{v.max():.0f}"
+    )
+    cover = float(max(np.ptp(u), np.ptp(v)) / min(W, H))
+    assert COVER[0] <= cover <= COVER[1], (
+        f"{where}: the scene covers {cover:.0%} of the canvas; box {lo} - {hi}, framed "
+        f"{tab.view.renderer.framed_box}, camera {cam.position} -> {cam.look_at}"
+    )
+
+
+def _lessons() -> list[str]:
+    from analyzer_lab.lessons.catalog import all_lessons
+
+    return [lesson.id for lesson in all_lessons()]
+
+
+def _other_presets() -> list[tuple[str, str]]:
+    from analyzer_lab.lessons.catalog import all_lessons
+
+    return [(lesson.id, p.name) for lesson in all_lessons() for p in lesson.presets[1:]]
+
+
+@pytest.fixture(scope="module")
+def screen(lab: Any, browser: Any) -> Iterator[Page]:
+    """One touch-capable page, resized between the screens by the tests."""
+    from playwright.sync_api import TimeoutError as PageTimeout
+
+    w, h = SIZES["laptop"]
+    SHOTS.mkdir(parents=True, exist_ok=True)
+    warm = browser.new_context(viewport={"width": w, "height": h})
+    first = warm.new_page()  # the server's first page waits for its warm-up: not timed here
+    first.goto(lab.url)
+    first.locator("label").filter(has_text="Lesson").first.wait_for(timeout=180_000)
+    warm.close()
+    for attempt in range(3):  # a server still warming up on a busy machine: open again
+        context = browser.new_context(viewport={"width": w, "height": h}, has_touch=True)
+        try:
+            p = Page(lab, browser, context)
+            break
+        except (PageTimeout, AssertionError):
+            context.close()
+            if attempt == 2:
+                raise
+    yield p
+    p.close()
+
+
+def _choose(tab: Page, lesson_id: str, preset: str) -> None:
+    s = tab.session
+    with s.lock:
+        s.pause()
+        if s.lesson.id != lesson_id:
+            s.select_lesson(lesson_id)
+        s.apply_preset(preset)
+        tab.view.after_state_change()
+        tab.view.refresh(heavy=True)
+    wait_until(lambda: tab.view._drawn_lesson == lesson_id, 10, f"lesson {lesson_id}")
+
+
+def _dismissed(tab: Page) -> None:
+    wait_until(lambda: tab.page.evaluate(DISMISS_JS) == 0, 10, "the notices closed")
+
+
+@pytest.mark.parametrize("lesson_id", _lessons())
+def test_every_lesson_fits_every_screen_before_and_after_play(screen: Page, lesson_id: str) -> None:
+    from analyzer_lab.lessons.catalog import get_lesson
+
+    screen.errors.clear()
+    preset = get_lesson(lesson_id).presets[0].name
+    _choose(screen, lesson_id, preset)
+    for size in SIZES:
+        check_screen(screen, size, "at the start")
+        _dismissed(screen)
+        screen.page.screenshot(path=str(SHOTS / f"{size}-{lesson_id}.png"))
+    screen.select("Speed", PLAY_SPEED)
+    screen.button("Play")
+    started = time.monotonic()
+    wait_until(lambda: screen.session.playing or screen.session.frame.t > 0, 20, "play")
+    time.sleep(max(0.0, PLAY_SECONDS - (time.monotonic() - started)))
+    with screen.session.lock:
+        screen.session.pause()
+        t = screen.session.frame.t
+        # the newest frame stepped is the one drawn (the loop may not have drawn it yet)
+        screen.view._played([screen.session.frame])
+    for size in SIZES:
+        check_screen(screen, size, f"after play (t = {t:.3g} s)")
+    _dismissed(screen)
+    screen.page.screenshot(path=str(SHOTS / f"hd-{lesson_id}-played.png"))
+    assert screen.errors == [], screen.errors
+
+
+@pytest.mark.parametrize("lesson_id, preset", _other_presets())
+def test_every_preset_fits_the_phone_at_the_start_and_later(
+    screen: Page, lesson_id: str, preset: str
+) -> None:
+    _choose(screen, lesson_id, preset)
+    check_screen(screen, "phone", "at the start")
+    with screen.session.lock:
+        screen.view._played(screen.session.go_to(min(40.0, screen.session.t_end)))
+    check_screen(screen, "phone", "at t = 40 s")
+
+
+def test_touch_turns_the_camera_and_taps_the_panel(screen: Page) -> None:
+    """On the phone a finger dragged over the canvas orbits the camera, and a tap on the
+    panel's tab opens it."""
+    from analyzer_lab.lessons.catalog import get_lesson
+
+    _choose(screen, "sphere", get_lesson("sphere").presets[0].name)
+    check_screen(screen, "phone", "before the touch")
+    cam = screen.view.client.camera
+    before = np.asarray(cam.position, dtype=float)
+    left, top, cw, ch = screen.page.evaluate(GEOMETRY_JS, MIN_TEXT_PX)["canvas"]
+    x, y = left + cw / 2, top + ch / 2
+    cdp = screen.context.new_cdp_session(screen.page)
+    cdp.send("Input.dispatchTouchEvent", {"type": "touchStart", "touchPoints": [{"x": x, "y": y}]})
+    for k in range(1, 11):
+        point = {"x": x + 8 * k, "y": y + 2 * k}
+        cdp.send("Input.dispatchTouchEvent", {"type": "touchMove", "touchPoints": [point]})
+        time.sleep(0.03)
+    cdp.send("Input.dispatchTouchEvent", {"type": "touchEnd", "touchPoints": []})
+    scale = float(np.linalg.norm(before - np.asarray(cam.look_at, dtype=float)))
+    wait_until(
+        lambda: np.linalg.norm(np.asarray(cam.position, dtype=float) - before) > 0.05 * scale,
+        15,
+        "the camera turned by the finger",
+    )
+    tab = screen.page.get_by_role("tab", name="Plots")
+    tab.tap()
+    wait_until(lambda: tab.get_attribute("aria-selected") == "true", 10, "the tapped tab")
+    screen.tab("Lesson")
