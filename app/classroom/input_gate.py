@@ -4,7 +4,9 @@ Every GUI input of a page takes tokens from that page's bucket (a text edit, whi
 be a formula to parse, costs :data:`TEXT_COST`).  An input over the limit
 is not dropped but coalesced: the newest value of each widget waits and is applied when
 the page's bucket has refilled, through the page's callbacks again (in its turn of the
-callback budget, :func:`analyzer_lab.viser_boundary.submit_callback`).
+callback budget, :func:`analyzer_lab.viser_boundary.submit_callback`).  A replayed
+input that a newer input of the same widget has overtaken meanwhile is dropped: the
+replay runs beside the page's own queue, and the older value must not land last.
 """
 
 from __future__ import annotations
@@ -28,7 +30,7 @@ Callback = Callable[[Any], None]
 
 class InputGate:
     """Token buckets and coalesced inputs of the pages of one server.  ``stats`` gets
-    the counts ``admitted``, ``coalesced`` and ``replayed``; ``server()`` is the viser
+    the counts ``admitted``, ``coalesced``, ``replayed`` and ``superseded``; ``server()`` is the viser
     server whose callback queue replays an input (``None``: replayed in place)."""
 
     def __init__(self, stats: dict[str, int], server: Callable[[], Any]) -> None:
@@ -37,6 +39,8 @@ class InputGate:
         self.buckets: dict[int, TokenBucket] = {}
         #: (page, widget) -> the newest coalesced input: its callback and event
         self.pending: dict[tuple[int, str], tuple[Callback, Any]] = {}
+        #: (page, widget) -> the newest input that arrived (a replay of any other is stale)
+        self.newest: dict[tuple[int, str], Any] = {}
 
     def open(self, client_id: int) -> None:
         """A page connected: a full bucket."""
@@ -47,6 +51,8 @@ class InputGate:
         self.buckets.pop(client_id, None)
         for key in [k for k in self.pending if k[0] == client_id]:
             self.pending.pop(key, None)
+        for key in [k for k in self.newest if k[0] == client_id]:
+            self.newest.pop(key, None)
 
     def admit(self, client_id: int, event: Any, again: Callback | None) -> bool:
         """Whether the input may run now; if not and ``again`` is given, it is kept
@@ -55,13 +61,17 @@ class InputGate:
         if bucket is None:
             return True
         target = getattr(event, "target", None)
+        key = (client_id, str(getattr(target, "id", id(target))))
+        if target is not None:
+            self.newest[key] = event
         cost = TEXT_COST if type(target).__name__ == "GuiTextHandle" else 1.0
         if bucket.take(cost):
             self.stats["admitted"] += 1
+            self.pending.pop(key, None)  # an older waiting value of this widget is overtaken
             return True
         if again is not None and target is not None:
             self.stats["coalesced"] += 1
-            self.pending[(client_id, str(getattr(target, "id", id(target))))] = (again, event)
+            self.pending[key] = (again, event)
         return False
 
     def replay(self) -> None:
@@ -77,11 +87,18 @@ class InputGate:
             if item is not None:
                 self.stats["replayed"] += 1
                 # goes through the gate again, in the page's turn of the callback budget
-                if not submit_callback(self.server(), ("replay", key[0]), item[0], item[1]):
+                if not submit_callback(self.server(), ("replay", key[0]), self.run_replayed, key, *item):
                     try:
-                        item[0](item[1])
+                        self.run_replayed(key, *item)
                     except Exception:  # a page callback, run here
                         log.exception("page %s: a replayed input failed", key[0])
+
+    def run_replayed(self, key: tuple[int, str], again: Callback, event: Any) -> None:
+        """Run a waiting input unless a newer input of its widget arrived meanwhile."""
+        if self.newest.get(key) is not event:
+            self.stats["superseded"] += 1
+            return
+        again(event)
 
 
 __all__ = ["InputGate"]

@@ -109,6 +109,7 @@ class Classroom:
             "admitted": 0,
             "coalesced": 0,
             "replayed": 0,
+            "superseded": 0,
             "wrong_codes": 0,
         }
         self._stop = threading.Event()
