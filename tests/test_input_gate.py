@@ -6,7 +6,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Any
 
-from analyzer_lab.classroom.input_gate import INPUT_BURST, InputGate
+from analyzer_lab.classroom.input_gate import INPUT_BURST, REBUILD_COST, InputGate
 
 
 @dataclass
@@ -65,7 +65,7 @@ def test_a_replay_overtaken_by_a_newer_input_is_dropped() -> None:
     assert page.applied == [] and stats["coalesced"] == 1
     # the replay is taken from the waiting inputs, but the page's own queue runs a newer
     # input before it
-    key, (again, stale) = next(iter(gate.pending.items()))
+    key, (again, stale, _) = next(iter(gate.pending.items()))
     gate.pending.clear()
     gate.buckets[1].tokens = INPUT_BURST
     _send(gate, page, Event(w, "new"))
@@ -87,3 +87,13 @@ def test_an_input_let_through_drops_an_older_waiting_value_of_its_widget() -> No
     assert page.applied == ["new", "2.0"]  # the other widget's value still lands
     gate.forget(1)
     assert not gate.pending and not gate.newest
+
+
+def test_a_choice_that_rebuilds_the_page_costs_more_than_a_slider_step() -> None:
+    gate, stats = _gate()
+    lesson, slider = Widget("lesson"), Widget("V")
+    rebuilds = sum(gate.admit(1, Event(lesson, f"l{k}"), None, rebuilds=True) for k in range(50))
+    assert rebuilds == int(INPUT_BURST / REBUILD_COST)  # 4 lessons at once, then 4 a second
+    gate.buckets[1].tokens = INPUT_BURST
+    steps = sum(gate.admit(1, Event(slider, str(k)), None) for k in range(50))
+    assert steps == int(INPUT_BURST)

@@ -1,7 +1,8 @@
 """The input gate of every page: one token bucket per page (DESIGN §5).
 
 Every GUI input of a page takes tokens from that page's bucket (a text edit, which may
-be a formula to parse, costs :data:`TEXT_COST`).  An input over the limit
+be a formula to parse, costs :data:`TEXT_COST`; a choice that rebuilds the page, a
+lesson or a preset, costs :data:`REBUILD_COST`).  An input over the limit
 is not dropped but coalesced: the newest value of each widget waits and is applied when
 the page's bucket has refilled, through the page's callbacks again (in its turn of the
 callback budget, :func:`analyzer_lab.viser_boundary.submit_callback`).  A replayed
@@ -24,6 +25,7 @@ log = logging.getLogger(__name__)
 INPUT_RATE = 20.0
 INPUT_BURST = 20.0
 TEXT_COST = 4.0
+REBUILD_COST = 5.0
 
 Callback = Callable[[Any], None]
 
@@ -37,8 +39,8 @@ class InputGate:
         self.stats = stats
         self.server = server
         self.buckets: dict[int, TokenBucket] = {}
-        #: (page, widget) -> the newest coalesced input: its callback and event
-        self.pending: dict[tuple[int, str], tuple[Callback, Any]] = {}
+        #: (page, widget) -> the newest coalesced input: its callback, event and cost
+        self.pending: dict[tuple[int, str], tuple[Callback, Any, float]] = {}
         #: (page, widget) -> the newest input that arrived (a replay of any other is stale)
         self.newest: dict[tuple[int, str], Any] = {}
 
@@ -54,9 +56,12 @@ class InputGate:
         for key in [k for k in self.newest if k[0] == client_id]:
             self.newest.pop(key, None)
 
-    def admit(self, client_id: int, event: Any, again: Callback | None) -> bool:
+    def admit(
+        self, client_id: int, event: Any, again: Callback | None, rebuilds: bool = False
+    ) -> bool:
         """Whether the input may run now; if not and ``again`` is given, it is kept
-        (replacing an older input of the same widget) for :meth:`replay`."""
+        (replacing an older input of the same widget) for :meth:`replay`.  ``rebuilds``:
+        the input rebuilds the page (it costs :data:`REBUILD_COST`)."""
         bucket = self.buckets.get(client_id)
         if bucket is None:
             return True
@@ -64,14 +69,19 @@ class InputGate:
         key = (client_id, str(getattr(target, "id", id(target))))
         if target is not None:
             self.newest[key] = event
-        cost = TEXT_COST if type(target).__name__ == "GuiTextHandle" else 1.0
+        if rebuilds:
+            cost = REBUILD_COST
+        elif type(target).__name__ == "GuiTextHandle":
+            cost = TEXT_COST
+        else:
+            cost = 1.0
         if bucket.take(cost):
             self.stats["admitted"] += 1
             self.pending.pop(key, None)  # an older waiting value of this widget is overtaken
             return True
         if again is not None and target is not None:
             self.stats["coalesced"] += 1
-            self.pending[key] = (again, event)
+            self.pending[key] = (again, event, cost)
         return False
 
     def replay(self) -> None:
@@ -81,15 +91,19 @@ class InputGate:
             if bucket is None:
                 self.pending.pop(key, None)
                 continue
-            if bucket.wait_time(TEXT_COST) > 0:
+            item = self.pending.get(key)
+            if item is None or bucket.wait_time(item[2]) > 0:
                 continue
             item = self.pending.pop(key, None)
             if item is not None:
                 self.stats["replayed"] += 1
                 # goes through the gate again, in the page's turn of the callback budget
-                if not submit_callback(self.server(), ("replay", key[0]), self.run_replayed, key, *item):
+                again, event, _ = item
+                if not submit_callback(
+                    self.server(), ("replay", key[0]), self.run_replayed, key, again, event
+                ):
                     try:
-                        self.run_replayed(key, *item)
+                        self.run_replayed(key, again, event)
                     except Exception:  # a page callback, run here
                         log.exception("page %s: a replayed input failed", key[0])
 

@@ -287,7 +287,9 @@ class Classroom:
             with view.session.lock:
                 view.sync_widgets(force=True)
             return False
-        return self.inputs.admit(cid, event, again)
+        target = getattr(event, "target", None)
+        rebuilds = target is not None and (target is view.lesson_dd or target is view.preset_dd)
+        return self.inputs.admit(cid, event, again, rebuilds)
 
     # ------------------------------------------------------------------ follow / release
 
