@@ -227,7 +227,58 @@ async def _churn(url: str, seconds: float) -> dict[str, Any]:
     return {"aborted": aborted}
 
 
+#: The costliest ready assignment to check (a few CPU seconds each), and the join code of
+#: the class the graders' server records.
+GRADED = "table-6dof-feedforward"
+JOIN = "GRADE42"
+
+
+async def _graders(url: str, seconds: float) -> dict[str, Any]:
+    """Twelve students from another address, each pressing "Check my answer" once on the
+    costliest assignment; they wait for their verdicts."""
+    from tests.support.waiting import until
+
+    errors: list[str] = []
+
+    async def student(k: int) -> tuple[float, bool]:
+        c = await ProtoClient(url, source=ATTACKER).start()
+        await c.wait_for("Check my answer", 60)
+        await c.set("Assignment", GRADED, 0.2)
+        await until(lambda: any("al-assignment-task" in h for h in c.html.values()), 60, "the task")
+        await c.set("Join code", JOIN, 0.1)
+        await c.set("Your name", f"Grader {k:02d}", 0.1)
+        t = time.monotonic()
+        await c.click("Check my answer", 0.0)
+        in_line = False
+        while time.monotonic() < end:
+            boxes = [h for h in c.html.values() if "al-assignment" in h]
+            in_line = in_line or any("in line to be checked" in h for h in boxes)
+            if any("al-check" in h for h in boxes):
+                took = time.monotonic() - t
+                await c.close()
+                return took, in_line
+            wrong = [h for h in boxes if "al-assignment-error" in h]
+            if wrong:
+                errors.append(wrong[0][-300:])
+                break
+            await asyncio.sleep(0.1)
+        await c.close()
+        return float("inf"), in_line
+
+    end = time.monotonic() + seconds
+    done = await asyncio.gather(*(student(k) for k in range(12)))
+    await asyncio.sleep(max(0.0, end - time.monotonic()))
+    took = [t for t, _ in done]
+    return {
+        "verdicts": sum(t < float("inf") for t in took),
+        "slowest": max(took),
+        "told_their_place": sum(seen for _, seen in done),
+        "errors": errors[:2],
+    }
+
+
 ATTACKS: dict[str, Callable[[str, float], Awaitable[dict[str, Any]]]] = {
+    "grading": _graders,
     "form-dirty": _form_dirty,
     "oversized": _oversized,
     "guess": _guessers,

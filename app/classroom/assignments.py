@@ -28,6 +28,7 @@ from collections.abc import Set
 from typing import TYPE_CHECKING, Any
 
 from analyzer_lab.classroom.course import TOKEN_KEY, Course
+from analyzer_lab.classroom.grader import GradeOutcome, Grader, GraderBusy
 from analyzer_lab.classroom.ports import RoomForBoard
 from analyzer_lab.classroom.roster import Progress, clean_name, head_html, row_html
 from analyzer_lab.classroom.store.grades import export as export_grades
@@ -39,7 +40,6 @@ from analyzer_lab.lessons.assignments import (
     Grade,
     Release,
     Variant,
-    grade,
     load_folder,
     ready_assignments,
     release,
@@ -171,6 +171,8 @@ class AssignmentBoard:
         self._stop = threading.Event()
         self._poke = threading.Event()
         self._poller: threading.Thread | None = None
+        #: the class's answers are checked in a worker process, in line
+        self.grader = Grader()
 
     @property
     def assignments(self) -> dict[str, Assignment]:
@@ -187,7 +189,8 @@ class AssignmentBoard:
         self.students[view.client.client_id] = StudentPanel(self, view)
 
     def detach(self, client_id: int) -> None:
-        """A page left."""
+        """A page left (its answer waiting in line goes)."""
+        self.grader.cancel(client_id)
         self.students.pop(client_id, None)
         self.teachers.pop(client_id, None)
 
@@ -304,6 +307,7 @@ class AssignmentBoard:
     def stop(self) -> None:
         self._stop.set()
         self._poke.set()
+        self.grader.close()
 
 
 class StudentPanel:
@@ -476,6 +480,7 @@ class StudentPanel:
         self.task.content = task_html(a)
         self.result.content = ""
         self._shown_visible(True)
+        self.board.grader.warm()  # a check may follow: its worker is started now
         s.notify(f"{'the instructor pushed' if pushed else 'opened'} assignment {a.id}: {a.title}")
         if pushed:
             try:
@@ -597,23 +602,60 @@ class StudentPanel:
             return
         raw = s.raw_values()
         values = {n: raw[n] for n in a.unlocked}
+        variant = self.variant.label if self.variant is not None else ""
         try:
-            g = grade(a, values, "your answer")
-        except AssignmentError as exc:
+            place = self.board.grader.submit(
+                f"student-{student.id}",
+                a,
+                values,
+                lambda outcome: self._graded(student, a, values, variant, outcome),
+                self._in_line,
+                owner=self.view.client.client_id,
+            )
+        except GraderBusy as exc:
             self.result.content = error_html(str(exc))
-            field = exc.field if exc.field in self.view.controls.widgets else None
+            return
+        self._in_line(place, locked=True)
+
+    def _in_line(self, place: int, locked: bool = False) -> None:
+        """Say where the answer waits (0: being checked); from the grader's thread
+        unless ``locked``."""
+        text = (
+            "Your answer is being checked…"
+            if place == 0
+            else f"Your answer is number {place} in line to be checked."
+        )
+        box = _box(esc(text), "#555", "al-assignment-queue")
+        if locked:
+            self.result.content = box
+            return
+        with self.view.session.lock:
+            if not self.view.closed:
+                self.result.content = box
+
+    def _graded(
+        self, student: Student, a: Assignment, values: dict, variant: str, outcome: GradeOutcome
+    ) -> None:
+        """The grader's verdict: recorded first, then shown (from the grader's thread)."""
+        g = outcome.grade
+        if g is not None:
+            try:  # recorded first: the page is told only what the record holds
+                self.board.course.record(student, g, values, variant)
+            except StoreError as exc:
+                log.warning("page %s: an attempt not recorded: %s", self.view.client.client_id, exc)
+                g, outcome = None, GradeOutcome(None, NOT_RECORDED.format(why=exc))
+            else:
+                self.board.changed()
+        with self.view.session.lock:
+            if self.view.closed:
+                return
+            if g is not None:
+                self.result.content = verdict_html(g)
+                return
+            self.result.content = error_html(outcome.error)
+            field = outcome.field if outcome.field in self.view.controls.widgets else None
             if field is not None:
-                self.view.controls.show_error(field, str(exc))
-            return
-        try:  # recorded first: the page is told only what the record holds
-            variant = self.variant.label if self.variant is not None else ""
-            self.board.course.record(student, g, values, variant)
-        except StoreError as exc:
-            log.warning("page %s: an attempt not recorded: %s", self.view.client.client_id, exc)
-            self.result.content = error_html(NOT_RECORDED.format(why=exc))
-            return
-        self.result.content = verdict_html(g)
-        self.board.changed()
+                self.view.controls.show_error(field, outcome.error)
 
 
 class TeacherPanel:
