@@ -9,7 +9,7 @@ import tracemalloc
 import numpy as np
 import pytest
 from analyzer_lab.lessons.catalog import get_lesson
-from analyzer_lab.lessons.kit import dense_solution
+from analyzer_lab.lessons.kit import dense_solution, steppers
 from analyzer_lab.lessons.kit.dense_solution import DenseSolution
 
 pytestmark = pytest.mark.timeout(600)
@@ -60,4 +60,50 @@ def test_a_long_play_of_the_rheonomic_pendulum_keeps_memory_flat(
     assert solution.dropped > 0 and solution.kept <= 2000
     print(f"grew {grown} bytes; {solution.kept} steps kept, {solution.dropped} dropped")
     # measured: 1.9 MB over 480 lesson seconds (8,464 steps, 7,000 dropped) on a loaded machine
+    assert grown < 4_000_000, grown
+
+
+def test_the_chunked_solution_keeps_a_window_and_replays_the_same_numbers(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    monkeypatch.setattr(steppers, "KEEP_STEPS", 60)
+    early = np.array([0.5, 1.0, 2.5, 7.0])
+    whole = steppers.DenseSolution(oscillator, 0.0, np.array([1.0, 0.0]), chunk=1.0)
+    want = whole(early)
+    windowed = steppers.DenseSolution(oscillator, 0.0, np.array([1.0, 0.0]), chunk=1.0)
+    windowed.reach(300.0)
+    while windowed.reach(300.0) < 300.0:  # the work budget may end a call early
+        pass
+    assert windowed.dropped > 0 and windowed.kept <= 60 and windowed.kept_from > 100.0
+    np.testing.assert_array_equal(windowed(early), want)
+    for k, t in enumerate(early):  # a frame's read, one time at a time, in order
+        np.testing.assert_array_equal(windowed(np.array([t])), want[k : k + 1])
+    late = np.array([299.0, 299.5])
+    np.testing.assert_array_equal(windowed(late), whole(late))
+    np.testing.assert_array_equal(windowed(late[:1]), whole(late[:1]))
+
+
+@pytest.mark.slow
+def test_a_long_play_of_the_table_forward_tracking_keeps_memory_flat(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    monkeypatch.setattr(steppers, "KEEP_STEPS", 2000)
+    lesson = get_lesson("table-6dof")
+    stepper = lesson.open({}, "forward-tracking").stepper
+    frame = 8 / 36  # played at 8x
+    while stepper.t < 60.0:  # past the window once: steady from here on
+        stepper.advance(frame)
+    tracemalloc.start()
+    try:
+        before = tracemalloc.take_snapshot()
+        while stepper.t < 240.0:
+            stepper.advance(frame)
+        after = tracemalloc.take_snapshot()
+    finally:
+        tracemalloc.stop()
+    grown = sum(s.size_diff for s in after.compare_to(before, "filename"))
+    solutions = [
+        v for v in vars(stepper).values() if isinstance(v, steppers.DenseSolution)
+    ] or [getattr(stepper, "solution", None)]
+    print(f"grew {grown} bytes over 180 lesson seconds; solutions {solutions}")
     assert grown < 4_000_000, grown

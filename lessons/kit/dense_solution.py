@@ -127,7 +127,7 @@ class DenseSolution:
     def _replayed(self, t: Array) -> Array:
         """The states at times before the steps kept: the solution stepped again from its
         start (a solver's steps depend only on the equations, start and tolerances)."""
-        if self._replay is None or self._replay.t_covered > float(np.min(t)):
+        if self._replay is None or self._replay._ts[0] > float(np.min(t)):
             y0, method, rtol, atol = self._start
             self._replay = DenseSolution(self._rhs, self.t0, y0, method, rtol, atol, self.work)
         return self._replay.state(t)

@@ -27,6 +27,10 @@ Array = np.ndarray
 Rhs = Callable[[float, Array], Array]
 #: lesson time covered by one solve_ivp call of a :class:`DenseSolution` (s)
 CHUNK = 2.0
+#: Solver steps a solution keeps (a long live run): past it the oldest pieces are dropped
+#: down to half of it, and a read before the pieces kept solves again from the start (the
+#: same chunks, the same steps).
+KEEP_STEPS = 20_000
 #: Work counted per evaluation of the right-hand side by default
 #: (:func:`analyzer_lab.lessons.kit.budget.charge`, about a microsecond a unit).
 WORK_PER_EVALUATION = 20.0
@@ -63,6 +67,10 @@ class DenseSolution:
         self._t0, self._y0 = float(t0), np.array(y0, dtype=float)
         self._t_end, self._y_end = self._t0, self._y0
         self._open: _Chunk | None = None  # the chunk being stepped, if any
+        #: solver steps in the pieces kept; steps dropped from the front (:data:`KEEP_STEPS`)
+        self.kept = 0
+        self.dropped = 0
+        self._replay: DenseSolution | None = None
         self.stopped_at = math.inf
         self.message = ""
         #: one solution serves every page with these values, on several threads
@@ -107,16 +115,14 @@ class DenseSolution:
         if not ch.bad and ch.solver.status == "finished":
             b = float(ch.solver.t)
             if b > a:
-                self._pieces.append((a, b, OdeSolution(ch.ts, ch.interpolants)))
-                self._starts.append(a)
+                self._keep(a, b, OdeSolution(ch.ts, ch.interpolants))
                 self._y_end = np.asarray(ch.solver.y, dtype=float)
             self._t_end = b
             return
         if not ch.bad:  # the solver failed (step size too small, ...)
             b = ch.ts[-1]
             if b > a:
-                self._pieces.append((a, b, OdeSolution(ch.ts, ch.interpolants)))
-                self._starts.append(a)
+                self._keep(a, b, OdeSolution(ch.ts, ch.interpolants))
                 self._y_end = np.asarray(ch.interpolants[-1](b), dtype=float)
             self.message = f"integration stopped at t = {b:.4g}: {ch.failure}"
             self._t_end = self.stopped_at = b
@@ -136,8 +142,7 @@ class DenseSolution:
         else:
             b = float(times[-1])
         if b > a and sol is not None:
-            self._pieces.append((a, b, sol.sol))
-            self._starts.append(a)
+            self._keep(a, b, sol.sol)
             self._y_end = np.asarray(sol.sol(b), dtype=float)
         if first_bad is not None:
             self.message = (
@@ -146,6 +151,33 @@ class DenseSolution:
             )
         self._t_end = b
         self.stopped_at = b
+
+    def _keep(self, a: float, b: float, sol: Any) -> None:
+        """A finished piece; past :data:`KEEP_STEPS` the oldest pieces go."""
+        self._pieces.append((a, b, sol))
+        self._starts.append(a)
+        self.kept += len(sol.interpolants)
+        if self.kept <= KEEP_STEPS:
+            return
+        while self.kept > KEEP_STEPS // 2 and len(self._pieces) > 1:
+            n = len(self._pieces[0][2].interpolants)
+            del self._pieces[0], self._starts[0]
+            self.kept -= n
+            self.dropped += n
+
+    @property
+    def kept_from(self) -> float:
+        """The first time the pieces kept cover (``t0`` until any were dropped)."""
+        return self._pieces[0][0] if self.dropped and self._pieces else self._t0
+
+    def _replayed(self, tt: Array) -> Array:
+        """The states at times before the pieces kept: solved again from the start (the
+        chunks and their steps depend only on the equations, start and tolerances)."""
+        if self._replay is None or self._replay.kept_from > float(np.min(tt)):
+            self._replay = DenseSolution(
+                self._rhs, self._t0, self._y0, *self._tol, self._method, self._chunk, self.work
+            )
+        return self._replay(tt)
 
     def _solve(self, a: float, b: float) -> tuple[Any, float | None]:
         """solve_ivp over ``[a, b]`` with dense output; the first time the equations gave a
@@ -189,6 +221,9 @@ class DenseSolution:
         self._extend(float(np.max(tt, initial=self._t_end)))
         out = np.full((len(tt), len(self._y0)), np.nan)
         out[tt == self._t0] = self._y0
+        early = (tt > self._t0) & (tt < self.kept_from)
+        if early.any():
+            out[early] = self._replayed(tt[early])
         ch = self._open
         pieces = list(self._pieces)
         if ch is not None and ch.interpolants:
@@ -205,6 +240,8 @@ class DenseSolution:
         x = float(tt[0])
         if x > self._t_end:
             self._extend(x)
+        if self._t0 < x < self.kept_from:
+            return self._replayed(tt)
         ch = self._open
         if ch is not None and ch.interpolants and ch.a <= x <= float(ch.solver.t):
             return _step_at(ch.ts, ch.interpolants, x, tt)
