@@ -141,4 +141,7 @@ def test_groups_separate_type_shape_and_coefficients():
     assert LESSON.modes == ("surface",) and LESSON.param("surface").group == "mode"
     assert {LESSON.param(n).group for n in ("R", "a", "b", "c")} == {"shape"}
     assert LESSON.param("a31").group == "coefficients"
-    assert not LESSON.group("coefficients").expanded and not LESSON.group("method").expanded
+    # the coefficients are shown only for a surface given by them, and then open
+    coefficients = LESSON.group("coefficients")
+    assert coefficients.when == ("surface", ("coefficients",)) and coefficients.expanded
+    assert not LESSON.group("method").expanded
