@@ -332,10 +332,28 @@ class _Guard:
         return False
 
 
+#: PostgreSQL's SQLSTATE for a disk that is full.
+PG_DISK_FULL = "53100"
+
+
+def is_full(exc: BaseException) -> bool:
+    """True when the database refused a write because it, or its disk, is full."""
+    orig = getattr(exc, "orig", None) or exc
+    if getattr(orig, "sqlite_errorname", "") == "SQLITE_FULL":
+        return True
+    if getattr(orig, "sqlstate", "") == PG_DISK_FULL:
+        return True
+    text = str(orig).lower()
+    return "database or disk is full" in text or "no space left on device" in text
+
+
 def _why(exc: BaseException) -> str:
     orig = getattr(exc, "orig", None)
     text = str(orig if orig is not None else exc).strip().splitlines()
-    return f"the course record is unreachable or refused the write ({text[0][:200] if text else type(exc).__name__})"
+    detail = text[0][:200] if text else type(exc).__name__
+    if is_full(exc):
+        return f"the course record is full ({detail}): the instructor must free space on its disk"
+    return f"the course record is unreachable or refused the write ({detail})"
 
 
 def redact(url: str) -> str:
@@ -382,4 +400,4 @@ def _attempt(row: Any) -> Attempt:
     )
 
 
-__all__ = ["SqlStore", "generate_join_code", "redact"]
+__all__ = ["SqlStore", "generate_join_code", "is_full", "redact"]
