@@ -511,3 +511,76 @@ def test_a_full_store_refuses_attempts_clearly_and_changes_nothing(
             assert conn.execute(sa.text("PRAGMA integrity_check")).scalar_one() == "ok"
     finally:
         store.close()
+
+
+# ------------------------------------------------------------------ a join code that expired
+
+
+async def _open_task(page: ProtoClient) -> None:
+    await page.wait_for("Check my answer", 60)
+    await page.set("Assignment", TASK, 0.3)
+    await until(
+        lambda: any("al-assignment-task" in h for h in page.html.values()),
+        90,
+        "the assignment opened",
+    )
+
+
+def test_an_expired_join_code_is_refused_but_joined_students_go_on(
+    make_lab: Any, tmp_path: Path
+) -> None:
+    """A page typing the class's code after its lifetime is told it expired (another code:
+    unknown); a student who joined before comes back with the token their browser kept and
+    their attempt is recorded."""
+    from analyzer_lab.classroom.course import EXPIRED, TOKEN_KEY, Course
+    from analyzer_lab.classroom.store.records import RosterEntry
+    from analyzer_lab.lessons.catalog import get_lesson
+
+    store = SqlStore(f"sqlite:///{tmp_path / 'record.sqlite3'}")
+    secret = b"e" * 32
+    roster = [RosterEntry("s1", "Ann Lee"), RosterEntry("s2", "Bob")]
+    before = Course(store, store.open_class("expiring", roster, join_code=JOIN), secret)
+    ann = before.join(JOIN, "s1")  # Ann joined while the code was good
+    token = before.token(ann)
+    info = store.open_class("expiring", code_lifetime=0.5)
+    expires = info.join_code_expires
+    assert expires is not None
+    wait_until(lambda: time.time() > expires, 10, "the code's lifetime to pass")
+    course = Course(store, info, secret)
+    lab = make_lab(
+        lesson="circle",
+        lessons=[get_lesson("circle")],
+        instructor_code=CODE,
+        warm_up=False,
+        course=course,
+    )
+    url = f"ws://127.0.0.1:{lab.port}/"
+
+    async def go() -> None:
+        bob = await ProtoClient(url).start()
+        await _open_task(bob)
+        await bob.set("Join code", "WRONG9", 0.1)
+        await bob.set("Your name", "s2", 0.1)
+        box = await _student_checks(bob, 0)
+        assert "unknown join code" in box and "al-check" not in box, box
+        await bob.set("Join code", JOIN.lower(), 0.1)
+        box = await _student_checks(bob, 1)
+        assert EXPIRED in box and "al-check" not in box, box
+        back = await ProtoClient(url, storage={TOKEN_KEY: token}).start()
+        await _open_task(back)
+        await until(
+            lambda: any("Ann Lee" in h for h in back.html.values() if "al-student-who" in h),
+            60,
+            "Ann recorded from her saved token",
+        )
+        box = await _student_checks(back, 0)
+        assert "al-check" in box, box
+        for c in (bob, back):
+            await c.close()
+
+    try:
+        _run_in_thread(go())
+        got = course.attempts()
+        assert [a.student_id for a in got] == [ann.id]  # nothing recorded for Bob
+    finally:
+        store.close()

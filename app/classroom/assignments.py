@@ -767,7 +767,10 @@ class TeacherPanel:
             )
             course = self.board.course
             if course.needs_code:
-                title += f"<br>Join code: <b class='al-join-code'>{esc(course.info.join_code)}</b>"
+                title += (
+                    f"<br>Join code: <b class='al-join-code'>{esc(course.info.join_code)}</b>"
+                    f"{esc(course.code_expiry())}"
+                )
             if self.board.store_problem:
                 title += (
                     "<br><span class='al-store-down' style='color:#a61b1b'>The course record "

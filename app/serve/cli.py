@@ -147,7 +147,9 @@ def cmd_serve(args: argparse.Namespace) -> int:
     try:  # opened (made, upgraded, the roster imported) once, before any worker starts
         where = resolve(args.data, args.db, args.class_name)
         if workers > 1:
-            open_course(where, args.roster, args.join_code).store.close()
+            open_course(
+                where, args.roster, args.join_code, code_hours=args.join_code_hours
+            ).store.close()
     except CourseRecordError as exc:
         return _fail(str(exc))
     export_environment(where)
@@ -185,6 +187,7 @@ def cmd_serve(args: argparse.Namespace) -> int:
         instructor_code_file=getattr(args, "instructor_code_file", None),
         roster=args.roster,
         join_code=args.join_code,
+        join_code_hours=args.join_code_hours,
     )  # fps: classroom hook
 
 
@@ -307,6 +310,14 @@ def build_parser() -> argparse.ArgumentParser:
     )
     s.add_argument(
         "--join-code", metavar="CODE", help="the class's join code (default: generated once)"
+    )
+    s.add_argument(
+        "--join-code-hours",
+        type=float,
+        metavar="H",
+        default=None,
+        help="the join code expires H hours from now (students who joined keep their "
+        "record; default: a code given with --join-code never expires)",
     )
     s.set_defaults(func=cmd_serve)
 

@@ -145,10 +145,15 @@ class SqlStore:
         name: str,
         roster: Sequence[RosterEntry] | None = None,
         join_code: str | None = None,
+        code_lifetime: float | None = None,
     ) -> ClassInfo:
         """The class ``name``, made if new; a roster adds its students (a known roster id
-        gets the row's name, email and group) and closes the class to everyone else.  One
-        transaction: on any failure nothing changes."""
+        gets the row's name, email and group) and closes the class to everyone else.  A
+        join code or a ``code_lifetime`` (seconds) given sets when the code expires: that
+        long from now, or never when no lifetime is given; given neither, the code and its
+        expiry stay.  One transaction: on any failure nothing changes."""
+        now = time.time()
+        expires = None if code_lifetime is None else now + float(code_lifetime)
         with self._begin() as conn:
             row = conn.execute(sa.select(classes).where(classes.c.name == name)).first()
             if row is None:
@@ -156,14 +161,17 @@ class SqlStore:
                     sa.insert(classes).values(
                         name=name,
                         join_code=join_code or generate_join_code(),
+                        join_code_expires=expires,
                         closed=bool(roster),
-                        created=time.time(),
+                        created=now,
                     )
                 )
             else:
                 changes: dict[str, Any] = {}
                 if join_code and join_code != row.join_code:
                     changes["join_code"] = join_code
+                if (join_code or code_lifetime is not None) and expires != row.join_code_expires:
+                    changes["join_code_expires"] = expires
                 if roster and not row.closed:
                     changes["closed"] = True
                 if changes:
@@ -377,7 +385,14 @@ def _jsonable(values: dict[str, Any]) -> dict[str, Any]:
 
 
 def _class(row: Any) -> ClassInfo:
-    return ClassInfo(int(row.id), row.name, row.join_code, bool(row.closed))
+    expires = row.join_code_expires
+    return ClassInfo(
+        int(row.id),
+        row.name,
+        row.join_code,
+        bool(row.closed),
+        None if expires is None else float(expires),
+    )
 
 
 def _student(row: Any) -> Student:
