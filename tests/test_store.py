@@ -385,6 +385,16 @@ def test_the_grades_command_reads_the_record(tmp_path: Path) -> None:
     assert out.returncode == 0 and out.stdout == ""
     long = list(csv.reader(open(tmp_path / "long.csv", encoding="utf-8")))
     assert long[1][:5] == ["s1", "Ann Lee", "a1", "1", "2"]
+    out = grades("--format", "moodle", "--feedback")
+    assert out.returncode == 0, out.stderr
+    rows = list(csv.reader(io.StringIO(out.stdout)))
+    assert rows[0] == ["ID number", "Email address", "Full name", "a1", "a1 (Feedback)"]
+    assert rows[1] == ["s1", "ann@uni.example", "Ann Lee", "1", "all checks pass"]
+    assert rows[2] == ["s2", "", "Bob", "", ""]
+    out = grades("--feedback", "--assignments", str(tmp_path / "missing"))
+    assert out.returncode == 2 and "--assignments: " in out.stderr and "missing" in out.stderr
+    out = grades("--format", "canvas", "--feedback")
+    assert out.returncode == 2 and "use it with --format moodle" in out.stderr
     out = grades("--class", "nope")
     assert out.returncode == 2 and "no class 'nope'" in out.stderr
     out = grades("--db", "mysql://x")
