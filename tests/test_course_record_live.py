@@ -2,8 +2,8 @@
 attempts survive a page reload, a server restart and ``kill -9`` of the server (no
 attempt a page was told about is missing afterwards, on SQLite and on PostgreSQL); with
 ``--workers 2`` the instructor on worker 1 sees a student's attempt on worker 2 within
-2 s; a database that goes down: the page says its attempt is not recorded, the lessons
-go on."""
+2 s; a database that goes down or is full: the page says its attempt is not recorded,
+nothing stored changes, the lessons go on."""
 
 from __future__ import annotations
 
@@ -391,3 +391,196 @@ def test_two_workers_share_the_record_and_a_database_that_goes_down(
         store.close()
     finally:
         door.stop()
+
+
+# ------------------------------------------------------------------ a store that is full
+
+
+def _fill_up(store: SqlStore) -> None:
+    """Write a filler class's attempts until SQLite itself says the file is full (even
+    for the smallest row)."""
+    from analyzer_lab.classroom.store.records import NewAttempt, StoreError
+
+    other = store.open_class("filler", join_code="FILL42")
+    filler = store.enrol(other.id, "filler")
+    for size in (2000, 400, 80, 16, 0):  # large rows first, then the pages' last gaps
+        for _ in range(10_000):
+            pad = {"pad": "x" * size}
+            try:
+                store.record(NewAttempt(filler.id, "pad", pad, (), False, time.time()))
+            except StoreError as exc:
+                assert "database or disk is full" in str(exc), exc
+                break
+        else:
+            raise AssertionError("the database never became full")
+
+
+def test_a_full_store_refuses_attempts_clearly_and_changes_nothing(
+    make_lab: Any, tmp_path: Path
+) -> None:
+    """SQLite made full (``PRAGMA max_page_count`` on every connection the store uses): a
+    check is told its attempt was NOT recorded (no verdict), so is a new student's first
+    check, nothing stored changes, lessons are still served; with space back the next attempt is
+    recorded."""
+    import sqlalchemy as sa
+    from analyzer_lab.classroom.course import Course
+    from analyzer_lab.lessons.catalog import get_lesson
+
+    store = SqlStore(f"sqlite:///{tmp_path / 'record.sqlite3'}")
+    limit = [0]  # pages the file may have (0: no limit)
+
+    @sa.event.listens_for(store.engine, "checkout")
+    def _limit(dbapi_connection: Any, record: Any, proxy: Any) -> None:
+        cur = dbapi_connection.cursor()
+        cur.execute(f"PRAGMA max_page_count = {limit[0] or 1_073_741_823}")
+        cur.close()
+
+    course = Course(store, store.open_class("full", join_code=JOIN), b"f" * 32)
+    lab = make_lab(
+        lesson="circle",
+        lessons=[get_lesson("circle")],
+        instructor_code=CODE,
+        warm_up=False,
+        course=course,
+    )
+    url = f"ws://127.0.0.1:{lab.port}/"
+
+    def pages() -> int:
+        with store.engine.connect() as conn:
+            return int(conn.execute(sa.text("PRAGMA page_count")).scalar_one())
+
+    async def go() -> None:
+        student = await ProtoClient(url).start()
+        await student.wait_for("Check my answer", 60)
+        await student.set("Assignment", TASK, 0.3)
+        await until(
+            lambda: any("al-assignment-task" in h for h in student.html.values()),
+            90,
+            "the assignment opened",
+        )
+        await student.set("Join code", JOIN, 0.1)
+        await student.set("Your name", "Ann", 0.1)
+        box = await _student_checks(student, 0)
+        assert "al-check" in box, box
+        stored = course.attempts()
+        assert len(stored) == 1
+        # the file may not grow: filled up to its last page
+        limit[0] = pages()
+        _fill_up(store)
+        students_before = list(course.students())
+        attempts_before = course.attempts()
+        assert attempts_before == stored
+        box = await _student_checks(student, 1)
+        assert "could not be recorded" in box and "course record is full" in box, box
+        assert "al-check" not in box and "pass" not in box, box
+        # a new student's first check is not recorded either, and they are told so
+        newcomer = await ProtoClient(url).start()
+        await newcomer.wait_for("Check my answer", 60)
+        await newcomer.set("Assignment", TASK, 0.3)
+        await until(
+            lambda: any("al-assignment-task" in h for h in newcomer.html.values()),
+            90,
+            "the newcomer's assignment opened",
+        )
+        await newcomer.set("Join code", JOIN, 0.1)
+        await newcomer.set("Your name", "Bob", 0.1)
+        box = await _student_checks(newcomer, 0)
+        assert "could not be recorded" in box and "al-check" not in box, box
+        # (the newcomer's own row may fit where an attempt does not: then they joined)
+        assert list(course.students())[: len(students_before)] == students_before
+        assert course.attempts() == attempts_before
+        # the server keeps serving lessons: a new page plays the lesson
+        viewer = await ProtoClient(url).start()
+        await viewer.wait_for("Run", 60)
+        viewer.measuring = True
+        await viewer.set("Run", "Play", 0.1)
+        await until(lambda: viewer.point_updates >= 5, 60, "a new page's lesson playing")
+        # space is back: the next attempt is recorded and its verdict shown
+        limit[0] = 0
+        box = await _student_checks(student, 2)
+        assert "al-check" in box, box
+        after = course.attempts()
+        assert after[:1] == attempts_before and len(after) == 2
+        assert after[1].student_id == stored[0].student_id
+        for c in (student, newcomer, viewer):
+            await c.close()
+
+    try:
+        _run_in_thread(go())
+        with store.engine.connect() as conn:
+            assert conn.execute(sa.text("PRAGMA integrity_check")).scalar_one() == "ok"
+    finally:
+        store.close()
+
+
+# ------------------------------------------------------------------ a join code that expired
+
+
+async def _open_task(page: ProtoClient) -> None:
+    await page.wait_for("Check my answer", 60)
+    await page.set("Assignment", TASK, 0.3)
+    await until(
+        lambda: any("al-assignment-task" in h for h in page.html.values()),
+        90,
+        "the assignment opened",
+    )
+
+
+def test_an_expired_join_code_is_refused_but_joined_students_go_on(
+    make_lab: Any, tmp_path: Path
+) -> None:
+    """A page typing the class's code after its lifetime is told it expired (another code:
+    unknown); a student who joined before comes back with the token their browser kept and
+    their attempt is recorded."""
+    from analyzer_lab.classroom.course import EXPIRED, TOKEN_KEY, Course
+    from analyzer_lab.classroom.store.records import RosterEntry
+    from analyzer_lab.lessons.catalog import get_lesson
+
+    store = SqlStore(f"sqlite:///{tmp_path / 'record.sqlite3'}")
+    secret = b"e" * 32
+    roster = [RosterEntry("s1", "Ann Lee"), RosterEntry("s2", "Bob")]
+    before = Course(store, store.open_class("expiring", roster, join_code=JOIN), secret)
+    ann = before.join(JOIN, "s1")  # Ann joined while the code was good
+    token = before.token(ann)
+    info = store.open_class("expiring", code_lifetime=0.5)
+    expires = info.join_code_expires
+    assert expires is not None
+    wait_until(lambda: time.time() > expires, 10, "the code's lifetime to pass")
+    course = Course(store, info, secret)
+    lab = make_lab(
+        lesson="circle",
+        lessons=[get_lesson("circle")],
+        instructor_code=CODE,
+        warm_up=False,
+        course=course,
+    )
+    url = f"ws://127.0.0.1:{lab.port}/"
+
+    async def go() -> None:
+        bob = await ProtoClient(url).start()
+        await _open_task(bob)
+        await bob.set("Join code", "WRONG9", 0.1)
+        await bob.set("Your name", "s2", 0.1)
+        box = await _student_checks(bob, 0)
+        assert "unknown join code" in box and "al-check" not in box, box
+        await bob.set("Join code", JOIN.lower(), 0.1)
+        box = await _student_checks(bob, 1)
+        assert EXPIRED in box and "al-check" not in box, box
+        back = await ProtoClient(url, storage={TOKEN_KEY: token}).start()
+        await _open_task(back)
+        await until(
+            lambda: any("Ann Lee" in h for h in back.html.values() if "al-student-who" in h),
+            60,
+            "Ann recorded from her saved token",
+        )
+        box = await _student_checks(back, 0)
+        assert "al-check" in box, box
+        for c in (bob, back):
+            await c.close()
+
+    try:
+        _run_in_thread(go())
+        got = course.attempts()
+        assert [a.student_id for a in got] == [ann.id]  # nothing recorded for Bob
+    finally:
+        store.close()

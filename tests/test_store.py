@@ -10,10 +10,11 @@ from pathlib import Path
 from typing import Any
 
 import pytest
-from analyzer_lab.classroom.course import Course
+from analyzer_lab.classroom.course import EXPIRED, Course
 from analyzer_lab.classroom.store import tokens
 from analyzer_lab.classroom.store.records import (
     CheckRecord,
+    ClassInfo,
     JoinError,
     NewAttempt,
     RosterEntry,
@@ -59,11 +60,11 @@ def test_schema_is_at_the_newest_revision_and_reopening_changes_nothing(store: S
     from analyzer_lab.classroom.ports import CourseStore
 
     assert isinstance(store, CourseStore)
-    assert store.revision() == "0001"
+    assert store.revision() == "0002"
     info = store.open_class(_class_name(), ROSTER)
     again = SqlStore(store.url)
     try:
-        assert again.revision() == "0001"
+        assert again.revision() == "0002"
         assert [s.roster_id for s in again.students(info.id)] == ["s1", "s2"]
     finally:
         again.close()
@@ -144,6 +145,129 @@ def test_forged_and_foreign_tokens_are_refused(store: SqlStore) -> None:
     with pytest.raises(JoinError, match="another class"):
         other.restore(good)
     assert course.restore(good) == ann
+
+
+# ------------------------------------------------------------------ join codes that expire
+
+
+def _expire(store: SqlStore, name: str) -> ClassInfo:
+    """The class's join code made one that expired a second ago (as if its lifetime passed)."""
+    import sqlalchemy as sa
+    from analyzer_lab.classroom.store.schema import classes
+
+    with store.engine.begin() as conn:
+        conn.execute(
+            sa.update(classes)
+            .where(classes.c.name == name)
+            .values(join_code_expires=time.time() - 1.0)
+        )
+    info = store.get_class(name)
+    assert info is not None
+    return info
+
+
+def test_a_join_code_with_a_lifetime_expires_and_joined_students_keep_their_tokens(
+    store: SqlStore,
+) -> None:
+    name = _class_name()
+    t0 = time.time()
+    info = store.open_class(name, ROSTER, join_code="TERM42", code_lifetime=2 * 3600.0)
+    assert info.join_code_expires is not None
+    assert t0 + 7200.0 <= info.join_code_expires <= time.time() + 7200.0
+    course = Course(store, info, SECRET)
+    assert "(expires " in course.code_expiry() and " UTC)" in course.code_expiry()
+    ann = course.join("TERM42", "s1")  # within its lifetime
+    token = course.token(ann)
+    course = Course(store, _expire(store, name), SECRET)
+    assert "expired" in course.code_expiry()
+    with pytest.raises(JoinError) as err:
+        course.join("term42", "s2")
+    assert str(err.value) == EXPIRED
+    # an unknown code is still told apart from the expired one
+    with pytest.raises(JoinError, match="unknown join code"):
+        course.join("OTHER1", "s2")
+    # Ann's page keeps working: her token brings her back and her attempts are recorded
+    assert course.restore(token) == ann
+    course.record(course.restore(token), _grade(True), {"u": "2"})
+    assert [a.student_id for a in course.attempts()] == [ann.id]
+    assert store.find_roster(info.id, "s2") is not None  # Bob was not claimed
+    # a new code (without a lifetime) never expires; reopening without one keeps it so
+    fresh = store.open_class(name, join_code="NEXT42")
+    assert fresh.join_code == "NEXT42" and fresh.join_code_expires is None
+    assert Course(store, fresh, SECRET).join("NEXT42", "s2").roster_id == "s2"
+    assert store.open_class(name).join_code_expires is None
+
+
+def test_a_lifetime_alone_applies_to_the_current_code_and_reopening_keeps_it(
+    store: SqlStore,
+) -> None:
+    name = _class_name()
+    first = store.open_class(name, join_code="KEEP42")
+    assert first.join_code_expires is None
+    timed = store.open_class(name, code_lifetime=60.0)
+    assert timed.join_code == "KEEP42" and timed.join_code_expires is not None
+    again = store.open_class(name)  # a worker opening the class changes nothing
+    assert again.join_code_expires == timed.join_code_expires
+
+
+def test_the_lifetime_migration_keeps_a_class_made_before_it(tmp_path: Path) -> None:
+    """A record at revision 0001 (no lifetimes) is upgraded: its classes and students stay,
+    their codes never expire."""
+    import sqlalchemy as sa
+    from alembic import command
+    from alembic.config import Config
+    from analyzer_lab.classroom.store.sql_store import MIGRATIONS
+
+    url = f"sqlite:///{tmp_path / 'old.sqlite3'}"
+    engine = sa.create_engine(url)
+    cfg = Config()
+    cfg.set_main_option("script_location", str(MIGRATIONS))
+    with engine.begin() as conn:
+        cfg.attributes["connection"] = conn
+        command.upgrade(cfg, "0001")
+        conn.execute(
+            sa.text(
+                "INSERT INTO classes (name, join_code, closed, created) "
+                "VALUES ('old', 'OLD42', 0, 1.0)"
+            )
+        )
+    engine.dispose()
+    store = SqlStore(url)
+    try:
+        assert store.revision() == "0002"
+        info = store.get_class("old")
+        assert info is not None and info.join_code == "OLD42" and info.join_code_expires is None
+        assert Course(store, info, SECRET).join("OLD42", "Zed").name == "Zed"
+    finally:
+        store.close()
+
+
+def test_an_impossible_lifetime_is_refused_and_changes_nothing(tmp_path: Path) -> None:
+    url = f"sqlite:///{tmp_path / 'record.sqlite3'}"
+    where = Where(str(tmp_path), url, "life")
+    course = open_course(where, join_code="LIFE42", code_hours=1.5)
+    before = course.info
+    assert before.join_code_expires is not None
+    for bad in (0.0, -2.0, float("nan"), float("inf"), 9000.0):
+        with pytest.raises(CourseRecordError, match="--join-code-hours must be a number of hours"):
+            open_course(where, join_code="LIFE43", code_hours=bad)
+    assert course.store.get_class("life") == before
+    course.store.close()  # type: ignore[attr-defined]
+
+
+def test_serve_refuses_a_bad_lifetime_before_it_starts(tmp_path: Path) -> None:
+    import subprocess
+    import sys
+
+    out = subprocess.run(
+        [sys.executable, "-m", "analyzer_lab", "serve", "--no-browser", "--port", "0"]
+        + ["--data", str(tmp_path), "--join-code", "LIFE42", "--join-code-hours", "-1"],
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
+    assert out.returncode == 2
+    assert "--join-code-hours must be a number of hours above 0" in out.stderr
 
 
 def _grade(passed: bool) -> Any:
@@ -261,6 +385,16 @@ def test_the_grades_command_reads_the_record(tmp_path: Path) -> None:
     assert out.returncode == 0 and out.stdout == ""
     long = list(csv.reader(open(tmp_path / "long.csv", encoding="utf-8")))
     assert long[1][:5] == ["s1", "Ann Lee", "a1", "1", "2"]
+    out = grades("--format", "moodle", "--feedback")
+    assert out.returncode == 0, out.stderr
+    rows = list(csv.reader(io.StringIO(out.stdout)))
+    assert rows[0] == ["ID number", "Email address", "Full name", "a1", "a1 (Feedback)"]
+    assert rows[1] == ["s1", "ann@uni.example", "Ann Lee", "1", "all checks pass"]
+    assert rows[2] == ["s2", "", "Bob", "", ""]
+    out = grades("--feedback", "--assignments", str(tmp_path / "missing"))
+    assert out.returncode == 2 and "--assignments: " in out.stderr and "missing" in out.stderr
+    out = grades("--format", "canvas", "--feedback")
+    assert out.returncode == 2 and "use it with --format moodle" in out.stderr
     out = grades("--class", "nope")
     assert out.returncode == 2 and "no class 'nope'" in out.stderr
     out = grades("--db", "mysql://x")

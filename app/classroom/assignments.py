@@ -64,8 +64,8 @@ TOKEN_TRIES = 5
 #: Seconds a check waits for that token (then the page joins with what it typed).
 CHECK_WAIT = 3.0
 NOT_RECORDED = (
-    "Your attempt could not be recorded: the course record cannot be reached ({why}). "
-    "It does not count yet; check again in a moment."
+    "Your attempt could not be recorded: {why}. It is not in the course record and does "
+    "not count yet; check again in a moment."
 )
 ENV_FOLDER = "ANALYZER_LAB_ASSIGNMENTS"  # analyzer_lab.serve.cli_assignments.ENV_FOLDER
 esc = html.escape
@@ -809,7 +809,10 @@ class TeacherPanel:
             )
             course = self.board.course
             if course.needs_code:
-                title += f"<br>Join code: <b class='al-join-code'>{esc(course.info.join_code)}</b>"
+                title += (
+                    f"<br>Join code: <b class='al-join-code'>{esc(course.info.join_code)}</b>"
+                    f"{esc(course.code_expiry())}"
+                )
             if self.board.store_problem:
                 title += (
                     "<br><span class='al-store-down' style='color:#a61b1b'>The course record "

@@ -31,6 +31,9 @@ log = logging.getLogger(__name__)
 
 #: Where a page keeps its student token (its own browser storage).
 TOKEN_KEY = "analyzer-lab-student"
+#: What a student typing the class's code after its lifetime is told (a page that joined
+#: before keeps its token, which does not expire with the code).
+EXPIRED = "this join code has expired: ask the instructor for a new one"
 
 
 class Course:
@@ -55,6 +58,16 @@ class Course:
     def needs_code(self) -> bool:
         return bool(self.info.join_code)
 
+    def code_expiry(self, now: float | None = None) -> str:
+        """When the join code expires, as the instructor is told it (empty: never)."""
+        expires = self.info.join_code_expires
+        if expires is None:
+            return ""
+        when = time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime(expires))
+        if self.info.code_expired(time.time() if now is None else now):
+            return f" (expired {when}: give a new one with --join-code)"
+        return f" (expires {when})"
+
     def token(self, student: Student) -> str:
         return tokens.sign(self.secret, self.info.id, student.id)
 
@@ -75,6 +88,8 @@ class Course:
                 raise JoinError("type the join code the instructor gave you")
             if not hmac.compare_digest(code.strip().upper(), self.info.join_code.upper()):
                 raise JoinError("unknown join code: check it with the instructor")
+            if self.info.code_expired(time.time()):
+                raise JoinError(EXPIRED)
         try:
             name = clean_name(who)
         except ValueError:
@@ -118,4 +133,4 @@ class Course:
         return self.store.attempts(self.info.id, after)
 
 
-__all__ = ["Course", "JoinError", "StoreError", "TOKEN_KEY"]
+__all__ = ["EXPIRED", "Course", "JoinError", "StoreError", "TOKEN_KEY"]

@@ -161,6 +161,7 @@ class CourseStore(Protocol):
         name: str,
         roster: Sequence[RosterEntry] | None = None,
         join_code: str | None = None,
+        code_lifetime: float | None = None,
     ) -> ClassInfo: ...
 
     def students(self, class_id: int) -> list[Student]: ...

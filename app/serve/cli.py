@@ -14,6 +14,10 @@ import os
 import sys
 import time
 from collections.abc import Sequence
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from analyzer_lab.classroom.store.grades import Feedback
 
 log = logging.getLogger(__name__)
 
@@ -147,7 +151,9 @@ def cmd_serve(args: argparse.Namespace) -> int:
     try:  # opened (made, upgraded, the roster imported) once, before any worker starts
         where = resolve(args.data, args.db, args.class_name)
         if workers > 1:
-            open_course(where, args.roster, args.join_code).store.close()
+            open_course(
+                where, args.roster, args.join_code, code_hours=args.join_code_hours
+            ).store.close()
     except CourseRecordError as exc:
         return _fail(str(exc))
     export_environment(where)
@@ -185,6 +191,7 @@ def cmd_serve(args: argparse.Namespace) -> int:
         instructor_code_file=getattr(args, "instructor_code_file", None),
         roster=args.roster,
         join_code=args.join_code,
+        join_code_hours=args.join_code_hours,
     )  # fps: classroom hook
 
 
@@ -212,14 +219,33 @@ def _record_options(s: argparse.ArgumentParser) -> None:
     )
 
 
+def _feedback_texts(folder: str | None) -> Feedback:
+    """The checks' feedback texts of the ready assignments and those in ``folder``."""
+    from analyzer_lab.classroom.store.grades import feedback_from
+    from analyzer_lab.lessons.assignments import load_folder, ready_assignments
+
+    found = {a.id: a for a in ready_assignments()}
+    if folder:
+        found.update({a.id: a for a in load_folder(folder)})
+    return feedback_from(found)
+
+
 def cmd_grades(args: argparse.Namespace) -> int:
     from analyzer_lab.classroom.store.grades import export
     from analyzer_lab.classroom.store.records import StoreError
+    from analyzer_lab.lessons.assignments import AssignmentError
     from analyzer_lab.serve.course_record import CourseRecordError, open_course, resolve
 
+    if args.feedback and args.format != "moodle":
+        return _fail("--feedback adds Moodle's feedback columns: use it with --format moodle")
     try:
+        feedback = _feedback_texts(args.assignments) if args.feedback else None
         course = open_course(resolve(args.data, args.db, args.class_name), create=False)
-        text = export(args.format, list(course.students()), course.attempts(), args.assignment)
+        text = export(
+            args.format, list(course.students()), course.attempts(), args.assignment, feedback
+        )
+    except AssignmentError as exc:
+        return _fail(f"--assignments: {exc}")
     except (CourseRecordError, StoreError, ValueError) as exc:
         return _fail(str(exc))
     if args.out:
@@ -308,6 +334,14 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument(
         "--join-code", metavar="CODE", help="the class's join code (default: generated once)"
     )
+    s.add_argument(
+        "--join-code-hours",
+        type=float,
+        metavar="H",
+        default=None,
+        help="the join code expires H hours from now (students who joined keep their "
+        "record; default: a code given with --join-code never expires)",
+    )
     s.set_defaults(func=cmd_serve)
 
     s = sub.add_parser(
@@ -325,6 +359,19 @@ def build_parser() -> argparse.ArgumentParser:
         default=[],
         metavar="ID",
         help="a column for this assignment (repeatable; default: every assignment attempted)",
+    )
+    s.add_argument(
+        "--feedback",
+        action="store_true",
+        help="moodle: after each assignment's column a feedback column '<assignment> "
+        "(Feedback)' (map it to 'Feedback for <assignment>' at import): the checks the best "
+        "attempt missed, by how much, with the assignment's feedback texts",
+    )
+    s.add_argument(
+        "--assignments",
+        metavar="DIR",
+        help="with --feedback: also read the feedback texts of the assignment files in DIR "
+        "(those served with serve --assignments DIR)",
     )
     s.add_argument("--out", metavar="FILE", help="write here (default: standard output)")
     s.set_defaults(func=cmd_grades)

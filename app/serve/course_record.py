@@ -5,6 +5,7 @@ N`` open the same record."""
 
 from __future__ import annotations
 
+import math
 import os
 from dataclasses import dataclass
 from pathlib import Path
@@ -24,6 +25,8 @@ from analyzer_lab.classroom.store.roster_csv import read_roster
 from analyzer_lab.classroom.store.sql_store import SqlStore, redact
 
 MAX_CLASS_NAME = 80
+#: The longest lifetime of a join code (a leap year), in hours.
+MAX_CODE_HOURS = 8784.0
 
 
 class CourseRecordError(ValueError):
@@ -56,8 +59,11 @@ def open_course(
     roster: str | None = None,
     join_code: str | None = None,
     create: bool = True,
+    code_hours: float | None = None,
 ) -> Course:
-    """The class's course record; a roster file is imported whole or not at all."""
+    """The class's course record; a roster file is imported whole or not at all.
+    ``code_hours``: the join code expires that many hours from now (given a code
+    without it, the code never expires)."""
     entries = None
     if roster:
         try:
@@ -69,10 +75,19 @@ def open_course(
         if not (4 <= len(code) <= 40 and code.isalnum() and code.isascii()):
             raise CourseRecordError("--join-code must be 4..40 letters or digits")
         join_code = code
+    lifetime = None
+    if code_hours is not None:
+        hours = float(code_hours)
+        if not (math.isfinite(hours) and 0 < hours <= MAX_CODE_HOURS):
+            raise CourseRecordError(
+                f"--join-code-hours must be a number of hours above 0 and at most "
+                f"{MAX_CODE_HOURS:g}, got {code_hours!r}"
+            )
+        lifetime = hours * 3600.0
     try:
         store = SqlStore(where.db)
-        if create or entries or join_code:
-            info = store.open_class(where.class_name, entries, join_code)
+        if create or entries or join_code or lifetime is not None:
+            info = store.open_class(where.class_name, entries, join_code, lifetime)
         else:
             found = store.get_class(where.class_name)
             if found is None:
@@ -93,4 +108,10 @@ def export_environment(where: Where) -> None:
     os.environ[ENV_CLASS] = where.class_name
 
 
-__all__ = ["CourseRecordError", "Where", "export_environment", "open_course", "resolve"]
+__all__ = [
+    "CourseRecordError",
+    "Where",
+    "export_environment",
+    "open_course",
+    "resolve",
+]

@@ -516,10 +516,12 @@ def serve(
     class_name: str | None = None,
     roster: str | None = None,
     join_code: str | None = None,
+    join_code_hours: float | None = None,
 ) -> int:
     """Run the lab until interrupted; returns the exit code.  The course record: the
     class ``class_name`` in ``db`` (default: the SQLite file in the data folder ``data``),
-    ``roster`` a CSV file of its students (:mod:`analyzer_lab.serve.course_record`).  ``bus_url``: the class bus
+    ``roster`` a CSV file of its students, ``join_code`` and its lifetime ``join_code_hours``
+    (:mod:`analyzer_lab.serve.course_record`).  ``bus_url``: the class bus
     shared with other servers (``redis://HOST:PORT``; default in-process); the code comes
     from ``instructor_code``, ``instructor_code_file`` or the environment
     (:func:`~analyzer_lab.classroom.instructor_code.class_code`)."""
@@ -542,7 +544,7 @@ def serve(
         return 2
     try:
         record = resolve(data, db, class_name)
-        course = open_course(record, roster, join_code)
+        course = open_course(record, roster, join_code, code_hours=join_code_hours)
     except CourseRecordError as exc:
         print(f"analyzer-lab: error: {exc}", file=sys.stderr)
         return 2
@@ -576,7 +578,7 @@ def serve(
     )  # classroom hook
     print(
         f"Course record: {redact(record.db)}, class {record.class_name!r}, "
-        f"join code {course.info.join_code}",
+        f"join code {course.info.join_code}{course.code_expiry()}",
         flush=True,
     )
     _report_bus(bus)

@@ -17,7 +17,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from analyzer_lab.lessons.assignments.grading import Grade, grade
-from analyzer_lab.lessons.assignments.space import DEFAULT_CLASS, label, seed
+from analyzer_lab.lessons.assignments.space import DEFAULT_CLASS, label, seed, values_at
 from analyzer_lab.lessons.assignments.spec import (
     Assignment,
     AssignmentError,
@@ -120,6 +120,17 @@ def release(a: Assignment) -> Release:
     return Release(a, tuple(variants), runs, time.perf_counter() - start)
 
 
+def variant_labelled(a: Assignment, text: str) -> Variant | None:
+    """The variant of ``a`` whose label is ``text`` (as an attempt records it); None when
+    no variant handed out has it.  An assignment that is not varied is its own variant."""
+    if not a.varied:
+        return instantiate(a, 0)
+    for index in pool(a):
+        if label(values_at(a.variables, index)) == text:
+            return instantiate(a, index)
+    return None
+
+
 __all__ = [
     "DEFAULT_CLASS",
     "Release",
@@ -128,4 +139,5 @@ __all__ = [
     "pool",
     "release",
     "variant_for",
+    "variant_labelled",
 ]

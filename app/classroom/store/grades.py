@@ -5,19 +5,32 @@ The score rule: 1 for an assignment passed (any attempt whose every check passed
 one attempted and never passed; a student with no attempt at an assignment gets an empty
 cell (ungraded) in the Moodle and Canvas files.  Text cells that a spreadsheet would read
 as a formula (leading ``= + - @``) are defused with a leading apostrophe.
+
+Moodle's file may carry a feedback column after each assignment's, named as Moodle's own
+export names one (``<assignment> (Feedback)``; at import it is mapped to "Feedback for
+<assignment>"): what the student's best attempt missed, each failed check with its miss
+and the author's feedback text for it.
 """
 
 from __future__ import annotations
 
 import csv
 import io
-from collections.abc import Iterable, Sequence
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass
 from datetime import datetime, timezone
+from typing import TYPE_CHECKING
 
 from analyzer_lab.classroom.store.records import Attempt, Student
 
+if TYPE_CHECKING:
+    from analyzer_lab.lessons.assignments import Assignment
+
 FORMATS = ("moodle", "canvas", "long")
+#: (assignment id, variant label) -> each check's feedback text for a failure, by check id
+Feedback = Callable[[str, str], Mapping[str, str]]
+#: The feedback cell of an assignment passed.
+ALL_PASS = "all checks pass"
 
 
 @dataclass(frozen=True)
@@ -30,6 +43,12 @@ class Standing:
     attempts: int
     first_pass: float | None  # epoch seconds
     last_attempt: float | None
+    best: Attempt | None = None  # a passing attempt, else one with the most checks passed
+
+
+def _rank(a: Attempt) -> tuple[bool, int, float, int]:
+    """Better attempts rank higher: passed, then more checks passed, then the newer."""
+    return (a.passed, sum(c.passed for c in a.checks), a.at, a.id)
 
 
 def standings(
@@ -52,6 +71,7 @@ def standings(
                     len(mine),
                     passes[0] if passes else None,
                     mine[-1].at if mine else None,
+                    max(mine, key=_rank) if mine else None,
                 )
             )
     return out
@@ -89,20 +109,75 @@ def _grid(table: list[Standing]) -> dict[int, dict[str, Standing]]:
     return grid
 
 
+def feedback_column(assignment: str) -> str:
+    """The header of an assignment's feedback column (as Moodle's export names it)."""
+    return f"{assignment} (Feedback)"
+
+
+def _miss(v: float | None) -> str:
+    return "failed" if v is None else f"missed by {v:.4g}"
+
+
+def feedback_text(st: Standing, feedback: Feedback) -> str:
+    """What the best attempt missed: each failed check (its id and miss) with the author's
+    feedback text; :data:`ALL_PASS` when it passed; empty when never attempted."""
+    best = st.best
+    if best is None:
+        return ""
+    if best.passed:
+        return ALL_PASS
+    texts = feedback(st.assignment, best.variant)
+    parts = []
+    for c in best.checks:
+        if not c.passed:
+            text = texts.get(c.id, "").strip()
+            parts.append(f"{c.id} {_miss(c.miss)}" + (f": {text}" if text else ""))
+    return "; ".join(parts) or "not passed"
+
+
 def moodle_csv(
-    students: Sequence[Student], table: list[Standing], assignments: Sequence[str]
+    students: Sequence[Student],
+    table: list[Standing],
+    assignments: Sequence[str],
+    feedback: Feedback | None = None,
 ) -> str:
     """Moodle's grade import: the user identifier columns (``ID number``, ``Email
-    address``; map one of them at import), then one column per assignment."""
+    address``; map one of them at import), then one column per assignment, each followed
+    by its feedback column when ``feedback`` is given."""
     grid = _grid(table)
-    rows = [["ID number", "Email address", "Full name", *assignments]]
+    head = ["ID number", "Email address", "Full name"]
+    for a in assignments:
+        head += [a, feedback_column(a)] if feedback is not None else [a]
+    rows = [head]
     for s in students:
         mine = grid.get(s.id, {})
-        rows.append(
-            [_cell(s.roster_id), _cell(s.email), _cell(s.name)]
-            + [_score(mine[a].score) if a in mine else "" for a in assignments]
-        )
+        row = [_cell(s.roster_id), _cell(s.email), _cell(s.name)]
+        for a in assignments:
+            st = mine.get(a)
+            row.append(_score(st.score) if st is not None else "")
+            if feedback is not None:
+                row.append(_cell(feedback_text(st, feedback)) if st is not None else "")
+        rows.append(row)
     return _write(rows)
+
+
+def feedback_from(assignments: Mapping[str, Assignment]) -> Feedback:
+    """Each check's feedback text from the assignment files, for the variant an attempt
+    was on (its numbers in the text); an unknown assignment or variant has none."""
+    from analyzer_lab.lessons.assignments.variants import variant_labelled
+
+    cache: dict[tuple[str, str], Mapping[str, str]] = {}
+
+    def texts(assignment: str, variant: str) -> Mapping[str, str]:
+        key = (assignment, variant)
+        if key not in cache:
+            a = assignments.get(assignment)
+            v = None if a is None else variant_labelled(a, variant)
+            checks = () if v is None else v.assignment.checks
+            cache[key] = {c.id: c.feedback for c in checks if c.feedback}
+        return cache[key]
+
+    return texts
 
 
 def canvas_csv(
@@ -157,12 +232,16 @@ def export(
     students: Sequence[Student],
     attempts: Sequence[Attempt],
     assignments: Sequence[str] = (),
+    feedback: Feedback | None = None,
 ) -> str:
-    """The class's grades in ``fmt`` (one of :data:`FORMATS`)."""
+    """The class's grades in ``fmt`` (one of :data:`FORMATS`); ``feedback``: Moodle's
+    feedback columns, with these texts."""
+    if feedback is not None and fmt != "moodle":
+        raise ValueError("feedback columns are for the moodle format only")
     names = list(assignments) or assignments_of(attempts)
     table = standings(students, attempts, names)
     if fmt == "moodle":
-        return moodle_csv(students, table, names)
+        return moodle_csv(students, table, names, feedback)
     if fmt == "canvas":
         return canvas_csv(students, table, names)
     if fmt == "long":
@@ -171,11 +250,16 @@ def export(
 
 
 __all__ = [
+    "ALL_PASS",
     "FORMATS",
+    "Feedback",
     "Standing",
     "assignments_of",
     "canvas_csv",
     "export",
+    "feedback_column",
+    "feedback_from",
+    "feedback_text",
     "long_csv",
     "moodle_csv",
     "standings",

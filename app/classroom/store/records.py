@@ -20,12 +20,17 @@ class JoinError(ValueError):
 
 @dataclass(frozen=True)
 class ClassInfo:
-    """One class: its name, join code and whether only its roster may join."""
+    """One class: its name, join code (and when that expires) and whether only its
+    roster may join."""
 
     id: int
     name: str
     join_code: str
     closed: bool  # True: a roster was imported, only its students join
+    join_code_expires: float | None = None  # epoch seconds; None: the code never expires
+
+    def code_expired(self, now: float) -> bool:
+        return self.join_code_expires is not None and now >= self.join_code_expires
 
 
 @dataclass(frozen=True)

@@ -12,6 +12,7 @@ classes = sa.Table(
     sa.Column("id", sa.Integer, primary_key=True, autoincrement=True),
     sa.Column("name", sa.String(80), nullable=False, unique=True),
     sa.Column("join_code", sa.String(40), nullable=False),
+    sa.Column("join_code_expires", sa.Float, nullable=True),  # epoch seconds; None: never
     sa.Column("closed", sa.Boolean, nullable=False, default=False),
     sa.Column("created", sa.Float, nullable=False),
 )

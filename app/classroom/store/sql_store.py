@@ -145,10 +145,15 @@ class SqlStore:
         name: str,
         roster: Sequence[RosterEntry] | None = None,
         join_code: str | None = None,
+        code_lifetime: float | None = None,
     ) -> ClassInfo:
         """The class ``name``, made if new; a roster adds its students (a known roster id
-        gets the row's name, email and group) and closes the class to everyone else.  One
-        transaction: on any failure nothing changes."""
+        gets the row's name, email and group) and closes the class to everyone else.  A
+        join code or a ``code_lifetime`` (seconds) given sets when the code expires: that
+        long from now, or never when no lifetime is given; given neither, the code and its
+        expiry stay.  One transaction: on any failure nothing changes."""
+        now = time.time()
+        expires = None if code_lifetime is None else now + float(code_lifetime)
         with self._begin() as conn:
             row = conn.execute(sa.select(classes).where(classes.c.name == name)).first()
             if row is None:
@@ -156,14 +161,17 @@ class SqlStore:
                     sa.insert(classes).values(
                         name=name,
                         join_code=join_code or generate_join_code(),
+                        join_code_expires=expires,
                         closed=bool(roster),
-                        created=time.time(),
+                        created=now,
                     )
                 )
             else:
                 changes: dict[str, Any] = {}
                 if join_code and join_code != row.join_code:
                     changes["join_code"] = join_code
+                if (join_code or code_lifetime is not None) and expires != row.join_code_expires:
+                    changes["join_code_expires"] = expires
                 if roster and not row.closed:
                     changes["closed"] = True
                 if changes:
@@ -332,10 +340,28 @@ class _Guard:
         return False
 
 
+#: PostgreSQL's SQLSTATE for a disk that is full.
+PG_DISK_FULL = "53100"
+
+
+def is_full(exc: BaseException) -> bool:
+    """True when the database refused a write because it, or its disk, is full."""
+    orig = getattr(exc, "orig", None) or exc
+    if getattr(orig, "sqlite_errorname", "") == "SQLITE_FULL":
+        return True
+    if getattr(orig, "sqlstate", "") == PG_DISK_FULL:
+        return True
+    text = str(orig).lower()
+    return "database or disk is full" in text or "no space left on device" in text
+
+
 def _why(exc: BaseException) -> str:
     orig = getattr(exc, "orig", None)
     text = str(orig if orig is not None else exc).strip().splitlines()
-    return f"the course record is unreachable or refused the write ({text[0][:200] if text else type(exc).__name__})"
+    detail = text[0][:200] if text else type(exc).__name__
+    if is_full(exc):
+        return f"the course record is full ({detail}): the instructor must free space on its disk"
+    return f"the course record is unreachable or refused the write ({detail})"
 
 
 def redact(url: str) -> str:
@@ -359,7 +385,14 @@ def _jsonable(values: dict[str, Any]) -> dict[str, Any]:
 
 
 def _class(row: Any) -> ClassInfo:
-    return ClassInfo(int(row.id), row.name, row.join_code, bool(row.closed))
+    expires = row.join_code_expires
+    return ClassInfo(
+        int(row.id),
+        row.name,
+        row.join_code,
+        bool(row.closed),
+        None if expires is None else float(expires),
+    )
 
 
 def _student(row: Any) -> Student:
@@ -382,4 +415,4 @@ def _attempt(row: Any) -> Attempt:
     )
 
 
-__all__ = ["SqlStore", "generate_join_code", "redact"]
+__all__ = ["SqlStore", "generate_join_code", "is_full", "redact"]
