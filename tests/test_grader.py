@@ -8,8 +8,9 @@ from collections.abc import Iterator
 from typing import Any
 
 import pytest
-from analyzer_lab.classroom.grader import Grader, GraderBusy, GradeOutcome
+from analyzer_lab.classroom.grader import GradeOutcome, Grader, GraderBusy
 from analyzer_lab.lessons.assignments import grade, ready_assignments
+
 from tests.support.waiting import wait_until
 
 READY = {a.id: a for a in ready_assignments()}
