@@ -60,13 +60,16 @@ def start_redis(port: int) -> subprocess.Popen:
             time.sleep(0.05)
 
 
-def start_front_door(port: int, workers: int, bus: str, log: Any) -> subprocess.Popen:
-    """``python -m analyzer_lab serve --workers N --bus BUS``; returns when every worker runs."""
+def start_front_door(
+    port: int, workers: int, bus: str, log: Any, extra: tuple[str, ...] = ()
+) -> subprocess.Popen:
+    """``python -m analyzer_lab serve --workers N --bus BUS`` (and ``extra`` options);
+    returns when every worker runs."""
     env = dict(os.environ, PYTHONPATH=ROOT + os.pathsep + os.environ.get("PYTHONPATH", ""))
     env.setdefault("ANALYZER_LAB_STATS", "5")
     proc = subprocess.Popen(
         [sys.executable, "-m", "analyzer_lab", "serve", "--no-browser", "--port", str(port)]
-        + ["--workers", str(workers), "--bus", bus, "--instructor-code", CODE],
+        + ["--workers", str(workers), "--bus", bus, "--instructor-code", CODE, *extra],
         stdout=log,
         stderr=log,
         env=env,

@@ -25,7 +25,7 @@ log = logging.getLogger(__name__)
 INPUT_RATE = 20.0
 INPUT_BURST = 20.0
 TEXT_COST = 4.0
-REBUILD_COST = 5.0
+REBUILD_COST = 10.0
 
 Callback = Callable[[Any], None]
 

@@ -296,7 +296,11 @@ class LabServer:
         start = time.monotonic()
         with self._views_lock:
             pages = [(self._addresses.get(cid, ""), v) for cid, v in self.views.items()]
-        views = fair_order(pages, self._rr)
+        ordered = fair_order(pages, self._rr)
+        # pages that play first: a tick cut short by its budget leaves out paused pages
+        # (whose turn only redraws what changed), not the frames of a playing one
+        views = [v for v in ordered if v.session.playing]
+        views += [v for v in ordered if not v.session.playing]
         substeps = 8 if self.stats.load < 0.5 else 4 if self.stats.load < 0.8 else 1
         batch = WakeBatch(self.server)
         # round-robin with a time budget: under overload every session still gets
