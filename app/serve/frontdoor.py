@@ -50,8 +50,10 @@ STATUS_PATH = "/frontdoor/status"
 RESTART_DELAY = 1.0
 #: A worker's page report older than this is not trusted (only the front door's own count).
 REPORT_TIMEOUT = 5.0
-#: Seconds a page sent to a worker counts as its load on top of the worker's report.
-PENDING = 3.0
+#: Seconds a page sent to a worker counts as its load on top of the worker's report (a
+#: page built on a busy machine reaches the worker's report several seconds after it was
+#: sent; counted twice for a while, it only spreads the next pages more).
+PENDING = 10.0
 #: A request's head (request line and headers): seconds to arrive, and bytes at most.
 HEAD_TIMEOUT = 5.0
 MAX_HEAD = 8192
