@@ -555,7 +555,11 @@ def test_many_pages_changing_lessons_share_the_input_budget(server: Any) -> None
         # goal of 90% is open (README); a fall below 70% fails
         _, figures, _ = await _measured(
             # the rebuilds queued for the pages that left are finished first
-            server, "lessons: 20 pages x 500 changes/s", 15.0, during_floor=0.7, settle=8.0
+            server,
+            "lessons: 20 pages x 500 changes/s",
+            15.0,
+            during_floor=0.7,
+            settle=8.0,
         )
         assert figures["sent"] > 1000
 
