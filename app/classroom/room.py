@@ -569,12 +569,15 @@ class Classroom:
             if self._stop.is_set():
                 break
             k += 1
+            try:  # the waiting inputs are replayed whatever else of this period fails
+                self.inputs.replay()
+            except Exception:  # the sync thread goes on
+                log.exception("replaying the waiting inputs failed")
             try:
                 with self.lock:
                     self.link.tick()
                     self._sync_followers()
                     self._push_camera()
-                self.inputs.replay()
                 if k % 5 == 0:
                     for panel in list(self.instructors.values()):
                         panel.update()
