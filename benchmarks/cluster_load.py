@@ -90,6 +90,17 @@ def start_front_door(
     raise RuntimeError("the workers did not start within 120 s")
 
 
+def stop_front_door(door: subprocess.Popen, redis_proc: subprocess.Popen) -> None:
+    """Stop the front door (its workers with it) as Ctrl+C does, then Redis."""
+    door.send_signal(signal.SIGINT)
+    try:
+        door.wait(15)
+    except subprocess.TimeoutExpired:
+        door.kill()
+    redis_proc.terminate()
+    redis_proc.wait(5)
+
+
 def status(port: int) -> dict[str, Any]:
     """The front door's status, asked as the instructor."""
     conn = http.client.HTTPConnection("127.0.0.1", port, timeout=5)
@@ -272,13 +283,7 @@ def main(argv: list[str] | None = None) -> int:
                 print(text, flush=True)
             time.sleep(3.0)
     finally:
-        door.send_signal(signal.SIGINT)
-        try:
-            door.wait(15)
-        except subprocess.TimeoutExpired:
-            door.kill()
-        redis_proc.terminate()
-        redis_proc.wait(5)
+        stop_front_door(door, redis_proc)
     return 0
 
 

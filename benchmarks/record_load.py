@@ -19,14 +19,20 @@ import argparse
 import asyncio
 import multiprocessing
 import os
-import signal
 import statistics
 import subprocess
 import tempfile
 import time
 from typing import Any
 
-from benchmarks.cluster_load import CPU, page_url, start_front_door, start_redis, status
+from benchmarks.cluster_load import (
+    CPU,
+    page_url,
+    start_front_door,
+    start_redis,
+    status,
+    stop_front_door,
+)
 from tests.support.load import LabClient, count_window, page_plan
 from tests.support.servers import free_port
 
@@ -110,13 +116,7 @@ def main(argv: list[str] | None = None) -> int:
             w.join(timeout=5)
             if w.is_alive():
                 w.kill()
-        door.send_signal(signal.SIGINT)
-        try:
-            door.wait(15)
-        except subprocess.TimeoutExpired:
-            door.kill()
-        redis_proc.terminate()
-        redis_proc.wait(5)
+        stop_front_door(door, redis_proc)
     return 0
 
 

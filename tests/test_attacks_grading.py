@@ -15,16 +15,12 @@ from typing import Any
 import pytest
 
 from tests.support.servers import ServeProcess
-from tests.test_attacks_transport import CODE, JOIN, ROWS, _measured, _warm
+from tests.test_attacks_transport import JOIN, _measured, attacked_server
 
 
 @pytest.fixture(scope="module")
 def server(serve: Callable[..., ServeProcess]) -> Iterator[tuple[str, subprocess.Popen]]:
-    live = serve("sphere", "--instructor-code", CODE, "--join-code", JOIN)
-    asyncio.run(_warm(live.url))
-    yield live.url, live.proc
-    for row in ROWS:
-        print(row)
+    yield from attacked_server(serve, "--join-code", JOIN)
 
 
 def test_a_class_checking_costly_answers_does_not_slow_the_others(server: Any) -> None:

@@ -14,16 +14,12 @@ from typing import Any
 import pytest
 
 from tests.support.servers import ServeProcess
-from tests.test_attacks_transport import CODE, ROWS, _measured, _warm
+from tests.test_attacks_transport import _measured, attacked_server
 
 
 @pytest.fixture(scope="module")
 def server(serve: Callable[..., ServeProcess]) -> Iterator[tuple[str, subprocess.Popen]]:
-    live = serve("sphere", "--instructor-code", CODE)
-    asyncio.run(_warm(live.url))
-    yield live.url, live.proc
-    for row in ROWS:
-        print(row)
+    yield from attacked_server(serve)
 
 
 def test_pages_leaving_mid_build_do_not_slow_the_class(server: Any) -> None:

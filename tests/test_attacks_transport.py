@@ -358,13 +358,21 @@ class Attack:
 # ---------------------------------------------------------------- the measuring side
 
 
-@pytest.fixture(scope="module")
-def server(serve: Callable[..., ServeProcess]) -> Iterator[tuple[str, subprocess.Popen]]:
-    live = serve("sphere", "--instructor-code", CODE)
+def attacked_server(
+    serve: Callable[..., ServeProcess], *options: str
+) -> Iterator[tuple[str, subprocess.Popen]]:
+    """The body of each attack module's server fixture: ``serve sphere`` (with
+    ``options``) warmed up; the measured rows printed at the end."""
+    live = serve("sphere", "--instructor-code", CODE, *options)
     asyncio.run(_warm(live.url))
     yield live.url, live.proc
     for row in ROWS:
         print(row)
+
+
+@pytest.fixture(scope="module")
+def server(serve: Callable[..., ServeProcess]) -> Iterator[tuple[str, subprocess.Popen]]:
+    yield from attacked_server(serve)
 
 
 async def _warm(url: str) -> None:

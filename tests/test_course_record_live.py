@@ -294,6 +294,21 @@ def test_a_forged_token_is_refused_and_the_page_told_why(
         server.stop()
 
 
+async def _student_joins(url: str, name: str) -> ProtoClient:
+    """A new page opens the assignment and types the join code and ``name``."""
+    page = await ProtoClient(url).start()
+    await page.wait_for("Check my answer", 60)
+    await page.set("Assignment", TASK, 0.3)
+    await until(
+        lambda: any("al-assignment-task" in h for h in page.html.values()),
+        90,
+        f"{name}'s assignment opened",
+    )
+    await page.set("Join code", JOIN, 0.1)
+    await page.set("Your name", name, 0.1)
+    return page
+
+
 async def _student_checks(page: ProtoClient, told: int) -> str:
     """Press "Check my answer"; returns the new verdict or error box the page got."""
     seen = {u: h for u, h in page.html.items()}
@@ -450,16 +465,7 @@ def test_a_full_store_refuses_attempts_clearly_and_changes_nothing(
             return int(conn.execute(sa.text("PRAGMA page_count")).scalar_one())
 
     async def go() -> None:
-        student = await ProtoClient(url).start()
-        await student.wait_for("Check my answer", 60)
-        await student.set("Assignment", TASK, 0.3)
-        await until(
-            lambda: any("al-assignment-task" in h for h in student.html.values()),
-            90,
-            "the assignment opened",
-        )
-        await student.set("Join code", JOIN, 0.1)
-        await student.set("Your name", "Ann", 0.1)
+        student = await _student_joins(url, "Ann")
         box = await _student_checks(student, 0)
         assert "al-check" in box, box
         stored = course.attempts()
@@ -474,16 +480,7 @@ def test_a_full_store_refuses_attempts_clearly_and_changes_nothing(
         assert "could not be recorded" in box and "course record is full" in box, box
         assert "al-check" not in box and "pass" not in box, box
         # a new student's first check is not recorded either, and they are told so
-        newcomer = await ProtoClient(url).start()
-        await newcomer.wait_for("Check my answer", 60)
-        await newcomer.set("Assignment", TASK, 0.3)
-        await until(
-            lambda: any("al-assignment-task" in h for h in newcomer.html.values()),
-            90,
-            "the newcomer's assignment opened",
-        )
-        await newcomer.set("Join code", JOIN, 0.1)
-        await newcomer.set("Your name", "Bob", 0.1)
+        newcomer = await _student_joins(url, "Bob")
         box = await _student_checks(newcomer, 0)
         assert "could not be recorded" in box and "al-check" not in box, box
         # (the newcomer's own row may fit where an attempt does not: then they joined)
