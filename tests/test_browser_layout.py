@@ -182,15 +182,32 @@ def check_screen(tab: Page, size: str, what: str) -> None:
         g = page.evaluate(GEOMETRY_JS, MIN_TEXT_PX)
         return round(g["canvas"][2] * g["dpr"]), round(g["canvas"][3] * g["dpr"])
 
-    try:
-        cam = wait_until(
-            lambda: settled_camera(tab, canvas_px()), 20, f"the framed camera ({size})"
+    def framed_inside() -> tuple[Any, np.ndarray, np.ndarray] | None:
+        # the camera framed for this canvas, with the scene's box (and the run's) inside
+        # it: a framing for a layout the page passed through on its way here is followed
+        # by the framing for this one
+        cam = settled_camera(tab, canvas_px())
+        if cam is None:
+            return None
+        u, v = projected_box(cam, *run_box(tab.session))
+        inside = np.all(np.abs(u) <= float(cam.image_width) / 2) and np.all(
+            np.abs(v) <= float(cam.image_height) / 2
         )
+        return (cam, u, v) if inside else None
+
+    try:
+        cam, u, v = wait_until(framed_inside, 20, f"the framed camera ({size})")
     except AssertionError as exc:
         r, c = tab.view.renderer, tab.view.client.camera
+        seen = settled_camera(tab, canvas_px())
+        box = ""
+        if seen is not None:
+            u, v = projected_box(seen, *run_box(tab.session))
+            box = f", the scene's box x {u.min():.0f}..{u.max():.0f}, y {v.min():.0f}..{v.max():.0f}"
         raise AssertionError(
-            f"{exc}: canvas {canvas_px()}, framed {r.framed} for {r.framed_canvas}, the page's "
-            f"camera {c.position} -> {c.look_at} ({c.image_width}x{c.image_height})"
+            f"{exc}: canvas {canvas_px()}, framed {r.framed} for {r.framed_canvas} (box "
+            f"{r.framed_box}, the run's {run_box(tab.session)}), the page's camera "
+            f"{c.position} -> {c.look_at} ({c.image_width}x{c.image_height}){box}"
         ) from None
     geo = page.evaluate(GEOMETRY_JS, MIN_TEXT_PX)
     where = f"{tab.session.lesson.id} / {tab.session.preset} at {size} {what}"
@@ -202,12 +219,7 @@ def check_screen(tab: Page, size: str, what: str) -> None:
     else:
         assert ch >= h - 1 and cw >= 0.5 * w, f"{where}: the canvas is {cw}x{ch}"
     lo, hi = run_box(tab.session)
-    u, v = projected_box(cam, lo, hi)
     W, H = float(cam.image_width), float(cam.image_height)
-    assert np.all(np.abs(u) <= W / 2) and np.all(np.abs(v) <= H / 2), (
-        f"{where}: the scene leaves the canvas ({W:.0f}x{H:.0f}): "
-        f"x {u.min():.0f}..{u.max():.0f}, y {v.min():.0f}..{v.max():.0f}"
-    )
     cover = float(max(np.ptp(u), np.ptp(v)) / min(W, H))
     assert COVER[0] <= cover <= COVER[1], (
         f"{where}: the scene covers {cover:.0%} of the canvas; box {lo} - {hi}, framed "

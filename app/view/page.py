@@ -50,7 +50,11 @@ log = logging.getLogger(__name__)
 NO_PRESET = "(defaults)"
 #: Labels of the page's lesson and preset pickers and of the pause-at-t_end checkbox.
 LESSON_PICKER, PRESET_PICKER, PAUSE_AT_END = "Lesson", "Preset", "pause at t_end"
-RETIRE_DELAY = 1.5  # seconds a replaced GUI folder stays (hidden) before it is removed
+#: Seconds a replaced GUI folder stays (hidden) before it is removed.  The page applies
+#: the property updates of all the messages it read in one go after their removals, so a
+#: hide and the removal read together (a page whose browser fell that far behind) would
+#: update a component already gone: long enough for a busy browser.
+RETIRE_DELAY = 5.0
 
 
 #: The panel docked at the right edge (px): the canvas is what it leaves free, so the

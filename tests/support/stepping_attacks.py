@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import asyncio
 import os
+import re
 import statistics
 import time
 from collections.abc import Iterator
@@ -18,14 +19,11 @@ from analyzer_lab.session.session import lesson_label
 
 from tests.support.wire import POINT_NODE, camera_message, decode_frame, encode, gui_update
 
-#: Texts that only the attacker's actions produce.
-ATTACK_WORDS = (
-    "the step is too small",
-    "not finite",
-    "5*sin(t)",
-    "sqrt(101-t)",
-    "value refused",
-    "1e-05",
+#: Texts that only the attacker's actions produce (the tiny step 1e-05 as a number of its
+#: own, not the tail of a coordinate such as 8.70071e-05 in the normal page's readout).
+ATTACK_WORDS = re.compile(
+    r"the step is too small|not finite|5\*sin\(t\)|sqrt\(101-t\)|value refused"
+    r"|(?<![\d.])1e-05"
 )
 WINDOW = 4.0  # seconds of each measuring window
 
@@ -44,7 +42,7 @@ def strings(obj: Any) -> Iterator[str]:
 
 class WatchedPage:
     """One browser page: its widgets (label -> uuid), the moving point's updates it
-    received, and every received text that contains one of :data:`ATTACK_WORDS`."""
+    received, and every received text that :data:`ATTACK_WORDS` matches."""
 
     def __init__(self, url: str) -> None:
         self.url = url
@@ -93,7 +91,7 @@ class WatchedPage:
                     ):
                         self.point_updates += 1
                     for s in strings(m):
-                        if any(w in s for w in ATTACK_WORDS):
+                        if ATTACK_WORDS.search(s):
                             self.texts.append(s)
         except Exception:
             pass
