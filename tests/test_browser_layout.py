@@ -203,7 +203,9 @@ def check_screen(tab: Page, size: str, what: str) -> None:
         box = ""
         if seen is not None:
             u, v = projected_box(seen, *run_box(tab.session))
-            box = f", the scene's box x {u.min():.0f}..{u.max():.0f}, y {v.min():.0f}..{v.max():.0f}"
+            box = (
+                f", the scene's box x {u.min():.0f}..{u.max():.0f}, y {v.min():.0f}..{v.max():.0f}"
+            )
         raise AssertionError(
             f"{exc}: canvas {canvas_px()}, framed {r.framed} for {r.framed_canvas} (box "
             f"{r.framed_box}, the run's {run_box(tab.session)}), the page's camera "
