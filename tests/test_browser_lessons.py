@@ -14,6 +14,7 @@ from typing import Any
 
 import numpy as np
 import pytest
+from analyzer_lab.view.notation import name_text
 
 from tests.support.browser import Page, quat_matrix
 from tests.support.waiting import wait_until
@@ -137,7 +138,8 @@ def test_every_preset_is_framed_fits_and_reads(
     readout = tab.page.locator(".al-readout").first.inner_text()
     for name in tab.session.lesson.readout:
         if name in tab.session.frame.scalars:
-            assert name in readout, f"readout lacks {name}"
+            assert name_text(name) in readout, f"readout lacks {name} ({name_text(name)})"
+    assert " units" not in readout and "_" not in readout, readout  # textbook names
     if preset == tab.session.lesson.presets[0].name:
         tab.shot(f"{size}-{lesson_id}")
     assert tab.errors == [], tab.errors

@@ -20,6 +20,7 @@ import numpy as np
 from analyzer_lab.lessons.kit.contract import Frame, Lesson, Params, PlotSpec
 from analyzer_lab.session.runlog import RunLog
 from analyzer_lab.view.decimation import minmax_indices
+from analyzer_lab.view.notation import name_text, unit_text
 from analyzer_lab.viser_boundary import fast_set
 
 if TYPE_CHECKING:
@@ -161,7 +162,11 @@ class PlotPanel:
                 units = spec.units or units_of(lesson, names)
                 data = chart_data(log, names, self.columns, lesson.time_scale)
                 series = [{"label": "t"}] + [
-                    {"label": name, "stroke": PLOT_COLORS[i % len(PLOT_COLORS)], "width": 1.5}
+                    {
+                        "label": name_text(name),
+                        "stroke": PLOT_COLORS[i % len(PLOT_COLORS)],
+                        "width": 1.5,
+                    }
                     for i, name in enumerate(names)
                 ]
                 handle = self.gui.add_uplot(
@@ -186,6 +191,7 @@ class PlotPanel:
 
     @staticmethod
     def _y_label(units: str, exponent: int) -> str:
+        units = unit_text(units)
         if exponent:
             return f"× 1e{exponent} {units}".strip()
         return units or "value"

@@ -5,6 +5,7 @@ from __future__ import annotations
 import html
 
 from analyzer_lab.session.session import Session
+from analyzer_lab.view.notation import name_html, unit_text
 
 LEVEL_COLORS = {"info": "#1c4f8a", "warning": "#8a5a00", "error": "#a61b1b"}
 
@@ -24,10 +25,12 @@ def readout_html(s: Session) -> str:
         v = s.frame.scalars.get(name)
         if v is None:
             continue
-        unit = f" {units.get(name, '')}" if units.get(name) else ""
-        values.append(f"{html.escape(name)} = {v:.6g}{html.escape(unit)}")
+        unit = unit_text(units.get(name, ""))
+        shown = f"{name_html(name)} = {v:.6g}" + (f"&nbsp;{html.escape(unit)}" if unit else "")
+        # one quantity never wraps inside itself; the line breaks between quantities
+        values.append(f'<span class="al-quantity" style="white-space:nowrap">{shown}</span>')
     quantities = (
-        f'<div class="al-readout-values" style="font-size:0.9em">{" &nbsp; ".join(values)}</div>'
+        f'<div class="al-readout-values" style="font-size:0.9em">{" &ensp; ".join(values)}</div>'
         if values
         else ""
     )
@@ -63,7 +66,7 @@ def preset_note_html(s: Session) -> str:
     if edits:
         rows = "".join(
             f"<li><code>{esc(k)}</code> = {esc(str(now))} "
-            f'<span style="color:#777">(was {esc(str(was))})</span></li>'
+            f'<span style="color:#5f5f5f">(was {esc(str(was))})</span></li>'
             for k, (was, now) in list(edits.items())[:8]
         )
         more = f"<li>... and {len(edits) - 8} more</li>" if len(edits) > 8 else ""
