@@ -5,7 +5,7 @@ from __future__ import annotations
 import pytest
 from analyzer_lab.lessons.catalog import all_lessons, get_lesson
 from analyzer_lab.session.session import Session
-from analyzer_lab.view.notation import name_html, name_parts, name_text, unit_text
+from analyzer_lab.view.notation import SUB_STYLE, name_html, name_parts, name_text, unit_text
 from analyzer_lab.view.readout import readout_html
 
 
@@ -32,8 +32,8 @@ def test_a_name_is_written_as_the_textbook_writes_it(name: str, letter: str, sub
 
 
 def test_the_index_is_a_subscript_and_the_name_is_escaped() -> None:
-    assert name_html("x_A") == "x<sub>A</sub>"
-    assert name_html("a<b_c>") == "a&lt;b<sub>c&gt;</sub>"
+    assert name_html("x_A") == f"x<sub{SUB_STYLE}>A</sub>"
+    assert name_html("a<b_c>") == f"a&lt;b<sub{SUB_STYLE}>c&gt;</sub>"
 
 
 def test_units_of_a_bare_length_are_left_out_and_micrometres_are_written_um() -> None:

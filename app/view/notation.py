@@ -50,6 +50,9 @@ UNITS = {
     "deg/s": "°/s",
 }
 
+#: A subscript never smaller than the panel's smallest text.
+SUB_STYLE = ' style="font-size:max(11px,0.8em)"'
+
 _WORD = re.compile(r"[A-Za-z]{3,}")
 
 
@@ -76,7 +79,7 @@ def name_html(name: str) -> str:
     """The name as the page shows it (escaped HTML, the index as a subscript)."""
     letter, sub = name_parts(name)
     esc = html.escape
-    return esc(letter) + (f"<sub>{esc(sub)}</sub>" if sub else "")
+    return esc(letter) + (f"<sub{SUB_STYLE}>{esc(sub)}</sub>" if sub else "")
 
 
 def name_text(name: str) -> str:
