@@ -15,7 +15,7 @@ from typing import Any
 
 import pytest
 from analyzer_lab.classroom.instructor_code import normalize_code
-from analyzer_lab.classroom.room import Classroom
+from analyzer_lab.classroom.room import INSTRUCTOR_GRACE, Classroom
 from analyzer_lab.lessons.analyzers.sphere import LESSON as SPHERE
 from analyzer_lab.session.session import LabError
 
@@ -224,20 +224,36 @@ def test_push_preset_and_notify_all(lab: Any) -> None:
     run(go())
 
 
-def test_instructor_leaving_releases_the_class(lab: Any) -> None:
-    async def go() -> None:
-        inst, iv = await page(lab)
-        a, av = await page(lab)
-        await inst.become_instructor(CODE)
-        await inst.click("Follow me", 0.3)
-        await until(lambda: av.session is iv.session, 5, "following")
-        await close(inst)
-        await until(
-            lambda: av.session is not iv.session and not lab.classroom.followers, 5, "released"
-        )
-        await close(a)
+def test_instructor_leaving_releases_the_class_after_the_grace(lab: Any) -> None:
+    """The class goes on following while the instructor's page may come back (a reload:
+    the browser test of the reload shows the page taking the demo over), then is
+    released with what it watched."""
+    room = lab.classroom
+    room.instructor_grace = 1.5
+    try:
 
-    run(go())
+        async def go() -> None:
+            inst, iv = await page(lab)
+            a, av = await page(lab)
+            await inst.become_instructor(CODE)
+            await inst.set("Run", "Play", 0.3)
+            await inst.click("Follow me", 0.3)
+            await until(lambda: av.session is iv.session, 5, "following")
+            await until(lambda: iv.session.log.count > 5, 10, "a run watched")
+            await close(inst)
+            await until(lambda: room.away_until is not None, 5, "the instructor away")
+            assert av.session is iv.session and room.is_following(av.client.client_id)
+            watched = iv.session.log.count
+            await until(lambda: av.session is not iv.session and not room.followers, 10, "released")
+            assert room.away_until is None and room.demo is None
+            # the released page keeps the run it watched (its plots, its exports)
+            assert av.session.log.count >= watched
+            assert av.session.log.t[0] == 0.0
+            await close(a)
+
+        run(go())
+    finally:
+        room.instructor_grace = INSTRUCTOR_GRACE
 
 
 # ------------------------------------------------------------------ hardening

@@ -186,6 +186,11 @@ def test_the_instructor_role_survives_a_reload_of_the_same_page(lab: Any, browse
     other = Page(lab, browser)
     try:
         _sign_in(p)
+        # a demo the class follows
+        p.button("Follow me")
+        room = lab.classroom
+        wait_until(lambda: room.is_following(other.view.client.client_id), 10, "following")
+        demo = room.demo
         before = set(lab.views)
         p.page.reload()
         p.label("Lesson").wait_for(timeout=30000)
@@ -195,6 +200,13 @@ def test_the_instructor_role_survives_a_reload_of_the_same_page(lab: Any, browse
         p.page.get_by_role("button", name="Follow me", exact=True).wait_for(timeout=10000)
         # the token lives in that page's own storage: another page does not get the role
         assert not lab.classroom.is_instructor(other.view.client.client_id)
+        # the class went on following the same demo, and the reloaded page took it over
+        wait_until(lambda: room.broadcaster == p.view.client.client_id, 10, "the demo taken over")
+        assert room.demo is demo and p.view.session is demo
+        assert room.is_following(other.view.client.client_id) and room.away_until is None
+        p.button("Release")
+        wait_until(lambda: not room.is_following(other.view.client.client_id), 10, "released")
+        assert p.errors == [] and other.errors == [], (p.errors, other.errors)
     finally:
         p.close()
         other.close()
@@ -208,6 +220,7 @@ def test_presenter_mode_gives_the_scene_the_projector(
     p = Page(lab, browser, browser.new_context(viewport={"width": w, "height": h}))
     try:
         _sign_in(p)
+        assert p.page.get_by_text("Assignments (class)", exact=True).count() == 1
         p.open_folder("Presenter", "Presenter mode")
         p.page.get_by_text("Presenter mode", exact=True).click()
         nxt = p.page.get_by_role("button", name="Next ▶", exact=True)
@@ -224,13 +237,20 @@ def test_presenter_mode_gives_the_scene_the_projector(
         readout = p.page.locator(".al-readout").first.bounding_box()["y"]
         lesson = p.label("Lesson").bounding_box()["y"]
         assert top_next < lesson and readout < lesson
-        # the instructor panel is not projected to the class
+        # the instructor panel is not projected to the class, nor the class's table of
+        # names and results unless the instructor asks for it
         wait_until(
             lambda: p.page.get_by_role("button", name="Follow me", exact=True).count() == 0,
             5,
             "instructor panel hidden",
         )
+        table = p.page.get_by_text("Assignments (class)", exact=True)
+        wait_until(lambda: table.count() == 0, 5, "the class table hidden")
         p.shot(f"presenter-{w}x{h}")
+        p.page.get_by_text("Show the class table", exact=True).click()
+        wait_until(lambda: table.count() == 1, 5, "the class table shown on request")
+        p.page.get_by_text("Show the class table", exact=True).click()
+        wait_until(lambda: table.count() == 0, 5, "the class table hidden again")
         nxt.click()
         wait_until(lambda: p.session.preset == p.session.lesson.presets[0].name, 5, "bookmark")
         assert p.errors == [], p.errors

@@ -53,6 +53,11 @@ class Presenter:
                 initial_value=False,
                 hint="large fonts for a projector; presets become bookmarks",
             )
+            self.class_table = gui.add_checkbox(
+                "Show the class table",
+                initial_value=False,
+                hint="while presenting: the students' names and results on the projected panel",
+            )
             self.bookmarks = gui.add_html("")
             gui.add_html(
                 '<div style="font-size:max(11px,0.8em);color:#555">Keys: PageDown / N = next, PageUp / P = previous '
@@ -67,6 +72,7 @@ class Presenter:
         self._readout_order = view.readout.order
         self.commands: list[Any] = []
         self.toggle.on_update(view.guard(self._on_toggle))
+        self.class_table.on_update(view.guard(self._on_class_table))
         self.on = False
         self.update_bookmarks()
 
@@ -74,6 +80,17 @@ class Presenter:
         if getattr(event, "client", None) is None:
             return
         self.set_mode(bool(self.toggle.value))
+
+    @property
+    def show_class(self) -> bool:
+        """The instructor asked for the class's table on the projected panel."""
+        return bool(self.class_table.value)
+
+    def _on_class_table(self, event: Any) -> None:
+        if getattr(event, "client", None) is None:
+            return
+        if self.on:
+            self.room.project(self.view, True, self.show_class)
 
     def set_mode(self, on: bool) -> None:
         gui = self.view.client.gui
@@ -110,7 +127,7 @@ class Presenter:
         self.top_prev.visible = on
         self.top_next.visible = on
         self.view.readout.order = -2998.0 if on else self._readout_order
-        self.room.project(self.view, on)
+        self.room.project(self.view, on, self.show_class)
         self.view.renderer.label_scale = LABEL_SCALE if on else 1.0
         self.view.redraw(scene=True)
         self.update_bookmarks()

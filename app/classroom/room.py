@@ -65,6 +65,9 @@ log = logging.getLogger(__name__)
 
 #: Follower sync / camera pushes (Hz).
 SYNC_HZ = 20.0
+#: Seconds the class goes on following the demo after its instructor's page left (a
+#: reload, a dropped connection): the instructor's page that comes back takes it over.
+INSTRUCTOR_GRACE = 30.0
 #: Where an instructor page keeps its role token (its own browser storage).
 ROLE_KEY = "analyzer-lab-instructor"
 #: What copying a demo's stepper can raise (a stepper holding a lock or a compiled
@@ -98,6 +101,9 @@ class Classroom:
         self.entries: dict[int, tuple[Any, Any, Any]] = {}  # code folder, text, button
         self.broadcaster: int | None = None
         self.demo: Session | None = None
+        #: when the demo is released if its instructor's page does not come back
+        self.away_until: float | None = None
+        self.instructor_grace = INSTRUCTOR_GRACE
         self.followers: dict[int, SessionView] = {}
         self._synced: dict[int, tuple[Any, ...]] = {}
         self.camera_dirty = False
@@ -163,7 +169,13 @@ class Classroom:
             panel = self.instructors.pop(client_id, None)
             self.followers.pop(client_id, None)
             if panel is not None and self.broadcaster == client_id:
-                self.release()
+                # the class keeps the demo: another instructor page takes it over, or the
+                # page that left comes back (a reload) within the grace
+                heirs = [self.instructors[c].view for c in sorted(self.instructors)]
+                if heirs and not heirs[-1].closed:
+                    self._adopt(heirs[-1])
+                else:
+                    self.away_until = time.monotonic() + self.instructor_grace
 
     def is_instructor(self, client_id: int) -> bool:
         return client_id in self.instructors
@@ -215,9 +227,11 @@ class Classroom:
             color="green",
         )
 
-    def project(self, view: SessionView, on: bool) -> None:
+    def project(self, view: SessionView, on: bool, show_class: bool = False) -> None:
         """Presenter mode on a page: its instructor panel and code entry are hidden while
-        it is projected (the class sees the lesson, not the controls of the class)."""
+        it is projected (the class sees the lesson, not the controls of the class), and so
+        is the class's table of names and results unless the instructor asks for it
+        (``show_class``)."""
         cid = view.client.client_id
         panel = self.instructors.get(cid)
         if panel is not None:
@@ -225,6 +239,9 @@ class Classroom:
         entry = self.entries.get(cid)
         if entry is not None:
             entry[0].visible = not on
+        teacher = self.board.teachers.get(cid)
+        if teacher is not None:
+            teacher.folder.visible = not on or show_class
 
     def _grant(self, view: SessionView) -> None:
         """Make the page the instructor: its panel replaces the code entry."""
@@ -239,6 +256,12 @@ class Classroom:
             self.instructors[cid] = InstructorPanel(self, view, self.link)
             self.followers.pop(cid, None)
         self.board.grant(view)
+        with self.lock:
+            if self.away_until is not None and self.demo is not None:
+                self._adopt(view)
+        presenter = self.presenters.get(cid)
+        if presenter is not None and presenter.on:  # signed in while projecting
+            self.project(view, True, presenter.show_class)
 
     def _restore_role(self, view: SessionView) -> bool:
         """A page reloaded by the instructor gets the role back from the token it keeps."""
@@ -308,6 +331,24 @@ class Classroom:
             if panel is not None and panel.camera is not None:
                 self.camera_dirty = True
 
+    def _adopt(self, view: SessionView) -> None:
+        """The instructor's page ``view`` takes over the demo whose page left: it shows
+        the demo and broadcasts it (caller holds :attr:`lock`)."""
+        demo = self.demo
+        self.away_until = None
+        if demo is None:
+            return
+        self.broadcaster = view.client.client_id
+        with view.session.lock, demo.lock:
+            view.show_session(demo)
+        self.camera_dirty = True
+        try:
+            view.client.add_notification(
+                "Instructor", "the class still follows your demo", auto_close_seconds=5.0
+            )
+        except RuntimeError:  # the page left meanwhile
+            log.debug("page %s: the takeover notice was not shown", view.client.client_id)
+
     def show_demo(self, demo: Session, broadcaster: int) -> None:
         """``demo`` becomes the session the class follows, broadcast by the page
         ``broadcaster`` (:data:`~analyzer_lab.classroom.link.REMOTE`: another server's);
@@ -365,6 +406,7 @@ class Classroom:
                 self.link.broadcast_released(everywhere)
             self.broadcaster = None
             self.demo = None
+            self.away_until = None
             if demo is not None:
                 demo.shared_clock = None
         if demo is None:
@@ -393,19 +435,22 @@ class Classroom:
 
     def _copy_of(self, demo: Session) -> Session:
         """A new session with the demo's state and, if it can be copied, its run
-        position (integrator state and time)."""
+        position (integrator state and time) and the run so far (its log)."""
         with demo.lock:
             state = demo.state()
             stepper, frame, playing = demo.stepper, demo.frame, demo.playing
             try:
                 stepper = copy.deepcopy(stepper)
+                watched = copy.deepcopy(demo.log)  # what the page watched: its plots, exports
             except COPY_ERRORS:
-                stepper = None
+                stepper = watched = None
         own = self.new_session(state.lesson)
         own.apply_state(state)
         own.notices.clear()
         if stepper is not None:
             own.reset(stepper=stepper, at=frame, playing=playing)
+            if watched is not None:
+                own.log = watched
         return own
 
     def new_session(self, lesson_id: str) -> Session:
@@ -575,6 +620,8 @@ class Classroom:
                 log.exception("replaying the waiting inputs failed")
             try:
                 with self.lock:
+                    if self.away_until is not None and time.monotonic() >= self.away_until:
+                        self.release("the instructor left")
                     self.link.tick()
                     self._sync_followers()
                     self._push_camera()
