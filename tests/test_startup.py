@@ -5,11 +5,19 @@ argument; ``import analyzer_lab`` imports no view code, no viser, no sympy)."""
 from __future__ import annotations
 
 import json
+import re
 import subprocess
 import sys
+import threading
+import time
+import urllib.request
+from pathlib import Path
 
 import pytest
 from analyzer_lab.lessons.catalog import INDEX, all_lessons, lesson_ids, page_modules
+
+from tests.support.servers import free_port, stop_process
+from tests.support.waiting import wait_until
 
 #: Packages whose import is the start-up's cost.
 HEAVY = ("numpy", "scipy", "sympy", "viser", "trimesh", "matplotlib", "pandas")
@@ -101,3 +109,50 @@ def test_the_face_imports_no_view_and_nothing_heavy(code: str) -> None:
     assert view == []
     assert set(heavy(modules)) <= {"numpy"}
     assert pages(modules) == []
+
+
+def test_serve_answers_the_browser_before_its_lessons_are_loaded(tmp_path: Path) -> None:
+    """The page is served as soon as the command starts listening; the lessons, the
+    course record and the classroom load after it (a browser opened at once waits on
+    the page instead of on a refused connection)."""
+    port = free_port()
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "analyzer_lab", "serve", "--no-browser", "--port", str(port)]
+        + ["--data", str(tmp_path)],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.DEVNULL,
+        text=True,
+    )
+    lines: list[tuple[float, str]] = []
+    reader = threading.Thread(
+        target=lambda: [lines.append((time.monotonic(), line)) for line in proc.stdout or ()],
+        daemon=True,
+    )
+    reader.start()
+    try:
+        answered = None
+        deadline = time.monotonic() + 60
+        while answered is None and time.monotonic() < deadline:
+            try:
+                page = urllib.request.urlopen(f"http://127.0.0.1:{port}/", timeout=1).read()
+                answered = time.monotonic()
+            except OSError:
+                assert proc.poll() is None, "the server exited"
+                time.sleep(0.02)
+        assert answered is not None, "no HTTP answer within 60 s"
+        assert b"<title>Analyzer Lab</title>" in page
+        ready = wait_until(
+            lambda: (
+                next((at, text) for at, text in lines if "Analyzer Lab: http://" in text)
+                if any("Analyzer Lab: http://" in text for _, text in lines)
+                else None
+            ),
+            60,
+            "the ready line",
+        )
+        assert answered < ready[0]  # the page came before the lab was ready
+        found = re.search(r"page served after ([\d.]+) s, ready in ([\d.]+) s", ready[1])
+        assert found, ready[1]
+        assert float(found[1]) < float(found[2])
+    finally:
+        stop_process(proc)

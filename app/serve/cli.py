@@ -22,6 +22,8 @@ if TYPE_CHECKING:
 log = logging.getLogger(__name__)
 
 EXIT_USAGE = 2
+#: When the command started (``serve`` reports its start-up from here).
+STARTED = time.perf_counter()
 
 
 def _fail(message: str) -> int:
@@ -141,6 +143,17 @@ def cmd_serve(args: argparse.Namespace) -> int:
             parse_redis_url(bus)
         except BusError as exc:
             return _fail(str(exc))
+    early = None
+    if workers == 1 and 0 <= args.port <= 65535:
+        # the page is served at once, before the lessons and the course record load (a
+        # browser opened now waits on the page until the lab takes it)
+        from analyzer_lab.viser_boundary import make_viser_server
+
+        try:
+            early = make_viser_server(args.host, args.port, False)
+        except OSError as exc:
+            return _fail(f"cannot listen on {args.host}:{args.port}: {exc}")
+        served = time.perf_counter() - STARTED
     from analyzer_lab.serve.course_record import (
         CourseRecordError,
         export_environment,
@@ -155,6 +168,8 @@ def cmd_serve(args: argparse.Namespace) -> int:
                 where, args.roster, args.join_code, code_hours=args.join_code_hours
             ).store.close()
     except CourseRecordError as exc:
+        if early is not None:
+            early.stop()
         return _fail(str(exc))
     export_environment(where)
     if workers > 1:
@@ -192,6 +207,8 @@ def cmd_serve(args: argparse.Namespace) -> int:
         roster=args.roster,
         join_code=args.join_code,
         join_code_hours=args.join_code_hours,
+        server=early,
+        started=(STARTED, served) if early is not None else None,
     )  # fps: classroom hook
 
 

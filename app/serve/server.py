@@ -96,7 +96,11 @@ class LabServer:
         instructor_code: str | None = None,
         bus: Bus | None = None,
         course: Course | None = None,
+        server: Any | None = None,
     ) -> None:
+        """``server``: a viser server already listening (``serve`` starts one before it
+        imports the lessons, so that a browser gets the page at once); default: one made
+        here on ``host`` and ``port``."""
         prefer_returned_memory()
         self.fps = float(fps)
         self.restore = restore
@@ -104,7 +108,7 @@ class LabServer:
         self.host = host
         self.requested_port = port
         # HTTP first (a browser gets the page while the lessons are imported)
-        self.server = make_viser_server(host, port, verbose)
+        self.server = server if server is not None else make_viser_server(host, port, verbose)
         self.port: int = int(self.server.get_port())
         if lessons is None:
             from analyzer_lab.lessons.catalog import all_lessons
@@ -505,6 +509,23 @@ class LabServer:
             log.warning("the web server did not stop cleanly", exc_info=True)
 
 
+def _start_up(t0: float, started: tuple[float, float] | None) -> str:
+    """How long the start took: from the command's start when it is known (the page
+    served, the lessons ready), else from ``t0``."""
+    if started is None:
+        return f"ready in {time.perf_counter() - t0:.1f} s"
+    begin, served = started
+    return f"page served after {served:.1f} s, ready in {time.perf_counter() - begin:.1f} s"
+
+
+def _refused(message: str, server: Any | None) -> int:
+    """Say why the lab cannot start; the viser server started for it stops."""
+    print(message, file=sys.stderr)
+    if server is not None:
+        server.stop()
+    return 2
+
+
 def serve(
     host: str = "127.0.0.1",
     port: int = 8080,
@@ -521,8 +542,14 @@ def serve(
     roster: str | None = None,
     join_code: str | None = None,
     join_code_hours: float | None = None,
+    server: Any | None = None,
+    started: tuple[float, float] | None = None,
 ) -> int:
-    """Run the lab until interrupted; returns the exit code.  The course record: the
+    """Run the lab until interrupted; returns the exit code.  ``server``: a viser server
+    already listening on ``host`` and ``port`` (stopped here when the lab cannot start);
+    ``started``: when the command started (``time.perf_counter()``) and how many seconds
+    later that server listened, for the start-up report.
+    The course record: the
     class ``class_name`` in ``db`` (default: the SQLite file in the data folder ``data``),
     ``roster`` a CSV file of its students, ``join_code`` and its lifetime ``join_code_hours``
     (:mod:`analyzer_lab.serve.course_record`).  ``bus_url``: the class bus
@@ -530,28 +557,23 @@ def serve(
     from ``instructor_code``, ``instructor_code_file`` or the environment
     (:func:`~analyzer_lab.classroom.instructor_code.class_code`)."""
     if not (0 <= int(port) <= 65535):
-        print(f"analyzer-lab: error: port must be in 0..65535, got {port}", file=sys.stderr)
-        return 2
+        return _refused(f"analyzer-lab: error: port must be in 0..65535, got {port}", server)
     if not (math.isfinite(fps) and 1.0 <= fps <= 120.0):  # classroom hook (serve --fps)
-        print(f"analyzer-lab: error: --fps must be in 1..120, got {fps}", file=sys.stderr)
-        return 2
+        return _refused(f"analyzer-lab: error: --fps must be in 1..120, got {fps}", server)
     t0 = time.perf_counter()
     try:
         code = class_code(instructor_code, instructor_code_file)
     except CodeError as exc:
-        print(f"analyzer-lab: error: {exc}", file=sys.stderr)
-        return 2
+        return _refused(f"analyzer-lab: error: {exc}", server)
     try:
         bus = make_bus(bus_url, code, worker_name)
     except BusError as exc:
-        print(f"analyzer-lab: error: {exc}", file=sys.stderr)
-        return 2
+        return _refused(f"analyzer-lab: error: {exc}", server)
     try:
         record = resolve(data, db, class_name)
         course = open_course(record, roster, join_code, code_hours=join_code_hours)
     except CourseRecordError as exc:
-        print(f"analyzer-lab: error: {exc}", file=sys.stderr)
-        return 2
+        return _refused(f"analyzer-lab: error: {exc}", server)
     try:
         lab = LabServer(
             host=host,
@@ -561,19 +583,18 @@ def serve(
             instructor_code=code,
             bus=bus,
             course=course,
+            server=server,
         )
     except LabError as exc:
-        print(f"analyzer-lab: error: {exc}", file=sys.stderr)
-        return 2
+        return _refused(f"analyzer-lab: error: {exc}", server)
     except OSError as exc:
-        print(f"analyzer-lab: error: cannot listen on {host}:{port}: {exc}", file=sys.stderr)
-        return 2
+        return _refused(f"analyzer-lab: error: cannot listen on {host}:{port}: {exc}", server)
     if lab.port != port and port != 0:
         print(f"analyzer-lab: port {port} is in use; using {lab.port}", flush=True)
     where = "every interface" if host in ("0.0.0.0", "::", "") else host
     print(
         f"Analyzer Lab: {lab.url}  (listening on {where}, port {lab.port}; "
-        f"ready in {time.perf_counter() - t0:.1f} s; Ctrl-C stops)",
+        f"{_start_up(t0, started)}; Ctrl-C stops)",
         flush=True,
     )
     print(

@@ -7,12 +7,15 @@ import os
 import socket
 import subprocess
 import sys
+import tempfile
 import time
 import urllib.request
 from dataclasses import dataclass
 from pathlib import Path
 from typing import IO, Any
 
+#: What ``serve`` prints once its lessons are loaded and it takes pages.
+READY = "Analyzer Lab: http://"
 #: The repository (the servers run from it).
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -28,29 +31,37 @@ def start_server(
     port: int, lesson: str, log: Any = subprocess.DEVNULL, extra_args: tuple[str, ...] = ()
 ) -> subprocess.Popen:
     """``python -m analyzer_lab serve`` (plus ``extra_args``) in a subprocess, its stderr to
-    ``log``; returns when its HTTP answers (polled, at most 30 s)."""
+    ``log``; returns when it said it is ready and its HTTP answers (polled, at most 30 s;
+    the page is served before the lessons are loaded)."""
     env = dict(os.environ)
     env["PYTHONPATH"] = str(ROOT) + os.pathsep + env.get("PYTHONPATH", "")
     env.setdefault("ANALYZER_LAB_STATS", "5")
+    out = tempfile.TemporaryFile("w+", encoding="utf-8")
     proc = subprocess.Popen(
         [sys.executable, "-m", "analyzer_lab", "serve", "--host", "127.0.0.1"]
         + ["--port", str(port), "--no-browser", "--lesson", lesson, *extra_args],
         env=env,
-        stdout=subprocess.DEVNULL,
+        stdout=out,
         stderr=log,
         cwd=ROOT,
     )
     deadline = time.monotonic() + 30
-    while time.monotonic() < deadline:
-        try:
-            urllib.request.urlopen(f"http://127.0.0.1:{port}/", timeout=1).read(100)
-            return proc
-        except (OSError, http.client.HTTPException):
+    try:
+        while time.monotonic() < deadline:
+            out.seek(0)
+            if READY in out.read():
+                try:
+                    urllib.request.urlopen(f"http://127.0.0.1:{port}/", timeout=1).read(100)
+                    return proc
+                except (OSError, http.client.HTTPException):
+                    pass
             if proc.poll() is not None:
-                raise RuntimeError(f"the server exited with code {proc.returncode}") from None
+                raise RuntimeError(f"the server exited with code {proc.returncode}")
             time.sleep(0.1)
+    finally:
+        out.close()
     proc.kill()
-    raise RuntimeError("the server did not answer within 30 s")
+    raise RuntimeError("the server was not ready within 30 s")
 
 
 def stop_process(proc: subprocess.Popen) -> None:
