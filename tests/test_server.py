@@ -122,3 +122,21 @@ def test_ordered_executor_keeps_order_per_connection_and_runs_connections_in_par
         failing.result(5)
     assert ex.pending() == 0
     pool.shutdown()
+
+
+def test_the_warm_up_waits_while_a_page_is_built_and_starts_with_the_first_page_lesson(
+    make_lab: Callable[..., Any],
+) -> None:
+    from analyzer_lab.lessons.catalog import get_lesson
+
+    lab = make_lab(
+        lessons=[get_lesson("circle"), SPHERE], lesson="sphere", warm_up=False, restore=False
+    )
+    lab.derivations.warm()  # the derivations' processes running: what follows is lessons
+    warming = threading.Thread(target=lab.warm_up, daemon=True)
+    with lab.building_page():
+        warming.start()
+        time.sleep(1.0)
+        assert lab.warmed == [] and warming.is_alive()  # the page comes first
+    warming.join(120)
+    assert lab.warmed == ["sphere", "circle"]

@@ -19,6 +19,7 @@ pages, the frame loop's clock, the derivation cache).
 
 from __future__ import annotations
 
+import contextlib
 import html
 import logging
 import math
@@ -26,7 +27,7 @@ import os
 import sys
 import threading
 import time
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
 from typing import Any
@@ -65,6 +66,8 @@ log = logging.getLogger(__name__)
 #: 30 updates a second when a tick comes late (measured: 50 pages get 34/s at 36 fps,
 #: 28.7/s at 30 fps).
 DEFAULT_FPS = 36.0
+#: Seconds the warm-up waits at a time while a page is being built.
+WARM_UP_YIELD = 0.05
 DERIVATION_CACHE = LRUCache(64)
 
 
@@ -150,6 +153,9 @@ class LabServer:
         # pages are built and freed on a pool of their own (building one waits up to 2 s
         # for the browser's saved state), not in the turns of the page callbacks
         self._gone: set[int] = set()  # pages that left while being built
+        self._building = 0  # pages being built now
+        #: the lessons the warm-up built, in its order
+        self.warmed: list[str] = []
         #: page builds admitted by network address (a rate with a burst, then a queue)
         self.page_opens = PageOpens()
         self._page_pool = ThreadPoolExecutor(max_workers=16, thread_name_prefix="analyzer-lab-page")
@@ -184,7 +190,7 @@ class LabServer:
         )
         self._slow_thread.start()
         if warm_up:
-            threading.Thread(target=self._warm_up, name="analyzer-lab-warmup", daemon=True).start()
+            threading.Thread(target=self.warm_up, name="analyzer-lab-warmup", daemon=True).start()
 
     @property
     def url(self) -> str:
@@ -218,7 +224,22 @@ class LabServer:
     def _tell_to_wait(client: Any) -> None:
         client.add_notification("Please wait", WAIT_NOTICE, auto_close_seconds=5.0)
 
+    @contextlib.contextmanager
+    def building_page(self) -> Iterator[None]:
+        """A page is being built meanwhile: the warm-up waits (the page comes first)."""
+        with self._views_lock:
+            self._building += 1
+        try:
+            yield
+        finally:
+            with self._views_lock:
+                self._building -= 1
+
     def _on_connect(self, client: Any) -> None:
+        with self.building_page():
+            self._build_page(client)
+
+    def _build_page(self, client: Any) -> None:
         cid = client.client_id
         with self._views_lock:
             if cid in self._gone:  # it left before its build began: nothing to build
@@ -475,13 +496,18 @@ class LabServer:
             params_key(lesson, params), lambda: derivation_to_html(lesson.derivation(params))
         )
 
-    def _warm_up(self) -> None:
-        """Build each lesson once (lambdify caches, meshes) so the first tab is quick."""
+    def warm_up(self) -> None:
+        """Build each lesson once (lambdify caches, meshes) so the first tab is quick:
+        the lesson new pages open first, and never while a page is being built (the
+        page a student just opened comes before the lessons nobody opened yet)."""
         try:
             self.derivations.warm()
         except Exception:  # the derivations' child processes; a page starts them again
             log.exception("warming up the derivation processes failed")
-        for lesson in self.lessons:
+        first = self.default_lesson or (self.lessons[0].id if self.lessons else None)
+        for lesson in sorted(self.lessons, key=lambda l: l.id != first):
+            while self._building and not self._stop.is_set():
+                time.sleep(WARM_UP_YIELD)
             if self._stop.is_set():
                 return
             try:
@@ -492,6 +518,7 @@ class LabServer:
                 DERIVATION_CACHE.get_or_make(key, lambda: build(lesson, {}))
             except Exception:  # the lesson's own code: its first page says what is wrong
                 log.warning("warming up the lesson %s failed", lesson.id, exc_info=True)
+            self.warmed.append(lesson.id)
 
     def stop(self) -> None:
         self._stop.set()
