@@ -140,3 +140,36 @@ def test_the_warm_up_waits_while_a_page_is_built_and_starts_with_the_first_page_
         assert lab.warmed == [] and warming.is_alive()  # the page comes first
     warming.join(120)
     assert lab.warmed == ["sphere", "circle"]
+
+
+def test_the_one_run_playing_gets_the_loop_time_nobody_else_needs(lab: Any) -> None:
+    from analyzer_lab.session.pace import (
+        SOLO_STEP_BUDGET,
+        SOLO_WALL_BUDGET,
+        STEP_BUDGET,
+        STEP_WALL_BUDGET,
+    )
+
+    async def go() -> None:
+        before = set(lab.views)
+        pages = [await ProtoClient(lab.url).start() for _ in range(2)]
+        for p in pages:
+            await p.wait_for("Run")
+        new = await until(lambda: len(set(lab.views) - before) == 2 and set(lab.views) - before)
+        a, b = (lab.views[cid] for cid in sorted(new))
+        await pages[0].send(gui_update(pages[0].gui["Run"], "Play"))
+        await until(lambda: a.session.playing and a.session.frame.t > 0.1, 10, "a plays")
+        await until(lambda: a.session.step_budget == SOLO_STEP_BUDGET, 5, "the solo budget")
+        assert a.session.wall_budget == SOLO_WALL_BUDGET
+        await pages[1].send(gui_update(pages[1].gui["Run"], "Play"))
+        await until(lambda: b.session.playing and b.session.frame.t > 0.1, 10, "b plays")
+        await until(
+            lambda: a.session.step_budget == b.session.step_budget == STEP_BUDGET,
+            5,
+            "the shared budget",
+        )
+        assert a.session.wall_budget == b.session.wall_budget == STEP_WALL_BUDGET
+        for p in pages:
+            await p.close()
+
+    asyncio.run(go())

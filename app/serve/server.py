@@ -45,7 +45,14 @@ from analyzer_lab.serve.derivation_jobs import DerivationJobs, build
 from analyzer_lab.serve.fair_share import fair_order
 from analyzer_lab.serve.page_opens import WAIT_NOTICE, PageOpens
 from analyzer_lab.session.runlog import LRUCache, lesson_scene, params_key
-from analyzer_lab.session.session import STEP_WALL_BUDGET, LabError, Session
+from analyzer_lab.session.session import (
+    SOLO_STEP_BUDGET,
+    SOLO_WALL_BUDGET,
+    STEP_BUDGET,
+    STEP_WALL_BUDGET,
+    LabError,
+    Session,
+)
 from analyzer_lab.view.math import derivation_to_html
 from analyzer_lab.view.page import SessionView, ViewConfig
 from analyzer_lab.view.persistence import restore_state
@@ -325,6 +332,12 @@ class LabServer:
         # pages that play first: a tick cut short by its budget leaves out paused pages
         # (whose turn only redraws what changed), not the frames of a playing one
         views = [v for v in ordered if v.session.playing]
+        # one run playing (a page alone, or a demo its followers share) steps in the
+        # loop's time nobody else needs; several share it on the common budget
+        solo = len({id(v.session) for v in views}) == 1
+        cpu_budget, wall_budget = (
+            (SOLO_STEP_BUDGET, SOLO_WALL_BUDGET) if solo else (STEP_BUDGET, STEP_WALL_BUDGET)
+        )
         views += [v for v in ordered if not v.session.playing]
         substeps = 8 if self.stats.load < 0.5 else 4 if self.stats.load < 0.8 else 1
         batch = WakeBatch(self.server)
@@ -365,7 +378,7 @@ class LabServer:
                 dt = now - getattr(view, "last_tick", now)
                 view.last_tick = now  # type: ignore[attr-defined]
                 session.max_substeps = substeps
-                session.wall_budget = STEP_WALL_BUDGET
+                session.step_budget, session.wall_budget = cpu_budget, wall_budget
                 grouped = batch.hold(view.client)
                 view.tick(dt, atomic=not grouped)
             except Exception as exc:  # the frame loop goes on; the page pauses and says why

@@ -37,7 +37,14 @@ from analyzer_lab.lessons.kit.contract import (
     Stepper,
 )
 from analyzer_lab.lessons.kit.formula import plain_number as plain
-from analyzer_lab.session.pace import STEP_BUDGET, STEP_WALL_BUDGET, TIME_QUANTUM, Pace
+from analyzer_lab.session.pace import (
+    SOLO_STEP_BUDGET,
+    SOLO_WALL_BUDGET,
+    STEP_BUDGET,
+    STEP_WALL_BUDGET,
+    TIME_QUANTUM,
+    Pace,
+)
 from analyzer_lab.session.runlog import RunLog, lesson_scene, raw_value, scenes_equal
 from analyzer_lab.session.state import LabError, SessionState
 
@@ -645,6 +652,8 @@ __all__ = [
     "TIME_QUANTUM",
     "LabError",
     "SPEEDS",
+    "SOLO_STEP_BUDGET",
+    "SOLO_WALL_BUDGET",
     "STEP_BUDGET",
     "STEP_WALL_BUDGET",
     "Session",
