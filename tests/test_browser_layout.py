@@ -3,8 +3,8 @@ projector (1280x720) and a 1920x1080 screen, in a real browser: the panel leaves
 canvas free (docked at the right edge, a sheet below the canvas on a phone), the scene's
 projected box lies inside the canvas and covers 15-85 % of its shorter side at the start
 and after about 5 s of play at 8x, no panel element runs past the panel or the screen,
-no panel text outside formulas is smaller than 11 px, and a touch on the canvas turns
-the camera.
+no panel text outside formulas is smaller than 11 px, every panel text has at least
+4.5:1 contrast against what lies under it, and a touch on the canvas turns the camera.
 
 One page serves the module: it is resized between the screens.  Every lesson's first
 preset is checked at every size, after real play; every other preset on the phone, at the
@@ -47,6 +47,32 @@ SHOTS = Path(os.environ.get("LAYOUT_SHOTS", "/tmp/layout-shots"))
 #: The canvas's rectangle, and what of the page outside the canvas runs past the screen,
 #: past a clipping box (content cut off), or into the canvas; the smallest panel texts.
 GEOMETRY_JS = """(minText) => {
+  const parse = (c) => {
+    const m = c.match(/rgba?\\(([^)]+)\\)/);
+    if (!m) return null;
+    const p = m[1].split(/[ ,\\/]+/).filter(Boolean).map(Number);
+    return {r: p[0], g: p[1], b: p[2], a: p.length > 3 ? p[3] : 1};
+  };
+  const over = (top, bottom) => ({r: top.r * top.a + bottom.r * (1 - top.a),
+      g: top.g * top.a + bottom.g * (1 - top.a), b: top.b * top.a + bottom.b * (1 - top.a), a: 1});
+  const lum = (c) => {
+    const f = (v) => { v /= 255; return v <= 0.03928 ? v / 12.92 : Math.pow((v + 0.055) / 1.055, 2.4); };
+    return 0.2126 * f(c.r) + 0.7152 * f(c.g) + 0.0722 * f(c.b);
+  };
+  const contrast = (el, cs) => {  // the text's colour against what lies under it
+    const layers = [];
+    for (let a = el; a; a = a.parentElement) {
+      const c = parse(getComputedStyle(a).backgroundColor);
+      if (c && c.a > 0) { layers.push(c); if (c.a >= 1) break; }
+    }
+    let bg = {r: 255, g: 255, b: 255, a: 1};
+    for (let i = layers.length - 1; i >= 0; i--) bg = over(layers[i], bg);
+    const fg = parse(cs.color);
+    if (!fg) return 21;
+    const L1 = lum(over(fg, bg)), L2 = lum(bg);
+    return (Math.max(L1, L2) + 0.05) / (Math.min(L1, L2) + 0.05);
+  };
+  const low = [];
   const canvas = document.querySelector('canvas');
   const c = canvas.getBoundingClientRect();
   const scene = canvas.parentElement.parentElement;  // the canvas and its 3D labels
@@ -105,9 +131,15 @@ GEOMETRY_JS = """(minText) => {
         break;
       }
     }
+    // WCAG's 4.5:1 for text (a disabled control's text is exempt)
+    if ([...el.childNodes].some((n) => n.nodeType === 3 && n.textContent.trim())
+        && !el.closest('[disabled], [data-disabled="true"], [aria-disabled="true"]')) {
+      const ratio = contrast(el, cs);
+      if (ratio < 4.5) low.push(name(el) + ' ' + cs.color + ' ' + ratio.toFixed(2) + ':1');
+    }
   }
   return {canvas: [c.left, c.top, c.width, c.height], size: [W, H], over: over.slice(0, 8),
-          small: small.slice(0, 8), dpr: window.devicePixelRatio};
+          small: small.slice(0, 8), low: low.slice(0, 8), dpr: window.devicePixelRatio};
 }"""
 
 
@@ -215,6 +247,7 @@ def check_screen(tab: Page, size: str, what: str) -> None:
     where = f"{tab.session.lesson.id} / {tab.session.preset} at {size} {what}"
     assert geo["over"] == [], f"{where}: {geo['over']}"
     assert geo["small"] == [], f"{where}: text below {MIN_TEXT_PX} px: {geo['small']}"
+    assert geo["low"] == [], f"{where}: text below 4.5:1 contrast: {geo['low']}"
     left, top, cw, ch = geo["canvas"]
     if size == "phone":
         assert cw >= w - 1 and ch >= 0.4 * h, f"{where}: the canvas is {cw}x{ch}"

@@ -58,8 +58,24 @@ PHONE_LAYOUT = """<style>
 
 
 #: No text of viser's own widgets below 11 px (its compact buttons print 10 px).
+#: Text a small screen and a projector can read: buttons' text no smaller than 11 px, and
+#: the labels' grey and the brand blue dark enough for 4.5:1 on white (WCAG's minimum for
+#: small text; viser's theme gives 3.3:1 and 4.4:1).
 READABLE_TEXT = """<style>
 .mantine-Button-root { --button-fz: max(11px, 0.75rem) !important; }
+.mantine-Slider-markLabel { color: #5c636a !important; }
+:root, [data-mantine-color-scheme] {
+  --mantine-color-dimmed: #5c636a !important;
+  --mantine-color-custom-outline: #2b5fa8 !important;
+  --mantine-color-custom-filled: #2b5fa8 !important;
+  --mantine-color-custom-filled-hover: #234d8a !important;
+  --mantine-color-custom-light-color: #2b5fa8 !important;
+  --mantine-color-custom-text: #2b5fa8 !important;
+  --mantine-color-custom-6: #2b5fa8 !important;
+  --mantine-primary-color-filled: #2b5fa8 !important;
+  --mantine-primary-color-filled-hover: #234d8a !important;
+  --mantine-primary-color-light-color: #2b5fa8 !important;
+}
 </style>"""
 
 
