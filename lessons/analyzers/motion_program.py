@@ -555,9 +555,9 @@ class MotionProgramLesson(Lesson):
             ),
             (
                 "The controls",
-                "u_ij = Xdot_i X_j / D with D = X^2 + Y^2 + Z^2: a rank-one matrix"
-                " with U X = Xdot, so X(t) solves (1.5). The dot belongs to the row variable (the"
-                " other reading fails U X = Xdot).",
+                "u_ij = Ẋ_i X_j / D with D = X² + Y² + Z²: a rank-one matrix"
+                " with U X = Ẋ, so X(t) solves (1.5). The dot belongs to the row variable (the"
+                " other reading fails U X = Ẋ).",
                 [
                     sp.Eq(sp.Symbol("U"), Xv.diff(t) * Xv.T / Dsym, evaluate=False),
                     sp.Eq(Dsym, X**2 + Y**2 + Z**2),

@@ -66,7 +66,7 @@ class CarriageForcedVibration(Lesson):
     problem = "Problem 2.7"
     source = "Textbook §2.3, Problem 2.7, eqs (2.78)-(2.92)"
     summary = (
-        "One axis of the carriage: m q'' + b q' + c q = F0 sin(w0 t).  Transient plus steady "
+        "One axis of the carriage: m q̈ + b q̇ + c q = F₀ sin(ω₀t).  Transient plus steady "
         "response in closed form, amplitude and phase against the forcing frequency, resonance."
     )
     order = 2.7
@@ -84,7 +84,7 @@ class CarriageForcedVibration(Lesson):
     )
     series = (
         Series("q", "m", "coordinate of the carriage (2.92)"),
-        Series("v", "m/s", "velocity q'"),
+        Series("v", "m/s", "velocity q̇"),
         Series("q_steady", "m", "steady (particular) response q* (2.91)"),
         Series("q_transient", "m", "free part q - q* (2.80)"),
         Series("F_drive", "N", "driving force F0 sin(omega0 t)"),
@@ -373,7 +373,7 @@ class CarriageForcedVibration(Lesson):
         return [
             Claim(
                 "lagrange-2-78",
-                "LagrangesMethod gives m q'' + c q = -b q' + F0 sin(omega0 t).",
+                "Lagrange's equation of the 2nd kind gives m q̈ + c q = -b q̇ + F₀ sin(ω₀t).",
                 "(2.78)",
                 check_lagrange_forced,
             ),

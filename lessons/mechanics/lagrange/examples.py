@@ -318,27 +318,28 @@ def _s(name: str, unit: str, text: str) -> Series:
 
 
 _LENGTHS = ("x", "y", "x_A", "y_A", "x_B", "y_B")
+_GREEK = {"theta": "θ", "phi": "φ"}
 SERIES = (
     *(_s(c, "m", f"coordinate {c}") for c in _LENGTHS),
-    *(_s(c, "rad", f"coordinate {c}") for c in ("theta", "phi")),
-    *(_s(f"{c}_dot", "m/s", f"velocity {c}'") for c in _LENGTHS),
-    *(_s(f"{c}_dot", "rad/s", f"angular velocity {c}'") for c in ("theta", "phi")),
-    _s("length", "m", "prescribed rod length L(t) = L (1 + epsilon sin nu t)"),
-    _s("f", "m^2", "constraint residual f = x^2 + y^2 - L(t)^2 (2.17)"),
-    _s("f_dot", "m^2/s", "velocity-level residual H q' + psi (2.26)"),
-    _s("g", "m/s", "side slip of the blade g = -sin(theta) x' + cos(theta) y' (2.19)"),
-    _s("f_1", "m", "residual of x_B = x_A + AB (1 - cos phi) (2.12)"),
-    _s("f_2", "m", "residual of y_B = y_A + AB sin phi (2.12)"),
+    *(_s(c, "rad", f"coordinate {_GREEK[c]}") for c in ("theta", "phi")),
+    *(_s(f"{c}_dot", "m/s", f"velocity {c[0]}\u0307{c[1:]}") for c in _LENGTHS),
+    *(_s(f"{c}_dot", "rad/s", f"angular velocity {_GREEK[c]}\u0307") for c in ("theta", "phi")),
+    _s("length", "m", "prescribed rod length L(t) = L (1 + ε sin νt)"),
+    _s("f", "m^2", "constraint residual f = x² + y² - L(t)² (2.17)"),
+    _s("f_dot", "m^2/s", "velocity-level residual H q̇ + ψ (2.26)"),
+    _s("g", "m/s", "side slip of the blade g = -sin θ ẋ + cos θ ẏ (2.19)"),
+    _s("f_1", "m", "residual of x_B = x_A + AB (1 - cos φ) (2.12)"),
+    _s("f_2", "m", "residual of y_B = y_A + AB sin φ (2.12)"),
     _s("f_1_dot", "m/s", "velocity-level residual of f_1 (2.26)"),
     _s("f_2_dot", "m/s", "velocity-level residual of f_2 (2.26)"),
-    _s("lambda", "N/m", "multiplier of the rod (2.33); the reaction is 2 lambda (x, y)"),
+    _s("lambda", "N/m", "multiplier of the rod (2.33); the reaction is 2λ (x, y)"),
     _s("lambda_1", "N", "first multiplier (2.33)"),
     _s("lambda_2", "N", "second multiplier (2.33)"),
     _s("energy_error", "J", "total energy minus its value at the start"),
     _s("position_error", "m", "distance to the independent reference solution"),
-    _s("phi_error", "rad", "|phi - phi of the reduced 3-DOF model|"),
-    _s("u_along_blade", "m/s", "speed along the blade x' cos(theta) + y' sin(theta)"),
-    _s("speed_error", "m/s", "|u - its closed form u0 + F/(m omega) sin(omega t)|"),
+    _s("phi_error", "rad", "|φ - φ of the reduced 3-DOF model|"),
+    _s("u_along_blade", "m/s", "speed along the blade ẋ cos θ + ẏ sin θ"),
+    _s("speed_error", "m/s", "|u - its closed form u₀ + F/(mω) sin ωt|"),
 )
 
 

@@ -320,7 +320,7 @@ def forced_vibration_steps(o: ForcedOscillator, w_grid: np.ndarray) -> list[Deri
     return [
         DerivationStep(
             "Lagrange equation with resistance and a periodic force",
-            "L = E - W, E = m q'^2/2, W = c q^2/2; generalized force -b q' + F0 sin(omega0 t) "
+            "L = E - W, E = m q̇²/2, W = c q²/2; generalized force -b q̇ + F₀ sin(ω₀t) "
             "(Lagrange equation of the 2nd kind).",
             S.lagrange,
             "(2.78)",
