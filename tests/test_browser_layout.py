@@ -53,7 +53,7 @@ GEOMETRY_JS = """(minText) => {
     const p = m[1].split(/[ ,\\/]+/).filter(Boolean).map(Number);
     return {r: p[0], g: p[1], b: p[2], a: p.length > 3 ? p[3] : 1};
   };
-  const over = (top, bottom) => ({r: top.r * top.a + bottom.r * (1 - top.a),
+  const blend = (top, bottom) => ({r: top.r * top.a + bottom.r * (1 - top.a),
       g: top.g * top.a + bottom.g * (1 - top.a), b: top.b * top.a + bottom.b * (1 - top.a), a: 1});
   const lum = (c) => {
     const f = (v) => { v /= 255; return v <= 0.03928 ? v / 12.92 : Math.pow((v + 0.055) / 1.055, 2.4); };
@@ -66,10 +66,10 @@ GEOMETRY_JS = """(minText) => {
       if (c && c.a > 0) { layers.push(c); if (c.a >= 1) break; }
     }
     let bg = {r: 255, g: 255, b: 255, a: 1};
-    for (let i = layers.length - 1; i >= 0; i--) bg = over(layers[i], bg);
+    for (let i = layers.length - 1; i >= 0; i--) bg = blend(layers[i], bg);
     const fg = parse(cs.color);
     if (!fg) return 21;
-    const L1 = lum(over(fg, bg)), L2 = lum(bg);
+    const L1 = lum(blend(fg, bg)), L2 = lum(bg);
     return (Math.max(L1, L2) + 0.05) / (Math.min(L1, L2) + 0.05);
   };
   const low = [];
@@ -214,21 +214,21 @@ def check_screen(tab: Page, size: str, what: str) -> None:
         g = page.evaluate(GEOMETRY_JS, MIN_TEXT_PX)
         return round(g["canvas"][2] * g["dpr"]), round(g["canvas"][3] * g["dpr"])
 
-    def framed_inside() -> tuple[Any, np.ndarray, np.ndarray] | None:
+    def framed_inside() -> tuple[Any, np.ndarray, np.ndarray, float, float] | None:
         # the camera framed for this canvas, with the scene's box (and the run's) inside
         # it: a framing for a layout the page passed through on its way here is followed
         # by the framing for this one
         cam = settled_camera(tab, canvas_px())
         if cam is None:
             return None
+        # the camera's values read once (the page may report a new camera meanwhile)
+        W, H = float(cam.image_width), float(cam.image_height)
         u, v = projected_box(cam, *run_box(tab.session))
-        inside = np.all(np.abs(u) <= float(cam.image_width) / 2) and np.all(
-            np.abs(v) <= float(cam.image_height) / 2
-        )
-        return (cam, u, v) if inside else None
+        inside = np.all(np.abs(u) <= W / 2) and np.all(np.abs(v) <= H / 2)
+        return (cam, u, v, W, H) if inside else None
 
     try:
-        cam, u, v = wait_until(framed_inside, 20, f"the framed camera ({size})")
+        cam, u, v, W, H = wait_until(framed_inside, 20, f"the framed camera ({size})")
     except AssertionError as exc:
         r, c = tab.view.renderer, tab.view.client.camera
         seen = settled_camera(tab, canvas_px())
@@ -254,7 +254,6 @@ def check_screen(tab: Page, size: str, what: str) -> None:
     else:
         assert ch >= h - 1 and cw >= 0.5 * w, f"{where}: the canvas is {cw}x{ch}"
     lo, hi = run_box(tab.session)
-    W, H = float(cam.image_width), float(cam.image_height)
     cover = float(max(np.ptp(u), np.ptp(v)) / min(W, H))
     assert COVER[0] <= cover <= COVER[1], (
         f"{where}: the scene covers {cover:.0%} of the canvas; box {lo} - {hi}, framed "

@@ -579,7 +579,8 @@ class SessionView:
             self._remove_retired()
         s = self.session
         if self.frame_count % self.config.readout_every == 0:
-            self.renderer.follow_canvas()  # the canvas changed shape: frame it again
+            if not self.renderer.follow_canvas():  # the canvas changed shape: frame it again
+                self.renderer.confirm_framing()  # the page's camera took the last framing
         was_playing = s.playing
         t0 = time.perf_counter()
         frames = s.tick(wall_dt) if s.playing else []

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import logging
 import math
+import time
 from collections import deque
 from collections.abc import Callable
 from typing import TYPE_CHECKING, Any
@@ -169,6 +170,14 @@ DEFAULT_FOV = math.radians(50.0)
 MIN_CANVAS_PX = 48
 #: Room left ahead of a run that left the framed box (share of the new box's side).
 RUN_MARGIN = 0.25
+#: Seconds after a framing at which the page's camera is checked: a page whose camera still
+#: stands where the framing before put it (the new position did not take, e.g. the page
+#: reported its old camera just after it was moved) is framed again, at most
+#: :data:`FRAMING_RESENDS` times.
+FRAMING_CHECK_AFTER = 1.0
+FRAMING_RESENDS = 3
+#: What reading a camera the page has not reported yet (or a page between layouts) raises.
+CAMERA_READ_ERRORS = (AssertionError, TypeError, ValueError, AttributeError, RuntimeError)
 
 
 def _fov_aspect(cam: viser.CameraHandle) -> tuple[float, float]:
@@ -231,6 +240,8 @@ class SceneRenderer:
         #: it into (width, height in the page's pixels)
         self.framed_box: tuple[np.ndarray, np.ndarray] | None = None
         self.framed_canvas: tuple[int, int] | None = None
+        #: a framing to check: (when, the camera position of the framing before, resends)
+        self._unconfirmed: tuple[float, np.ndarray, int] | None = None
 
     def visible_vectors(self) -> set[str]:
         names = list(self.spec.moving_vectors) if self.spec is not None else []
@@ -467,6 +478,33 @@ class SceneRenderer:
         self.frame_camera(lo, hi, float(np.max(hi - lo)), keep_direction=True)
         return True
 
+    def confirm_framing(self) -> bool:
+        """Put the camera where the last framing put it again when, a while after it, the
+        page's camera still stands where the framing before left it; True when it did."""
+        pending, framed = self._unconfirmed, self.framed
+        if pending is None or framed is None or time.monotonic() < pending[0]:
+            return False
+        _, before, resends = pending
+        try:
+            cam = self.client.camera
+            at = np.asarray(cam.position, dtype=float)
+        except CAMERA_READ_ERRORS:
+            return False  # not reported yet: checked again later
+        tol = 1e-3 * max(float(np.linalg.norm(framed[0] - framed[1])), 1e-9)
+        stuck = np.allclose(at, before, rtol=0.0, atol=tol) and not np.allclose(
+            at, framed[0], rtol=0.0, atol=tol
+        )
+        if not stuck or resends >= FRAMING_RESENDS:
+            self._unconfirmed = None
+            return False
+        try:
+            cam.position = tuple(map(float, framed[0]))
+            cam.look_at = tuple(map(float, framed[1]))
+        except CAMERA_READ_ERRORS:
+            log.debug("page %s: the framing was not sent again", self.client.client_id)
+        self._unconfirmed = (time.monotonic() + FRAMING_CHECK_AFTER, before, resends + 1)
+        return True
+
     def follow_run(self, frame: Frame) -> bool:
         """Frame again, from where the camera looks now, when the run's moving points or
         bodies left the framed box: the new box holds the old one and the run, with
@@ -527,7 +565,13 @@ class SceneRenderer:
             # viser moves look_at along with position: set the position first
             cam.position = tuple(map(float, center + direction * dist))
             cam.look_at = tuple(map(float, center))
+            before = self.framed
             self.framed = (center + direction * dist, center)
+            self._unconfirmed = (
+                (time.monotonic() + FRAMING_CHECK_AFTER, before[0], 0)
+                if before is not None
+                else None
+            )
             self.framed_box = (np.asarray(lo, dtype=float), np.asarray(hi, dtype=float))
             self.framed_canvas = canvas  # a size reported meanwhile is framed at the next check
         except Exception:
