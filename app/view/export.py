@@ -8,6 +8,7 @@ page played (every frame since the last reset, live edits included).
 from __future__ import annotations
 
 import csv
+import html
 import io
 import json
 from collections.abc import Callable
@@ -15,6 +16,7 @@ from dataclasses import replace
 from typing import Any
 
 import numpy as np
+from analyzer_lab.i18n import ENGLISH, Language
 from analyzer_lab.lessons.kit.contract import Lesson, RunResult
 from analyzer_lab.lessons.kit.formula import parse_number
 from analyzer_lab.limits import Pacer, return_free_memory
@@ -156,23 +158,33 @@ class ExportPanel:
         guard: Callable[[Callable[[Any], None]], Callable[[Any], None]],
         session: Callable[[], Session],
         client: Any,
+        language: Language = ENGLISH,
     ) -> None:
         self.session = session
         self.client = client
-        gui.add_html(
-            '<div style="font-size:0.9em">On the textbook\'s grid: t = 0, step, 2 step, ...'
-            " up to the time played, with the current values.</div>"
+        self.language = language
+        tr = language.gettext
+        grid = tr(
+            "On the textbook's grid: t = 0, step, 2 step, ... up to the time played,"
+            " with the current values."
         )
-        self.grid_step = gui.add_text("grid step [s]", initial_value="")
-        buttons = [("Download CSV (grid)", "csv"), ("Download JSON (grid)", "json")]
+        gui.add_html(f'<div style="font-size:0.9em">{html.escape(grid, quote=False)}</div>')
+        self.grid_step = gui.add_text(
+            tr("grid step [{unit}]").format(unit=language.unit("s")), initial_value=""
+        )
+        buttons = [(tr("Download CSV (grid)"), "csv"), (tr("Download JSON (grid)"), "json")]
         for label, kind in buttons:
             gui.add_button(label).on_click(guard(lambda e, k=kind: self.export(k)))
-        gui.add_html(
-            '<div style="font-size:0.9em">Every frame played since the last reset (at most'
-            f" {MAX_LOG} rows: a longer run keeps every 2nd, 4th, ... frame; the replay at most"
-            f" {MAX_REPLAY_FRAMES} frames, thinned the same way):</div>"
-        )
-        for label, kind in (("Download CSV (frames)", "frames-csv"), ("HTML replay", "html")):
+        frames = tr(
+            "Every frame played since the last reset (at most {rows} rows: a longer run keeps"
+            " every 2nd, 4th, ... frame; the replay at most {frames} frames, thinned the same"
+            " way):"
+        ).format(rows=MAX_LOG, frames=MAX_REPLAY_FRAMES)
+        gui.add_html(f'<div style="font-size:0.9em">{html.escape(frames, quote=False)}</div>')
+        for label, kind in (
+            (tr("Download CSV (frames)"), "frames-csv"),
+            (tr("HTML replay"), "html"),
+        ):
             gui.add_button(label).on_click(guard(lambda e, k=kind: self.export(k)))
 
     def show_default_step(self, lesson: Lesson, t_end: float) -> None:
@@ -182,15 +194,16 @@ class ExportPanel:
     def export(self, kind: str) -> None:
         """Send the run (grid or frames) as CSV/JSON, or the replay, as a download."""
         s = self.session()
-        text = str(self.grid_step.value).strip()
+        text = self.language.read_decimal(str(self.grid_step.value).strip())
         step = parse_step(text, grid_end(s)) if text else None
         name, data = export_run(s, kind, step)
         self.client.send_file_download(name, data, save_immediately=True)
         size = len(data)
         del data
         return_free_memory()
+        tr = self.language.gettext
         fewer = (
-            "; a long run: not every frame is in it (see the file's notes)"
+            tr("; a long run: not every frame is in it (see the file's notes)")
             if kind.startswith("frames")
             and (
                 s.log.stride > 1
@@ -198,4 +211,8 @@ class ExportPanel:
             )
             else ""
         )
-        s.notify(f"exported {name} ({size / 1024:.1f} kB{fewer})")
+        s.notify(
+            tr("exported {name} ({size} kB{fewer})").format(
+                name=name, size=self.language.number(size / 1024, ".1f"), fewer=fewer
+            )
+        )
