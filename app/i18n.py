@@ -35,6 +35,8 @@ LOCALE_DIR = Path(__file__).resolve().parent / "locale"
 #: The languages the lab speaks, by code, with their own names.
 LANGUAGES: dict[str, str] = {"en": "English", "ru": "Русский"}
 DEFAULT = "en"
+#: The environment variable that carries ``serve --lang`` to a front door's workers.
+LANGUAGE_ENV = "ANALYZER_LAB_LANG"
 
 
 #: The extraction keywords beyond Babel's defaults (``pybabel extract -k`` each).
@@ -181,6 +183,7 @@ __all__ = [
     "DOMAIN",
     "ENGLISH",
     "LANGUAGES",
+    "LANGUAGE_ENV",
     "KEYWORDS",
     "LOCALE_DIR",
     "CatalogError",

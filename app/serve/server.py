@@ -36,6 +36,8 @@ from analyzer_lab.classroom.course import Course
 from analyzer_lab.classroom.instructor_code import CodeError, class_code
 from analyzer_lab.classroom.room import Classroom
 from analyzer_lab.classroom.store.sql_store import redact
+from analyzer_lab.i18n import load_all as load_catalogs
+from analyzer_lab.i18n import resolve as resolve_language
 from analyzer_lab.lessons.kit.contract import Lesson, Params
 from analyzer_lab.limits import prefer_returned_memory
 from analyzer_lab.serve.back_pressure import PAUSED_NOTICE, BackPressure, Turn
@@ -96,8 +98,13 @@ class LabServer:
         instructor_code: str | None = None,
         bus: Bus | None = None,
         course: Course | None = None,
+        language: str | None = None,
     ) -> None:
         prefer_returned_memory()
+        #: the language of new pages (``serve --lang``); an unknown code is English, logged
+        self.language, notice = resolve_language(language)
+        if notice:
+            log.warning("%s", notice)
         self.fps = float(fps)
         self.restore = restore
         self.config = config or ViewConfig(fps=self.fps)
@@ -224,7 +231,7 @@ class LabServer:
         session = Session(self.lessons, self.default_lesson)
         if self.restore:
             restore_state(client, session)
-        view = SessionView(client, session, self.config)
+        view = SessionView(client, session, self.config, language=self.language)
         view.last_tick = time.monotonic()  # type: ignore[attr-defined]
         with self._views_lock:
             gone = cid in self._gone  # the page left while it was being built
@@ -521,6 +528,7 @@ def serve(
     roster: str | None = None,
     join_code: str | None = None,
     join_code_hours: float | None = None,
+    lang: str | None = None,
 ) -> int:
     """Run the lab until interrupted; returns the exit code.  The course record: the
     class ``class_name`` in ``db`` (default: the SQLite file in the data folder ``data``),
@@ -528,7 +536,8 @@ def serve(
     (:mod:`analyzer_lab.serve.course_record`).  ``bus_url``: the class bus
     shared with other servers (``redis://HOST:PORT``; default in-process); the code comes
     from ``instructor_code``, ``instructor_code_file`` or the environment
-    (:func:`~analyzer_lab.classroom.instructor_code.class_code`)."""
+    (:func:`~analyzer_lab.classroom.instructor_code.class_code`).  ``lang``: the language
+    of new pages (``en`` by default; an unknown code: English, with a notice)."""
     if not (0 <= int(port) <= 65535):
         print(f"analyzer-lab: error: port must be in 0..65535, got {port}", file=sys.stderr)
         return 2
@@ -536,6 +545,11 @@ def serve(
         print(f"analyzer-lab: error: --fps must be in 1..120, got {fps}", file=sys.stderr)
         return 2
     t0 = time.perf_counter()
+    language, notice = resolve_language(lang)
+    if notice:
+        print(f"analyzer-lab: note: {notice}", file=sys.stderr, flush=True)
+    for failed in load_catalogs():  # reported at start; those pages show English
+        print(f"analyzer-lab: warning: {failed}; English is shown", file=sys.stderr, flush=True)
     try:
         code = class_code(instructor_code, instructor_code_file)
     except CodeError as exc:
@@ -561,6 +575,7 @@ def serve(
             instructor_code=code,
             bus=bus,
             course=course,
+            language=language.code,
         )
     except LabError as exc:
         print(f"analyzer-lab: error: {exc}", file=sys.stderr)
