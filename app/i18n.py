@@ -22,8 +22,9 @@ import re
 from dataclasses import dataclass
 from pathlib import Path
 
+from babel.messages.catalog import Catalog
 from babel.messages.mofile import write_mo
-from babel.messages.pofile import read_po
+from babel.messages.pofile import PoFileError, read_po
 from babel.numbers import get_decimal_symbol
 from babel.support import NullTranslations, Translations
 
@@ -66,6 +67,7 @@ UNITS = (
     NP_("unit", "N"),
 )
 
+_PLACEHOLDER = re.compile(r"\{[^{}]*\}")
 #: A comma between two digits: a decimal comma (``0,5``).
 _DECIMAL_COMMA = re.compile(r"(?<=\d),(?=\d)")
 
@@ -79,18 +81,38 @@ def catalog_path(code: str) -> Path:
 
 
 def compile_catalog(code: str, path: Path | None = None) -> Translations:
-    """The catalog of ``code`` read from its ``.po`` file and compiled in memory (fuzzy
-    entries are left out, as ``msgfmt`` does)."""
+    """The catalog of ``code`` read strictly from its ``.po`` file (a malformed line is an
+    error, not a skipped entry) and compiled in memory; fuzzy entries are left out, as
+    ``msgfmt`` does."""
     path = path or catalog_path(code)
     try:
         with path.open("rb") as fh:
-            catalog = read_po(fh, locale=code, domain=DOMAIN)
+            catalog = read_po(fh, locale=code, domain=DOMAIN, abort_invalid=True)
+        _drop_mismatched(catalog, code)
         buf = io.BytesIO()
         write_mo(buf, catalog, use_fuzzy=False)
-    except (OSError, ValueError, SyntaxError) as exc:
+    except (OSError, ValueError, SyntaxError, PoFileError) as exc:
         raise CatalogError(f"the {code!r} catalog {path} could not be read: {exc}") from exc
     buf.seek(0)
     return Translations(buf, domain=DOMAIN)
+
+
+def placeholders(text: str) -> list[str]:
+    """The ``{name}`` placeholders of a message, sorted (``{{`` is a literal brace)."""
+    return sorted(_PLACEHOLDER.findall(text.replace("{{", "").replace("}}", "")))
+
+
+def _drop_mismatched(catalog: Catalog, code: str) -> None:
+    """Blank (English is then shown) every translation whose placeholders differ from its
+    message's: ``str.format`` would fail on the page."""
+    for m in catalog:
+        if not m.id or not m.string:
+            continue
+        want = placeholders(m.id[0] if isinstance(m.id, tuple) else m.id)
+        strings = m.string if isinstance(m.string, tuple) else (m.string,)
+        if any(s and placeholders(s) != want for s in strings):
+            log.error("the %r catalog: the placeholders of %r differ; English is shown", code, m.id)
+            m.string = tuple("" for _ in strings) if isinstance(m.string, tuple) else ""
 
 
 @functools.cache
@@ -193,6 +215,7 @@ __all__ = [
     "compile_catalog",
     "language",
     "load_all",
+    "placeholders",
     "resolve",
     "translations",
 ]
