@@ -1,0 +1,142 @@
+"""A page in its language: the chrome of a page built in Russian, and numbers typed with a
+decimal comma (read in Russian, refused with a clear message in English); real websockets
+to an in-process server."""
+
+from __future__ import annotations
+
+import asyncio
+import re
+from collections.abc import Callable
+from typing import Any
+
+import pytest
+from analyzer_lab.lessons.catalog import get_lesson
+
+from tests.support.client import ProtoClient, handled
+from tests.support.waiting import until
+
+pytestmark = pytest.mark.timeout(300)
+
+#: The chrome's English labels (what the existing tests select by) and their Russian.
+CHROME = {
+    "Lesson": "Урок",
+    "Preset": "Пример",
+    "Run": "Движение",
+    "Speed": "Скорость",
+    "go to t [s]": "перейти к t [с]",
+    "pause at t_end": "пауза при t_end",
+    "Playback": "Воспроизведение",
+    "Vectors": "Векторы",
+    "Snap to surface": "Привязать к поверхности",
+    "grid step [s]": "шаг сетки [с]",
+    "Download CSV (grid)": "Скачать CSV (сетка)",
+    "HTML replay": "Повтор в HTML",
+}
+
+
+@pytest.fixture(scope="module")
+def labs(make_lab: Callable[..., Any]) -> dict[str, Any]:
+    """A server whose new pages are Russian and one with the default (English)."""
+    sphere = get_lesson("sphere")
+    options = {"lessons": [sphere], "lesson": "sphere", "warm_up": False, "restore": False}
+    return {"ru": make_lab(language="ru", **options), "en": make_lab(**options)}
+
+
+async def page(lab: Any, first_label: str) -> tuple[ProtoClient, Any]:
+    before = set(lab.views)
+    c = await ProtoClient(lab.url).start()
+    await c.wait_for(first_label)
+    new = await until(lambda: set(lab.views) - before, 10, "the view")
+    return c, lab.views[max(new)]
+
+
+def test_a_page_built_in_russian_shows_russian_chrome(labs: dict[str, Any]) -> None:
+    async def go() -> None:
+        c, view = await page(labs["ru"], "Движение")
+        try:
+            await c.wait_for("шаг сетки [с]")
+            assert view.language.code == "ru"
+            for english, russian in CHROME.items():
+                assert russian in c.gui, russian
+                assert english not in c.gui, english
+            buttons = c.last["GuiButtonGroupMessage"]["props"]
+            assert buttons["label"] == "Движение"
+            assert buttons["options"] == ["Пуск", "Пауза", "Шаг", "Сброс"]
+            tabs = c.last["GuiTabGroupMessage"]["props"]["_tab_labels"]
+            assert tabs == ["Урок", "Параметры", "Графики", "Экспорт"]
+            readout = next(h for h in c.html.values() if "al-readout" in h)
+            assert "t =    0,000 с" in readout and "пауза" in readout
+            assert re.search(r"= \d+,\d+ ", readout.split("al-readout-values")[1])
+            # the Russian Play button plays, Reset resets (the commands behind the labels)
+            await c.set("Движение", "Пуск")
+            await until(lambda: view.session.playing, 10, "play")
+            await c.set("Движение", "Сброс")
+            await until(lambda: not view.session.playing, 10, "reset")
+            # a refusal in the page's language
+            await c.set("Скорость", "9z")
+            await until(
+                lambda: any("отклонено: неизвестная скорость" in n for n in _notices(view)),
+                10,
+                "the refusal",
+            )
+        finally:
+            await c.close()
+
+    asyncio.run(go())
+
+
+def test_an_english_page_stays_english(labs: dict[str, Any]) -> None:
+    async def go() -> None:
+        c, view = await page(labs["en"], "Run")
+        try:
+            await c.wait_for("grid step [s]")
+            assert view.language.code == "en"
+            for english, russian in CHROME.items():
+                assert english in c.gui and russian not in c.gui, english
+            tabs = c.last["GuiTabGroupMessage"]["props"]["_tab_labels"]
+            assert tabs == ["Lesson", "Controls", "Plots", "Export"]
+            readout = next(h for h in c.html.values() if "al-readout" in h)
+            assert "t =    0.000 s" in readout and "paused" in readout
+        finally:
+            await c.close()
+
+    asyncio.run(go())
+
+
+def _notices(view: Any) -> list[str]:
+    return [text for _, text in view.session.notices]
+
+
+def _field_error(c: ProtoClient) -> str:
+    return next((h for h in c.html.values() if "al-field-error" in h), "")
+
+
+def test_a_decimal_comma_is_read_in_russian_and_refused_with_a_message_in_english(
+    labs: dict[str, Any],
+) -> None:
+    async def go() -> None:
+        ru, ru_view = await page(labs["ru"], "Движение")
+        en, en_view = await page(labs["en"], "Run")
+        try:
+            await ru.set("sphere radius R", "0,5")
+            await ru.set("u1(t) =", "0,5*sin(2,5*t)")
+            await handled(ru, ru_view)
+            assert ru_view.session.params["R"] == 0.5
+            assert ru_view.session.params["u1"].text == "0.5*sin(2.5*t)"
+            assert not ru_view.controls.failing()
+            # "go to t" reads it too
+            await ru.set("перейти к t [с]", "0,25")
+            await until(lambda: abs(ru_view.session.frame.t - 0.25) < 1e-9, 10, "go to t")
+
+            before = en_view.session.params["R"]
+            await en.set("sphere radius R", "0,5")
+            await handled(en, en_view)
+            await until(lambda: "R" in en_view.controls.failing(), 10, "the field's error")
+            message = _field_error(en)
+            assert "0,5 has a decimal comma: write 0.5 with a dot" in message
+            assert en_view.session.params["R"] == before  # nothing else changed
+        finally:
+            await ru.close()
+            await en.close()
+
+    asyncio.run(go())
