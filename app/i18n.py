@@ -171,7 +171,7 @@ class Language:
         return _DECIMAL_COMMA.sub(".", text)
 
 
-def language(code: str) -> Language:
+def language_of(code: str) -> Language:
     """The :class:`Language` of a known ``code`` (its catalog loaded once)."""
     catalog, failed = _load(code)
     if failed is not None:
@@ -189,10 +189,10 @@ def resolve(code: str | None) -> tuple[Language, str | None]:
         base = DEFAULT
     if base not in LANGUAGES:
         known = ", ".join(LANGUAGES)
-        return language(
+        return language_of(
             DEFAULT
         ), f"unknown language {raw[:20]!r}; English is shown (known: {known})"
-    lang = language(base)
+    lang = language_of(base)
     if lang.code != base:
         return lang, f"the {LANGUAGES[base]} catalog failed to load; English is shown"
     return lang, None
@@ -213,7 +213,7 @@ __all__ = [
     "N_",
     "NP_",
     "compile_catalog",
-    "language",
+    "language_of",
     "load_all",
     "placeholders",
     "resolve",

@@ -140,3 +140,60 @@ def test_a_decimal_comma_is_read_in_russian_and_refused_with_a_message_in_englis
             await en.close()
 
     asyncio.run(go())
+
+
+def test_the_language_picker_switches_the_page_and_the_browser_keeps_it(
+    make_lab: Callable[..., Any],
+) -> None:
+    lab = make_lab(lessons=[get_lesson("sphere")], lesson="sphere", warm_up=False)
+    storage: dict[str, str] = {}  # one browser's local storage, shared by its pages
+
+    async def go() -> None:
+        before = set(lab.views)
+        c = await ProtoClient(lab.url, storage=storage).start()
+        await c.wait_for("Run")
+        view = lab.views[max(await until(lambda: set(lab.views) - before, 10, "the view"))]
+        try:
+            assert "Language" in c.gui
+            assert view.language_dd.options == ("English", "Русский")
+            await c.set("Language", "Русский")
+            await until(lambda: view.language.code == "ru", 10, "the page in Russian")
+            # the lesson's controls are rebuilt in Russian; the chrome is relabelled
+            await c.wait_for("Привязать к поверхности")
+            await c.wait_for("Векторы")
+            with view.session.lock:
+                assert view.lesson_dd.label == "Урок" and view.preset_dd.label == "Пример"
+                assert view.transport.options == ("Пуск", "Пауза", "Шаг", "Сброс")
+                assert view.clock.goto.label == "перейти к t [с]"
+                assert view.exports.grid_step.label == "шаг сетки [с]"
+                assert view.tabs._tab_labels == ("Урок", "Параметры", "Графики", "Экспорт")
+                assert view.preset_dd.value == "(по умолчанию)"
+            await until(
+                lambda: any("0,000 с" in h and "пауза" in h for h in c.html.values()),
+                10,
+                "the readout in Russian",
+            )
+            await until(lambda: storage.get("analyzer-lab-language") == "ru", 10, "kept")
+            # the relabelled buttons (the same element) drive the transport in Russian
+            await c.set("Run", "Пуск")
+            await until(lambda: view.session.playing, 10, "play")
+            await c.set("Run", "Пауза")
+            await until(lambda: not view.session.playing, 10, "pause")
+        finally:
+            await c.close()
+        # the browser's next page opens in the language it chose
+        again = await ProtoClient(lab.url, storage=storage).start()
+        try:
+            await again.wait_for("Урок")
+            assert "Lesson" not in again.gui
+        finally:
+            await again.close()
+        # a kept code the lab does not know is ignored: the server's default
+        storage["analyzer-lab-language"] = "xx"
+        other = await ProtoClient(lab.url, storage=storage).start()
+        try:
+            await other.wait_for("Lesson")
+        finally:
+            await other.close()
+
+    asyncio.run(go())

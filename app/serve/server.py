@@ -49,7 +49,7 @@ from analyzer_lab.session.runlog import LRUCache, lesson_scene, params_key
 from analyzer_lab.session.session import STEP_WALL_BUDGET, LabError, Session
 from analyzer_lab.view.math import derivation_to_html
 from analyzer_lab.view.page import SessionView, ViewConfig
-from analyzer_lab.view.persistence import restore_state
+from analyzer_lab.view.persistence import restore_state, saved_language
 from analyzer_lab.viser_boundary import (
     PAGE_TITLE,
     WakeBatch,
@@ -231,7 +231,13 @@ class LabServer:
         session = Session(self.lessons, self.default_lesson)
         if self.restore:
             restore_state(client, session)
-        view = SessionView(client, session, self.config, language=self.language)
+        language = self.language
+        if self.restore:  # the language this browser chose on an earlier page
+            saved = saved_language(client)
+            if saved:
+                chosen, notice = resolve_language(saved)
+                language = chosen if notice is None else language
+        view = SessionView(client, session, self.config, language=language)
         view.last_tick = time.monotonic()  # type: ignore[attr-defined]
         with self._views_lock:
             gone = cid in self._gone  # the page left while it was being built

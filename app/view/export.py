@@ -16,7 +16,7 @@ from dataclasses import replace
 from typing import Any
 
 import numpy as np
-from analyzer_lab.i18n import ENGLISH, Language
+from analyzer_lab.i18n import ENGLISH, N_, Language
 from analyzer_lab.lessons.kit.contract import Lesson, RunResult
 from analyzer_lab.lessons.kit.formula import parse_number
 from analyzer_lab.limits import Pacer, return_free_memory
@@ -24,6 +24,13 @@ from analyzer_lab.session.runlog import MAX_LOG
 from analyzer_lab.session.session import LabError, Session
 from analyzer_lab.view.replay import MAX_REPLAY_FRAMES
 
+#: The download buttons' labels by export kind (English; each page shows its language's).
+BUTTONS = {
+    "csv": N_("Download CSV (grid)"),
+    "json": N_("Download JSON (grid)"),
+    "frames-csv": N_("Download CSV (frames)"),
+    "html": N_("HTML replay"),
+}
 #: Most rows of a grid export (the step is refused below t_end / MAX_GRID_ROWS).
 MAX_GRID_ROWS = 20001
 #: Most values (rows x columns) in one CSV or JSON export (about 8 MB of CSV): a grid
@@ -164,28 +171,54 @@ class ExportPanel:
         self.client = client
         self.language = language
         tr = language.gettext
+        grid, frames = self._notes(language)
+        self.grid_note = gui.add_html(grid)
+        self.grid_step = gui.add_text(self._step_label(language), initial_value="")
+        #: the download buttons by kind, in the order shown
+        self.buttons: dict[str, Any] = {}
+        for kind in ("csv", "json"):
+            self.buttons[kind] = gui.add_button(tr(BUTTONS[kind]))
+        self.frames_note = gui.add_html(frames)
+        for kind in ("frames-csv", "html"):
+            self.buttons[kind] = gui.add_button(tr(BUTTONS[kind]))
+        for kind, button in self.buttons.items():
+            button.on_click(guard(lambda e, k=kind: self.export(k)))
+
+    @staticmethod
+    def _step_label(language: Language) -> str:
+        return language.gettext("grid step [{unit}]").format(unit=language.unit("s"))
+
+    @staticmethod
+    def _notes(language: Language) -> tuple[str, str]:
+        """The notes above the grid's and the frames' buttons (HTML)."""
+        tr = language.gettext
         grid = tr(
             "On the textbook's grid: t = 0, step, 2 step, ... up to the time played,"
             " with the current values."
         )
-        gui.add_html(f'<div style="font-size:0.9em">{html.escape(grid, quote=False)}</div>')
-        self.grid_step = gui.add_text(
-            tr("grid step [{unit}]").format(unit=language.unit("s")), initial_value=""
-        )
-        buttons = [(tr("Download CSV (grid)"), "csv"), (tr("Download JSON (grid)"), "json")]
-        for label, kind in buttons:
-            gui.add_button(label).on_click(guard(lambda e, k=kind: self.export(k)))
         frames = tr(
             "Every frame played since the last reset (at most {rows} rows: a longer run keeps"
             " every 2nd, 4th, ... frame; the replay at most {frames} frames, thinned the same"
             " way):"
         ).format(rows=MAX_LOG, frames=MAX_REPLAY_FRAMES)
-        gui.add_html(f'<div style="font-size:0.9em">{html.escape(frames, quote=False)}</div>')
-        for label, kind in (
-            (tr("Download CSV (frames)"), "frames-csv"),
-            (tr("HTML replay"), "html"),
+        note = '<div style="font-size:0.9em">{}</div>'
+        return note.format(html.escape(grid, quote=False)), note.format(
+            html.escape(frames, quote=False)
+        )
+
+    def set_language(self, language: Language) -> None:
+        """Write the tab's notes and labels in ``language``."""
+        self.language = language
+        for note, content in zip(
+            (self.grid_note, self.frames_note), self._notes(language), strict=True
         ):
-            gui.add_button(label).on_click(guard(lambda e, k=kind: self.export(k)))
+            if note.content != content:
+                note.content = content
+        labels = [(self.grid_step, self._step_label(language))]
+        labels += [(self.buttons[k], language.gettext(v)) for k, v in BUTTONS.items()]
+        for widget, label in labels:
+            if widget.label != label:
+                widget.label = label
 
     def show_default_step(self, lesson: Lesson, t_end: float) -> None:
         """The lesson's own sampling (or t_end / 100) as the proposed step."""

@@ -29,19 +29,19 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
-from analyzer_lab.i18n import ENGLISH, N_, Language
+from analyzer_lab.i18n import ENGLISH, LANGUAGES, N_, Language, language_of
 from analyzer_lab.lessons.kit.contract import Param, ParamError
 from analyzer_lab.lessons.kit.formula import Formula, plain_number
 from analyzer_lab.session.session import LabError, Session, lesson_label
 from analyzer_lab.view.controls import ParamControls
 from analyzer_lab.view.export import ExportPanel
 from analyzer_lab.view.math import derivation_to_html
-from analyzer_lab.view.persistence import save_state
+from analyzer_lab.view.persistence import save_language, save_state
 from analyzer_lab.view.plots import PlotPanel
 from analyzer_lab.view.readout import preset_note_html, readout_html, speed_label, status_html
 from analyzer_lab.view.scene import SceneRenderer
 from analyzer_lab.view.transport import MAX_DRAWN_FRAMES, Transport
-from analyzer_lab.viser_boundary import fast_set
+from analyzer_lab.viser_boundary import fast_set, relabel_tabs
 
 if TYPE_CHECKING:
     import viser
@@ -51,6 +51,8 @@ log = logging.getLogger(__name__)
 NO_PRESET = N_("(defaults)")
 #: Labels of the page's lesson and preset pickers and of the pause-at-t_end checkbox.
 LESSON_PICKER, PRESET_PICKER, PAUSE_AT_END = N_("Lesson"), N_("Preset"), N_("pause at t_end")
+#: The label of the page's language picker (its options are each language's own name).
+LANGUAGE_PICKER = N_("Language")
 #: The tabs of the panel (English; each page shows them in its language).
 TABS = (N_("Lesson"), N_("Controls"), N_("Plots"), N_("Export"))
 RETIRE_DELAY = 1.5  # seconds a replaced GUI folder stays (hidden) before it is removed
@@ -252,6 +254,12 @@ class SessionView:
         self.dock_panel()
         s = self.session
         self.banner = gui.add_html("", visible=False)
+        self.language_dd = gui.add_dropdown(
+            tr(LANGUAGE_PICKER),
+            tuple(LANGUAGES.values()),
+            initial_value=LANGUAGES[self.language.code],
+        )
+        self.language_dd.on_update(self.guard(self._on_language))
         self._labels = {lesson_label(lesson): lesson.id for lesson in s.lessons.values()}
         self._ids = {v: k for k, v in self._labels.items()}
         self.lesson_dd = gui.add_dropdown(
@@ -382,6 +390,43 @@ class SessionView:
         self.session.select_lesson(lesson_id)
         self.session.notify(tr("lesson: {lesson}").format(lesson=lesson_label(self.session.lesson)))
         self.after_state_change()
+
+    def _on_language(self, event: Any) -> None:
+        code = next((c for c, name in LANGUAGES.items() if name == event.target.value), None)
+        if code is None:
+            raise LabError(
+                self.language.gettext("unknown language {name}").format(
+                    name=repr(str(event.target.value)[:30])
+                )
+            )
+        if code != self.language.code:
+            self.set_language(language_of(code))
+        save_language(self.client, code)
+
+    def set_language(self, language: Language) -> None:
+        """Show the page in ``language``: its chrome now, the lesson's controls rebuilt
+        (caller holds the session lock)."""
+        self.language = language
+        tr = language.gettext
+        self.no_preset = tr(NO_PRESET)
+        pickers = (
+            (self.language_dd, LANGUAGE_PICKER),
+            (self.lesson_dd, LESSON_PICKER),
+            (self.preset_dd, PRESET_PICKER),
+        )
+        for widget, label in pickers:
+            if widget.label != tr(label):
+                widget.label = tr(label)
+        self.controls.language = language
+        self.clock.set_language(language)
+        self.exports.set_language(language)
+        relabel_tabs(self.tabs, [tr(name) for name in TABS])
+        if self.following:
+            self.set_following(True)
+        self._drawn_lesson = None  # the controls, vectors and playback: rebuilt in it
+        self._last_readout = ""
+        self._shown_notice = None
+        self.redraw()
 
     def _on_preset(self, event: Any) -> None:
         tr = self.language.gettext

@@ -11,6 +11,8 @@ if TYPE_CHECKING:
     import viser
 
 STORAGE_KEY = "analyzer-lab-state"
+#: The page's language (its code), chosen on the page and kept by the browser.
+LANGUAGE_KEY = "analyzer-lab-language"
 
 log = logging.getLogger(__name__)
 
@@ -21,6 +23,24 @@ def save_state(client: viser.ClientHandle, session: Session) -> None:
         client.local_storage.set_item(STORAGE_KEY, session.state().to_json())
     except Exception:  # a page that closed meanwhile
         log.debug("state not saved in page %s", client.client_id, exc_info=True)
+
+
+def save_language(client: viser.ClientHandle, code: str) -> None:
+    """Keep the page's language in its browser (for its next pages)."""
+    try:
+        client.local_storage.set_item(LANGUAGE_KEY, code)
+    except Exception:  # a page that closed meanwhile
+        log.debug("language not saved in page %s", client.client_id, exc_info=True)
+
+
+def saved_language(client: viser.ClientHandle, timeout: float = 2.0) -> str | None:
+    """The language code the browser kept, if any (unchecked: the caller resolves it)."""
+    try:
+        saved = client.local_storage.get_item(LANGUAGE_KEY, timeout=timeout)
+    except Exception:  # no answer in time, or a page that closed meanwhile
+        log.debug("no language read from page %s", client.client_id, exc_info=True)
+        return None
+    return str(saved)[:40] if saved else None
 
 
 def restore_state(client: viser.ClientHandle, session: Session, timeout: float = 2.0) -> None:

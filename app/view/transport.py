@@ -37,22 +37,42 @@ class Transport:
         self.session = session
         self.played = played
         self.language = language
-        tr = language.gettext
         #: the shown button -> the command (English)
-        self.commands = {tr(b): b for b in BUTTONS}
-        self.buttons = gui.add_button_group(tr(RUN), tuple(self.commands))
+        self.commands = {language.gettext(b): b for b in BUTTONS}
+        run, speed, goto, hint = self._labels(language)
+        self.buttons = gui.add_button_group(run, tuple(self.commands))
         self.buttons.on_click(guard(self._on_button))
         s = session()
         self.speed = gui.add_dropdown(
-            tr("Speed"), tuple(speed_label(x) for x in SPEEDS), initial_value=speed_label(s.speed)
+            speed, tuple(speed_label(x) for x in SPEEDS), initial_value=speed_label(s.speed)
         )
         self.speed.on_update(guard(self._on_speed))
-        self.goto = gui.add_text(
-            tr("go to t [{unit}]").format(unit=language.unit("s")),
-            initial_value="",
-            hint=tr("show the run at this time (paused)"),
-        )
+        self.goto = gui.add_text(goto, initial_value="", hint=hint)
         self.goto.on_update(guard(self._on_goto))
+
+    @staticmethod
+    def _labels(language: Language) -> tuple[str, str, str, str]:
+        """The labels of the Run buttons, the speed and "go to t", and the latter's hint."""
+        tr = language.gettext
+        return (
+            tr(RUN),
+            tr("Speed"),
+            tr("go to t [{unit}]").format(unit=language.unit("s")),
+            tr("show the run at this time (paused)"),
+        )
+
+    def set_language(self, language: Language) -> None:
+        """Label the buttons and fields in ``language`` (the commands stay)."""
+        self.language = language
+        self.commands = {language.gettext(b): b for b in BUTTONS}
+        run, speed, goto, hint = self._labels(language)
+        for widget, label in ((self.buttons, run), (self.speed, speed), (self.goto, goto)):
+            if widget.label != label:
+                widget.label = label
+        if tuple(self.buttons.options) != tuple(self.commands):
+            self.buttons.options = tuple(self.commands)
+        if self.goto.hint != hint:
+            self.goto.hint = hint
 
     def _on_button(self, event: Any) -> None:
         tr = self.language.gettext
