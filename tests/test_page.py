@@ -132,7 +132,7 @@ def test_a_decimal_comma_is_read_in_russian_and_refused_with_a_message_in_englis
             await en.set("sphere radius R", "0,5")
             await handled(en, en_view)
             await until(lambda: "R" in en_view.controls.failing(), 10, "the field's error")
-            message = _field_error(en)
+            message = await until(lambda: _field_error(en), 10, "the message on the page")
             assert "0,5 has a decimal comma: write 0.5 with a dot" in message
             assert en_view.session.params["R"] == before  # nothing else changed
         finally:

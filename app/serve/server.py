@@ -229,14 +229,14 @@ class LabServer:
                 return
         guard_gui_updates(client.gui, self.server)  # wrong-typed values: one message
         session = Session(self.lessons, self.default_lesson)
-        if self.restore:
-            restore_state(client, session)
         language = self.language
-        if self.restore:  # the language this browser chose on an earlier page
-            saved = saved_language(client)
+        if self.restore:  # the language this browser chose on an earlier page, its state
+            answered, saved = saved_language(client)
             if saved:
                 chosen, notice = resolve_language(saved)
                 language = chosen if notice is None else language
+            if answered:
+                restore_state(client, session)
         view = SessionView(client, session, self.config, language=language)
         view.last_tick = time.monotonic()  # type: ignore[attr-defined]
         with self._views_lock:

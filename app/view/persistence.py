@@ -33,14 +33,16 @@ def save_language(client: viser.ClientHandle, code: str) -> None:
         log.debug("language not saved in page %s", client.client_id, exc_info=True)
 
 
-def saved_language(client: viser.ClientHandle, timeout: float = 2.0) -> str | None:
-    """The language code the browser kept, if any (unchecked: the caller resolves it)."""
+def saved_language(client: viser.ClientHandle, timeout: float = 2.0) -> tuple[bool, str | None]:
+    """(whether the page answered, the language code its browser kept, if any); the code
+    is unchecked: the caller resolves it.  A page that does not answer is not asked for
+    its saved state either (it would keep its page waiting twice)."""
     try:
         saved = client.local_storage.get_item(LANGUAGE_KEY, timeout=timeout)
     except Exception:  # no answer in time, or a page that closed meanwhile
         log.debug("no language read from page %s", client.client_id, exc_info=True)
-        return None
-    return str(saved)[:40] if saved else None
+        return False, None
+    return True, (str(saved)[:40] if saved else None)
 
 
 def restore_state(client: viser.ClientHandle, session: Session, timeout: float = 2.0) -> None:
