@@ -62,3 +62,43 @@ def test_a_russian_page_at_1400x900(ru_tab: Page) -> None:
     ru_tab.shot("language-ru-sphere-1400x900")
     assert (ARTIFACTS / "language-ru-sphere-1400x900.png").stat().st_size > 10_000
     assert not [e for e in ru_tab.errors if "pageerror" in e]
+
+
+@pytest.fixture(scope="module")
+def en_lab(make_lab: Callable[..., Any]) -> Any:
+    return make_lab(lessons=[get_lesson("sphere")], lesson="sphere")
+
+
+def test_the_language_picker_in_a_browser_and_after_a_reload(en_lab: Any, browser: Any) -> None:
+    context = browser.new_context(viewport={"width": 1400, "height": 900})
+    tab = Page(en_lab, browser, context)
+    try:
+        assert tab.options("Language") == ["English", "Русский"]
+        tab.select("Language", "Русский")
+        tab.label("Урок").wait_for(timeout=20000)
+        wait_until(
+            lambda: (
+                [t.strip() for t in tab.page.get_by_role("tab").all_inner_texts()]
+                == ["Урок", "Параметры", "Графики", "Экспорт"]
+            ),
+            10,
+            "the tabs in Russian",
+        )
+        tab.label("Язык").wait_for(timeout=10000)
+        tab.tab("Параметры")
+        tab.page.get_by_text("Векторы", exact=True).first.wait_for(timeout=10000)
+        _fits(tab, "after the switch")
+        tab.button("Пуск")
+        wait_until(lambda: tab.session.playing, 10, "play")
+        tab.button("Пауза")
+        tab.shot("language-switched-ru-1400x900")
+        before = set(en_lab.views)
+        tab.page.reload()
+        tab.label("Урок").wait_for(timeout=60000)  # the browser kept the choice
+        new = wait_until(lambda: set(en_lab.views) - before, 20, "the new session")
+        assert en_lab.views[max(new)].language.code == "ru"
+        tab.select("Язык", "English")
+        tab.label("Lesson").wait_for(timeout=20000)
+        assert not [e for e in tab.errors if "pageerror" in e]
+    finally:
+        tab.close()
