@@ -49,7 +49,7 @@ from analyzer_lab.session.runlog import LRUCache, lesson_scene, params_key
 from analyzer_lab.session.session import STEP_WALL_BUDGET, LabError, Session
 from analyzer_lab.view.math import derivation_to_html
 from analyzer_lab.view.page import SessionView, ViewConfig
-from analyzer_lab.view.persistence import restore_state, saved_language
+from analyzer_lab.view.persistence import restore_state
 from analyzer_lab.viser_boundary import (
     PAGE_TITLE,
     WakeBatch,
@@ -229,15 +229,14 @@ class LabServer:
                 return
         guard_gui_updates(client.gui, self.server)  # wrong-typed values: one message
         session = Session(self.lessons, self.default_lesson)
-        language = self.language
-        if self.restore:  # the language this browser chose on an earlier page, its state
-            answered, saved = saved_language(client)
+        language, chosen = self.language, False
+        if self.restore:  # its state, and the language this browser chose on an earlier page
+            saved = restore_state(client, session)
             if saved:
-                chosen, notice = resolve_language(saved)
-                language = chosen if notice is None else language
-            if answered:
-                restore_state(client, session)
-        view = SessionView(client, session, self.config, language=language)
+                found, notice = resolve_language(saved)
+                if notice is None:
+                    language, chosen = found, True
+        view = SessionView(client, session, self.config, language=language, language_chosen=chosen)
         view.last_tick = time.monotonic()  # type: ignore[attr-defined]
         with self._views_lock:
             gone = cid in self._gone  # the page left while it was being built

@@ -36,7 +36,7 @@ from analyzer_lab.session.session import LabError, Session, lesson_label
 from analyzer_lab.view.controls import ParamControls
 from analyzer_lab.view.export import ExportPanel
 from analyzer_lab.view.math import derivation_to_html
-from analyzer_lab.view.persistence import save_language, save_state
+from analyzer_lab.view.persistence import save_state
 from analyzer_lab.view.plots import PlotPanel
 from analyzer_lab.view.readout import preset_note_html, readout_html, speed_label, status_html
 from analyzer_lab.view.scene import SceneRenderer
@@ -86,12 +86,15 @@ class SessionView:
         session: Session,
         config: ViewConfig | None = None,
         language: Language | None = None,
+        language_chosen: bool = False,
     ) -> None:
         self.client = client
         self.session = session
         self.config = config or ViewConfig()
         #: the page's language (its chrome, notices and prose numbers)
         self.language = language or ENGLISH
+        #: whether the language was chosen on the page (then kept with its saved state)
+        self.language_chosen = language_chosen
         self.no_preset = self.language.gettext(NO_PRESET)
         self.closed = False
         self.frame_count = 0
@@ -401,7 +404,8 @@ class SessionView:
             )
         if code != self.language.code:
             self.set_language(language_of(code))
-        save_language(self.client, code)
+        self.language_chosen = True
+        self._save_state()
 
     def set_language(self, language: Language) -> None:
         """Show the page in ``language``: its chrome now, the lesson's controls rebuilt
@@ -562,7 +566,7 @@ class SessionView:
         self._save_state()
 
     def _save_state(self) -> None:
-        save_state(self.client, self.session)
+        save_state(self.client, self.session, self.language.code if self.language_chosen else None)
 
     # ------------------------------------------------------------------ per frame
 
