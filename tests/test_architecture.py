@@ -30,6 +30,7 @@ DOMAINS = ("analyzers", "mechanics", "vibration", "servo", "laser5")
 APP_LAYERS = (
     "token_bucket",
     "limits",
+    "i18n",
     "viser_boundary",
     "session",
     "view",

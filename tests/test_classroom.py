@@ -206,6 +206,32 @@ def test_follow_release_late_joiner_and_live_changes(lab: Any) -> None:
     run(go())
 
 
+def test_a_follower_keeps_its_own_language_during_a_demo(lab: Any) -> None:
+    async def go() -> None:
+        inst, iv = await page(lab)
+        a, av = await page(lab)
+        await inst.become_instructor(CODE)
+        await inst.click("Follow me")
+        await until(lambda: av.session is iv.session, 5, "the follower")
+        refused = lab.classroom.stats["refused_follower"]
+        await a.set("Language", "Русский")
+        await until(lambda: av.language.code == "ru", 10, "the follower's page in Russian")
+        assert lab.classroom.stats["refused_follower"] == refused  # its language is its own
+        await until(lambda: "Векторы" in a.gui, 10, "the follower's controls in Russian")
+        assert iv.language.code == "en" and iv.lesson_dd.label == "Lesson"
+        assert av.following and av.lesson_dd.disabled  # still following, still read-only
+        banner = av.banner.content
+        assert "Вы следите за преподавателем" in banner
+        await a.set("Preset", "example-1.2")  # any other input is still refused
+        await until(lambda: lab.classroom.stats["refused_follower"] > refused, 5, "the refusal")
+        await inst.click("Release")
+        await until(lambda: av.session is not iv.session, 5, "the release")
+        assert av.language.code == "ru"
+        await close(inst, a)
+
+    run(go())
+
+
 def test_push_preset_and_notify_all(lab: Any) -> None:
     async def go() -> None:
         inst, iv = await page(lab)

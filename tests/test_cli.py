@@ -106,3 +106,36 @@ def test_check_sphere_passes_and_reports():
 
 def test_check_unknown_lesson_exit_2():
     assert cli("check", "nosuch").returncode == 2
+
+
+def test_serve_with_an_unknown_language_says_so_in_english(tmp_path):
+    """The notice comes first; the command goes on (here to refuse the port)."""
+    out = cli("serve", "--lang", "xx", "--port", "70000", "--no-browser", "--data", str(tmp_path))
+    assert out.returncode == 2
+    lines = out.stderr.splitlines()
+    assert lines[0] == (
+        "analyzer-lab: note: unknown language 'xx'; English is shown (known: en, ru)"
+    )
+    assert "port must be in 0..65535" in out.stderr
+    ok = cli("serve", "--lang", "ru", "--port", "70000", "--no-browser", "--data", str(tmp_path))
+    assert ok.returncode == 2 and "unknown language" not in ok.stderr
+
+
+@pytest.mark.live
+def test_serve_lang_ru_makes_new_pages_russian(serve):
+    import asyncio
+
+    from tests.support.client import ProtoClient
+
+    live = serve("sphere", "--lang", "ru")
+
+    async def go():
+        c = await ProtoClient(live.url).start()
+        try:
+            await c.wait_for("Урок", timeout=60)
+            await c.wait_for("Движение")
+            assert "Lesson" not in c.gui and "Run" not in c.gui
+        finally:
+            await c.close()
+
+    asyncio.run(go())

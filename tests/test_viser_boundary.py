@@ -333,3 +333,18 @@ def test_send_lag_reads_the_senders_cursor_and_is_zero_for_an_unknown_page(
     assert send_lag(lab.server, 12345) == 0
     state = lab.server._websock_server._client_state_from_id
     assert isinstance(state, dict)
+
+
+def test_relabel_tabs_renames_the_tabs_in_place(server: Any) -> None:
+    group = server.gui.add_tab_group()
+    tabs = [group.add_tab(name) for name in ("Lesson", "Controls")]
+    ids = group._tab_container_ids
+    with tabs[1]:
+        inside = server.gui.add_html("kept")
+    vb.relabel_tabs(group, ("Урок", "Параметры"))
+    assert group._tab_labels == ("Урок", "Параметры")
+    assert group._tab_container_ids == ids  # the same tabs, their contents kept
+    assert inside.content == "kept"
+    with pytest.raises(ValueError):
+        vb.relabel_tabs(group, ("one",))
+    group.remove()

@@ -287,13 +287,16 @@ class Classroom:
     # ------------------------------------------------------------------ input gate
 
     def _gate(self, view: SessionView, event: Any, again: Callable[[Any], None] | None) -> bool:
-        """Called by the view before any GUI callback: refuse followers' inputs,
-        rate-limit (coalescing the newest value of a limited input)."""
+        """Called by the view before any GUI callback: refuse followers' inputs (but their
+        language), rate-limit (coalescing the newest value of a limited input)."""
         client = getattr(event, "client", None)
         cid = view.client.client_id
         if client is not None and client.client_id != cid:
             return False
-        if cid in self.followers:
+        target = getattr(event, "target", None)
+        # a follower keeps its own language: the one input a demo leaves to it
+        own_language = target is not None and target is view.language_dd
+        if cid in self.followers and not own_language:
             self.stats["refused_follower"] += 1
             now = time.monotonic()
             if now - self._refused_note.get(cid, 0.0) > 3.0:
@@ -310,8 +313,9 @@ class Classroom:
             with view.session.lock:
                 view.sync_widgets(force=True)
             return False
-        target = getattr(event, "target", None)
-        rebuilds = target is not None and (target is view.lesson_dd or target is view.preset_dd)
+        rebuilds = target is not None and (
+            target is view.lesson_dd or target is view.preset_dd or own_language
+        )
         return self.inputs.admit(cid, event, again, rebuilds)
 
     # ------------------------------------------------------------------ follow / release

@@ -132,6 +132,14 @@ def cmd_serve(args: argparse.Namespace) -> int:
     problem = use_folder_for_serve(getattr(args, "assignments", None))
     if problem:
         return _fail(problem)
+    from analyzer_lab.i18n import LANGUAGE_ENV
+    from analyzer_lab.i18n import resolve as resolve_language
+
+    # the language of new pages: --lang, else the one a front door gave its workers
+    language, notice = resolve_language(getattr(args, "lang", None) or os.environ.get(LANGUAGE_ENV))
+    if notice:
+        print(f"analyzer-lab: note: {notice}", file=sys.stderr, flush=True)
+    os.environ[LANGUAGE_ENV] = language.code  # the workers inherit it
     workers = getattr(args, "workers", 1)  # the workers inherit the assignments folder
     bus = getattr(args, "bus", None)
     if not 1 <= workers <= 64:
@@ -209,6 +217,7 @@ def cmd_serve(args: argparse.Namespace) -> int:
         join_code_hours=args.join_code_hours,
         server=early,
         started=(STARTED, served) if early is not None else None,
+        lang=language.code,
     )  # fps: classroom hook
 
 
@@ -290,6 +299,13 @@ def build_parser() -> argparse.ArgumentParser:
     )
     s.add_argument("--port", type=int, default=8080)
     s.add_argument("--lesson", default="sphere", help="lesson shown first")
+    s.add_argument(
+        "--lang",
+        metavar="CODE",
+        default=None,
+        help="the language of new pages: en (default) or ru; an unknown code: English, "
+        "with a notice",
+    )
     s.add_argument(
         "--instructor-code",
         default=None,

@@ -37,6 +37,8 @@ from analyzer_lab.classroom.course import Course
 from analyzer_lab.classroom.instructor_code import CodeError, class_code
 from analyzer_lab.classroom.room import Classroom
 from analyzer_lab.classroom.store.sql_store import redact
+from analyzer_lab.i18n import load_all as load_catalogs
+from analyzer_lab.i18n import resolve as resolve_language
 from analyzer_lab.lessons.kit.contract import Lesson, Params
 from analyzer_lab.limits import prefer_returned_memory
 from analyzer_lab.serve.back_pressure import PAUSED_NOTICE, BackPressure, Turn
@@ -107,11 +109,16 @@ class LabServer:
         bus: Bus | None = None,
         course: Course | None = None,
         server: Any | None = None,
+        language: str | None = None,
     ) -> None:
         """``server``: a viser server already listening (``serve`` starts one before it
         imports the lessons, so that a browser gets the page at once); default: one made
         here on ``host`` and ``port``."""
         prefer_returned_memory()
+        #: the language of new pages (``serve --lang``); an unknown code is English, logged
+        self.language, notice = resolve_language(language)
+        if notice:
+            log.warning("%s", notice)
         self.fps = float(fps)
         self.restore = restore
         self.config = config or ViewConfig(fps=self.fps)
@@ -254,9 +261,14 @@ class LabServer:
                 return
         guard_gui_updates(client.gui, self.server)  # wrong-typed values: one message
         session = Session(self.lessons, self.default_lesson)
-        if self.restore:
-            restore_state(client, session)
-        view = SessionView(client, session, self.config)
+        language, chosen = self.language, False
+        if self.restore:  # its state, and the language this browser chose on an earlier page
+            saved = restore_state(client, session)
+            if saved:
+                found, notice = resolve_language(saved)
+                if notice is None:
+                    language, chosen = found, True
+        view = SessionView(client, session, self.config, language=language, language_chosen=chosen)
         view.last_tick = time.monotonic()  # type: ignore[attr-defined]
         with self._views_lock:
             gone = cid in self._gone  # the page left while it was being built
@@ -584,6 +596,7 @@ def serve(
     join_code_hours: float | None = None,
     server: Any | None = None,
     started: tuple[float, float] | None = None,
+    lang: str | None = None,
 ) -> int:
     """Run the lab until interrupted; returns the exit code.  ``server``: a viser server
     already listening on ``host`` and ``port`` (stopped here when the lab cannot start);
@@ -595,12 +608,18 @@ def serve(
     (:mod:`analyzer_lab.serve.course_record`).  ``bus_url``: the class bus
     shared with other servers (``redis://HOST:PORT``; default in-process); the code comes
     from ``instructor_code``, ``instructor_code_file`` or the environment
-    (:func:`~analyzer_lab.classroom.instructor_code.class_code`)."""
+    (:func:`~analyzer_lab.classroom.instructor_code.class_code`).  ``lang``: the language
+    of new pages (``en`` by default; an unknown code: English, with a notice)."""
     if not (0 <= int(port) <= 65535):
         return _refused(f"analyzer-lab: error: port must be in 0..65535, got {port}", server)
     if not (math.isfinite(fps) and 1.0 <= fps <= 120.0):  # classroom hook (serve --fps)
         return _refused(f"analyzer-lab: error: --fps must be in 1..120, got {fps}", server)
     t0 = time.perf_counter()
+    language, notice = resolve_language(lang)
+    if notice:
+        print(f"analyzer-lab: note: {notice}", file=sys.stderr, flush=True)
+    for failed in load_catalogs():  # reported at start; those pages show English
+        print(f"analyzer-lab: warning: {failed}; English is shown", file=sys.stderr, flush=True)
     try:
         code = class_code(instructor_code, instructor_code_file)
     except CodeError as exc:
@@ -624,6 +643,7 @@ def serve(
             bus=bus,
             course=course,
             server=server,
+            language=language.code,
         )
     except LabError as exc:
         return _refused(f"analyzer-lab: error: {exc}", server)

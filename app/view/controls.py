@@ -15,6 +15,7 @@ import math
 from collections.abc import Callable
 from typing import Any
 
+from analyzer_lab.i18n import ENGLISH, Language
 from analyzer_lab.lessons.kit.contract import Lesson, Param, Params
 from analyzer_lab.lessons.kit.formula import Formula
 
@@ -81,8 +82,10 @@ class ParamControls:
         on_text: Callable[[Param, Any], None],
         on_value: Callable[[Param, Any], None],
         on_snap: Handler,
+        language: Language = ENGLISH,
     ) -> None:
         self.gui = gui
+        self.language = language
         self.guard = guard
         self.on_slider = on_slider
         self.on_text = on_text
@@ -103,8 +106,9 @@ class ParamControls:
         self._shown = {}
         folders: list[Any] = []
         gui = self.gui
+        tr = self.language.gettext
         if lesson.modes:
-            folder = gui.add_folder("Mode")
+            folder = gui.add_folder(tr("Mode"))
             folders.append(folder)
             with folder:
                 for name in lesson.modes:
@@ -128,18 +132,16 @@ class ParamControls:
                 if lesson.start_point is not None and lesson.start_point[0] in {
                     p.name for p in members
                 }:
-                    gui.add_button("Snap to surface").on_click(self.guard(self.on_snap))
-                    gui.add_html(
-                        '<div style="font-size:max(11px,0.8em);color:#555">'
-                        "Click the surface to set the start point.</div>"
-                    )
+                    gui.add_button(tr("Snap to surface")).on_click(self.guard(self.on_snap))
+                    hint = html.escape(tr("Click the surface to set the start point."))
+                    gui.add_html(f'<div style="font-size:max(11px,0.8em);color:#555">{hint}</div>')
         return folders
 
     def _add(self, p: Param, params: Params) -> None:
         gui = self.gui
         label = p.label or p.name
         if p.unit:
-            label = f"{label} [{p.unit}]"
+            label = f"{label} [{self.language.unit(p.unit)}]"
         value = params[p.name]
         hint = p.help or None
         widgets: list[Any] = []

@@ -8,6 +8,7 @@ page played (every frame since the last reset, live edits included).
 from __future__ import annotations
 
 import csv
+import html
 import io
 import json
 from collections.abc import Callable
@@ -15,6 +16,7 @@ from dataclasses import replace
 from typing import Any
 
 import numpy as np
+from analyzer_lab.i18n import ENGLISH, N_, Language
 from analyzer_lab.lessons.kit.contract import Lesson, RunResult
 from analyzer_lab.lessons.kit.formula import parse_number
 from analyzer_lab.limits import Pacer, return_free_memory
@@ -22,6 +24,13 @@ from analyzer_lab.session.runlog import MAX_LOG
 from analyzer_lab.session.session import LabError, Session
 from analyzer_lab.view.replay import MAX_REPLAY_FRAMES
 
+#: The download buttons' labels by export kind (English; each page shows its language's).
+BUTTONS = {
+    "csv": N_("Download CSV (grid)"),
+    "json": N_("Download JSON (grid)"),
+    "frames-csv": N_("Download CSV (frames)"),
+    "html": N_("HTML replay"),
+}
 #: Most rows of a grid export (the step is refused below t_end / MAX_GRID_ROWS).
 MAX_GRID_ROWS = 20001
 #: Most values (rows x columns) in one CSV or JSON export (about 8 MB of CSV): a grid
@@ -156,24 +165,60 @@ class ExportPanel:
         guard: Callable[[Callable[[Any], None]], Callable[[Any], None]],
         session: Callable[[], Session],
         client: Any,
+        language: Language = ENGLISH,
     ) -> None:
         self.session = session
         self.client = client
-        gui.add_html(
-            '<div style="font-size:0.9em">On the textbook\'s grid: t = 0, step, 2 step, ...'
-            " up to the time played, with the current values.</div>"
+        self.language = language
+        tr = language.gettext
+        grid, frames = self._notes(language)
+        self.grid_note = gui.add_html(grid)
+        self.grid_step = gui.add_text(self._step_label(language), initial_value="")
+        #: the download buttons by kind, in the order shown
+        self.buttons: dict[str, Any] = {}
+        for kind in ("csv", "json"):
+            self.buttons[kind] = gui.add_button(tr(BUTTONS[kind]))
+        self.frames_note = gui.add_html(frames)
+        for kind in ("frames-csv", "html"):
+            self.buttons[kind] = gui.add_button(tr(BUTTONS[kind]))
+        for kind, button in self.buttons.items():
+            button.on_click(guard(lambda e, k=kind: self.export(k)))
+
+    @staticmethod
+    def _step_label(language: Language) -> str:
+        return language.gettext("grid step [{unit}]").format(unit=language.unit("s"))
+
+    @staticmethod
+    def _notes(language: Language) -> tuple[str, str]:
+        """The notes above the grid's and the frames' buttons (HTML)."""
+        tr = language.gettext
+        grid = tr(
+            "On the textbook's grid: t = 0, step, 2 step, ... up to the time played,"
+            " with the current values."
         )
-        self.grid_step = gui.add_text("grid step [s]", initial_value="")
-        buttons = [("Download CSV (grid)", "csv"), ("Download JSON (grid)", "json")]
-        for label, kind in buttons:
-            gui.add_button(label).on_click(guard(lambda e, k=kind: self.export(k)))
-        gui.add_html(
-            '<div style="font-size:0.9em">Every frame played since the last reset (at most'
-            f" {MAX_LOG} rows: a longer run keeps every 2nd, 4th, ... frame; the replay at most"
-            f" {MAX_REPLAY_FRAMES} frames, thinned the same way):</div>"
+        frames = tr(
+            "Every frame played since the last reset (at most {rows} rows: a longer run keeps"
+            " every 2nd, 4th, ... frame; the replay at most {frames} frames, thinned the same"
+            " way):"
+        ).format(rows=MAX_LOG, frames=MAX_REPLAY_FRAMES)
+        note = '<div style="font-size:0.9em">{}</div>'
+        return note.format(html.escape(grid, quote=False)), note.format(
+            html.escape(frames, quote=False)
         )
-        for label, kind in (("Download CSV (frames)", "frames-csv"), ("HTML replay", "html")):
-            gui.add_button(label).on_click(guard(lambda e, k=kind: self.export(k)))
+
+    def set_language(self, language: Language) -> None:
+        """Write the tab's notes and labels in ``language``."""
+        self.language = language
+        for note, content in zip(
+            (self.grid_note, self.frames_note), self._notes(language), strict=True
+        ):
+            if note.content != content:
+                note.content = content
+        labels = [(self.grid_step, self._step_label(language))]
+        labels += [(self.buttons[k], language.gettext(v)) for k, v in BUTTONS.items()]
+        for widget, label in labels:
+            if widget.label != label:
+                widget.label = label
 
     def show_default_step(self, lesson: Lesson, t_end: float) -> None:
         """The lesson's own sampling (or t_end / 100) as the proposed step."""
@@ -182,15 +227,16 @@ class ExportPanel:
     def export(self, kind: str) -> None:
         """Send the run (grid or frames) as CSV/JSON, or the replay, as a download."""
         s = self.session()
-        text = str(self.grid_step.value).strip()
+        text = self.language.read_decimal(str(self.grid_step.value).strip())
         step = parse_step(text, grid_end(s)) if text else None
         name, data = export_run(s, kind, step)
         self.client.send_file_download(name, data, save_immediately=True)
         size = len(data)
         del data
         return_free_memory()
+        tr = self.language.gettext
         fewer = (
-            "; a long run: not every frame is in it (see the file's notes)"
+            tr("; a long run: not every frame is in it (see the file's notes)")
             if kind.startswith("frames")
             and (
                 s.log.stride > 1
@@ -198,4 +244,8 @@ class ExportPanel:
             )
             else ""
         )
-        s.notify(f"exported {name} ({size / 1024:.1f} kB{fewer})")
+        s.notify(
+            tr("exported {name} ({size} kB{fewer})").format(
+                name=name, size=self.language.number(size / 1024, ".1f"), fewer=fewer
+            )
+        )

@@ -29,6 +29,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
+from analyzer_lab.i18n import ENGLISH, LANGUAGES, N_, Language, language_of
 from analyzer_lab.lessons.kit.contract import Param, ParamError
 from analyzer_lab.lessons.kit.formula import Formula, plain_number
 from analyzer_lab.session.session import LabError, Session, lesson_label
@@ -40,16 +41,20 @@ from analyzer_lab.view.plots import PlotPanel
 from analyzer_lab.view.readout import preset_note_html, readout_html, speed_label, status_html
 from analyzer_lab.view.scene import SceneRenderer
 from analyzer_lab.view.transport import MAX_DRAWN_FRAMES, Transport
-from analyzer_lab.viser_boundary import fast_set
+from analyzer_lab.viser_boundary import fast_set, relabel_tabs
 
 if TYPE_CHECKING:
     import viser
 
 log = logging.getLogger(__name__)
 
-NO_PRESET = "(defaults)"
+NO_PRESET = N_("(defaults)")
 #: Labels of the page's lesson and preset pickers and of the pause-at-t_end checkbox.
-LESSON_PICKER, PRESET_PICKER, PAUSE_AT_END = "Lesson", "Preset", "pause at t_end"
+LESSON_PICKER, PRESET_PICKER, PAUSE_AT_END = N_("Lesson"), N_("Preset"), N_("pause at t_end")
+#: The label of the page's language picker (its options are each language's own name).
+LANGUAGE_PICKER = N_("Language")
+#: The tabs of the panel (English; each page shows them in its language).
+TABS = (N_("Lesson"), N_("Controls"), N_("Plots"), N_("Export"))
 #: Seconds a replaced GUI folder stays (hidden) before it is removed.  The page applies
 #: the property updates of all the messages it read in one go after their removals, so a
 #: hide and the removal read together (a page whose browser fell that far behind) would
@@ -84,10 +89,17 @@ class SessionView:
         client: viser.ClientHandle,
         session: Session,
         config: ViewConfig | None = None,
+        language: Language | None = None,
+        language_chosen: bool = False,
     ) -> None:
         self.client = client
         self.session = session
         self.config = config or ViewConfig()
+        #: the page's language (its chrome, notices and prose numbers)
+        self.language = language or ENGLISH
+        #: whether the language was chosen on the page (then kept with its saved state)
+        self.language_chosen = language_chosen
+        self.no_preset = self.language.gettext(NO_PRESET)
         self.closed = False
         self.frame_count = 0
         self.derivation_due: float | None = None
@@ -110,7 +122,13 @@ class SessionView:
         self.plots = PlotPanel(client.gui)
         self._plots_folder: Any = None
         self.controls = ParamControls(
-            client.gui, self.guard, self._on_slider, self._on_text, self._on_value, self._on_snap
+            client.gui,
+            self.guard,
+            self._on_slider,
+            self._on_text,
+            self._on_value,
+            self._on_snap,
+            self.language,
         )
         #: classroom hook: ``gate(view, event, retry)`` returning False refuses an input
         self.gate: Callable[[SessionView, Any, Callable[[Any], None] | None], bool] | None = None
@@ -135,22 +153,31 @@ class SessionView:
                 except ParamError as exc:
                     field = self._field_of(exc)
                     if field is None or not self.controls.show_error(field, str(exc)):
-                        self.session.notify(f"refused: {exc}", "error")
+                        self.session.notify(self._refused(exc), "error")
                     self.sync_widgets()
                 except LabError as exc:
-                    self.session.notify(f"refused: {exc}", "error")
+                    self.session.notify(self._refused(exc), "error")
                     self.sync_widgets()
                 except Exception as exc:  # a bug must not take the session down
                     log.exception(
                         "page %s: %s failed", self.client.client_id, getattr(fn, "__name__", fn)
                     )
-                    self.session.notify(f"internal error: {type(exc).__name__}: {exc}", "error")
+                    self.session.notify(
+                        self.language.gettext("internal error: {error}").format(
+                            error=f"{type(exc).__name__}: {exc}"
+                        ),
+                        "error",
+                    )
                     self.sync_widgets()
                 finally:
                     self._current_target = None
                 self.refresh(heavy=True)
 
         return wrapped
+
+    def _refused(self, exc: Exception) -> str:
+        """The notice of a refused input, in the page's language."""
+        return self.language.gettext("refused: {reason}").format(reason=exc)
 
     def _field_of(self, exc: ParamError) -> str | None:
         """The field a refusal belongs to: the one being edited (a cross-field check
@@ -189,10 +216,12 @@ class SessionView:
         """Show the persistent "following the instructor" banner and make every control
         read-only (or end both)."""
         self.following = on
+        text = self.language.gettext(
+            "Following the instructor: the controls are read-only until the demo ends."
+        )
         self.banner.content = (
             '<div class="al-following-banner" style="background:#1c4f8a;color:#fff;padding:4px 8px;'
-            'border-radius:4px;font-weight:600">Following the instructor: the controls are'
-            " read-only until the demo ends.</div>"
+            f'border-radius:4px;font-weight:600">{html.escape(text)}</div>'
             if on
             else ""
         )
@@ -221,6 +250,7 @@ class SessionView:
 
     def _build_gui(self) -> None:
         gui = self.client.gui
+        tr = self.language.gettext
         gui.configure_theme(
             control_width="large",
             show_share_button=False,
@@ -231,40 +261,48 @@ class SessionView:
         self.dock_panel()
         s = self.session
         self.banner = gui.add_html("", visible=False)
+        self.language_dd = gui.add_dropdown(
+            tr(LANGUAGE_PICKER),
+            tuple(LANGUAGES.values()),
+            initial_value=LANGUAGES[self.language.code],
+        )
+        self.language_dd.on_update(self.guard(self._on_language))
         self._labels = {lesson_label(lesson): lesson.id for lesson in s.lessons.values()}
         self._ids = {v: k for k, v in self._labels.items()}
         self.lesson_dd = gui.add_dropdown(
-            LESSON_PICKER, tuple(self._labels), initial_value=self._ids[s.lesson.id]
+            tr(LESSON_PICKER), tuple(self._labels), initial_value=self._ids[s.lesson.id]
         )
         self.lesson_dd.on_update(self.guard(self._on_lesson))
         self.preset_dd = gui.add_dropdown(
-            PRESET_PICKER, self._preset_options(), initial_value=s.preset or NO_PRESET
+            tr(PRESET_PICKER), self._preset_options(), initial_value=s.preset or self.no_preset
         )
         self.preset_dd.on_update(self.guard(self._on_preset))
         self.preset_note = gui.add_html("")
-        self.clock = Transport(gui, self.guard, lambda: self.session, self._played)
+        self.clock = Transport(gui, self.guard, lambda: self.session, self._played, self.language)
         self.transport, self.speed_dd = self.clock.buttons, self.clock.speed
-        self.readout = gui.add_html(readout_html(self.session))
+        self.readout = gui.add_html(readout_html(self.session, self.language))
         self.status = gui.add_html(status_html(self.session))
         self.tabs = gui.add_tab_group()
-        self.tab_lesson = self.tabs.add_tab("Lesson")
-        self.tab_controls = self.tabs.add_tab("Controls")
-        self.tab_plots = self.tabs.add_tab("Plots")
-        self.tab_export = self.tabs.add_tab("Export")
+        self.tab_lesson, self.tab_controls, self.tab_plots, self.tab_export = (
+            self.tabs.add_tab(tr(name)) for name in TABS
+        )
         with self.tab_lesson:
             self.lesson_head = gui.add_html("")
             self.derivation_html = gui.add_html("")
         with self.tab_export:
-            self.exports = ExportPanel(gui, self.guard, lambda: self.session, self.client)
+            self.exports = ExportPanel(
+                gui, self.guard, lambda: self.session, self.client, self.language
+            )
         with self.session.lock:
             self.refresh(heavy=True)
 
     def _preset_options(self) -> tuple[str, ...]:
-        return (NO_PRESET, *(p.name for p in self.session.lesson.presets))
+        return (self.no_preset, *(p.name for p in self.session.lesson.presets))
 
     def _build_lesson_gui(self) -> None:
         """(Re)build everything that depends on the lesson: controls, plots, header."""
         gui = self.client.gui
+        tr = self.language.gettext
         # The old folders are hidden now and removed a little later: the page applies the
         # property updates of a batch of messages after the batch's removals, so a chart
         # update that is already on its way must still find its chart.
@@ -274,22 +312,24 @@ class SessionView:
             self._lesson_folders = self.controls.build(lesson, self.session.params)
             vec_names = tuple(self.session.scene.moving_vectors)
             if vec_names:
-                folder = gui.add_folder("Vectors")
+                folder = gui.add_folder(tr("Vectors"))
                 self._lesson_folders.append(folder)
                 self.renderer.chosen_vectors = self.session.visible_vectors
                 self.renderer.spec = self.session.scene
                 visible = self.renderer.visible_vectors()
                 with folder:
                     for name in vec_names:
-                        cb = gui.add_checkbox(f"show {name}", initial_value=name in visible)
+                        cb = gui.add_checkbox(
+                            tr("show {name}").format(name=name), initial_value=name in visible
+                        )
                         cb.on_update(
                             self.guard(lambda e, n=name: self._on_vector_toggle(n, e.target.value))
                         )
-            folder = gui.add_folder("Playback")
+            folder = gui.add_folder(tr("Playback"))
             self._lesson_folders.append(folder)
             with folder:
                 self.pause_cb = gui.add_checkbox(
-                    PAUSE_AT_END, initial_value=self.session.pause_at_end
+                    tr(PAUSE_AT_END), initial_value=self.session.pause_at_end
                 )
                 self.pause_cb.on_update(self.guard(self._on_pause_at_end))
         self._build_plots()
@@ -333,7 +373,7 @@ class SessionView:
             opts = self._preset_options()
             if tuple(self.preset_dd.options) != opts:
                 self.preset_dd.options = opts
-            put(self.preset_dd, s.preset or NO_PRESET, force, current)
+            put(self.preset_dd, s.preset or self.no_preset, force, current)
             put(self.speed_dd, speed_label(s.speed), force, current)
             if hasattr(self, "pause_cb"):
                 put(self.pause_cb, bool(s.pause_at_end), force, current)
@@ -346,25 +386,67 @@ class SessionView:
     # ------------------------------------------------------------------ callbacks
 
     def _on_lesson(self, event: Any) -> None:
+        tr = self.language.gettext
         lesson_id = self._labels.get(event.target.value)
         if lesson_id is None:
-            raise LabError(f"unknown lesson {str(event.target.value)[:60]!r}")
+            raise LabError(
+                tr("unknown lesson {name}").format(name=repr(str(event.target.value)[:60]))
+            )
         if lesson_id == self.session.lesson.id:
             return
         self.session.select_lesson(lesson_id)
-        self.session.notify(f"lesson: {lesson_label(self.session.lesson)}")
+        self.session.notify(tr("lesson: {lesson}").format(lesson=lesson_label(self.session.lesson)))
         self.after_state_change()
 
+    def _on_language(self, event: Any) -> None:
+        code = next((c for c, name in LANGUAGES.items() if name == event.target.value), None)
+        if code is None:
+            raise LabError(
+                self.language.gettext("unknown language {name}").format(
+                    name=repr(str(event.target.value)[:30])
+                )
+            )
+        if code != self.language.code:
+            self.set_language(language_of(code))
+        self.language_chosen = True
+        self._save_state()
+
+    def set_language(self, language: Language) -> None:
+        """Show the page in ``language``: its chrome now, the lesson's controls rebuilt
+        (caller holds the session lock)."""
+        self.language = language
+        tr = language.gettext
+        self.no_preset = tr(NO_PRESET)
+        pickers = (
+            (self.language_dd, LANGUAGE_PICKER),
+            (self.lesson_dd, LESSON_PICKER),
+            (self.preset_dd, PRESET_PICKER),
+        )
+        for widget, label in pickers:
+            if widget.label != tr(label):
+                widget.label = tr(label)
+        self.controls.language = language
+        self.clock.set_language(language)
+        self.exports.set_language(language)
+        relabel_tabs(self.tabs, [tr(name) for name in TABS])
+        if self.following:
+            self.set_following(True)
+        self._drawn_lesson = None  # the controls, vectors and playback: rebuilt in it
+        self._last_readout = ""
+        self._shown_notice = None
+        self.redraw()
+
     def _on_preset(self, event: Any) -> None:
+        tr = self.language.gettext
         name = event.target.value
-        if name == NO_PRESET:
+        if name == self.no_preset:
             self.session.apply_preset(None)
         else:
             chosen = next((p for p in self.session.lesson.presets if p.name == name), None)
             if chosen is None:
-                raise LabError(f"unknown preset {str(name)[:60]!r}")
+                raise LabError(tr("unknown preset {name}").format(name=repr(str(name)[:60])))
             self.session.apply_preset(name)
-            self.session.notify(f"preset {name}: {chosen.title}")
+            self.session.notify(tr("preset {name}: {title}").format(name=name, title=chosen.title))
         self.after_state_change()
 
     def _played(self, frames: list[Any]) -> None:
@@ -392,21 +474,30 @@ class SessionView:
         self._save_state()
 
     def _on_slider(self, p: Param, value: Any) -> None:
+        tr = self.language.gettext
         current = self.session.params.get(p.name)
         if isinstance(current, Formula) and not current.is_constant:
             raise ParamError(
-                p.name, f"is the formula {current.text}; type a number to use the slider"
+                p.name,
+                tr("is the formula {formula}; type a number to use the slider").format(
+                    formula=current.text
+                ),
             )
         if isinstance(value, bool) or not isinstance(value, (int, float)):
-            raise ParamError(p.name, f"expected a number, got {type(value).__name__}")
+            raise ParamError(
+                p.name, tr("expected a number, got {kind}").format(kind=type(value).__name__)
+            )
         v = float(value)
         if not math.isfinite(v):
-            raise ParamError(p.name, f"must be a finite number, got {v!r}")
+            raise ParamError(
+                p.name, tr("must be a finite number, got {value}").format(value=repr(v))
+            )
         if v < float(p.min) or v > float(p.max):
             raise ParamError(
                 p.name,
-                f"{plain_number(v)} is outside the slider range"
-                f" [{plain_number(p.min)}, {plain_number(p.max)}]",
+                tr("{value} is outside the slider range [{low}, {high}]").format(
+                    value=plain_number(v), low=plain_number(p.min), high=plain_number(p.max)
+                ),
             )
         v = float(f"{v:.12g}")  # slider round-off, kept in significant digits (1e-14 stays)
         self.session.set_value(p.name, repr(v) if not v.is_integer() else str(int(v)))
@@ -415,8 +506,8 @@ class SessionView:
 
     def _on_text(self, p: Param, value: Any) -> None:
         if not isinstance(value, str):
-            raise ParamError(p.name, "expected text")
-        self.session.set_value(p.name, value)
+            raise ParamError(p.name, self.language.gettext("expected text"))
+        self.session.set_value(p.name, self.language.read_decimal(value))
         self.controls.clear_error(p.name)
         self._param_changed()
 
@@ -429,7 +520,9 @@ class SessionView:
         pt = self.session.snap_start()
         if pt is not None:
             self.session.notify(
-                "start point snapped to the surface: (" + ", ".join(f"{v:.6g}" for v in pt) + ")"
+                self.language.gettext("start point snapped to the surface: ({point})").format(
+                    point=self._point(pt, ".6g")
+                )
             )
         self._param_changed()
 
@@ -441,19 +534,28 @@ class SessionView:
         with self.session.lock:
             try:
                 hit = self.renderer.hit(event.ray_origin, event.ray_direction)
+                tr = self.language.gettext
                 if hit is None:
-                    raise LabError("the click did not hit the surface")
+                    raise LabError(tr("the click did not hit the surface"))
                 self.session.set_start(hit)
                 self.session.notify(
-                    "start point set by click: (" + ", ".join(f"{v:.4g}" for v in hit) + ")"
+                    tr("start point set by click: ({point})").format(point=self._point(hit, ".4g"))
                 )
                 self._param_changed()
             except (ParamError, LabError) as exc:
-                self.session.notify(f"refused: {exc}", "error")
+                self.session.notify(self._refused(exc), "error")
             except Exception as exc:  # a bug must not take the session down
                 log.exception("page %s: a click on the scene failed", self.client.client_id)
-                self.session.notify(f"internal error: {exc}", "error")
+                self.session.notify(
+                    self.language.gettext("internal error: {error}").format(error=exc), "error"
+                )
             self.refresh(heavy=True)
+
+    def _point(self, point: Any, spec: str) -> str:
+        """A point's coordinates as the language writes them (``;`` between them where the
+        comma is the decimal sign)."""
+        sep = "; " if self.language.decimal == "," else ", "
+        return sep.join(self.language.number(float(v), spec) for v in point)
 
     def _param_changed(self) -> None:
         self.sync_widgets()
@@ -468,7 +570,7 @@ class SessionView:
         self._save_state()
 
     def _save_state(self) -> None:
-        save_state(self.client, self.session)
+        save_state(self.client, self.session, self.language.code if self.language_chosen else None)
 
     # ------------------------------------------------------------------ per frame
 
@@ -509,7 +611,7 @@ class SessionView:
             self._build_plots()
         if heavy:
             self.plots.show_preset(s.preset)
-            content = preset_note_html(s)
+            content = preset_note_html(s, self.language)
             if self.preset_note.content != content:
                 self.preset_note.content = content
         if self._frame_dirty:
@@ -532,10 +634,9 @@ class SessionView:
                 s.lesson.id,
                 exc_info=True,
             )
-            content = (
-                '<div class="al-error">The derivation could not be built: '
-                f"{html.escape(str(exc))}</div>"
-            )
+            message = self.language.gettext("The derivation could not be built: {error}")
+            content = f'<div class="al-error">{html.escape(message.format(error=exc))}</div>'
+
         self.set_derivation(content)
 
     def set_derivation(self, content: str) -> None:
@@ -543,7 +644,7 @@ class SessionView:
             self.derivation_html.content = content
 
     def _update_texts(self) -> None:
-        ro = readout_html(self.session)
+        ro = readout_html(self.session, self.language)
         if ro != self._last_readout:
             fast_set(self.readout, "content", ro)
             self._last_readout = ro

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import html
 
+from analyzer_lab.i18n import ENGLISH, Language
 from analyzer_lab.session.session import Session
 from analyzer_lab.view.notation import name_html, unit_text
 
@@ -14,19 +15,24 @@ def speed_label(s: float) -> str:
     return f"{s:g}x"
 
 
-def readout_html(s: Session) -> str:
-    """Time, speed, play state and the lesson's declared readout quantities."""
-    state = "playing" if s.playing else "paused"
+def readout_html(s: Session, language: Language = ENGLISH) -> str:
+    """Time, speed, play state and the lesson's declared readout quantities (numbers as
+    the page's language writes them)."""
+    tr = language.gettext
+    playing = html.escape(tr("playing"))
+    state = playing if s.playing else html.escape(tr("paused"))
     if s.playing and s.slowed:
-        state = f'playing <span class="al-slow" style="color:#8a5a00">({html.escape(s.slow_text())})</span>'
+        state = f'{playing} <span class="al-slow" style="color:#8a5a00">({html.escape(s.slow_text())})</span>'
     units = {x.name: x.unit for x in s.lesson.series}
     values = []
     for name in s.lesson.readout:
         v = s.frame.scalars.get(name)
         if v is None:
             continue
-        unit = unit_text(units.get(name, ""))
-        shown = f"{name_html(name)} = {v:.6g}" + (f"&nbsp;{html.escape(unit)}" if unit else "")
+        unit = language.unit(unit_text(units.get(name, "")))
+        shown = f"{name_html(name)} = {language.number(v)}" + (
+            f"&nbsp;{html.escape(unit)}" if unit else ""
+        )
         # one quantity never wraps inside itself; the line breaks between quantities
         values.append(f'<span class="al-quantity" style="white-space:nowrap">{shown}</span>')
     quantities = (
@@ -36,7 +42,8 @@ def readout_html(s: Session) -> str:
     )
     return (
         '<div class="al-readout" style="font-family:monospace;font-size:1.05em">'
-        f"t = {s.frame.t:8.3f} s &nbsp; {speed_label(s.speed)} &nbsp; {state}{quantities}</div>"
+        f"t = {language.number(s.frame.t, '8.3f')} {html.escape(language.unit('s'))} &nbsp;"
+        f" {speed_label(s.speed)} &nbsp; {state}{quantities}</div>"
     )
 
 
@@ -57,21 +64,26 @@ def status_html(s: Session) -> str:
     return "".join(parts) or '<div class="al-message"></div>'
 
 
-def preset_note_html(s: Session) -> str:
+def preset_note_html(s: Session, language: Language = ENGLISH) -> str:
     """The preset's title and note, or "custom (from ...)" with what differs once the
     student changed a value."""
     esc = html.escape
+    tr = language.gettext
     edits = s.edits()
-    origin = s.preset or "the defaults"
+    origin = s.preset or tr("the defaults")
     if edits:
+        was_text = tr("(was {value})")
         rows = "".join(
             f"<li><code>{esc(k)}</code> = {esc(str(now))} "
-            f'<span style="color:#5f5f5f">(was {esc(str(was))})</span></li>'
+            f'<span style="color:#5f5f5f">{esc(was_text.format(value=was))}</span></li>'
             for k, (was, now) in list(edits.items())[:8]
         )
-        more = f"<li>... and {len(edits) - 8} more</li>" if len(edits) > 8 else ""
+        n = len(edits) - 8
+        more_text = language.ngettext("... and {n} more", "... and {n} more", n).format(n=n)
+        more = f"<li>{esc(more_text)}</li>" if n > 0 else ""
+        custom = tr("custom (from {origin})").format(origin=origin)
         body = (
-            f'<b class="al-custom">custom (from {esc(origin)})</b>'
+            f'<b class="al-custom">{esc(custom)}</b>'
             f'<ul style="margin:2px 0 0 1em;padding:0">{rows}{more}</ul>'
         )
     elif s.preset:

@@ -6,6 +6,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from typing import Any
 
+from analyzer_lab.i18n import ENGLISH, N_, Language
 from analyzer_lab.lessons.kit.formula import parse_number
 from analyzer_lab.session.session import SPEEDS, LabError, Session
 from analyzer_lab.view.readout import speed_label
@@ -14,7 +15,9 @@ from analyzer_lab.view.readout import speed_label
 MAX_DRAWN_FRAMES = 2000
 
 #: The label of the Run buttons and the button that plays.
-RUN, PLAY = "Run", "Play"
+RUN, PLAY = N_("Run"), N_("Play")
+#: The Run buttons (English; each page shows them in its language).
+BUTTONS = (PLAY, N_("Pause"), N_("Step"), N_("Reset"))
 
 Played = Callable[[list[Any]], None]
 
@@ -29,23 +32,51 @@ class Transport:
         guard: Callable[[Callable[[Any], None]], Callable[[Any], None]],
         session: Callable[[], Session],
         played: Played,
+        language: Language = ENGLISH,
     ) -> None:
         self.session = session
         self.played = played
-        self.buttons = gui.add_button_group(RUN, (PLAY, "Pause", "Step", "Reset"))
+        self.language = language
+        #: the shown button -> the command (English)
+        self.commands = {language.gettext(b): b for b in BUTTONS}
+        run, speed, goto, hint = self._labels(language)
+        self.buttons = gui.add_button_group(run, tuple(self.commands))
         self.buttons.on_click(guard(self._on_button))
         s = session()
         self.speed = gui.add_dropdown(
-            "Speed", tuple(speed_label(x) for x in SPEEDS), initial_value=speed_label(s.speed)
+            speed, tuple(speed_label(x) for x in SPEEDS), initial_value=speed_label(s.speed)
         )
         self.speed.on_update(guard(self._on_speed))
-        self.goto = gui.add_text(
-            "go to t [s]", initial_value="", hint="show the run at this time (paused)"
-        )
+        self.goto = gui.add_text(goto, initial_value="", hint=hint)
         self.goto.on_update(guard(self._on_goto))
 
+    @staticmethod
+    def _labels(language: Language) -> tuple[str, str, str, str]:
+        """The labels of the Run buttons, the speed and "go to t", and the latter's hint."""
+        tr = language.gettext
+        return (
+            tr(RUN),
+            tr("Speed"),
+            tr("go to t [{unit}]").format(unit=language.unit("s")),
+            tr("show the run at this time (paused)"),
+        )
+
+    def set_language(self, language: Language) -> None:
+        """Label the buttons and fields in ``language`` (the commands stay)."""
+        self.language = language
+        self.commands = {language.gettext(b): b for b in BUTTONS}
+        run, speed, goto, hint = self._labels(language)
+        for widget, label in ((self.buttons, run), (self.speed, speed), (self.goto, goto)):
+            if widget.label != label:
+                widget.label = label
+        if tuple(self.buttons.options) != tuple(self.commands):
+            self.buttons.options = tuple(self.commands)
+        if self.goto.hint != hint:
+            self.goto.hint = hint
+
     def _on_button(self, event: Any) -> None:
-        what = event.target.value
+        tr = self.language.gettext
+        what = self.commands.get(event.target.value, event.target.value)
         s = self.session()
         if what == PLAY:
             s.play()
@@ -59,12 +90,14 @@ class Transport:
             s.reset(playing=False, reframe=True)
             self.played([])
         else:
-            raise LabError(f"unknown transport command {str(what)[:40]!r}")
+            raise LabError(tr("unknown transport command {name}").format(name=repr(str(what)[:40])))
 
     def _on_speed(self, event: Any) -> None:
         text = str(event.target.value)
         if not text.endswith("x"):
-            raise LabError(f"unknown speed {text[:20]!r}")
+            raise LabError(
+                self.language.gettext("unknown speed {name}").format(name=repr(text[:20]))
+            )
         self.session().set_speed(text[:-1])
         self.played([])
 
@@ -73,7 +106,7 @@ class Transport:
         if not text:
             return
         try:
-            t = parse_number(text)
+            t = parse_number(self.language.read_decimal(text))
         except ValueError as exc:
-            raise LabError(f"go to t: {exc}") from None
+            raise LabError(self.language.gettext("go to t: {error}").format(error=exc)) from None
         self.played(self.session().go_to(t))

@@ -20,10 +20,11 @@ viser whose internals were not checked:
 * :func:`recording_scene`: a scene API whose messages are only recorded (HTML replay);
 * :func:`guard_gui_updates`: a GUI value of the wrong type is refused with one message
   to its sender;
-* :func:`event_loop`: the server's own event loop (the frame loop runs in it).
+* :func:`event_loop`: the server's own event loop (the frame loop runs in it);
+* :func:`relabel_tabs`: a tab group's labels changed in place (a page's language switched).
 
 The face of a package: each concern is a private module (``_patches``, ``_websocket``, ``_backlog``,
-``_callbacks``, ``_page``, ``_hot_path``, ``_recording``, ``_gui_guard``); the rest of the
+``_callbacks``, ``_page``, ``_hot_path``, ``_recording``, ``_gui_guard``, ``_tabs``); the rest of the
 lab imports only the names below.
 """
 
@@ -46,6 +47,7 @@ from analyzer_lab.viser_boundary._page import make_viser_server as make_viser_se
 from analyzer_lab.viser_boundary._patches import VISER_VERSION as VISER_VERSION
 from analyzer_lab.viser_boundary._patches import check_viser_version as check_viser_version
 from analyzer_lab.viser_boundary._recording import recording_scene as recording_scene
+from analyzer_lab.viser_boundary._tabs import relabel_tabs as relabel_tabs
 from analyzer_lab.viser_boundary._websocket import ALLOWED_MESSAGES as ALLOWED_MESSAGES
 from analyzer_lab.viser_boundary._websocket import WS_DROPPED_TYPES as WS_DROPPED_TYPES
 from analyzer_lab.viser_boundary._websocket import WS_MAX_BYTES as WS_MAX_BYTES

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import ast
 import math
+import re
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 
@@ -42,6 +43,8 @@ FUNCTIONS: dict[str, Callable[[sp.Basic], sp.Basic]] = {
     "abs": sp.Abs,
 }
 CONSTANTS: dict[str, sp.Basic] = {"pi": sp.pi, "e": sp.E}
+#: A number written with a decimal comma (``0,5``): refused with its dotted form.
+_DECIMAL_COMMA = re.compile(r"\d+,\d+")
 _ALLOWED_CHARS = set("0123456789.+-*/^() \t_abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ,")
 
 
@@ -129,6 +132,14 @@ def parse_formula(text: str, variables: Sequence[str] = ("t",)) -> Formula:
     for i, ch in enumerate(src):
         if ch not in _ALLOWED_CHARS:
             raise _fail(src, i + 1, f"character {ch!r} is not allowed")
+    comma = _DECIMAL_COMMA.search(src)
+    if comma is not None:  # 0,5: no formula has a comma between digits (one-argument functions)
+        found = comma.group(0)
+        raise _fail(
+            src,
+            comma.start() + 1,
+            f"{found} has a decimal comma: write {found.replace(',', '.')} with a dot",
+        )
     depth = 0
     for i, ch in enumerate(src):
         if ch == "(":

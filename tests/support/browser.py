@@ -75,8 +75,14 @@ class Page:
     """One tab of the lab: the Playwright page, its console errors and its server-side view."""
 
     def __init__(
-        self, lab: Any, browser: Any, context: Any = None, ready_seconds: float = 60.0
+        self,
+        lab: Any,
+        browser: Any,
+        context: Any = None,
+        ready_seconds: float = 60.0,
+        first_label: str = "Lesson",
     ) -> None:
+        """``first_label``: the lesson picker's label in the page's language."""
         self.lab = lab
         self.context = context or browser.new_context(
             viewport={"width": 1100, "height": 760}, accept_downloads=True
@@ -87,7 +93,7 @@ class Page:
         self.page.on("pageerror", lambda e: self.errors.append(f"pageerror: {e}"))
         before = set(lab.views)
         self.page.goto(lab.url)
-        self.label("Lesson").wait_for(timeout=90000)
+        self.label(first_label).wait_for(timeout=90000)
         new = wait_until(lambda: set(lab.views) - before, 20, "the session")
         self.view = lab.views[max(new)]
         wait_until(

@@ -1,0 +1,104 @@
+"""A Russian page in a real browser at 1400x900: the chrome is Russian, its buttons work,
+a number typed with a decimal comma is read, and no panel element runs past the panel or
+the screen (the layout checks of the English run)."""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Iterator
+from typing import Any
+
+import pytest
+from analyzer_lab.lessons.catalog import get_lesson
+
+from tests.support.browser import ARTIFACTS, Page
+from tests.support.waiting import wait_until
+from tests.test_browser_layout import GEOMETRY_JS, MIN_TEXT_PX
+
+pytestmark = [pytest.mark.browser, pytest.mark.timeout(600)]
+
+
+@pytest.fixture(scope="module")
+def ru_lab(make_lab: Callable[..., Any]) -> Any:
+    return make_lab(lessons=[get_lesson("sphere")], lesson="sphere", language="ru", restore=False)
+
+
+@pytest.fixture()
+def ru_tab(ru_lab: Any, browser: Any) -> Iterator[Page]:
+    context = browser.new_context(viewport={"width": 1400, "height": 900})
+    p = Page(ru_lab, browser, context, first_label="Урок")
+    yield p
+    p.close()
+
+
+def _fits(tab: Page, where: str) -> None:
+    geometry = tab.page.evaluate(GEOMETRY_JS, MIN_TEXT_PX)
+    assert geometry["over"] == [], f"{where}: {geometry['over']}"
+    assert geometry["small"] == [], f"{where}: {geometry['small']}"
+
+
+def test_a_russian_page_at_1400x900(ru_tab: Page) -> None:
+    page = ru_tab.page
+    tabs = [t.strip() for t in page.get_by_role("tab").all_inner_texts()]
+    assert tabs == ["Урок", "Параметры", "Графики", "Экспорт"]
+    for name in ("Пуск", "Пауза", "Шаг", "Сброс"):
+        assert page.get_by_role("button", name=name, exact=True).count() == 1, name
+    for label in ("Пример", "Скорость", "перейти к t [с]"):
+        assert ru_tab.label(label).count() == 1, label
+    readout = page.locator(".al-readout").first.inner_text()
+    assert "t = 0,000 с" in " ".join(readout.split()) and "пауза" in readout
+    _fits(ru_tab, "Урок")
+    ru_tab.button("Пуск")
+    wait_until(lambda: ru_tab.session.playing, 10, "play")
+    wait_until(lambda: "идёт" in page.locator(".al-readout").first.inner_text(), 10, "идёт")
+    ru_tab.button("Пауза")
+    wait_until(lambda: not ru_tab.session.playing, 10, "pause")
+    for name in ("Параметры", "Графики", "Экспорт"):
+        ru_tab.tab(name)
+        _fits(ru_tab, name)
+    ru_tab.tab("Параметры")
+    ru_tab.fill("sphere radius R", "1,5")
+    wait_until(lambda: ru_tab.session.params["R"] == 1.5, 10, "R = 1,5 read as 1.5")
+    assert ru_tab.field_errors() == ""
+    ru_tab.shot("language-ru-sphere-1400x900")
+    assert (ARTIFACTS / "language-ru-sphere-1400x900.png").stat().st_size > 10_000
+    assert not [e for e in ru_tab.errors if "pageerror" in e]
+
+
+@pytest.fixture(scope="module")
+def en_lab(make_lab: Callable[..., Any]) -> Any:
+    return make_lab(lessons=[get_lesson("sphere")], lesson="sphere")
+
+
+def test_the_language_picker_in_a_browser_and_after_a_reload(en_lab: Any, browser: Any) -> None:
+    context = browser.new_context(viewport={"width": 1400, "height": 900})
+    tab = Page(en_lab, browser, context)
+    try:
+        assert tab.options("Language") == ["English", "Русский"]
+        tab.select("Language", "Русский")
+        tab.label("Урок").wait_for(timeout=20000)
+        wait_until(
+            lambda: (
+                [t.strip() for t in tab.page.get_by_role("tab").all_inner_texts()]
+                == ["Урок", "Параметры", "Графики", "Экспорт"]
+            ),
+            10,
+            "the tabs in Russian",
+        )
+        tab.label("Язык").wait_for(timeout=10000)
+        tab.tab("Параметры")
+        tab.page.get_by_text("Векторы", exact=True).first.wait_for(timeout=10000)
+        _fits(tab, "after the switch")
+        tab.button("Пуск")
+        wait_until(lambda: tab.session.playing, 10, "play")
+        tab.button("Пауза")
+        tab.shot("language-switched-ru-1400x900")
+        before = set(en_lab.views)
+        tab.page.reload()
+        tab.label("Урок").wait_for(timeout=60000)  # the browser kept the choice
+        new = wait_until(lambda: set(en_lab.views) - before, 20, "the new session")
+        assert en_lab.views[max(new)].language.code == "ru"
+        tab.select("Язык", "English")
+        tab.label("Lesson").wait_for(timeout=20000)
+        assert not [e for e in tab.errors if "pageerror" in e]
+    finally:
+        tab.close()
