@@ -29,18 +29,24 @@ def server() -> Iterator[Any]:
     s.stop()
 
 
+async def _page(server: Any) -> tuple[ProtoClient, Any, SceneRenderer]:
+    """A websocket page on ``server``, its client handle once it reported its camera, and
+    a renderer drawing into it."""
+    before = set(server.get_clients())
+    page = await ProtoClient(f"http://127.0.0.1:{server.get_port()}/").start()
+    new = await until(lambda: sorted(set(server.get_clients()) - before), 10, "the page")
+    client = server.get_clients()[new[0]]
+    await until(lambda: client.camera.image_width == 1280, 10, "the page's camera")
+    return page, client, SceneRenderer(client, None)
+
+
 def test_a_framing_the_page_did_not_take_is_sent_again(
     server: Any, monkeypatch: pytest.MonkeyPatch
 ) -> None:
     monkeypatch.setattr(scene, "FRAMING_CHECK_AFTER", 0.0)
 
     async def go() -> None:
-        before = set(server.get_clients())
-        page = await ProtoClient(f"http://127.0.0.1:{server.get_port()}/").start()
-        new = await until(lambda: sorted(set(server.get_clients()) - before), 10, "the page")
-        client = server.get_clients()[new[0]]
-        await until(lambda: client.camera.image_width == 1280, 10, "the page's camera")
-        r = SceneRenderer(client, None)
+        page, client, r = await _page(server)
         r.frame_camera(np.full(3, -1.0), np.full(3, 1.0), 2.0)
         first = r.framed[0].copy()
         r.frame_camera(np.full(3, -2.0), np.full(3, 2.0), 4.0, keep_direction=True)
@@ -73,12 +79,7 @@ def test_a_page_that_never_takes_the_framing_is_sent_it_a_few_times(
     monkeypatch.setattr(scene, "FRAMING_CHECK_AFTER", 0.0)
 
     async def go() -> None:
-        before = set(server.get_clients())
-        page = await ProtoClient(f"http://127.0.0.1:{server.get_port()}/").start()
-        new = await until(lambda: sorted(set(server.get_clients()) - before), 10, "the page")
-        client = server.get_clients()[new[0]]
-        await until(lambda: client.camera.image_width == 1280, 10, "the page's camera")
-        r = SceneRenderer(client, None)
+        page, client, r = await _page(server)
         r.frame_camera(np.full(3, -1.0), np.full(3, 1.0), 2.0)
         first = r.framed[0].copy()
         r.frame_camera(np.full(3, -3.0), np.full(3, 3.0), 6.0, keep_direction=True)

@@ -7,33 +7,10 @@ from __future__ import annotations
 import html
 import re
 
-#: Greek letters spelled out in the models' names.
-GREEK = {
-    "alpha": "α",
-    "beta": "β",
-    "gamma": "γ",
-    "delta": "δ",
-    "epsilon": "ε",
-    "zeta": "ζ",
-    "eta": "η",
-    "theta": "θ",
-    "kappa": "κ",
-    "lambda": "λ",
-    "mu": "μ",
-    "nu": "ν",
-    "xi": "ξ",
-    "rho": "ρ",
-    "sigma": "σ",
-    "tau": "τ",
-    "phi": "φ",
-    "chi": "χ",
-    "psi": "ψ",
-    "omega": "ω",
-    "Delta": "Δ",
-    "Phi": "Φ",
-    "Psi": "Ψ",
-    "Omega": "Ω",
-}
+from analyzer_lab.view.math import GREEK_WORDS
+
+#: Greek letters spelled out in the models' names (the derivations' prose reads the same).
+GREEK = GREEK_WORDS
 #: Time derivatives written with dots over the letter (d/dt, d²/dt²).
 DOTS = {"dot": "\u0307", "ddot": "\u0308"}
 #: Names whose textbook form is not built by the rules below.
