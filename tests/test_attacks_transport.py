@@ -292,7 +292,7 @@ async def _huge_speed(url: str, seconds: float) -> dict[str, Any]:
     await c.set("pause at t_end", False, 0.1)
     await c.set("Run", "Play", 1.0)
     c.measuring = True
-    await c.set("V(t) [units/s] =", "1e4", 0.0)
+    await c.set("V(t) =", "1e4", 0.0)
     await asyncio.sleep(max(0.0, end - time.monotonic()))
     moved = c.point_updates
     await c.close()

@@ -119,3 +119,19 @@ def test_read_only_while_following(gui: Any) -> None:
     assert all(w.disabled for ws in c.widgets.values() for w in ws)
     c.set_read_only(False, params)
     assert not all(w.disabled for ws in c.widgets.values() for w in ws)
+
+
+def test_labels_write_units_as_the_textbook_does(gui: Any) -> None:
+    """A length of the analyzer lessons has no unit (R = 1): the speed field reads
+    ``V(t) =``, not ``V(t) [units/s] =``; a real unit stays in the label."""
+    lesson = get_lesson("sphere-constant-speed")
+    c = _controls(gui)
+    c.build(lesson, lesson.resolve())
+    assert [w.label for w in c.widgets["V"]] == ["V", "V(t) ="]
+    every = [w.label for ws in c.widgets.values() for w in ws if hasattr(w, "label")]
+    assert not [label for label in every if "units" in label]
+    positioner = get_lesson("linear-positioner")
+    c2 = _controls(gui)
+    c2.build(positioner, positioner.resolve())
+    with_units = [w.label for ws in c2.widgets.values() for w in ws if "[" in str(w.label)]
+    assert with_units and all(label.rstrip(" =").endswith("]") for label in with_units)

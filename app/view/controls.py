@@ -18,6 +18,7 @@ from typing import Any
 from analyzer_lab.i18n import ENGLISH, Language
 from analyzer_lab.lessons.kit.contract import Lesson, Param, Params
 from analyzer_lab.lessons.kit.formula import Formula
+from analyzer_lab.view.notation import unit_text
 
 _UNSHOWN = object()
 Handler = Callable[[Any], None]
@@ -140,8 +141,9 @@ class ParamControls:
     def _add(self, p: Param, params: Params) -> None:
         gui = self.gui
         label = p.label or p.name
-        if p.unit:
-            label = f"{label} [{self.language.unit(p.unit)}]"
+        unit = unit_text(p.unit)
+        if unit:
+            label = f"{label} [{self.language.unit(unit)}]"
         value = params[p.name]
         hint = p.help or None
         widgets: list[Any] = []
