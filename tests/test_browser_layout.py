@@ -23,6 +23,7 @@ from typing import Any
 
 import numpy as np
 import pytest
+from analyzer_lab.view.extents import frame_points, preset_extent
 
 from tests.support.browser import DISMISS_JS, Page, quat_matrix
 from tests.support.waiting import wait_until
@@ -157,17 +158,16 @@ def projected_box(camera: Any, lo: np.ndarray, hi: np.ndarray) -> tuple[np.ndarr
 
 
 def run_box(session: Any) -> tuple[np.ndarray, np.ndarray]:
-    """The declared scene's box together with where the run's points and bodies are now."""
+    """The declared scene's box together with where the run's points and bodies are now
+    and, for a preset's own values, everything its run will cover up to its t_end."""
     lo = np.asarray(session.scene.bounds[0], dtype=float)
     hi = np.asarray(session.scene.bounds[1], dtype=float)
-    fr = session.frame
-    pts = [np.asarray(p, dtype=float).reshape(-1, 3) for p in fr.points.values()]
-    pts += [np.asarray(pos, dtype=float).reshape(-1, 3) for pos, _ in fr.poses.values()]
-    if pts:
-        run = np.concatenate(pts)
-        run = run[np.all(np.isfinite(run), axis=1)]
-        if len(run):
-            lo, hi = np.minimum(lo, run.min(axis=0)), np.maximum(hi, run.max(axis=0))
+    run = frame_points(session.frame)
+    if len(run):
+        lo, hi = np.minimum(lo, run.min(axis=0)), np.maximum(hi, run.max(axis=0))
+    ahead = None if session.edits() else preset_extent(session.lesson.id, session.preset)
+    if ahead is not None:
+        lo, hi = np.minimum(lo, ahead[0]), np.maximum(hi, ahead[1])
     return lo, hi
 
 

@@ -35,6 +35,7 @@ from analyzer_lab.lessons.kit.formula import Formula, plain_number
 from analyzer_lab.session.session import LabError, Session, lesson_label
 from analyzer_lab.view.controls import ParamControls
 from analyzer_lab.view.export import ExportPanel
+from analyzer_lab.view.extents import preset_extent
 from analyzer_lab.view.math import derivation_to_html
 from analyzer_lab.view.persistence import save_state
 from analyzer_lab.view.plots import PlotPanel
@@ -589,9 +590,13 @@ class SessionView:
             new_lesson = True
         else:
             new_lesson = False
+        camera_due = self._drawn_camera_rev != s.camera_revision
+        if new_lesson or camera_due:
+            known = not s.edits()  # a preset's (or the defaults') run: its box is known
+            self.renderer.run_box = preset_extent(s.lesson.id, s.preset) if known else None
         if self._drawn_scene_rev != s.scene_revision:
             self.renderer.chosen_vectors = s.visible_vectors
-            frame = new_lesson or self._drawn_camera_rev != s.camera_revision
+            frame = new_lesson or camera_due
             self.renderer.draw_static(s.scene, frame_camera=frame)
             self._drawn_camera_rev = s.camera_revision
             self._drawn_scene_rev = s.scene_revision

@@ -25,6 +25,7 @@ from analyzer_lab.view.bodies import (
     live_node,
     node_name,
 )
+from analyzer_lab.view.extents import frame_points
 from analyzer_lab.viser_boundary import fast_set, set_pose
 
 if TYPE_CHECKING:
@@ -240,6 +241,9 @@ class SceneRenderer:
         #: it into (width, height in the page's pixels)
         self.framed_box: tuple[np.ndarray, np.ndarray] | None = None
         self.framed_canvas: tuple[int, int] | None = None
+        #: The box the run will cover (a preset's, :mod:`~analyzer_lab.view.extents`):
+        #: framed with the scene's; ``None`` for values whose run is not known ahead.
+        self.run_box: tuple[np.ndarray, np.ndarray] | None = None
         #: a framing to check: (when, the camera position of the framing before, resends)
         self._unconfirmed: tuple[float, np.ndarray, int] | None = None
 
@@ -410,7 +414,16 @@ class SceneRenderer:
             if name not in spec.moving_points:
                 self._trails.pop(name).clear()
         if frame_camera:
-            self.frame_camera(lo, hi, size)
+            self.frame_camera(*self._framing_box(lo, hi))
+
+    def _framing_box(self, lo: np.ndarray, hi: np.ndarray) -> tuple[np.ndarray, np.ndarray, float]:
+        """The scene's box joined with :attr:`run_box` (what the run will cover), and its
+        largest side."""
+        if self.run_box is not None:
+            lo = np.minimum(lo, self.run_box[0])
+            hi = np.maximum(hi, self.run_box[1])
+        size = float(np.max(hi - lo))
+        return lo, hi, size if size > 0 else 1.0
 
     def _draw_axis_labels(self, lo: np.ndarray, hi: np.ndarray, size: float) -> None:
         """Axis names at the ends of the axes and a few tick values along each axis, in
@@ -447,7 +460,8 @@ class SceneRenderer:
     def frame_scene(self) -> None:
         """Frame the camera on the current scene (lesson, preset or reset changed)."""
         if self.spec is not None:
-            self.frame_camera(*scene_bounds(self.spec))
+            lo, hi, _ = scene_bounds(self.spec)
+            self.frame_camera(*self._framing_box(lo, hi))
 
     def canvas_size(self) -> tuple[int, int] | None:
         """The canvas's size the page reported last (None before it reported one)."""
@@ -511,12 +525,7 @@ class SceneRenderer:
         :data:`RUN_MARGIN` of room ahead; True when it did."""
         if self.framed_box is None:
             return False
-        pts = [np.asarray(p, dtype=float).reshape(-1, 3) for p in frame.points.values()]
-        pts += [np.asarray(pos, dtype=float).reshape(-1, 3) for pos, _ in frame.poses.values()]
-        if not pts:
-            return False
-        run = np.concatenate(pts, axis=0)
-        run = run[np.all(np.isfinite(run), axis=1)]
+        run = frame_points(frame)
         if not len(run):
             return False
         lo, hi = self.framed_box
