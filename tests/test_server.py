@@ -142,6 +142,30 @@ def test_the_warm_up_waits_while_a_page_is_built_and_starts_with_the_first_page_
     assert lab.warmed == ["sphere", "circle"]
 
 
+def test_the_warm_up_leaves_a_page_just_built_a_quiet_moment(
+    make_lab: Callable[..., Any], monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """A page just built has its browser draw the panel on the cores the server shares:
+    the warm-up waits :data:`WARM_UP_QUIET` seconds after a build before it goes on."""
+    import analyzer_lab.serve.server as server_module
+    from analyzer_lab.lessons.catalog import get_lesson
+
+    monkeypatch.setattr(server_module, "WARM_UP_QUIET", 3.0)
+    lab = make_lab(
+        lessons=[get_lesson("circle"), SPHERE], lesson="sphere", warm_up=False, restore=False
+    )
+    lab.derivations.warm()  # the derivations' processes running: what follows is lessons
+    warming = threading.Thread(target=lab.warm_up, daemon=True)
+    with lab.building_page():
+        pass  # a page was built just now
+    built = time.monotonic()
+    warming.start()
+    time.sleep(1.0)
+    assert lab.warmed == [] and warming.is_alive()  # the page's quiet moment
+    warming.join(120)
+    assert lab.warmed == ["sphere", "circle"] and time.monotonic() - built >= 3.0
+
+
 def test_the_one_run_playing_gets_the_loop_time_nobody_else_needs(lab: Any) -> None:
     from analyzer_lab.session.pace import (
         SOLO_STEP_BUDGET,

@@ -77,6 +77,12 @@ log = logging.getLogger(__name__)
 DEFAULT_FPS = 36.0
 #: Seconds the warm-up waits at a time while a page is being built.
 WARM_UP_YIELD = 0.05
+#: Seconds after a page was built during which the warm-up leaves the machine to it:
+#: the browser draws the panel it was just sent on the same two cores as the server.
+#: (viser connects a page once its canvas is drawn: the build comes after that.)
+WARM_UP_QUIET = 3.0
+#: Seconds the start line waits at most for the lesson new pages open with to be built.
+FIRST_LESSON_WAIT = 60.0
 DERIVATION_CACHE = LRUCache(64)
 
 
@@ -168,6 +174,7 @@ class LabServer:
         # for the browser's saved state), not in the turns of the page callbacks
         self._gone: set[int] = set()  # pages that left while being built
         self._building = 0  # pages being built now
+        self._page_built_at = -math.inf  # when the latest page was built (monotonic)
         #: the lessons the warm-up built, in its order
         self.warmed: list[str] = []
         #: page builds admitted by network address (a rate with a burst, then a queue)
@@ -203,8 +210,13 @@ class LabServer:
             target=self._slow_loop, name="analyzer-lab-slow", daemon=True
         )
         self._slow_thread.start()
+        #: Set once the lesson new pages open with is built (or no warm-up runs): the
+        #: start line says "ready" then, and a page opened from it is drawn at once.
+        self.first_lesson_warm = threading.Event()
         if warm_up:
             threading.Thread(target=self.warm_up, name="analyzer-lab-warmup", daemon=True).start()
+        else:
+            self.first_lesson_warm.set()
 
     @property
     def url(self) -> str:
@@ -248,6 +260,7 @@ class LabServer:
         finally:
             with self._views_lock:
                 self._building -= 1
+                self._page_built_at = time.monotonic()
 
     def _on_connect(self, client: Any) -> None:
         with self.building_page():
@@ -523,18 +536,28 @@ class LabServer:
 
     def warm_up(self) -> None:
         """Build each lesson once (lambdify caches, meshes) so the first tab is quick:
-        the lesson new pages open first, and never while a page is being built (the
-        page a student just opened comes before the lessons nobody opened yet)."""
+        the lesson new pages open first, and never while a page is being built or in
+        the :data:`WARM_UP_QUIET` seconds after (the page a student just opened comes
+        before the lessons nobody opened yet)."""
         try:
-            self.derivations.warm()
-        except Exception:  # the derivations' child processes; a page starts them again
-            log.exception("warming up the derivation processes failed")
+            self._warm_up()
+        finally:
+            self.first_lesson_warm.set()
+
+    def _warm_up(self) -> None:
         first = self.default_lesson or (self.lessons[0].id if self.lessons else None)
-        for lesson in sorted(self.lessons, key=lambda l: l.id != first):
-            while self._building and not self._stop.is_set():
+        for k, lesson in enumerate(sorted(self.lessons, key=lambda l: l.id != first)):
+            if k == 1:
+                self.first_lesson_warm.set()
+            while self._page_comes_first() and not self._stop.is_set():
                 time.sleep(WARM_UP_YIELD)
             if self._stop.is_set():
                 return
+            if k == 1:  # after the lesson pages open with, and once they are drawn
+                try:
+                    self.derivations.warm()
+                except Exception:  # the derivations' child processes; a page starts them again
+                    log.exception("warming up the derivation processes failed")
             try:
                 setup = lesson.open(scene_of=lesson_scene)
                 setup.stepper.advance(0.01)
@@ -544,6 +567,13 @@ class LabServer:
             except Exception:  # the lesson's own code: its first page says what is wrong
                 log.warning("warming up the lesson %s failed", lesson.id, exc_info=True)
             self.warmed.append(lesson.id)
+
+    def _page_comes_first(self) -> bool:
+        """Whether a page is being built or was built less than :data:`WARM_UP_QUIET`
+        s ago (then the warm-up waits)."""
+        with self._views_lock:
+            quiet = time.monotonic() - self._page_built_at < WARM_UP_QUIET
+            return self._building > 0 or quiet
 
     def stop(self) -> None:
         self._stop.set()
@@ -651,6 +681,7 @@ def serve(
         return _refused(f"analyzer-lab: error: cannot listen on {host}:{port}: {exc}", server)
     if lab.port != port and port != 0:
         print(f"analyzer-lab: port {port} is in use; using {lab.port}", flush=True)
+    lab.first_lesson_warm.wait(FIRST_LESSON_WAIT)
     where = "every interface" if host in ("0.0.0.0", "::", "") else host
     print(
         f"Analyzer Lab: {lab.url}  (listening on {where}, port {lab.port}; "

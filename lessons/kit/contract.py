@@ -15,12 +15,12 @@ import math
 from abc import ABC, abstractmethod
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
-from functools import cached_property
 from typing import Any, Literal
 
 import numpy as np
 import sympy as sp
 from analyzer_lab.lessons.kit.formula import Formula, FormulaError
+from analyzer_lab.lessons.kit.once import once
 from analyzer_lab.lessons.kit.params import (
     CONTROLS,
     DEFAULT_GROUPS,
@@ -163,19 +163,19 @@ class LessonSetup:
     t_end: float
     scene_of: Callable[[Lesson, Params], SceneSpec] | None = None
 
-    @cached_property
+    @once
     def stepper(self) -> Stepper:
         """The live run of these values (:meth:`Lesson.stepper`)."""
         return self.lesson.stepper(self.params)
 
-    @cached_property
+    @once
     def scene(self) -> SceneSpec:
         """What to draw for these values (:meth:`Lesson.scene`)."""
         if self.scene_of is None:
             return self.lesson.scene(self.params)
         return self.scene_of(self.lesson, self.params)
 
-    @cached_property
+    @once
     def notes(self) -> tuple[Note, ...]:
         """What the lesson did with these values and the caveats that apply (:meth:`Lesson.notes`)."""
         return tuple(self.lesson.notes(self.params))

@@ -12,11 +12,11 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from functools import cached_property
 from typing import Any
 
 import numpy as np
 from analyzer_lab.lessons.kit.contract import Note
+from analyzer_lab.lessons.kit.once import once
 from analyzer_lab.lessons.laser5.interpolation import (
     Bisection,
     Move,
@@ -48,7 +48,7 @@ class Playhead:
     tau: np.ndarray
     running: np.ndarray
 
-    @cached_property
+    @once
     def values(self) -> dict[str, np.ndarray]:
         """The machine at these times (:meth:`Program.sample`), evaluated once."""
         return self.program.sample(self)
@@ -109,7 +109,7 @@ class Program:
             self.machine, self.q0[k], self.q1[k], self.p0[k], self.p1[k], self.nonlinear[k], tau
         )
 
-    @cached_property
+    @once
     def _travel_tables(self) -> tuple[np.ndarray, np.ndarray]:
         """Path travelled by X, Y, Z and by the working point from the start to each of
         ``TRAVEL_GRID + 1`` points of every move [mm] (polylines through the points)."""

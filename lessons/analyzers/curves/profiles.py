@@ -24,12 +24,13 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from functools import cached_property, lru_cache
+from functools import lru_cache
 from typing import Literal
 
 import numpy as np
 import sympy as sp
 from analyzer_lab.lessons.kit.contract import ClaimResult
+from analyzer_lab.lessons.kit.once import once
 from scipy import integrate
 
 ProfileKind = Literal["trapezoid", "triangle"]
@@ -89,7 +90,7 @@ class SpeedProfile:
 
     # -- the law ------------------------------------------------------------------
 
-    @cached_property
+    @once
     def _pieces(self) -> tuple[np.ndarray, ...]:
         """Edges 0, t1, t1 + Delta, T and, for the five pieces (before 0, rise, plateau,
         fall, after T): start time, s and v at the start, acceleration."""

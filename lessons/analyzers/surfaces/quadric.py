@@ -24,7 +24,6 @@ import math
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from fractions import Fraction
-from functools import cached_property
 from typing import Any
 
 import numpy as np
@@ -33,6 +32,7 @@ from analyzer_lab.lessons.analyzers.surfaces.mesh import Bounds, mesh_quadric
 from analyzer_lab.lessons.analyzers.surfaces.projection import nearest_point, project_affine
 from analyzer_lab.lessons.analyzers.surfaces.types import Classification, classify3
 from analyzer_lab.lessons.kit.formula import plain_number
+from analyzer_lab.lessons.kit.once import once
 
 COEFF_NAMES: tuple[str, ...] = (
     "a11",
@@ -356,7 +356,7 @@ class Quadric:
         )
 
     # ------------------------------------------------------------------ classification
-    @cached_property
+    @once
     def _classification(self) -> Classification:
         return classify3(self.Q, self.b, self.c)
 
@@ -416,7 +416,7 @@ class Quadric:
             self, bounds if bounds is not None else self.default_bounds(), resolution
         )
 
-    @cached_property
+    @once
     def length(self) -> float:
         """Characteristic length L = |centre| + the largest semi-axis (1 when the type
         has no semi-axes; |centre| = 0 when there is no centre)."""
@@ -425,7 +425,7 @@ class Quadric:
         off = float(np.linalg.norm(cl.center)) if cl.center is not None else 0.0
         return off + size
 
-    @cached_property
+    @once
     def scale(self) -> float:
         """Typical magnitude of the terms of F near the surface, for relative tolerances:
         max(|a44|, ‖Q‖₂ L², ‖b‖ L) with L = :attr:`length` (1 if all vanish).

@@ -13,11 +13,12 @@ The figures survive only as labels, so every arrangement beyond the labels is a 
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from functools import cache, cached_property
+from functools import cache
 from typing import Any
 
 import numpy as np
 import sympy as sp
+from analyzer_lab.lessons.kit.once import once
 from sympy.physics import mechanics as me
 
 TIME = me.dynamicsymbols._t
@@ -59,7 +60,7 @@ class Model:
     def n(self) -> int:
         return len(self.q)
 
-    @cached_property
+    @once
     def simplified(self) -> list[sp.Expr]:
         """The Lagrange equations, simplified once (for the derivation page)."""
         return [sp.simplify(e) for e in self.equations]
