@@ -2,9 +2,10 @@
 
 The lessons (the model) are written in English and never import the view; their shown
 texts are collected here by walking the catalog, not by scanning source: each lesson's
-title, problem, source line and summary, its groups' titles, its parameters' labels and
+title, problem, source line and summary, a chapter named in words, its groups' titles, its parameters' labels and
 hints, its presets' titles and notes, its plots' titles and its series' descriptions.
-The page translates them with :meth:`analyzer_lab.i18n.Language.lesson_text`.  Texts a
+The page translates them with :meth:`analyzer_lab.i18n.Language.lesson_text` (the picker's label with
+:func:`lesson_label`).  Texts a
 lesson builds per run with numbers (notes, claims, derivations) are not collected.
 
 ``python -m analyzer_lab.lesson_texts extract OUT.pot`` writes the template; the
@@ -18,6 +19,7 @@ import sys
 from collections.abc import Iterable, Iterator
 from pathlib import Path
 
+from analyzer_lab.i18n import ENGLISH, Language
 from analyzer_lab.lessons.catalog import all_lessons
 from analyzer_lab.lessons.kit.contract import Lesson
 from babel.messages.catalog import Catalog
@@ -32,6 +34,8 @@ def lesson_fields(lesson: Lesson) -> Iterator[tuple[str, str]]:
     lid = lesson.id
     for name in ("title", "problem", "source", "summary"):
         yield f"{lid}.{name}", getattr(lesson, name)
+    if not lesson.chapter.isdigit():  # "Articles"; a number is shown as "Ch. 1"
+        yield f"{lid}.chapter", lesson.chapter
     for group in lesson.groups:
         yield f"{lid}.group.{group.name}.title", group.title
     for p in lesson.params:
@@ -45,6 +49,23 @@ def lesson_fields(lesson: Lesson) -> Iterator[tuple[str, str]]:
     for s in lesson.series:
         yield f"{lid}.series.{s.name}.description", s.description
         yield f"{lid}.series.{s.name}.undefined", s.undefined
+
+
+def lesson_label(lesson: Lesson, language: Language = ENGLISH) -> str:
+    """The lesson picker's label in ``language``: chapter, problem, title (in English
+    the same as :func:`analyzer_lab.session.session.lesson_label`)."""
+    text = language.lesson_text
+    bits = []
+    if lesson.chapter:
+        bits.append(
+            language.gettext("Ch. {chapter}").format(chapter=lesson.chapter)
+            if lesson.chapter.isdigit()
+            else text(lesson.chapter)
+        )
+    if lesson.problem:
+        bits.append(text(lesson.problem))
+    bits.append(text(lesson.title) if lesson.title else lesson.id)
+    return " · ".join(bits)
 
 
 def collect(lessons: Iterable[Lesson] | None = None) -> dict[str, list[str]]:
