@@ -1,4 +1,5 @@
-"""The languages of the lab: gettext catalogs (domain ``analyzer_lab``) read with Babel.
+"""The languages of the lab: gettext catalogs (domains ``analyzer_lab`` and ``lessons``)
+read with Babel.
 
 The catalogs are the ``.po`` files under ``locale/`` (package data, so an installed wheel
 has them).  They are compiled in memory when first used (:func:`babel.messages.pofile.read_po`
@@ -10,7 +11,10 @@ without a translation shows its English text.
 
 Strings are marked for extraction where they are written (see :data:`KEYWORDS`):
 ``language.gettext("...")`` or its short name ``tr("...")`` and ``language.ngettext(...)``
-at the call, :func:`N_` for a label kept in a constant, :func:`NP_` for a unit.
+at the call, :func:`N_` for a label kept in a constant, :func:`NP_` for a unit.  The
+lessons' own texts (titles, labels, hints, preset notes, plot titles) are the second domain,
+``lessons``, collected from the lesson catalog by :mod:`analyzer_lab.lesson_texts` and shown
+with :meth:`Language.lesson_text`.
 """
 
 from __future__ import annotations
@@ -19,7 +23,7 @@ import functools
 import io
 import logging
 import re
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 from babel.messages.catalog import Catalog
@@ -31,6 +35,8 @@ from babel.support import NullTranslations, Translations
 log = logging.getLogger(__name__)
 
 DOMAIN = "analyzer_lab"
+#: The domain of the lessons' own texts (see :mod:`analyzer_lab.lesson_texts`).
+LESSONS_DOMAIN = "lessons"
 #: The folder of the catalogs (``<code>/LC_MESSAGES/analyzer_lab.po``) and the template.
 LOCALE_DIR = Path(__file__).resolve().parent / "locale"
 #: The languages the lab speaks, by code, with their own names.
@@ -76,25 +82,25 @@ class CatalogError(RuntimeError):
     """A catalog could not be read."""
 
 
-def catalog_path(code: str) -> Path:
-    return LOCALE_DIR / code / "LC_MESSAGES" / f"{DOMAIN}.po"
+def catalog_path(code: str, domain: str = DOMAIN) -> Path:
+    return LOCALE_DIR / code / "LC_MESSAGES" / f"{domain}.po"
 
 
-def compile_catalog(code: str, path: Path | None = None) -> Translations:
+def compile_catalog(code: str, path: Path | None = None, domain: str = DOMAIN) -> Translations:
     """The catalog of ``code`` read strictly from its ``.po`` file (a malformed line is an
     error, not a skipped entry) and compiled in memory; fuzzy entries are left out, as
     ``msgfmt`` does."""
-    path = path or catalog_path(code)
+    path = path or catalog_path(code, domain)
     try:
         with path.open("rb") as fh:
-            catalog = read_po(fh, locale=code, domain=DOMAIN, abort_invalid=True)
+            catalog = read_po(fh, locale=code, domain=domain, abort_invalid=True)
         _drop_mismatched(catalog, code)
         buf = io.BytesIO()
         write_mo(buf, catalog, use_fuzzy=False)
     except (OSError, ValueError, SyntaxError, PoFileError) as exc:
         raise CatalogError(f"the {code!r} catalog {path} could not be read: {exc}") from exc
     buf.seek(0)
-    return Translations(buf, domain=DOMAIN)
+    return Translations(buf, domain=domain)
 
 
 def placeholders(text: str) -> list[str]:
@@ -116,10 +122,10 @@ def _drop_mismatched(catalog: Catalog, code: str) -> None:
 
 
 @functools.cache
-def _load(code: str) -> tuple[NullTranslations, str | None]:
+def _load(code: str, domain: str = DOMAIN) -> tuple[NullTranslations, str | None]:
     """(catalog, None), or (no translation, why) when it fails to load."""
     try:
-        return compile_catalog(code), None
+        return compile_catalog(code, domain=domain), None
     except CatalogError as exc:
         log.error("%s; the pages show English instead", exc)
         return NullTranslations(), str(exc)
@@ -135,16 +141,24 @@ def translations(lang: str) -> NullTranslations:
 
 def load_all() -> list[str]:
     """Load every catalog now (at the server's start); returns what failed, each logged."""
-    return [why for why in (_load(code)[1] for code in LANGUAGES) if why is not None]
+    loaded = (_load(code, domain)[1] for code in LANGUAGES for domain in (DOMAIN, LESSONS_DOMAIN))
+    return [why for why in loaded if why is not None]
 
 
 @dataclass(frozen=True)
 class Language:
-    """One language of the page: its code, its catalog and how its prose writes numbers."""
+    """One language of the page: its code, its catalog, how its prose writes numbers and
+    the catalog of the lessons' own texts (English when it is missing or failed to load)."""
 
     code: str
     catalog: NullTranslations
     decimal: str = "."
+    lessons: NullTranslations = field(default_factory=NullTranslations)
+
+    def lesson_text(self, text: str) -> str:
+        """A lesson's own text (title, label, hint, preset note...) in this language; the
+        English text when the catalog has none (or for an empty text)."""
+        return self.lessons.gettext(text) if text else text
 
     def gettext(self, message: str) -> str:
         return self.catalog.gettext(message)
@@ -176,7 +190,7 @@ def language_of(code: str) -> Language:
     catalog, failed = _load(code)
     if failed is not None:
         return Language(DEFAULT, translations(DEFAULT), ".")
-    return Language(code, catalog, get_decimal_symbol(code))
+    return Language(code, catalog, get_decimal_symbol(code), _load(code, LESSONS_DOMAIN)[0])
 
 
 def resolve(code: str | None) -> tuple[Language, str | None]:
@@ -206,6 +220,7 @@ __all__ = [
     "ENGLISH",
     "LANGUAGES",
     "LANGUAGE_ENV",
+    "LESSONS_DOMAIN",
     "KEYWORDS",
     "LOCALE_DIR",
     "CatalogError",

@@ -31,6 +31,7 @@ APP_LAYERS = (
     "token_bucket",
     "limits",
     "i18n",
+    "lesson_texts",
     "viser_boundary",
     "session",
     "view",

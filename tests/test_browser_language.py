@@ -1,4 +1,5 @@
-"""A Russian page in a real browser at 1400x900: the chrome is Russian, its buttons work,
+"""A Russian page in a real browser at 1400x900: the chrome and the lesson's own texts
+(its picker label, head, preset titles, control labels) are Russian, its buttons work,
 a number typed with a decimal comma is read, and no panel element runs past the panel or
 the screen (the layout checks of the English run)."""
 
@@ -46,6 +47,14 @@ def test_a_russian_page_at_1400x900(ru_tab: Page) -> None:
         assert ru_tab.label(label).count() == 1, label
     readout = page.locator(".al-readout").first.inner_text()
     assert "t = 0,000 с" in " ".join(readout.split()) and "пауза" in readout
+    # the lesson's own texts: the lesson picker, the lesson's head, a preset's title
+    assert ru_tab.options("Урок") == ["Гл. 1 · Задача 1.4 · Перемещение по кривой на сфере"]
+    page.get_by_text("Учебник, §1.3, задача 1.4", exact=False).first.wait_for(timeout=10000)
+    ru_tab.select("Пример", "example-1.2")
+    wait_until(lambda: ru_tab.session.preset == "example-1.2", 10, "the preset")
+    note = page.locator(".al-preset-note").first
+    wait_until(lambda: "Пример 1.2: u1 = t" in note.inner_text(), 10, "the preset's title")
+    assert "семейство окружностей" in note.inner_text()
     _fits(ru_tab, "Урок")
     ru_tab.button("Пуск")
     wait_until(lambda: ru_tab.session.playing, 10, "play")
@@ -56,7 +65,7 @@ def test_a_russian_page_at_1400x900(ru_tab: Page) -> None:
         ru_tab.tab(name)
         _fits(ru_tab, name)
     ru_tab.tab("Параметры")
-    ru_tab.fill("sphere radius R", "1,5")
+    ru_tab.fill("радиус сферы R", "1,5")
     wait_until(lambda: ru_tab.session.params["R"] == 1.5, 10, "R = 1,5 read as 1.5")
     assert ru_tab.field_errors() == ""
     ru_tab.shot("language-ru-sphere-1400x900")

@@ -135,3 +135,36 @@ def test_labels_write_units_as_the_textbook_does(gui: Any) -> None:
     c2.build(positioner, positioner.resolve())
     with_units = [w.label for ws in c2.widgets.values() for w in ws if "[" in str(w.label)]
     assert with_units and all(label.rstrip(" =").endswith("]") for label in with_units)
+
+
+def test_a_russian_page_shows_the_lessons_group_titles_labels_and_hints_in_russian(
+    gui: Any,
+) -> None:
+    from analyzer_lab.i18n import resolve
+
+    def guard(fn: Any) -> Any:
+        return fn
+
+    def noop(*args: Any) -> None:
+        return None
+
+    lesson = get_lesson("sphere")
+    ru = ParamControls(gui, guard, noop, noop, noop, noop, resolve("ru")[0])
+    folders = [f.label for f in ru.build(lesson, lesson.resolve())]
+    assert folders == [
+        "Сфера",
+        "Управления u1(t), u2(t), u3(t)",
+        "Начальная точка и семейство кривых",
+        "Интегратор",
+    ]
+    labels = {name: [w.label for w in widgets] for name, widgets in ru.widgets.items()}
+    assert labels["R"] == ["радиус сферы R"]
+    assert labels["family"] == ["кривых в семействе"]
+    assert labels["u1"][-1] == "u1(t) ="  # a symbol stays as written
+    hints = {name: widgets[-1].hint for name, widgets in ru.widgets.items()}
+    assert hints["u1"] == "управление u1: число или формула от t"
+    assert hints["family"] == "несколько начальных точек сразу (рис. 1.12, 1.26)"
+    # the English page shows the lesson as written
+    en = _controls(gui)
+    assert [f.label for f in en.build(lesson, lesson.resolve())][0] == "Sphere"
+    assert [w.label for w in en.widgets["R"]] == ["sphere radius R"]

@@ -155,6 +155,8 @@ def test_a_catalog_that_fails_to_load_is_logged_and_the_language_is_english(
     broken.write_text('msgid "Lesson"\nmsgstr "Урок"\nmsgid: "Plots"\n', encoding="utf-8")
     (tmp_path / "en" / "LC_MESSAGES").mkdir(parents=True)
     shutil.copy(catalog_path("en"), tmp_path / "en" / "LC_MESSAGES" / "analyzer_lab.po")
+    for code in LANGUAGES:  # the lessons' texts load; only the broken catalog fails
+        shutil.copy(catalog_path(code, "lessons"), tmp_path / code / "LC_MESSAGES")
     with pytest.raises(CatalogError):
         compile_catalog("ru", broken)
     monkeypatch.setattr(i18n, "LOCALE_DIR", tmp_path)

@@ -124,7 +124,7 @@ def test_a_decimal_comma_is_read_in_russian_and_refused_with_a_message_in_englis
         ru, ru_view = await page(labs["ru"], "Движение")
         en, en_view = await page(labs["en"], "Run")
         try:
-            await ru.set("sphere radius R", "0,5")
+            await ru.set("радиус сферы R", "0,5")  # the lesson's label in Russian
             await ru.set("u1(t) =", "0,5*sin(2,5*t)")
             await handled(ru, ru_view)
             assert ru_view.session.params["R"] == 0.5

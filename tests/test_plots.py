@@ -79,3 +79,24 @@ def test_every_shown_chart_of_every_preset_gets_numbers_when_played() -> None:
                 if names and not np.isfinite(chart_data(session.log, names).values).any():
                     empty.append(f"{lesson.id}/{preset}: {spec.title}")
     assert empty == []
+
+
+def test_a_russian_page_shows_the_plot_titles_in_russian() -> None:
+    import viser
+    from analyzer_lab.i18n import resolve
+
+    server = viser.ViserServer(host="127.0.0.1", port=0, verbose=False)
+    try:
+        cd = get_lesson("constrained-dynamics")
+        setup = cd.open(None, "pendulum-drift")
+        frame = setup.stepper.reset()
+        panel = PlotPanel(server.gui)
+        panel.build(cd, setup.params, RunLog(), frame, "pendulum-drift", resolve("ru")[0])
+        titles = [chart.handle.title for chart in panel.charts]
+        assert "Дрейф связей" in titles and "Constraint drift" not in titles
+        assert "Длина стержня" in panel.missing  # a chart not defined, named in Russian
+        english = PlotPanel(server.gui)
+        english.build(cd, setup.params, RunLog(), frame, "pendulum-drift")
+        assert "Constraint drift" in [chart.handle.title for chart in english.charts]
+    finally:
+        server.stop()

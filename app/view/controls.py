@@ -123,7 +123,9 @@ class ParamControls:
             if not members:
                 continue
             folder = gui.add_folder(
-                group.title, expand_by_default=group.expanded, visible=group.applies(params)
+                self.language.lesson_text(group.title),
+                expand_by_default=group.expanded,
+                visible=group.applies(params),
             )
             folders.append(folder)
             self.folders[group.name] = (group, folder)
@@ -140,12 +142,12 @@ class ParamControls:
 
     def _add(self, p: Param, params: Params) -> None:
         gui = self.gui
-        label = p.label or p.name
+        label = self.language.lesson_text(p.label) or p.name
         unit = unit_text(p.unit)
         if unit:
             label = f"{label} [{self.language.unit(unit)}]"
         value = params[p.name]
-        hint = p.help or None
+        hint = self.language.lesson_text(p.help) or None
         widgets: list[Any] = []
         if p.kind == "formula":
             if p.min is not None and p.max is not None:

@@ -30,9 +30,10 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 from analyzer_lab.i18n import ENGLISH, LANGUAGES, N_, Language, language_of
+from analyzer_lab.lesson_texts import lesson_label
 from analyzer_lab.lessons.kit.contract import Param, ParamError
 from analyzer_lab.lessons.kit.formula import Formula, plain_number
-from analyzer_lab.session.session import LabError, Session, lesson_label
+from analyzer_lab.session.session import LabError, Session
 from analyzer_lab.view.controls import ParamControls
 from analyzer_lab.view.export import ExportPanel
 from analyzer_lab.view.extents import preset_extent
@@ -268,8 +269,7 @@ class SessionView:
             initial_value=LANGUAGES[self.language.code],
         )
         self.language_dd.on_update(self.guard(self._on_language))
-        self._labels = {lesson_label(lesson): lesson.id for lesson in s.lessons.values()}
-        self._ids = {v: k for k, v in self._labels.items()}
+        self._label_lessons()
         self.lesson_dd = gui.add_dropdown(
             tr(LESSON_PICKER), tuple(self._labels), initial_value=self._ids[s.lesson.id]
         )
@@ -296,6 +296,12 @@ class SessionView:
             )
         with self.session.lock:
             self.refresh(heavy=True)
+
+    def _label_lessons(self) -> None:
+        """The lesson picker's labels in the page's language, mapped to lesson ids."""
+        lessons = self.session.lessons.values()
+        self._labels = {lesson_label(lesson, self.language): lesson.id for lesson in lessons}
+        self._ids = {v: k for k, v in self._labels.items()}
 
     def _preset_options(self) -> tuple[str, ...]:
         return (self.no_preset, *(p.name for p in self.session.lesson.presets))
@@ -335,10 +341,12 @@ class SessionView:
                 self.pause_cb.on_update(self.guard(self._on_pause_at_end))
         self._build_plots()
         self.exports.show_default_step(lesson, self.session.t_end)
-        esc = html.escape
+        esc, text = html.escape, self.language.lesson_text
+        problem, title = esc(text(lesson.problem)), esc(text(lesson.title))
         self.lesson_head.content = (
-            f'<div style="font-size:0.95em"><b>{esc(lesson.problem)} · {esc(lesson.title)}</b><br>'
-            f'<span style="color:#555">{esc(lesson.source)}</span><br>{esc(lesson.summary)}</div>'
+            f'<div style="font-size:0.95em"><b>{problem} · {title}</b><br>'
+            f'<span style="color:#555">{esc(text(lesson.source))}</span><br>'
+            f"{esc(text(lesson.summary))}</div>"
         )
         self._drawn_lesson = lesson.id
 
@@ -361,7 +369,9 @@ class SessionView:
         if self._plots_folder is not None:
             self._retire([self._plots_folder])
         with self.tab_plots:
-            self._plots_folder = self.plots.build(s.lesson, s.params, s.log, s.frame, s.preset)
+            self._plots_folder = self.plots.build(
+                s.lesson, s.params, s.log, s.frame, s.preset, self.language
+            )
 
     def sync_widgets(self, force: bool = False) -> None:
         """Show the session's values in the widgets (programmatic: callbacks ignore it).
@@ -396,7 +406,8 @@ class SessionView:
         if lesson_id == self.session.lesson.id:
             return
         self.session.select_lesson(lesson_id)
-        self.session.notify(tr("lesson: {lesson}").format(lesson=lesson_label(self.session.lesson)))
+        label = lesson_label(self.session.lesson, self.language)
+        self.session.notify(tr("lesson: {lesson}").format(lesson=label))
         self.after_state_change()
 
     def _on_language(self, event: Any) -> None:
@@ -426,6 +437,8 @@ class SessionView:
         for widget, label in pickers:
             if widget.label != tr(label):
                 widget.label = tr(label)
+        self._label_lessons()
+        self.lesson_dd.options = tuple(self._labels)
         self.controls.language = language
         self.clock.set_language(language)
         self.exports.set_language(language)
@@ -447,7 +460,8 @@ class SessionView:
             if chosen is None:
                 raise LabError(tr("unknown preset {name}").format(name=repr(str(name)[:60])))
             self.session.apply_preset(name)
-            self.session.notify(tr("preset {name}: {title}").format(name=name, title=chosen.title))
+            title = self.language.lesson_text(chosen.title)
+            self.session.notify(tr("preset {name}: {title}").format(name=name, title=title))
         self.after_state_change()
 
     def _played(self, frames: list[Any]) -> None:

@@ -17,6 +17,7 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
+from analyzer_lab.i18n import ENGLISH, Language
 from analyzer_lab.lessons.kit.contract import Frame, Lesson, Params, PlotSpec
 from analyzer_lab.session.runlog import RunLog
 from analyzer_lab.view.decimation import minmax_indices
@@ -143,16 +144,24 @@ class PlotPanel:
         return tuple(chart_series(spec, defined) for spec in lesson.plots)
 
     def build(
-        self, lesson: Lesson, params: Params, log: RunLog, frame: Frame, preset: str | None
+        self,
+        lesson: Lesson,
+        params: Params,
+        log: RunLog,
+        frame: Frame,
+        preset: str | None,
+        language: Language = ENGLISH,
     ) -> Any:
         """Create the charts of ``lesson`` in a new folder (inside the caller's
         container), drawn from ``log``; returns the folder.  Charts without a series
-        for these values are left out and named in one line above the others."""
+        for these values are left out and named in one line above the others.  The
+        titles are shown in ``language``."""
         self.charts = []
         self.layout = self.layout_for(lesson, params, frame)
         self.time_scale = lesson.time_scale
         folder = self.gui.add_folder(FOLDER)
-        missing = [spec.title for spec, names in zip(lesson.plots, self.layout) if not names]
+        title = language.lesson_text
+        missing = [title(spec.title) for spec, names in zip(lesson.plots, self.layout) if not names]
         with folder:
             # first, so that the page says at once why a chart is not there
             self.note = self.gui.add_html(_missing_html(missing, preset)) if missing else None
@@ -172,7 +181,7 @@ class PlotPanel:
                 handle = self.gui.add_uplot(
                     data.arrays(),
                     tuple(series),
-                    title=spec.title,
+                    title=title(spec.title),
                     scales=scales(data),
                     axes=({"label": "t [s]"}, {"label": self._y_label(units, data.exponent)}),
                     aspect=1.6,

@@ -88,7 +88,8 @@ def preset_note_html(s: Session, language: Language = ENGLISH) -> str:
         )
     elif s.preset:
         pr = s.lesson.preset(s.preset)
-        body = f"<b>{esc(pr.title)}</b>" + (f"<br>{esc(pr.note)}" if pr.note else "")
+        title, note = language.lesson_text(pr.title), language.lesson_text(pr.note)
+        body = f"<b>{esc(title)}</b>" + (f"<br>{esc(note)}" if note else "")
     else:
         body = ""
     return f'<div class="al-preset-note" style="font-size:max(11px,0.85em)">{body}</div>'

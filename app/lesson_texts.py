@@ -1,0 +1,120 @@
+"""The texts of the lessons a page shows, as the gettext domain ``lessons``.
+
+The lessons (the model) are written in English and never import the view; their shown
+texts are collected here by walking the catalog, not by scanning source: each lesson's
+title, problem, source line and summary, a chapter named in words, its groups' titles, its parameters' labels and
+hints, its presets' titles and notes, its plots' titles and its series' descriptions.
+The page translates them with :meth:`analyzer_lab.i18n.Language.lesson_text` (the picker's label with
+:func:`lesson_label`).  Texts a
+lesson builds per run with numbers (notes, claims, derivations) are not collected.
+
+``python -m analyzer_lab.lesson_texts extract OUT.pot`` writes the template; the
+catalogs follow it with ``pybabel update -D lessons -i OUT.pot -d app/locale``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from collections.abc import Iterable, Iterator
+from pathlib import Path
+
+from analyzer_lab.i18n import ENGLISH, Language
+from analyzer_lab.lessons.catalog import all_lessons
+from analyzer_lab.lessons.kit.contract import Lesson
+from babel.messages.catalog import Catalog
+from babel.messages.pofile import write_po
+
+DOMAIN = "lessons"
+
+
+def lesson_fields(lesson: Lesson) -> Iterator[tuple[str, str]]:
+    """``(where, text)`` for each shown text of ``lesson`` (``where`` names the lesson and
+    the field, e.g. ``sphere_1_4.param.R.label``); empty texts are left out."""
+    lid = lesson.id
+    for name in ("title", "problem", "source", "summary"):
+        yield f"{lid}.{name}", getattr(lesson, name)
+    if not lesson.chapter.isdigit():  # "Articles"; a number is shown as "Ch. 1"
+        yield f"{lid}.chapter", lesson.chapter
+    for group in lesson.groups:
+        yield f"{lid}.group.{group.name}.title", group.title
+    for p in lesson.params:
+        yield f"{lid}.param.{p.name}.label", p.label
+        yield f"{lid}.param.{p.name}.help", p.help
+    for preset in lesson.presets:
+        yield f"{lid}.preset.{preset.name}.title", preset.title
+        yield f"{lid}.preset.{preset.name}.note", preset.note
+    for i, plot in enumerate(lesson.plots):
+        yield f"{lid}.plot.{i}.title", plot.title
+    for s in lesson.series:
+        yield f"{lid}.series.{s.name}.description", s.description
+        yield f"{lid}.series.{s.name}.undefined", s.undefined
+
+
+def lesson_label(lesson: Lesson, language: Language = ENGLISH) -> str:
+    """The lesson picker's label in ``language``: chapter, problem, title (in English
+    the same as :func:`analyzer_lab.session.session.lesson_label`)."""
+    text = language.lesson_text
+    bits = []
+    if lesson.chapter:
+        bits.append(
+            language.gettext("Ch. {chapter}").format(chapter=lesson.chapter)
+            if lesson.chapter.isdigit()
+            else text(lesson.chapter)
+        )
+    if lesson.problem:
+        bits.append(text(lesson.problem))
+    bits.append(text(lesson.title) if lesson.title else lesson.id)
+    return " · ".join(bits)
+
+
+def collect(lessons: Iterable[Lesson] | None = None) -> dict[str, list[str]]:
+    """Each distinct non-empty text of the lessons -> the sorted places it is shown."""
+    texts: dict[str, set[str]] = {}
+    for lesson in all_lessons() if lessons is None else lessons:
+        for where, text in lesson_fields(lesson):
+            if text and text.strip():
+                texts.setdefault(text, set()).add(where)
+    return {text: sorted(places) for text, places in texts.items()}
+
+
+def template(lessons: Iterable[Lesson] | None = None) -> Catalog:
+    """The ``lessons`` template: one entry per text, sorted, each with its places as
+    comments (no dates that change from one extraction to the next)."""
+    catalog = Catalog(
+        domain=DOMAIN,
+        project="analyzer-lab",
+        version="0.1.0",
+        copyright_holder="Analyzer Lab",
+        msgid_bugs_address="EMAIL@ADDRESS",
+        charset="utf-8",
+        fuzzy=False,
+    )
+    for text, places in sorted(collect(lessons).items()):
+        catalog.add(text, auto_comments=places)
+    return catalog
+
+
+def write_template(out: Path, lessons: Iterable[Lesson] | None = None) -> int:
+    """Write the template to ``out``; returns the number of entries."""
+    catalog = template(lessons)
+    with out.open("wb") as fh:
+        write_po(fh, catalog, omit_header=False, sort_output=True, no_location=True)
+    return len(catalog)
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(
+        prog="python -m analyzer_lab.lesson_texts", description=__doc__.splitlines()[0]
+    )
+    sub = parser.add_subparsers(dest="command", required=True)
+    extract = sub.add_parser("extract", help="write the template of the lessons' texts")
+    extract.add_argument("out", type=Path, help="the .pot file to write")
+    args = parser.parse_args(argv)
+    n = write_template(args.out)
+    print(f"{n} texts of {len(all_lessons())} lessons written to {args.out}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
