@@ -156,6 +156,23 @@ def test_pause_at_end(session: Session) -> None:
     assert session.frame.t == pytest.approx(10.0) and not session.playing
 
 
+def test_the_end_of_a_run_is_not_told_to_the_run_started_again(session: Session) -> None:
+    session.pause_at_end = True
+    session.set_speed(8)
+    play(session, 60)
+    assert session.notice is not None and "t = 10 s reached" in session.notice[1]
+    session.reset()
+    assert session.notice is None and session.frame.t == 0.0
+    assert any("reached" in text for _, text in session.notices)  # kept in the history
+    # a notice that is not about the run stays through a reset
+    session.notify("the start point was moved", "warning")
+    session.reset()
+    assert session.notice == ("warning", "the start point was moved")
+    # a new end reached is told again
+    play(session, 60)
+    assert session.notice is not None and "reached" in session.notice[1]
+
+
 def test_reset(session: Session) -> None:
     play(session, 5)
     session.reset()

@@ -124,6 +124,8 @@ class Session:
         self.lessons: dict[str, Lesson] = {l.id: l for l in lessons}
         self.lock = threading.RLock()
         self.notices: deque[tuple[str, str]] = deque(maxlen=20)
+        self._run_notice: tuple[str, str] | None = None  # the newest notice if about the run
+        self._withdrawn: tuple[str, str] | None = None  # a notice a reset took off the page
         self.playing = False
         self.speed = 1.0
         self.pause_at_end = True
@@ -155,9 +157,20 @@ class Session:
 
     # -- notices --------------------------------------------------------------------
 
-    def notify(self, text: str, level: str = "info") -> None:
-        """A message for the user (the view shows the newest)."""
-        self.notices.append((level, str(text)[:500]))
+    def notify(self, text: str, level: str = "info", about_run: bool = False) -> None:
+        """A message for the user (the view shows the newest, :attr:`notice`).
+
+        ``about_run``: it speaks of the run now on screen (its end was reached): a reset
+        withdraws it, so a run started again is not told it ended."""
+        entry = (level, str(text)[:500])
+        self.notices.append(entry)
+        self._run_notice = entry if about_run else None
+
+    @property
+    def notice(self) -> tuple[str, str] | None:
+        """The notice the page shows: the newest, unless a reset withdrew it."""
+        newest = self.notices[-1] if self.notices else None
+        return None if newest is not None and newest is self._withdrawn else newest
 
     # -- lesson and parameters ------------------------------------------------------------
 
@@ -365,6 +378,8 @@ class Session:
         self.log.clear()
         self.log.add(self.frame)
         self.reset_revision += 1
+        if self._run_notice is not None and self.notices and self.notices[-1] is self._run_notice:
+            self._withdrawn = self._run_notice
         if reframe:
             self.camera_revision += 1
         if playing is not None:
@@ -416,6 +431,7 @@ class Session:
                     f"the run stopped at t = {self.stepper.t:.4g} s"
                     + (f": {self.frame.message}" if self.frame.message else ""),
                     "info",
+                    about_run=True,
                 )
         if self.pause_at_end and self.stepper.t >= self.t_end - 1e-9 and self.playing:
             self.playing = False
@@ -423,6 +439,7 @@ class Session:
                 f"t = {plain(self.t_end)} s reached (the textbook's run); press play to run"
                 " again, or untick 'pause at t_end'",
                 "info",
+                about_run=True,
             )
         return frames
 

@@ -200,7 +200,7 @@ class SessionView:
         self._drawn_scene_rev = -1
         self._drawn_reset_rev = -1
         self._drawn_camera_rev = -1
-        self._shown_notice = session.notices[-1] if session.notices else None
+        self._shown_notice = session.notice
         self.redraw()
 
     def redraw(self, scene: bool = False) -> None:
@@ -667,7 +667,7 @@ class SessionView:
         if ro != self._last_readout:
             fast_set(self.readout, "content", ro)
             self._last_readout = ro
-        notice = self.session.notices[-1] if self.session.notices else None
+        notice = self.session.notice
         fmsg = self.session.frame.message
         if notice != self._shown_notice or fmsg != self._shown_frame_message:
             if (

@@ -50,8 +50,8 @@ def readout_html(s: Session, language: Language = ENGLISH) -> str:
 def status_html(s: Session) -> str:
     """The newest notice and the frame's message."""
     parts = []
-    if s.notices:
-        level, text = s.notices[-1]
+    if s.notice is not None:
+        level, text = s.notice
         color = LEVEL_COLORS.get(level, "#333")
         parts.append(
             f'<div class="al-message al-{level}" style="color:{color};font-size:0.9em">{html.escape(text)}</div>'
