@@ -32,6 +32,29 @@ def test_computed_once_and_kept() -> None:
     assert Slow.value.__doc__ == "The value, after the gate opens."
 
 
+def test_an_object_with_a_value_is_copied_and_pickled() -> None:
+    import copy
+    import pickle
+
+    kept = Kept(3)
+    assert kept.square == 9
+    twin = copy.deepcopy(kept)
+    assert twin.square == 9 and twin.__dict__["square"] == 9
+    again = pickle.loads(pickle.dumps(kept))
+    assert again.square == 9 and again.n == 3
+    fresh = copy.deepcopy(Kept(4))  # copied before its value was read
+    assert fresh.square == 16
+
+
+@dataclass(frozen=True, eq=False)
+class Kept:
+    n: int
+
+    @once
+    def square(self) -> int:
+        return self.n * self.n
+
+
 def test_a_slow_object_does_not_hold_up_another() -> None:
     calls: list[str] = []
     slow = Slow("slow", threading.Event(), calls)

@@ -18,6 +18,26 @@ T = TypeVar("T")
 _LOCK = "_once_lock"
 
 
+class _Lock:
+    """An object's lock for its :class:`once` values; a copied or pickled object gets a
+    lock of its own (a lock itself cannot be copied)."""
+
+    def __init__(self) -> None:
+        self._lock = threading.RLock()
+
+    def __enter__(self) -> bool:
+        return self._lock.acquire()
+
+    def __exit__(self, *exc: object) -> None:
+        self._lock.release()
+
+    def __deepcopy__(self, memo: dict[int, Any]) -> _Lock:
+        return _Lock()
+
+    def __reduce__(self) -> tuple[type[_Lock], tuple[()]]:
+        return (_Lock, ())
+
+
 class once(Generic[T]):  # noqa: N801 - used as a decorator, like cached_property
     """``@once`` over a method: its value is computed at the first read and kept in the
     instance's ``__dict__`` (frozen dataclasses included, as with ``cached_property``)."""
@@ -42,7 +62,7 @@ class once(Generic[T]):  # noqa: N801 - used as a decorator, like cached_propert
         values = obj.__dict__
         if self.name in values:
             return values[self.name]
-        lock = values.setdefault(_LOCK, threading.RLock())  # atomic: one lock per object
+        lock = values.setdefault(_LOCK, _Lock())  # atomic: one lock per object
         with lock:
             if self.name not in values:  # another reader may have computed it meanwhile
                 values[self.name] = self.fn(obj)
