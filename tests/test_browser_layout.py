@@ -139,8 +139,21 @@ GEOMETRY_JS = """(minText) => {
       if (ratio < 4.5) low.push(name(el) + ' ' + cs.color + ' ' + ratio.toFixed(2) + ':1');
     }
   }
+  // the lab's own texts start where viser's labels do, not flush at the panel's edge
+  const flush = [];
+  const labels = [...document.querySelectorAll('label')].filter((l) => l.offsetParent
+      && l.textContent.trim());
+  const labelLeft = labels.length ? Math.min(...labels.map((l) => l.getBoundingClientRect().left))
+      : null;
+  for (const el of document.querySelectorAll('.al-readout, .al-preset-note, .al-message')) {
+    if (!el.offsetParent || labelLeft === null) continue;
+    const text = el.getBoundingClientRect().left + parseFloat(getComputedStyle(el).paddingLeft);
+    if (text < labelLeft - 4) flush.push(el.className + ' at ' + Math.round(text)
+        + ', labels at ' + Math.round(labelLeft));
+  }
   return {canvas: [c.left, c.top, c.width, c.height], size: [W, H], over: over.slice(0, 8),
-          small: small.slice(0, 8), low: low.slice(0, 8), dpr: window.devicePixelRatio};
+          small: small.slice(0, 8), low: low.slice(0, 8), flush: flush,
+          dpr: window.devicePixelRatio};
 }"""
 
 
@@ -248,6 +261,7 @@ def check_screen(tab: Page, size: str, what: str) -> None:
     assert geo["over"] == [], f"{where}: {geo['over']}"
     assert geo["small"] == [], f"{where}: text below {MIN_TEXT_PX} px: {geo['small']}"
     assert geo["low"] == [], f"{where}: text below 4.5:1 contrast: {geo['low']}"
+    assert geo["flush"] == [], f"{where}: texts at the panel's edge: {geo['flush']}"
     left, top, cw, ch = geo["canvas"]
     if size == "phone":
         assert cw >= w - 1 and ch >= 0.4 * h, f"{where}: the canvas is {cw}x{ch}"

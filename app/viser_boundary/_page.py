@@ -60,8 +60,13 @@ PHONE_LAYOUT = """<style>
 #: No text of viser's own widgets below 11 px (its compact buttons print 10 px).
 #: Text a small screen and a projector can read: buttons' text no smaller than 11 px, and
 #: the labels' grey and the brand blue dark enough for 4.5:1 on white (WCAG's minimum for
-#: small text; viser's theme gives 3.3:1 and 4.4:1).
+#: small text; viser's theme gives 3.3:1 and 4.4:1); the lab's own texts (readout, notes,
+#: messages, derivations) indented as far as viser's labels, not flush at the panel's edge.
 READABLE_TEXT = """<style>
+.al-readout, .al-preset-note, .al-message, .al-frame-message, .al-derivation,
+.al-plots-undefined, .al-error, .al-field-error {
+  padding-left: 0.55rem; padding-right: 0.55rem; box-sizing: border-box;
+}
 .mantine-Button-root { --button-fz: max(11px, 0.75rem) !important; }
 .mantine-Slider-markLabel { color: #5c636a !important; }
 :root, [data-mantine-color-scheme] {
