@@ -166,6 +166,32 @@ def test_the_warm_up_leaves_a_page_just_built_a_quiet_moment(
     assert lab.warmed == ["sphere", "circle"] and time.monotonic() - built >= 3.0
 
 
+def test_a_fault_of_the_deferred_work_repeated_every_pass_writes_a_few_lines(
+    make_lab: Callable[..., Any], caplog: pytest.LogCaptureFixture
+) -> None:
+    from analyzer_lab.classroom.log_limit import LOG_BURST
+
+    lab = make_lab(lessons=[SPHERE], lesson="sphere", warm_up=False, restore=False)
+    passes: list[float] = []
+
+    def failing(view: Any, now: float) -> None:
+        passes.append(now)
+        raise RuntimeError("cannot start a process")
+
+    lab._slow_work = failing
+
+    async def go() -> None:
+        page = await ProtoClient(f"http://127.0.0.1:{lab.server.get_port()}/").start()
+        await until(lambda: len(passes) > 3 * LOG_BURST, 60, "the slow loop's passes")
+        await page.close()
+
+    with caplog.at_level("WARNING", logger="analyzer_lab.serve.server"):
+        asyncio.run(go())
+    lines = [r for r in caplog.records if "deferred work failed" in r.getMessage()]
+    assert 1 <= len(lines) <= LOG_BURST + 1 < len(passes)
+    assert lines[0].exc_info is not None  # the first says what went wrong
+
+
 def test_the_one_run_playing_gets_the_loop_time_nobody_else_needs(lab: Any) -> None:
     from analyzer_lab.session.pace import (
         SOLO_STEP_BUDGET,

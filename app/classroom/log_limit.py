@@ -29,8 +29,9 @@ class LogLimiter:
         self.written = 0
         self.left_out = 0
 
-    def warning(self, cause: str, message: str, *args: object) -> bool:
-        """Log ``message % args`` unless ``cause`` is over its rate; True when written."""
+    def admit(self, cause: str) -> int | None:
+        """Whether a line of ``cause`` may be written now: ``None`` when it is over its
+        rate (counted as left out), else how many of its lines were left out before."""
         with self.lock:
             bucket, skipped = self.causes.get(cause, (None, 0))
             if bucket is None:
@@ -42,13 +43,25 @@ class LogLimiter:
             if not bucket.take():
                 self.causes[cause] = (bucket, skipped + 1)
                 self.left_out += 1
-                return False
+                return None
             self.causes[cause] = (bucket, 0)
             self.written += 1
+            return skipped
+
+    def warning(self, cause: str, message: str, *args: object) -> bool:
+        """Log ``message % args`` unless ``cause`` is over its rate; True when written."""
+        skipped = self.admit(cause)
+        if skipped is None:
+            return False
         if skipped:
-            message += f" ({skipped} more like it left out of the log)"
+            message += left_out_text(skipped)
         self.logger.warning(message, *args)
         return True
 
 
-__all__ = ["LogLimiter"]
+def left_out_text(skipped: int) -> str:
+    """What a line says of the lines of its cause left out before it."""
+    return f" ({skipped} more like it left out of the log)" if skipped else ""
+
+
+__all__ = ["LogLimiter", "left_out_text"]

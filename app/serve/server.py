@@ -35,6 +35,7 @@ from typing import Any
 from analyzer_lab.classroom.bus import Bus, BusError, make_bus
 from analyzer_lab.classroom.course import Course
 from analyzer_lab.classroom.instructor_code import CodeError, class_code
+from analyzer_lab.classroom.log_limit import LogLimiter, left_out_text
 from analyzer_lab.classroom.room import Classroom
 from analyzer_lab.classroom.store.sql_store import redact
 from analyzer_lab.i18n import load_all as load_catalogs
@@ -206,6 +207,7 @@ class LabServer:
         self._deriving: dict[
             int, tuple[SessionView, int, Any]
         ] = {}  # id(view) -> (view, revision, key)
+        self._slow_log = LogLimiter(log)  # a fault repeated every pass: a few lines, then counts
         self._slow_thread = threading.Thread(
             target=self._slow_loop, name="analyzer-lab-slow", daemon=True
         )
@@ -461,8 +463,14 @@ class LabServer:
                 try:
                     self._slow_work(view, now)
                     self._derivation_work(view, now)
-                except Exception:  # the slow loop goes on
-                    log.exception("page %s: deferred work failed", view.client.client_id)
+                except Exception as exc:  # the slow loop goes on; a repeated fault: a few lines
+                    skipped = self._slow_log.admit(f"deferred work: {type(exc).__name__}")
+                    if skipped is not None:
+                        log.exception(
+                            "page %s: deferred work failed%s",
+                            view.client.client_id,
+                            left_out_text(skipped),
+                        )
             views = view = None  # type: ignore[assignment]  # classroom hook: no stale reference
         self.derivations.stop()
         self._deriving.clear()
