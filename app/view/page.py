@@ -448,6 +448,7 @@ class SessionView:
         self._drawn_lesson = None  # the controls, vectors and playback: rebuilt in it
         self._last_readout = ""
         self._shown_notice = None
+        self.derivation_due = time.monotonic()  # its prose in the new language
         self.redraw()
 
     def _on_preset(self, event: Any) -> None:
@@ -645,7 +646,8 @@ class SessionView:
         s = self.session
         self.derivation_due = None
         try:
-            content = derivation_to_html(s.lesson.derivation(s.params))
+            steps = s.lesson.derivation(s.params)
+            content = derivation_to_html(steps, text=self.language.lesson_text)
         except Exception as exc:  # any formula: the page says why
             log.warning(
                 "page %s: the derivation of %s failed",
