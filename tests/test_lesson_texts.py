@@ -29,7 +29,8 @@ CYRILLIC = re.compile(r"[А-Яа-яЁё]")
 #: letters spelled out, functions, solver options).  Any other word of three or more
 #: letters is English left untranslated.
 SYMBOL_WORDS = frozenset(
-    {"alpha", "beta", "omega", "phi", "eps", "sin", "Delta", "solve_ivp", "atol", "rtol"}
+    {"alpha", "beta", "omega", "phi", "Phi", "varpi", "eps", "sin", "cos", "sqrt", "Delta"}
+    | {"solve_ivp", "atol", "rtol"}
 )
 
 
