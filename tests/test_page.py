@@ -205,3 +205,32 @@ def test_the_language_picker_switches_the_page_and_the_browser_keeps_it(
             await other.close()
 
     asyncio.run(go())
+
+
+def _derivation(c: ProtoClient) -> str:
+    return next((h for h in c.html.values() if "al-derivation" in h), "")
+
+
+def test_the_derivation_is_shown_in_the_pages_language(labs: dict[str, Any]) -> None:
+    """Its step titles and prose in Russian on a Russian page (built in a derivation
+    process, numbers as written), English on an English page, and in Russian again once
+    the English page switches."""
+
+    async def go() -> None:
+        ru, _ = await page(labs["ru"], "Движение")
+        en, en_view = await page(labs["en"], "Run")
+        try:
+            await until(lambda: "2. Касание<" in _derivation(ru), 60, "the Russian derivation")
+            shown = _derivation(ru)
+            assert "Tangency" not in shown and "5. Сфера<" in shown
+            assert re.search(r"сфера R=1(\.0)?: F = \S+ с числами этого урока", shown)
+            await until(lambda: "2. Tangency<" in _derivation(en), 60, "the English one")
+            assert "Касание" not in _derivation(en)
+            await en.set("Language", "Русский")
+            await until(lambda: en_view.language.code == "ru", 10, "the page in Russian")
+            await until(lambda: "2. Касание<" in _derivation(en), 60, "the derivation switched")
+        finally:
+            await ru.close()
+            await en.close()
+
+    asyncio.run(go())
