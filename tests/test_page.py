@@ -234,3 +234,30 @@ def test_the_derivation_is_shown_in_the_pages_language(labs: dict[str, Any]) -> 
             await en.close()
 
     asyncio.run(go())
+
+
+def test_a_lessons_note_is_shown_in_the_pages_language(labs: dict[str, Any]) -> None:
+    """A note the lesson writes with the values of a run (its start point projected onto
+    a sphere of radius 2), notified as the session does on a restart, is shown in Russian
+    with its own numbers; the session keeps the lesson's English."""
+    sphere = get_lesson("sphere")
+    note = next(n for n in sphere.open({"R": 2.0}).notes if "projected to" in n.text)
+    assert "(2, 0, 0)" in note.text
+
+    async def go() -> None:
+        c, view = await page(labs["ru"], "Движение")
+        try:
+            with view.session.lock:
+                view.session.notify(note.text, "warning")
+            await until(
+                lambda: any("спроецирована в (2, 0, 0)" in h for h in c.html.values()),
+                10,
+                "the note in Russian",
+            )
+            status = next(h for h in c.html.values() if "спроецирована в (" in h)
+            assert "начальная точка (" in status and "projected" not in status
+            assert _notices(view)[-1] == note.text
+        finally:
+            await c.close()
+
+    asyncio.run(go())
