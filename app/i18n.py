@@ -26,6 +26,7 @@ import re
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from analyzer_lab.text_numbers import abstract, restore
 from babel.messages.catalog import Catalog
 from babel.messages.mofile import write_mo
 from babel.messages.pofile import PoFileError, read_po
@@ -156,9 +157,20 @@ class Language:
     lessons: NullTranslations = field(default_factory=NullTranslations)
 
     def lesson_text(self, text: str) -> str:
-        """A lesson's own text (title, label, hint, preset note...) in this language; the
-        English text when the catalog has none (or for an empty text)."""
-        return self.lessons.gettext(text) if text else text
+        """A lesson's own text (title, label, hint, preset note, a derivation's step, a
+        note...) in this language; the English text when the catalog has none (or for an
+        empty text).  A text written per run is found by its numbers taken out
+        (:func:`analyzer_lab.text_numbers.abstract`) and gets its own numbers back."""
+        if not text:
+            return text
+        found = self.lessons.gettext(text)
+        if found != text:
+            return found
+        key, numbers = abstract(text)
+        if key == text:
+            return text
+        found = self.lessons.gettext(key)
+        return text if found == key else restore(found, numbers)
 
     def gettext(self, message: str) -> str:
         return self.catalog.gettext(message)

@@ -5,8 +5,14 @@ texts are collected here by walking the catalog, not by scanning source: each le
 title, problem, source line and summary, a chapter named in words, its groups' titles, its parameters' labels and
 hints, its presets' titles and notes, its plots' titles and its series' descriptions.
 The page translates them with :meth:`analyzer_lab.i18n.Language.lesson_text` (the picker's label with
-:func:`lesson_label`).  Texts a
-lesson builds per run with numbers (notes, claims, derivations) are not collected.
+:func:`lesson_label`).
+
+The texts a lesson writes per run (its derivation's step titles and prose, its notes) are
+collected by opening every lesson with its defaults and with each preset
+(:func:`run_fields`), each with its numbers taken out
+(:func:`analyzer_lab.text_numbers.abstract`): one entry, ``Here L = {0}: the profile is a
+trapezoid.``, covers every run.  The source's claims are checked by the command line and
+are not shown on a page, so they are not collected.
 
 ``python -m analyzer_lab.lesson_texts extract OUT.pot`` writes the template; the
 catalogs follow it with ``pybabel update -D lessons -i OUT.pot -d app/locale``.
@@ -15,6 +21,7 @@ catalogs follow it with ``pybabel update -D lessons -i OUT.pot -d app/locale``.
 from __future__ import annotations
 
 import argparse
+import functools
 import sys
 from collections.abc import Iterable, Iterator
 from pathlib import Path
@@ -22,6 +29,7 @@ from pathlib import Path
 from analyzer_lab.i18n import ENGLISH, Language
 from analyzer_lab.lessons.catalog import all_lessons
 from analyzer_lab.lessons.kit.contract import Lesson
+from analyzer_lab.text_numbers import abstract
 from babel.messages.catalog import Catalog
 from babel.messages.pofile import write_po
 
@@ -51,6 +59,27 @@ def lesson_fields(lesson: Lesson) -> Iterator[tuple[str, str]]:
         yield f"{lid}.series.{s.name}.undefined", s.undefined
 
 
+def run_fields(lesson: Lesson) -> Iterator[tuple[str, str]]:
+    """``(where, text)`` for each text ``lesson`` writes per run, opened with its defaults
+    and with each preset: its derivation's step titles and prose, its notes; each text
+    with its numbers taken out (``where`` is e.g. ``sphere.derivation.3.title``)."""
+    lid = lesson.id
+    for preset in (None, *(p.name for p in lesson.presets)):
+        params = lesson.open(None, preset).params
+        for i, step in enumerate(lesson.derivation(params), 1):
+            yield f"{lid}.derivation.{i}.title", abstract(step.title)[0]
+            yield f"{lid}.derivation.{i}.text", abstract(step.text)[0]
+        for note in lesson.notes(params):
+            yield f"{lid}.note", abstract(note.text)[0]
+
+
+@functools.cache
+def _run_texts(lesson: Lesson) -> tuple[tuple[str, str], ...]:
+    """:func:`run_fields` of ``lesson`` once per process (building every derivation of
+    every preset takes half a minute)."""
+    return tuple(run_fields(lesson))
+
+
 def lesson_label(lesson: Lesson, language: Language = ENGLISH) -> str:
     """The lesson picker's label in ``language``: chapter, problem, title (in English
     the same as :func:`analyzer_lab.session.session.lesson_label`)."""
@@ -72,7 +101,7 @@ def collect(lessons: Iterable[Lesson] | None = None) -> dict[str, list[str]]:
     """Each distinct non-empty text of the lessons -> the sorted places it is shown."""
     texts: dict[str, set[str]] = {}
     for lesson in all_lessons() if lessons is None else lessons:
-        for where, text in lesson_fields(lesson):
+        for where, text in (*lesson_fields(lesson), *_run_texts(lesson)):
             if text and text.strip():
                 texts.setdefault(text, set()).add(where)
     return {text: sorted(places) for text, places in texts.items()}

@@ -30,6 +30,7 @@ DOMAINS = ("analyzers", "mechanics", "vibration", "servo", "laser5")
 APP_LAYERS = (
     "token_bucket",
     "limits",
+    "text_numbers",
     "i18n",
     "lesson_texts",
     "viser_boundary",

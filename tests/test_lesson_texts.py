@@ -17,6 +17,7 @@ from analyzer_lab.lesson_texts import collect, lesson_label, main, template
 from analyzer_lab.lessons.catalog import all_lessons, get_lesson
 from analyzer_lab.lessons.kit.contract import Lesson
 from analyzer_lab.session import session as session_module
+from analyzer_lab.text_numbers import abstract
 from babel.messages.catalog import Catalog, Message
 from babel.messages.pofile import read_po
 
@@ -29,7 +30,8 @@ CYRILLIC = re.compile(r"[А-Яа-яЁё]")
 #: letters spelled out, functions, solver options).  Any other word of three or more
 #: letters is English left untranslated.
 SYMBOL_WORDS = frozenset(
-    {"alpha", "beta", "omega", "phi", "eps", "sin", "Delta", "solve_ivp", "atol", "rtol"}
+    {"alpha", "beta", "omega", "phi", "Phi", "varpi", "eps", "sin", "cos", "sqrt", "Delta"}
+    | {"solve_ivp", "atol", "rtol"}
 )
 
 
@@ -186,3 +188,50 @@ def test_a_missing_lessons_catalog_is_logged_and_shows_english(
         monkeypatch.undo()
         i18n._load.cache_clear()
     assert resolve("ru")[0].lesson_text("Curve on a sphere") == "Перемещение по кривой на сфере"
+
+
+def run_texts(lesson: Lesson) -> list[str]:
+    """Every text a lesson writes per run (its derivation's step titles and prose, its
+    notes) with its defaults and with each preset, walked here independently of the
+    collector."""
+    texts = []
+    for preset in (None, *(p.name for p in lesson.presets)):
+        params = lesson.open(None, preset).params
+        for step in lesson.derivation(params):
+            texts += [step.title, step.text]
+        texts += [note.text for note in lesson.notes(params)]
+    return [t for t in texts if t and t.strip()]
+
+
+def test_the_template_covers_every_derivation_and_note_of_every_lesson_and_preset() -> None:
+    ids = entries(read(TEMPLATE))
+    texts = [(lesson.id, t) for lesson in all_lessons() for t in run_texts(lesson)]
+    assert len(texts) > 1000
+    assert [(lid, t) for lid, t in texts if abstract(t)[0] not in ids] == []
+    numbered = {abstract(t)[0] for _, t in texts if abstract(t)[1]}
+    assert len(numbered) > 150  # one entry for the texts of every run
+    sphere = ids["sphere R={0}: F = {1} with the numbers of this lesson, φ = t."]
+    assert "sphere.derivation.4.text" in sphere.auto_comments
+
+
+def test_a_run_with_other_numbers_reads_its_texts_in_russian_with_its_own_numbers() -> None:
+    ru = resolve("ru")[0]
+    sphere = get_lesson("sphere")
+    steps = sphere.derivation(sphere.open({"R": 2.75}).params)
+    text = next(s.text for s in steps if s.text.startswith("sphere R="))
+    assert text.startswith("sphere R=2.75: F = ")
+    assert text not in entries(read(TEMPLATE))  # only its template is in the catalog
+    shown = ru.lesson_text(text)
+    assert shown.startswith("сфера R=2.75: F = ") and shown.endswith(
+        "с числами этого урока, φ = t."
+    )
+    assert abstract(shown)[1] == abstract(text)[1]  # the same numbers, with their dot
+    assert ru.lesson_text("Here L = 0.125: the profile is a triangle.") == (
+        "Здесь L = 0.125: профиль — треугольник."
+    )
+    titles = [ru.lesson_text(s.title) for s in steps]
+    assert all(CYRILLIC.search(t) or _symbolic(t) for t in titles), titles
+    assert resolve("en")[0].lesson_text(text) == text
+    assert ru.lesson_text("Here L = 0.5 and more: a text no lesson has") == (
+        "Here L = 0.5 and more: a text no lesson has"
+    )

@@ -205,3 +205,59 @@ def test_the_language_picker_switches_the_page_and_the_browser_keeps_it(
             await other.close()
 
     asyncio.run(go())
+
+
+def _derivation(c: ProtoClient) -> str:
+    return next((h for h in c.html.values() if "al-derivation" in h), "")
+
+
+def test_the_derivation_is_shown_in_the_pages_language(labs: dict[str, Any]) -> None:
+    """Its step titles and prose in Russian on a Russian page (built in a derivation
+    process, numbers as written), English on an English page, and in Russian again once
+    the English page switches."""
+
+    async def go() -> None:
+        ru, _ = await page(labs["ru"], "Движение")
+        en, en_view = await page(labs["en"], "Run")
+        try:
+            await until(lambda: "2. Касание<" in _derivation(ru), 60, "the Russian derivation")
+            shown = _derivation(ru)
+            assert "Tangency" not in shown and "5. Сфера<" in shown
+            assert re.search(r"сфера R=1(\.0)?: F = \S+ с числами этого урока", shown)
+            await until(lambda: "2. Tangency<" in _derivation(en), 60, "the English one")
+            assert "Касание" not in _derivation(en)
+            await en.set("Language", "Русский")
+            await until(lambda: en_view.language.code == "ru", 10, "the page in Russian")
+            await until(lambda: "2. Касание<" in _derivation(en), 60, "the derivation switched")
+        finally:
+            await ru.close()
+            await en.close()
+
+    asyncio.run(go())
+
+
+def test_a_lessons_note_is_shown_in_the_pages_language(labs: dict[str, Any]) -> None:
+    """A note the lesson writes with the values of a run (its start point projected onto
+    a sphere of radius 2), notified as the session does on a restart, is shown in Russian
+    with its own numbers; the session keeps the lesson's English."""
+    sphere = get_lesson("sphere")
+    note = next(n for n in sphere.open({"R": 2.0}).notes if "projected to" in n.text)
+    assert "(2, 0, 0)" in note.text
+
+    async def go() -> None:
+        c, view = await page(labs["ru"], "Движение")
+        try:
+            with view.session.lock:
+                view.session.notify(note.text, "warning")
+            await until(
+                lambda: any("спроецирована в (2, 0, 0)" in h for h in c.html.values()),
+                10,
+                "the note in Russian",
+            )
+            status = next(h for h in c.html.values() if "спроецирована в (" in h)
+            assert "начальная точка (" in status and "projected" not in status
+            assert _notices(view)[-1] == note.text
+        finally:
+            await c.close()
+
+    asyncio.run(go())

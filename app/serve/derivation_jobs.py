@@ -19,6 +19,7 @@ import time
 from dataclasses import dataclass
 from typing import Any
 
+from analyzer_lab.i18n import DEFAULT, language_of
 from analyzer_lab.lessons.catalog import all_lessons
 from analyzer_lab.view.math import derivation_to_html
 
@@ -40,9 +41,11 @@ def too_large(reason: str) -> str:
     )
 
 
-def build(lesson: Any, values: dict[str, Any]) -> str:
-    """The derivation's HTML (or the too-large message), in this process."""
-    content = derivation_to_html(lesson.derivation(lesson.open(values).params))
+def build(lesson: Any, values: dict[str, Any], language: str = DEFAULT) -> str:
+    """The derivation's HTML (or the too-large message) in the page's ``language`` (a
+    code), in this process."""
+    steps = lesson.derivation(lesson.open(values).params)
+    content = derivation_to_html(steps, text=language_of(language).lesson_text)
     if len(content) > MAX_DERIVATION_BYTES:
         return too_large(
             f"{len(content) / 1e6:.1f} MB of formulas (at most {MAX_DERIVATION_BYTES / 1e6:.1f} MB)"
@@ -50,13 +53,13 @@ def build(lesson: Any, values: dict[str, Any]) -> str:
     return content
 
 
-def _child(conn: Any, lesson_id: str, values: dict[str, Any]) -> None:
+def _child(conn: Any, lesson_id: str, values: dict[str, Any], language: str) -> None:
     try:
         os.nice(10)  # the server's frame loop first
     except OSError:
         pass
     try:
-        conn.send(("ok", build(LESSONS[lesson_id], values)))
+        conn.send(("ok", build(LESSONS[lesson_id], values, language)))
     except Exception as exc:  # any formula: the page says why
         log.warning("the derivation of %s failed", lesson_id, exc_info=True)
         conn.send(("error", f"{type(exc).__name__}: {exc}"[:300]))
@@ -100,12 +103,15 @@ class DerivationJobs:
     def full(self) -> bool:
         return len(self.jobs) >= self.max_jobs
 
-    def start(self, owner: Any, lesson_id: str, values: dict[str, Any]) -> None:
-        """Start building ``owner``'s derivation (the caller checked :meth:`busy`/:meth:`full`)."""
+    def start(
+        self, owner: Any, lesson_id: str, values: dict[str, Any], language: str = DEFAULT
+    ) -> None:
+        """Start building ``owner``'s derivation in its page's ``language`` (the caller
+        checked :meth:`busy`/:meth:`full`)."""
         recv, send = self.ctx.Pipe(duplex=False)
         proc = self.ctx.Process(
             target=_child,
-            args=(send, lesson_id, values),
+            args=(send, lesson_id, values, language),
             name="analyzer-lab-derivation",
             daemon=True,
         )

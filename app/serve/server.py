@@ -38,6 +38,7 @@ from analyzer_lab.classroom.instructor_code import CodeError, class_code
 from analyzer_lab.classroom.log_limit import LogLimiter, left_out_text
 from analyzer_lab.classroom.room import Classroom
 from analyzer_lab.classroom.store.sql_store import redact
+from analyzer_lab.i18n import DEFAULT, ENGLISH, Language
 from analyzer_lab.i18n import load_all as load_catalogs
 from analyzer_lab.i18n import resolve as resolve_language
 from analyzer_lab.lessons.kit.contract import Lesson, Params
@@ -507,8 +508,8 @@ class LabServer:
             del self._deriving[owner]
             _, rev, key = running
             DERIVATION_CACHE.put(key, content)
-            with session.lock:
-                if session.revision == rev and not view.closed:
+            with session.lock:  # a page switched to another language builds it again
+                if session.revision == rev and not view.closed and key[1] == view.language.code:
                     view.derivation_due = None
                     view.set_derivation(content)
             return
@@ -517,16 +518,17 @@ class LabServer:
         with session.lock:
             lesson, params, rev = session.lesson, session.params, session.revision
             values = session.raw_values()
-        key = params_key(lesson, params)
+        code = view.language.code
+        key = (params_key(lesson, params), code)
         content = DERIVATION_CACHE.get(key)
         if content is None and DerivationJobs.can_run(lesson):
             if not self.derivations.full():
-                self.derivations.start(owner, lesson.id, values)
+                self.derivations.start(owner, lesson.id, values, code)
                 self._deriving[owner] = (view, rev, key)
             return
         if content is None:
             try:
-                content = DERIVATION_CACHE.get_or_make(key, lambda: build(lesson, values))
+                content = DERIVATION_CACHE.get_or_make(key, lambda: build(lesson, values, code))
             except Exception as exc:  # the lesson's own code: the page says why, the log how
                 log.warning("page %s: the derivation failed", view.client.client_id, exc_info=True)
                 content = f'<div class="al-error">The derivation could not be built: {html.escape(str(exc))}</div>'
@@ -535,11 +537,13 @@ class LabServer:
                 view.derivation_due = None
                 view.set_derivation(content)
 
-    def derivation_html(self, lesson: Lesson, params: Params) -> str:
-        """The derivation of ``lesson`` at ``params`` as HTML, from the cache the pages
-        share (built in the calling thread when it is not there)."""
+    def derivation_html(self, lesson: Lesson, params: Params, language: Language = ENGLISH) -> str:
+        """The derivation of ``lesson`` at ``params`` as HTML in ``language``, from the
+        cache the pages share (keyed by the values and the language; built in the calling
+        thread when it is not there)."""
         return DERIVATION_CACHE.get_or_make(
-            params_key(lesson, params), lambda: derivation_to_html(lesson.derivation(params))
+            (params_key(lesson, params), language.code),
+            lambda: derivation_to_html(lesson.derivation(params), text=language.lesson_text),
         )
 
     def warm_up(self) -> None:
@@ -570,7 +574,7 @@ class LabServer:
                 setup = lesson.open(scene_of=lesson_scene)
                 setup.stepper.advance(0.01)
                 setup.scene  # built once here and kept in the scene cache for the first page
-                key = params_key(lesson, setup.params)
+                key = (params_key(lesson, setup.params), DEFAULT)
                 DERIVATION_CACHE.get_or_make(key, lambda: build(lesson, {}))
             except Exception:  # the lesson's own code: its first page says what is wrong
                 log.warning("warming up the lesson %s failed", lesson.id, exc_info=True)

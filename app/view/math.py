@@ -15,7 +15,7 @@ from __future__ import annotations
 import html
 import logging
 import re
-from collections.abc import Iterable, Sequence
+from collections.abc import Callable, Iterable, Sequence
 from html.parser import HTMLParser
 
 import sympy as sp
@@ -353,13 +353,20 @@ def _tag_of(note: str | None) -> tuple[str, str]:
     return "reconstructed", note
 
 
-def step_to_html(step: DerivationStep, index: int | None = None) -> str:
+def _as_written(text: str) -> str:
+    return text
+
+
+def step_to_html(
+    step: DerivationStep, index: int | None = None, text: Callable[[str], str] = _as_written
+) -> str:
     """One derivation step: heading (title, source equation number, "reconstructed" tag),
-    prose, then each statement as a display ``<math>``."""
+    prose, then each statement as a display ``<math>``; ``text`` puts the title and the
+    prose into the page's language (e.g. :meth:`analyzer_lab.i18n.Language.lesson_text`)."""
     esc = html.escape
     head = f"{index}. " if index is not None else ""
     parts = ['<div class="al-step" style="margin:0 0 12px 0">']
-    parts.append(f"<div><b>{esc(head)}{prose_html(step.title)}</b>")
+    parts.append(f"<div><b>{esc(head)}{prose_html(text(step.title))}</b>")
     if step.source:
         parts.append(f'<span class="al-source" style="{SOURCE_STYLE}">{esc(step.source)}</span>')
     tag, why = _tag_of(step.reconstructed)
@@ -369,7 +376,9 @@ def step_to_html(step: DerivationStep, index: int | None = None) -> str:
         )
     parts.append("</div>")
     if step.text:
-        parts.append(f'<div style="font-size:0.9em;margin:2px 0">{prose_html(step.text)}</div>')
+        parts.append(
+            f'<div style="font-size:0.9em;margin:2px 0">{prose_html(text(step.text))}</div>'
+        )
     for item in _as_list(step.math):
         parts.append(formula_html(item))
     if step.svg:
@@ -384,9 +393,12 @@ def step_to_html(step: DerivationStep, index: int | None = None) -> str:
     return "".join(parts)
 
 
-def derivation_to_html(steps: Iterable[DerivationStep], header: str = "") -> str:
-    """The whole derivation as one HTML block (numbered steps)."""
-    body = "".join(step_to_html(s, i) for i, s in enumerate(steps, 1))
+def derivation_to_html(
+    steps: Iterable[DerivationStep], header: str = "", text: Callable[[str], str] = _as_written
+) -> str:
+    """The whole derivation as one HTML block (numbered steps), its titles and prose
+    through ``text`` (the page's language; as written by default)."""
+    body = "".join(step_to_html(s, i, text) for i, s in enumerate(steps, 1))
     top = f'<div style="margin-bottom:8px">{html.escape(header)}</div>' if header else ""
     return (
         f'<div class="al-derivation" style="font-size:0.95em;line-height:1.35">'

@@ -282,7 +282,7 @@ class SessionView:
         self.clock = Transport(gui, self.guard, lambda: self.session, self._played, self.language)
         self.transport, self.speed_dd = self.clock.buttons, self.clock.speed
         self.readout = gui.add_html(readout_html(self.session, self.language))
-        self.status = gui.add_html(status_html(self.session))
+        self.status = gui.add_html(status_html(self.session, self.language))
         self.tabs = gui.add_tab_group()
         self.tab_lesson, self.tab_controls, self.tab_plots, self.tab_export = (
             self.tabs.add_tab(tr(name)) for name in TABS
@@ -448,6 +448,7 @@ class SessionView:
         self._drawn_lesson = None  # the controls, vectors and playback: rebuilt in it
         self._last_readout = ""
         self._shown_notice = None
+        self.derivation_due = time.monotonic()  # its prose in the new language
         self.redraw()
 
     def _on_preset(self, event: Any) -> None:
@@ -645,7 +646,8 @@ class SessionView:
         s = self.session
         self.derivation_due = None
         try:
-            content = derivation_to_html(s.lesson.derivation(s.params))
+            steps = s.lesson.derivation(s.params)
+            content = derivation_to_html(steps, text=self.language.lesson_text)
         except Exception as exc:  # any formula: the page says why
             log.warning(
                 "page %s: the derivation of %s failed",
@@ -678,7 +680,7 @@ class SessionView:
                 try:
                     self.client.add_notification(
                         "Analyzer Lab",
-                        notice[1],
+                        self.language.lesson_text(notice[1]),  # a lesson's note translated
                         auto_close_seconds=6.0,
                         color="red" if notice[0] == "error" else "yellow",
                     )
@@ -686,7 +688,7 @@ class SessionView:
                     log.debug("page %s: notification not shown", self.client.client_id)
             self._shown_notice = notice
             self._shown_frame_message = fmsg
-            self.status.content = status_html(self.session)
+            self.status.content = status_html(self.session, self.language)
 
     def tick(self, wall_dt: float, atomic: bool = True) -> None:
         """One frame of the server loop (caller holds the session lock).

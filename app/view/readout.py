@@ -47,11 +47,12 @@ def readout_html(s: Session, language: Language = ENGLISH) -> str:
     )
 
 
-def status_html(s: Session) -> str:
-    """The newest notice and the frame's message."""
+def status_html(s: Session, language: Language = ENGLISH) -> str:
+    """The newest notice and the frame's message (a lesson's note in ``language``)."""
     parts = []
     if s.notice is not None:
         level, text = s.notice
+        text = language.lesson_text(text)
         color = LEVEL_COLORS.get(level, "#333")
         parts.append(
             f'<div class="al-message al-{level}" style="color:{color};font-size:0.9em">{html.escape(text)}</div>'
