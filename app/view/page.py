@@ -154,7 +154,9 @@ class SessionView:
                     fn(event)
                 except ParamError as exc:
                     field = self._field_of(exc)
-                    if field is None or not self.controls.show_error(field, str(exc)):
+                    if field is None or not self.controls.show_error(
+                        field, self.language.message(exc)
+                    ):
                         self.session.notify(self._refused(exc), "error")
                     self.sync_widgets()
                 except LabError as exc:
@@ -179,7 +181,7 @@ class SessionView:
 
     def _refused(self, exc: Exception) -> str:
         """The notice of a refused input, in the page's language."""
-        return self.language.gettext("refused: {reason}").format(reason=exc)
+        return self.language.gettext("refused: {reason}").format(reason=self.language.message(exc))
 
     def _field_of(self, exc: ParamError) -> str | None:
         """The field a refusal belongs to: the one being edited (a cross-field check
@@ -282,7 +284,7 @@ class SessionView:
         self.clock = Transport(gui, self.guard, lambda: self.session, self._played, self.language)
         self.transport, self.speed_dd = self.clock.buttons, self.clock.speed
         self.readout = gui.add_html(readout_html(self.session, self.language))
-        self.status = gui.add_html(status_html(self.session))
+        self.status = gui.add_html(status_html(self.session, self.language))
         self.tabs = gui.add_tab_group()
         self.tab_lesson, self.tab_controls, self.tab_plots, self.tab_export = (
             self.tabs.add_tab(tr(name)) for name in TABS
@@ -678,7 +680,7 @@ class SessionView:
                 try:
                     self.client.add_notification(
                         "Analyzer Lab",
-                        notice[1],
+                        self.language.message(notice[1]),
                         auto_close_seconds=6.0,
                         color="red" if notice[0] == "error" else "yellow",
                     )
@@ -686,7 +688,7 @@ class SessionView:
                     log.debug("page %s: notification not shown", self.client.client_id)
             self._shown_notice = notice
             self._shown_frame_message = fmsg
-            self.status.content = status_html(self.session)
+            self.status.content = status_html(self.session, self.language)
 
     def tick(self, wall_dt: float, atomic: bool = True) -> None:
         """One frame of the server loop (caller holds the session lock).

@@ -22,7 +22,8 @@ def readout_html(s: Session, language: Language = ENGLISH) -> str:
     playing = html.escape(tr("playing"))
     state = playing if s.playing else html.escape(tr("paused"))
     if s.playing and s.slowed:
-        state = f'{playing} <span class="al-slow" style="color:#8a5a00">({html.escape(s.slow_text())})</span>'
+        slow = html.escape(language.message(s.slow_text()))
+        state = f'{playing} <span class="al-slow" style="color:#8a5a00">({slow})</span>'
     units = {x.name: x.unit for x in s.lesson.series}
     values = []
     for name in s.lesson.readout:
@@ -47,11 +48,12 @@ def readout_html(s: Session, language: Language = ENGLISH) -> str:
     )
 
 
-def status_html(s: Session) -> str:
-    """The newest notice and the frame's message."""
+def status_html(s: Session, language: Language = ENGLISH) -> str:
+    """The newest notice (in the page's language) and the frame's message."""
     parts = []
     if s.notice is not None:
-        level, text = s.notice
+        level, message = s.notice
+        text = language.message(message)
         color = LEVEL_COLORS.get(level, "#333")
         parts.append(
             f'<div class="al-message al-{level}" style="color:{color};font-size:0.9em">{html.escape(text)}</div>'
