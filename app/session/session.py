@@ -366,7 +366,11 @@ class Session:
         self.playing = False
 
     def set_speed(self, speed: Any) -> None:
-        speeds = ", ".join(f"{s:g}x" for s in SPEEDS)
+        # the speeds as numbers (a page writes them with its decimal sign)
+        speeds = Message(
+            ", ".join(f"{{s{i}:g}}x" for i in range(len(SPEEDS))),
+            **{f"s{i}": s for i, s in enumerate(SPEEDS)},
+        )
         try:
             value = float(speed)
         except (TypeError, ValueError):
