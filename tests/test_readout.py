@@ -80,6 +80,8 @@ def test_a_refused_value_and_the_end_of_the_run_in_the_pages_language(
                 "the notice on the page",
             )
             assert reached in notice
+            # the hidden marker the page's <html lang> follows (tests/test_browser_language.py)
+            assert f'data-al-lang="{code}"' in next(h for h in c.html.values() if "al-message" in h)
             # the session keeps the English text (logs, exports, the API)
             assert "t = 10 s reached (the textbook's run)" in view.session.notice[1]
         finally:

@@ -450,6 +450,7 @@ class SessionView:
         self._drawn_lesson = None  # the controls, vectors and playback: rebuilt in it
         self._last_readout = ""
         self._shown_notice = None
+        self.status.content = status_html(self.session, language)  # and the page's lang
         self.redraw()
 
     def _on_preset(self, event: Any) -> None:

@@ -7,6 +7,7 @@ import html
 from analyzer_lab.i18n import ENGLISH, Language
 from analyzer_lab.session.session import Session
 from analyzer_lab.view.notation import name_html, unit_text
+from analyzer_lab.viser_boundary import language_marker
 
 LEVEL_COLORS = {"info": "#1c4f8a", "warning": "#8a5a00", "error": "#a61b1b"}
 
@@ -49,8 +50,9 @@ def readout_html(s: Session, language: Language = ENGLISH) -> str:
 
 
 def status_html(s: Session, language: Language = ENGLISH) -> str:
-    """The newest notice (in the page's language) and the frame's message."""
-    parts = []
+    """The newest notice (in the page's language) and the frame's message; with the
+    hidden marker of the page's language (its ``<html lang>``)."""
+    parts = [language_marker(language.code)]
     if s.notice is not None:
         level, message = s.notice
         text = language.message(message)
@@ -63,7 +65,9 @@ def status_html(s: Session, language: Language = ENGLISH) -> str:
             '<div class="al-frame-message" style="color:#8a5a00;font-size:0.9em">'
             f"{html.escape(s.frame.message)}</div>"
         )
-    return "".join(parts) or '<div class="al-message"></div>'
+    if len(parts) == 1:
+        parts.append('<div class="al-message"></div>')
+    return "".join(parts)
 
 
 def preset_note_html(s: Session, language: Language = ENGLISH) -> str:
