@@ -13,12 +13,17 @@ from __future__ import annotations
 from collections.abc import Mapping
 from typing import Any, Protocol
 
-from analyzer_lab.lessons.kit.formula import plain_number
-
 
 def N_(message: str) -> str:
     """Mark ``message`` (a template) for extraction; it is translated where it is shown."""
     return message
+
+
+def _plain(value: float) -> str:
+    """A number as a person types it (``0.25``, ``3``; as ``plain_number`` of the formula
+    parser, without importing it)."""
+    x = float(value)
+    return str(int(x)) if x.is_integer() and abs(x) < 1e16 else repr(x)
 
 
 class Number:
@@ -31,7 +36,7 @@ class Number:
         self.decimal = decimal
 
     def __format__(self, spec: str) -> str:
-        text = format(self.value, spec) if spec else plain_number(self.value)
+        text = format(self.value, spec) if spec else _plain(self.value)
         return text.replace(".", self.decimal) if self.decimal != "." else text
 
 
