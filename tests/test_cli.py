@@ -171,3 +171,22 @@ def test_the_command_line_speaks_russian_under_lang_ru_and_english_by_default(tm
     ru_run, en_run = cli(*args, lang="ru_RU.UTF-8"), cli(*args)
     assert ru_run.returncode == 0 and ru_run.stdout == en_run.stdout
     assert ru_run.stdout.startswith("t,x,y,z")
+
+
+def test_the_russian_readme_gives_the_two_start_commands_and_readme_links_it():
+    """README.ru.md's start commands are commands the parser takes (serve, --lang ru)."""
+    import pathlib
+    import shlex
+
+    from analyzer_lab.serve.cli import build_parser
+
+    root = pathlib.Path(__file__).resolve().parents[1]
+    text = (root / "README.ru.md").read_text(encoding="utf-8")
+    commands = [l for l in text.splitlines() if l.startswith("analyzer-lab serve")]
+    assert commands == [
+        "analyzer-lab serve --no-browser",
+        "analyzer-lab serve --lang ru --no-browser",
+    ]
+    langs = [build_parser().parse_args(shlex.split(c)[1:]).lang for c in commands]
+    assert langs == [None, "ru"]
+    assert "(README.ru.md)" in (root / "README.md").read_text(encoding="utf-8")
