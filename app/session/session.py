@@ -168,11 +168,14 @@ class Session:
     def notify(self, text: str, level: str = "info", about_run: bool = False) -> None:
         """A message for the user (the view shows the newest, :attr:`notice`): a
         :class:`Message` is kept as it is (the page shows it in its own language), other
-        text as one line of at most 500 characters.
+        (or longer) text as one line of at most 500 characters.
 
         ``about_run``: it speaks of the run now on screen (its end was reached): a reset
         withdraws it, so a run started again is not told it ended."""
-        entry = (level, text if isinstance(text, Message) else str(text)[:500])
+        entry = (
+            level,
+            text if isinstance(text, Message) and len(text) <= 500 else str(text)[:500],
+        )
         self.notices.append(entry)
         self._run_notice = entry if about_run else None
 
