@@ -26,6 +26,7 @@ import re
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from analyzer_lab.lessons.kit.message import Message
 from analyzer_lab.text_numbers import abstract, restore
 from babel.messages.catalog import Catalog
 from babel.messages.mofile import write_mo
@@ -177,6 +178,23 @@ class Language:
 
     def ngettext(self, singular: str, plural: str, n: int) -> str:
         return self.catalog.ngettext(singular, plural, n)
+
+    def message(self, text: object) -> str:
+        """A message in this language: a :class:`Message` (a session's notice, the refusal
+        an error carries) with its template translated and its numbers written as the
+        language writes them; other text (or an error's) as it is."""
+        if isinstance(text, BaseException) and text.args and isinstance(text.args[0], Message):
+            text = text.args[0]
+        if isinstance(text, Message):
+            return text.render(self)
+        return str(text)
+
+    def notice(self, text: object) -> str:
+        """A notice a page shows in this language: a session's :class:`Message`
+        (:meth:`message`), or a lesson's note (:meth:`lesson_text`)."""
+        if isinstance(text, Message) or isinstance(text, BaseException):
+            return self.message(text)
+        return self.lesson_text(str(text))
 
     def unit(self, unit: str) -> str:
         """A unit as the language writes it (``s`` is ``с`` in Russian); others as given."""

@@ -41,6 +41,9 @@ def test_a_russian_page_at_1400x900(ru_tab: Page) -> None:
     page = ru_tab.page
     tabs = [t.strip() for t in page.get_by_role("tab").all_inner_texts()]
     assert tabs == ["Урок", "Параметры", "Графики", "Экспорт"]
+    wait_until(
+        lambda: page.evaluate("document.documentElement.lang") == "ru", 10, '<html lang="ru">'
+    )
     for name in ("Пуск", "Пауза", "Шаг", "Сброс"):
         assert page.get_by_role("button", name=name, exact=True).count() == 1, name
     for label in ("Пример", "Скорость", "перейти к t [с]"):
@@ -83,6 +86,8 @@ def test_the_language_picker_in_a_browser_and_after_a_reload(en_lab: Any, browse
     tab = Page(en_lab, browser, context)
     try:
         assert tab.options("Language") == ["English", "Русский"]
+        lang = "document.documentElement.lang"
+        wait_until(lambda: tab.page.evaluate(lang) == "en", 10, '<html lang="en">')
         tab.select("Language", "Русский")
         tab.label("Урок").wait_for(timeout=20000)
         wait_until(
@@ -94,6 +99,7 @@ def test_the_language_picker_in_a_browser_and_after_a_reload(en_lab: Any, browse
             "the tabs in Russian",
         )
         tab.label("Язык").wait_for(timeout=10000)
+        wait_until(lambda: tab.page.evaluate(lang) == "ru", 10, 'the page\'s lang follows: "ru"')
         tab.tab("Параметры")
         tab.page.get_by_text("Векторы", exact=True).first.wait_for(timeout=10000)
         _fits(tab, "after the switch")
@@ -108,6 +114,7 @@ def test_the_language_picker_in_a_browser_and_after_a_reload(en_lab: Any, browse
         assert en_lab.views[max(new)].language.code == "ru"
         tab.select("Язык", "English")
         tab.label("Lesson").wait_for(timeout=20000)
+        wait_until(lambda: tab.page.evaluate(lang) == "en", 10, 'the page\'s lang back to "en"')
         assert not [e for e in tab.errors if "pageerror" in e]
     finally:
         tab.close()

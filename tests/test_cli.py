@@ -3,19 +3,26 @@
 import csv
 import io
 import json
+import os
 import subprocess
 import sys
 
 import numpy as np
 import pytest
 
+#: The environment variables of the user's language (the command line speaks it).
+LANGUAGE_VARIABLES = ("LC_ALL", "LC_MESSAGES", "LANG", "ANALYZER_LAB_LANG")
 
-def cli(*args, timeout=300):
+
+def cli(*args, timeout=300, lang="C.UTF-8"):
+    """``python -m analyzer_lab ...`` with ``LANG=lang`` (English unless told)."""
+    env = {k: v for k, v in os.environ.items() if k not in LANGUAGE_VARIABLES}
     return subprocess.run(
         [sys.executable, "-m", "analyzer_lab", *args],
         capture_output=True,
         text=True,
         timeout=timeout,
+        env={**env, "LANG": lang},
     )
 
 
@@ -139,3 +146,47 @@ def test_serve_lang_ru_makes_new_pages_russian(serve):
             await c.close()
 
     asyncio.run(go())
+
+
+def test_the_command_line_speaks_russian_under_lang_ru_and_english_by_default(tmp_path):
+    """``LANG=ru_RU.UTF-8`` (or ``serve --lang ru``): the command's messages and errors in
+    Russian, numbers with a decimal comma; the data it writes stays machine-readable."""
+    ru = cli("run", "sphere", "--set", "h=0.5", lang="ru_RU.UTF-8")
+    assert ru.returncode == 2 and ru.stdout == ""
+    assert ru.stderr.strip() == "analyzer-lab: ошибка: h: 0,5 больше максимума 0,1 с"
+    en = cli("run", "sphere", "--set", "h=0.5")
+    assert en.stderr.strip() == "analyzer-lab: error: h: 0.5 is above the maximum 0.1 s"
+    # a language the lab does not speak: English, without a word about it
+    de = cli("run", "sphere", "--set", "h=0.5", lang="de_DE.UTF-8")
+    assert de.stderr == en.stderr
+    workers = ["serve", "--workers", "99", "--no-browser", "--data", str(tmp_path)]
+    ru = cli(*workers, "--lang", "ru")
+    assert ru.returncode == 2
+    assert "analyzer-lab: ошибка: --workers должно быть в 1..64, получено 99" in ru.stderr
+    assert "error" not in ru.stderr
+    en = cli(*workers)
+    assert "analyzer-lab: error: --workers must be in 1..64, got 99" in en.stderr
+    # the run's data is the same in both languages (a dot, the ASCII column names)
+    args = ("run", "sphere", "--preset", "example-1.1", "--t-end", "1", "--format", "csv")
+    ru_run, en_run = cli(*args, lang="ru_RU.UTF-8"), cli(*args)
+    assert ru_run.returncode == 0 and ru_run.stdout == en_run.stdout
+    assert ru_run.stdout.startswith("t,x,y,z")
+
+
+def test_the_russian_readme_gives_the_two_start_commands_and_readme_links_it():
+    """README.ru.md's start commands are commands the parser takes (serve, --lang ru)."""
+    import pathlib
+    import shlex
+
+    from analyzer_lab.serve.cli import build_parser
+
+    root = pathlib.Path(__file__).resolve().parents[1]
+    text = (root / "README.ru.md").read_text(encoding="utf-8")
+    commands = [l for l in text.splitlines() if l.startswith("analyzer-lab serve")]
+    assert commands == [
+        "analyzer-lab serve --no-browser",
+        "analyzer-lab serve --lang ru --no-browser",
+    ]
+    langs = [build_parser().parse_args(shlex.split(c)[1:]).lang for c in commands]
+    assert langs == [None, "ru"]
+    assert "(README.ru.md)" in (root / "README.md").read_text(encoding="utf-8")

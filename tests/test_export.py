@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import csv
 import io
+import re
 
 import numpy as np
 import pytest
@@ -82,6 +83,24 @@ def test_replay_is_titled_captioned_and_capped() -> None:
     assert "<title>Analyzer Lab replay: Problem 1.4 Curve on a sphere</title>" in page
     assert 'id="al-caption"' in page and "family" in page and "<svg" in page
     assert len(data) < 25e6
+
+
+def test_a_russian_replay_has_russian_captions_and_the_same_data() -> None:
+    from analyzer_lab.i18n import language_of
+
+    s = _session("sphere", "example-1.4-xy")
+    s.play()
+    for _ in range(60):
+        s.tick(1 / 36)
+    english = export_run(s, "html")[1].decode()
+    russian = export_run(s, "html", language=language_of("ru"))[1].decode()
+    assert '<html lang="ru"' in russian and '<html lang="ru"' not in english
+    assert "<title>Повтор Analyzer Lab: Задача 1.4" in russian
+    assert "пример: example-1.4-xy" in russian and "preset: example-1.4-xy" in english
+    assert re.search(r"t = 0 \.\.\. \d+,\d+ с", russian)
+    assert re.search(r"t = 0 \.\.\. \d+\.\d+ s", english)
+    # the exports of data stay machine-readable: CSV the same in every language
+    assert export_run(s, "csv") == export_run(s, "csv", language=language_of("ru"))
 
 
 def test_a_long_family_run_is_thinned_to_the_value_cap_and_says_so() -> None:

@@ -91,12 +91,19 @@ def test_a_russian_page_shows_the_plot_titles_in_russian() -> None:
         setup = cd.open(None, "pendulum-drift")
         frame = setup.stepper.reset()
         panel = PlotPanel(server.gui)
-        panel.build(cd, setup.params, RunLog(), frame, "pendulum-drift", resolve("ru")[0])
+        folder = panel.build(cd, setup.params, RunLog(), frame, "pendulum-drift", resolve("ru")[0])
         titles = [chart.handle.title for chart in panel.charts]
         assert "Дрейф связей" in titles and "Constraint drift" not in titles
         assert "Длина стержня" in panel.missing  # a chart not defined, named in Russian
+        # the charts' own chrome: the folder, the note, the time axis
+        assert panel.note.content.count("Не определены в этом примере: “Длина стержня”")
+        assert all(chart.handle.axes[0]["label"] == "t [с]" for chart in panel.charts)
         english = PlotPanel(server.gui)
-        english.build(cd, setup.params, RunLog(), frame, "pendulum-drift")
+        english_folder = english.build(cd, setup.params, RunLog(), frame, "pendulum-drift")
         assert "Constraint drift" in [chart.handle.title for chart in english.charts]
+        assert "Not defined for this preset:" in english.note.content
+        assert all(chart.handle.axes[0]["label"] == "t [s]" for chart in english.charts)
+        assert folder.label == "Графики (весь прогон)"
+        assert english_folder.label == "Live plots (the whole run)"
     finally:
         server.stop()

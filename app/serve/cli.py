@@ -16,6 +16,9 @@ import time
 from collections.abc import Sequence
 from typing import TYPE_CHECKING
 
+from analyzer_lab.i18n import ENGLISH, N_, Language, resolve
+from analyzer_lab.lessons.kit.message import Message
+
 if TYPE_CHECKING:
     from analyzer_lab.classroom.store.grades import Feedback
 
@@ -26,8 +29,31 @@ EXIT_USAGE = 2
 STARTED = time.perf_counter()
 
 
-def _fail(message: str) -> int:
-    print(f"analyzer-lab: error: {message}", file=sys.stderr)
+#: The environment variables that name the user's language, the first set one wins (as
+#: gettext reads them).
+LANGUAGE_VARIABLES = ("LC_ALL", "LC_MESSAGES", "LANG")
+#: The language of the command's messages (:func:`command_language`); set by :func:`main`.
+LANGUAGE: Language = ENGLISH
+
+
+def command_language(lang: str | None, environ: dict[str, str]) -> tuple[Language, str | None]:
+    """The language of the command line: ``--lang`` (an unknown code: English, with a
+    notice), else the environment's (``LC_ALL``, ``LC_MESSAGES``, ``LANG``; one the lab
+    does not speak: English, without a notice), English by default."""
+    if lang:
+        return resolve(lang)
+    code = next((environ[k] for k in LANGUAGE_VARIABLES if environ.get(k)), None)
+    return resolve(code)[0], None
+
+
+def say(text: object) -> str:
+    """A message (or an error's) in the command's language."""
+    return LANGUAGE.message(text)
+
+
+def _fail(message: object) -> int:
+    text = LANGUAGE.gettext("analyzer-lab: error: {message}").format(message=say(message))
+    print(text, file=sys.stderr)
     return EXIT_USAGE
 
 
@@ -61,21 +87,28 @@ def cmd_run(args: argparse.Namespace) -> int:
     from analyzer_lab.serve.headless import AnalyzerLabError, find_lesson, run_lesson
 
     if args.out and os.path.islink(args.out):
-        return _fail(f"--out {args.out}: is a symbolic link; refused (name the file itself)")
+        return _fail(
+            Message(
+                N_("--out {path}: is a symbolic link; refused (name the file itself)"),
+                path=args.out,
+            )
+        )
     try:
         lesson = find_lesson(args.lesson)
         result = run_lesson(lesson, args.preset, _parse_sets(args.set or []), args.t_end)
     except (AnalyzerLabError, ValueError) as exc:
-        return _fail(str(exc))
+        return _fail(exc)
     text = json.dumps(result.to_json_dict()) if args.format == "json" else result.to_csv()
     for m in result.messages:
-        print(f"note: {m}", file=sys.stderr)
+        print(LANGUAGE.gettext("note: {message}").format(message=say(m)), file=sys.stderr)
     if args.out:
         try:  # a link put there since the check is not followed either
             fd = os.open(args.out, os.O_WRONLY | os.O_CREAT | os.O_TRUNC | os.O_NOFOLLOW, 0o644)
         except OSError as exc:
             reason = "is a symbolic link" if exc.errno == errno.ELOOP else exc.strerror
-            return _fail(f"--out {args.out}: {reason}; refused")
+            return _fail(
+                Message(N_("--out {path}: {reason}; refused"), path=args.out, reason=reason)
+            )
         with os.fdopen(fd, "w", encoding="utf-8") as fh:
             fh.write(text)
     else:
@@ -92,7 +125,7 @@ def cmd_check(args: argparse.Namespace) -> int:
     try:
         chosen = [find_lesson(i) for i in args.lessons] if args.lessons else list(all_lessons())
     except AnalyzerLabError as exc:
-        return _fail(str(exc))
+        return _fail(exc)
     rows = []
     failed = 0
     jobs = claim_jobs(chosen)
@@ -112,7 +145,11 @@ def cmd_check(args: argparse.Namespace) -> int:
                 f"{'PASS' if r['pass'] else 'FAIL'}  {r['lesson']}: {r['statement']}  [{r['source']}]"
             )
             print(f"      expected {r['expected']}; got {r['got']}")
-        print(f"{len(rows) - failed}/{len(rows)} claims pass")
+        print(
+            LANGUAGE.gettext("{passed}/{total} claims pass").format(
+                passed=len(rows) - failed, total=len(rows)
+            )
+        )
     return 1 if failed else 0
 
 
@@ -138,12 +175,16 @@ def cmd_serve(args: argparse.Namespace) -> int:
     # the language of new pages: --lang, else the one a front door gave its workers
     language, notice = resolve_language(getattr(args, "lang", None) or os.environ.get(LANGUAGE_ENV))
     if notice:
-        print(f"analyzer-lab: note: {notice}", file=sys.stderr, flush=True)
+        print(
+            LANGUAGE.gettext("analyzer-lab: note: {message}").format(message=notice),
+            file=sys.stderr,
+            flush=True,
+        )
     os.environ[LANGUAGE_ENV] = language.code  # the workers inherit it
     workers = getattr(args, "workers", 1)  # the workers inherit the assignments folder
     bus = getattr(args, "bus", None)
     if not 1 <= workers <= 64:
-        return _fail(f"--workers must be in 1..64, got {workers}")
+        return _fail(Message(N_("--workers must be in 1..64, got {workers}"), workers=workers))
     if bus is not None and bus != "local":
         from analyzer_lab.classroom.bus import BusError, parse_redis_url
 
@@ -160,7 +201,14 @@ def cmd_serve(args: argparse.Namespace) -> int:
         try:
             early = make_viser_server(args.host, args.port, False)
         except OSError as exc:
-            return _fail(f"cannot listen on {args.host}:{args.port}: {exc}")
+            return _fail(
+                Message(
+                    N_("cannot listen on {host}:{port}: {error}"),
+                    host=args.host,
+                    port=str(args.port),
+                    error=str(exc),
+                )
+            )
         served = time.perf_counter() - STARTED
     from analyzer_lab.serve.course_record import (
         CourseRecordError,
@@ -183,8 +231,13 @@ def cmd_serve(args: argparse.Namespace) -> int:
     if workers > 1:
         if bus is None or bus == "local":
             return _fail(
-                "several workers share the classroom through Redis: add --bus redis://HOST:PORT "
-                "(Debian: apt-get install redis-server, then --bus redis://127.0.0.1:6379)"
+                Message(
+                    N_(
+                        "several workers share the classroom through Redis: add --bus"
+                        " redis://HOST:PORT (Debian: apt-get install redis-server, then --bus"
+                        " redis://127.0.0.1:6379)"
+                    )
+                )
             )
         from analyzer_lab.serve.frontdoor import serve_workers
 
@@ -263,7 +316,9 @@ def cmd_grades(args: argparse.Namespace) -> int:
     from analyzer_lab.serve.course_record import CourseRecordError, open_course, resolve
 
     if args.feedback and args.format != "moodle":
-        return _fail("--feedback adds Moodle's feedback columns: use it with --format moodle")
+        return _fail(
+            Message(N_("--feedback adds Moodle's feedback columns: use it with --format moodle"))
+        )
     try:
         feedback = _feedback_texts(args.assignments) if args.feedback else None
         course = open_course(resolve(args.data, args.db, args.class_name), create=False)
@@ -279,7 +334,9 @@ def cmd_grades(args: argparse.Namespace) -> int:
             with open(args.out, "w", encoding="utf-8", newline="") as fh:
                 fh.write(text)
         except OSError as exc:
-            return _fail(f"cannot write {args.out}: {exc.strerror}")
+            return _fail(
+                Message(N_("cannot write {path}: {reason}"), path=args.out, reason=exc.strerror)
+            )
     else:
         sys.stdout.write(text)
     return 0
@@ -442,11 +499,15 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
+    global LANGUAGE
     parser = build_parser()
     try:
         args = parser.parse_args(argv)
     except SystemExit as exc:
         return int(exc.code or 0)
+    # the command's own messages: --lang (serve), else the environment's language; an
+    # unknown --lang is said once, by serve
+    LANGUAGE = command_language(getattr(args, "lang", None), dict(os.environ))[0]
     try:
         return int(args.func(args))
     except BrokenPipeError:  # the reader stopped early (``| head``): nothing more to say

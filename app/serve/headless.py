@@ -98,7 +98,8 @@ def run_lesson(
     try:
         setup = lesson.open(values, preset)
     except (ParamError, ValueError) as exc:
-        raise AnalyzerLabError(str(exc)) from None
+        # the refusal as it is (a message the command line shows in its language)
+        raise AnalyzerLabError(exc.args[0] if exc.args else str(exc)) from None
     t_end = setup.t_end if t_end is None else t_end
     if not math.isfinite(t_end) or t_end <= 0 or t_end > MAX_T_END:
         raise AnalyzerLabError(f"--t-end must be a finite number in (0, 1e5], got {t_end}")

@@ -15,6 +15,7 @@ from typing import Any, Literal
 import numpy as np
 from analyzer_lab.lessons.kit.budget import clock
 from analyzer_lab.lessons.kit.contract import Frame, Lesson, Stepper
+from analyzer_lab.lessons.kit.message import N_, Message
 
 log = logging.getLogger(__name__)
 
@@ -125,7 +126,7 @@ class Pace:
             frame = stepper.advance(d)
         except (ValueError, ArithmeticError, FloatingPointError) as exc:
             log.info("the integration stopped at t = %.6g s: %s", t0, exc)
-            return None, f"the integration stopped: {exc}"
+            return None, Message(N_("the integration stopped: {error}"), error=str(exc))
         moved = stepper.t - t0
         if moved > 0:
             cost = (clock() - c0) / moved
@@ -133,9 +134,13 @@ class Pace:
             self.cost = cost if cost > self.cost else 0.5 * (self.cost + cost)
         bad = non_finite(frame, allowed)
         if bad is not None:
-            return None, (
-                f"{bad} is not finite (NaN or infinite) at t = {frame.t:.6g} s:"
-                " playback paused; change the values or reset"
+            return None, Message(
+                N_(
+                    "{quantity} is not finite (NaN or infinite) at t = {t:.6g} s: playback"
+                    " paused; change the values or reset"
+                ),
+                quantity=bad,
+                t=frame.t,
             )
         return frame, ""
 
@@ -176,12 +181,12 @@ class Pace:
         """What the page says while the run cannot keep up with the asked ``speed``."""
         names = {p.name for p in lesson.params}
         if self.machine_busy:
-            why = "the server's machine is busy"
+            why = N_("running at {speed:.2g}x: the server's machine is busy")
         elif names & {"h", "rtol"}:
-            why = (
-                "the step is too small for live play (a larger step h or a looser tolerance"
-                " plays faster)"
+            why = N_(
+                "running at {speed:.2g}x: the step is too small for live play (a larger step h"
+                " or a looser tolerance plays faster)"
             )
         else:
-            why = "the computation is too slow for live play"
-        return f"running at {self.effective_speed(speed):.2g}x: {why}"
+            why = N_("running at {speed:.2g}x: the computation is too slow for live play")
+        return Message(why, speed=self.effective_speed(speed))

@@ -37,6 +37,7 @@ from analyzer_lab.lessons.kit.contract import (
     Stepper,
 )
 from analyzer_lab.lessons.kit.formula import plain_number as plain
+from analyzer_lab.lessons.kit.message import N_, Message
 from analyzer_lab.session.pace import (
     SOLO_STEP_BUDGET,
     SOLO_WALL_BUDGET,
@@ -152,17 +153,29 @@ class Session:
         self.on_change: Callable[[str], None] | None = None
         first = lesson_id if lesson_id in self.lessons else next(iter(self.lessons))
         if lesson_id is not None and lesson_id not in self.lessons:
-            self.notify(f"unknown lesson {lesson_id[:60]!r}; showing {first}", "warning")
+            self.notify(
+                Message(
+                    N_("unknown lesson {lesson}; showing {first}"),
+                    lesson=repr(lesson_id[:60]),
+                    first=first,
+                ),
+                "warning",
+            )
         self._take(self._open(self.lessons[first], None, preset), LESSON)
 
     # -- notices --------------------------------------------------------------------
 
     def notify(self, text: str, level: str = "info", about_run: bool = False) -> None:
-        """A message for the user (the view shows the newest, :attr:`notice`).
+        """A message for the user (the view shows the newest, :attr:`notice`): a
+        :class:`Message` is kept as it is (the page shows it in its own language), other
+        (or longer) text as one line of at most 500 characters.
 
         ``about_run``: it speaks of the run now on screen (its end was reached): a reset
         withdraws it, so a run started again is not told it ended."""
-        entry = (level, str(text)[:500])
+        entry = (
+            level,
+            text if isinstance(text, Message) and len(text) <= 500 else str(text)[:500],
+        )
         self.notices.append(entry)
         self._run_notice = entry if about_run else None
 
@@ -228,7 +241,11 @@ class Session:
         """Switch lesson (defaults, or the given preset); refuses unknown ids."""
         if not isinstance(lesson_id, str) or lesson_id not in self.lessons:
             raise LabError(
-                f"unknown lesson {str(lesson_id)[:60]!r}; known: {', '.join(self.lessons)}"
+                Message(
+                    N_("unknown lesson {lesson}; known: {known}"),
+                    lesson=repr(str(lesson_id)[:60]),
+                    known=", ".join(self.lessons),
+                )
             )
         self._take(self._open(self.lessons[lesson_id], None, preset), LESSON)
 
@@ -283,8 +300,15 @@ class Session:
         except LabError:
             return
         if not np.allclose(snapped, typed, rtol=1e-9, atol=1e-12):
-            shown = ", ".join(f"{v:.6g}" for v in snapped)
-            self.notify(f"start point moved onto the surface: ({shown})", "warning")
+            self.notify(
+                Message(
+                    N_("start point moved onto the surface: ({x:.6g}, {y:.6g}, {z:.6g})"),
+                    x=float(snapped[0]),
+                    y=float(snapped[1]),
+                    z=float(snapped[2]),
+                ),
+                "warning",
+            )
 
     def accept_scene(self, spec: SceneSpec) -> bool:
         """Take a (deferred) scene; redraw only if it differs from the one shown."""
@@ -305,7 +329,7 @@ class Session:
     def _start_names(self) -> tuple[str, str, str]:
         names = self.lesson.start_point
         if names is None:
-            raise LabError("this lesson has no start point")
+            raise LabError(Message(N_("this lesson has no start point")))
         return names
 
     def snap_start(self) -> tuple[float, float, float] | None:
@@ -314,7 +338,7 @@ class Session:
         names = self._start_names()
         fresh = self._open(self.lesson, self.params, self.preset).stepper.reset()
         if not fresh.points:
-            raise LabError("this lesson has no moving point")
+            raise LabError(Message(N_("this lesson has no moving point")))
         pts = np.asarray(next(iter(fresh.points.values())), dtype=float).reshape(-1, 3)
         p = pts[0]
         family = self.lesson.family
@@ -330,7 +354,7 @@ class Session:
         names = self._start_names()
         p = [float(v) for v in point]
         if len(p) != 3 or not all(math.isfinite(v) for v in p):
-            raise LabError("the clicked point is not finite")
+            raise LabError(Message(N_("the clicked point is not finite")))
         self.set_values(dict(zip(names, p)))
 
     # -- playback -------------------------------------------------------------------
@@ -345,13 +369,20 @@ class Session:
         self.playing = False
 
     def set_speed(self, speed: Any) -> None:
+        # the speeds as numbers (a page writes them with its decimal sign)
+        speeds = Message(
+            ", ".join(f"{{s{i}:g}}x" for i in range(len(SPEEDS))),
+            **{f"s{i}": s for i, s in enumerate(SPEEDS)},
+        )
         try:
             value = float(speed)
         except (TypeError, ValueError):
-            raise LabError(f"speed must be one of {', '.join(f'{s:g}x' for s in SPEEDS)}") from None
+            raise LabError(Message(N_("speed must be one of {speeds}"), speeds=speeds)) from None
         if not any(abs(value - s) < 1e-9 for s in SPEEDS):
             raise LabError(
-                f"speed must be one of {', '.join(f'{s:g}x' for s in SPEEDS)}; got {plain(value)}"
+                Message(
+                    N_("speed must be one of {speeds}; got {speed}"), speeds=speeds, speed=value
+                )
             )
         self.speed = value
 
@@ -427,17 +458,26 @@ class Session:
             if self.stepper.t <= t_before and self.playing:
                 # the lesson's run cannot go on (e.g. an end condition was reached)
                 self.playing = False
-                self.notify(
-                    f"the run stopped at t = {self.stepper.t:.4g} s"
-                    + (f": {self.frame.message}" if self.frame.message else ""),
-                    "info",
-                    about_run=True,
+                stopped = (
+                    Message(
+                        N_("the run stopped at t = {t:.4g} s: {why}"),
+                        t=self.stepper.t,
+                        why=self.frame.message,
+                    )
+                    if self.frame.message
+                    else Message(N_("the run stopped at t = {t:.4g} s"), t=self.stepper.t)
                 )
+                self.notify(stopped, "info", about_run=True)
         if self.pause_at_end and self.stepper.t >= self.t_end - 1e-9 and self.playing:
             self.playing = False
             self.notify(
-                f"t = {plain(self.t_end)} s reached (the textbook's run); press play to run"
-                " again, or untick 'pause at t_end'",
+                Message(
+                    N_(
+                        "t = {t_end} s reached (the textbook's run); press play to run again,"
+                        " or untick 'pause at t_end'"
+                    ),
+                    t_end=self.t_end,
+                ),
                 "info",
                 about_run=True,
             )
@@ -473,7 +513,7 @@ class Session:
             # (not at t_end, where it stopped on purpose)
             news = self.pace.follow(k * quantum, moved, min(wall_dt, 0.25))
             if news == "back":
-                self.notify(f"playing at {plain(self.speed)}x again", "info")
+                self.notify(Message(N_("playing at {speed}x again"), speed=self.speed), "info")
             elif news == "slow":
                 self.notify(self.slow_text(), "warning")
         return frames
@@ -506,7 +546,11 @@ class Session:
         self.playing = False
         if self.pause_at_end and self.stepper.t >= self.t_end - 1e-9:
             self.notify(
-                f"t_end = {self.t_end:g} s reached; reset or untick 'pause at t_end'", "info"
+                Message(
+                    N_("t_end = {t_end:g} s reached; reset or untick 'pause at t_end'"),
+                    t_end=self.t_end,
+                ),
+                "info",
             )
             return []
         step = self.lesson.sampling or STEP_DT * self.speed * self.lesson.time_scale
@@ -517,10 +561,17 @@ class Session:
         """Pause and show the run at lesson time ``t`` (from the start if ``t`` is
         earlier than now); the frames on the way are recorded as when played."""
         if not (isinstance(t, (int, float)) and math.isfinite(t)) or t < 0:
-            raise LabError(f"go to t: must be a time >= 0 s, got {plain(t)}")
+            raise LabError(Message(N_("go to t: must be a time >= 0 s, got {t}"), t=plain(t)))
         limit = MAX_GO_TO * max(self.t_end, 1e-9)
         if t > limit:
-            raise LabError(f"go to t: {t:g} s is beyond {limit:g} s ({MAX_GO_TO} x t_end)")
+            raise LabError(
+                Message(
+                    N_("go to t: {t:g} s is beyond {limit:g} s ({times} x t_end)"),
+                    t=t,
+                    limit=limit,
+                    times=MAX_GO_TO,
+                )
+            )
         self.playing = False
         if t < self.stepper.t - 1e-12:
             self.reset()
@@ -530,9 +581,15 @@ class Session:
             while t - self.stepper.t > 1e-12 * max(1.0, t):
                 if left() <= 0:
                     self.notify(
-                        f"go to t: stopped at t = {self.stepper.t:.6g} s after"
-                        f" {plain(GO_TO_BUDGET)} s of computing (the step is too small to go"
-                        " further at once); go to t again to go on",
+                        Message(
+                            N_(
+                                "go to t: stopped at t = {t:.6g} s after {budget} s of computing"
+                                " (the step is too small to go further at once); go to t again"
+                                " to go on"
+                            ),
+                            t=self.stepper.t,
+                            budget=GO_TO_BUDGET,
+                        ),
                         "warning",
                     )
                     break
@@ -572,10 +629,12 @@ class Session:
         problems: list[str] = []
         lesson = self.lessons.get(state.lesson)
         if lesson is None:
-            raise LabError(f"unknown lesson {state.lesson[:60]!r}")
+            raise LabError(Message(N_("unknown lesson {lesson}"), lesson=repr(state.lesson[:60])))
         preset = state.preset
         if preset is not None and preset not in {p.name for p in lesson.presets}:
-            problems.append(f"unknown preset {preset[:60]!r} dropped")
+            problems.append(
+                Message(N_("unknown preset {preset} dropped"), preset=repr(preset[:60]))
+            )
             preset = None
         known = {p.name for p in lesson.params}
         values = {k: v for k, v in state.values.items() if k in known}
@@ -586,17 +645,17 @@ class Session:
                 break
             except ParamError as exc:
                 if exc.name in values:
-                    problems.append(f"{exc}: value dropped")
+                    problems.append(Message(N_("{error}: value dropped"), error=str(exc)))
                     values.pop(exc.name)
                 elif values:
-                    problems.append(f"{exc}: saved values dropped")
+                    problems.append(Message(N_("{error}: saved values dropped"), error=str(exc)))
                     values = {}
                 else:
                     raise LabError(str(exc)) from None
         try:
             self.set_speed(state.speed)
         except LabError as exc:
-            problems.append(str(exc))
+            problems.append(exc.args[0] if isinstance(exc.args[0], Message) else str(exc))
         self.pause_at_end = bool(state.pause_at_end)
         self.visible_vectors = (
             set(state.visible_vectors) if state.visible_vectors is not None else None

@@ -100,9 +100,12 @@ def grid_run(s: Session, step: float | None = None) -> RunResult:
     return result
 
 
-def export_run(s: Session, kind: str, step: float | None = None) -> tuple[str, bytes]:
+def export_run(
+    s: Session, kind: str, step: float | None = None, language: Language = ENGLISH
+) -> tuple[str, bytes]:
     """A file for ``kind``: ``csv``/``json`` on the grid, ``frames-csv``/``frames-json``
-    of the played frames, ``html`` a replay.  Returns (file name, bytes)."""
+    of the played frames, ``html`` a replay (its captions in ``language``; the data
+    machine-readable in every language).  Returns (file name, bytes)."""
     stem = f"analyzer-lab-{s.run_name()}"
     if kind in ("csv", "json"):
         result = grid_run(s, step)
@@ -112,7 +115,7 @@ def export_run(s: Session, kind: str, step: float | None = None) -> tuple[str, b
     elif kind == "html":
         from analyzer_lab.view.replay import replay_html
 
-        return stem + "-replay.html", replay_html(s).encode()
+        return stem + "-replay.html", replay_html(s, language).encode()
     else:
         raise LabError(f"unknown export {kind[:20]!r}")
     if kind.endswith("csv"):
@@ -229,7 +232,7 @@ class ExportPanel:
         s = self.session()
         text = self.language.read_decimal(str(self.grid_step.value).strip())
         step = parse_step(text, grid_end(s)) if text else None
-        name, data = export_run(s, kind, step)
+        name, data = export_run(s, kind, step, self.language)
         self.client.send_file_download(name, data, save_immediately=True)
         size = len(data)
         del data

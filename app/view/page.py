@@ -154,7 +154,9 @@ class SessionView:
                     fn(event)
                 except ParamError as exc:
                     field = self._field_of(exc)
-                    if field is None or not self.controls.show_error(field, str(exc)):
+                    if field is None or not self.controls.show_error(
+                        field, self.language.message(exc)
+                    ):
                         self.session.notify(self._refused(exc), "error")
                     self.sync_widgets()
                 except LabError as exc:
@@ -179,7 +181,7 @@ class SessionView:
 
     def _refused(self, exc: Exception) -> str:
         """The notice of a refused input, in the page's language."""
-        return self.language.gettext("refused: {reason}").format(reason=exc)
+        return self.language.gettext("refused: {reason}").format(reason=self.language.message(exc))
 
     def _field_of(self, exc: ParamError) -> str | None:
         """The field a refusal belongs to: the one being edited (a cross-field check
@@ -449,6 +451,7 @@ class SessionView:
         self._last_readout = ""
         self._shown_notice = None
         self.derivation_due = time.monotonic()  # its prose in the new language
+        self.status.content = status_html(self.session, language)  # and the page's lang
         self.redraw()
 
     def _on_preset(self, event: Any) -> None:
@@ -680,7 +683,7 @@ class SessionView:
                 try:
                     self.client.add_notification(
                         "Analyzer Lab",
-                        self.language.lesson_text(notice[1]),  # a lesson's note translated
+                        self.language.notice(notice[1]),
                         auto_close_seconds=6.0,
                         color="red" if notice[0] == "error" else "yellow",
                     )

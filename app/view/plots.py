@@ -17,7 +17,7 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
-from analyzer_lab.i18n import ENGLISH, Language
+from analyzer_lab.i18n import ENGLISH, N_, Language
 from analyzer_lab.lessons.kit.contract import Frame, Lesson, Params, PlotSpec
 from analyzer_lab.session.runlog import RunLog
 from analyzer_lab.view.decimation import minmax_indices
@@ -34,7 +34,7 @@ FRESH_DELAY = 1.5
 #: Pixel columns the run is decimated to (a chart in the panel is about 350 px wide).
 COLUMNS = 360
 #: The folder of the charts.
-FOLDER = "Live plots (the whole run)"
+FOLDER = N_("Live plots (the whole run)")
 
 
 def units_of(lesson: Lesson, names: Sequence[str]) -> str:
@@ -134,6 +134,7 @@ class PlotPanel:
         self.note: Any = None
         self.missing: list[str] = []  # the titles of the charts not defined
         self.time_scale = 1.0
+        self.language = ENGLISH  # the language of the charts' chrome, as built
         self._rr = 0
         self._fresh_until = 0.0
 
@@ -159,12 +160,15 @@ class PlotPanel:
         self.charts = []
         self.layout = self.layout_for(lesson, params, frame)
         self.time_scale = lesson.time_scale
-        folder = self.gui.add_folder(FOLDER)
+        self.language = language
+        folder = self.gui.add_folder(language.gettext(FOLDER))
         title = language.lesson_text
         missing = [title(spec.title) for spec, names in zip(lesson.plots, self.layout) if not names]
         with folder:
             # first, so that the page says at once why a chart is not there
-            self.note = self.gui.add_html(_missing_html(missing, preset)) if missing else None
+            self.note = (
+                self.gui.add_html(_missing_html(missing, preset, language)) if missing else None
+            )
             for spec, names in zip(lesson.plots, self.layout):
                 if not names:
                     continue
@@ -183,7 +187,7 @@ class PlotPanel:
                     tuple(series),
                     title=title(spec.title),
                     scales=scales(data),
-                    axes=({"label": "t [s]"}, {"label": self._y_label(units, data.exponent)}),
+                    axes=self._axes(units, data.exponent),
                     aspect=1.6,
                 )
                 self.charts.append(Chart(spec, names, units, handle, data.exponent, _key(log)))
@@ -194,23 +198,27 @@ class PlotPanel:
     def show_preset(self, preset: str | None) -> None:
         """Say whether the charts left out are not defined for a preset or for values."""
         if self.note is not None:
-            content = _missing_html(self.missing, preset)
+            content = _missing_html(self.missing, preset, self.language)
             if self.note.content != content:
                 self.note.content = content
 
-    @staticmethod
-    def _y_label(units: str, exponent: int) -> str:
-        units = unit_text(units)
+    def _axes(self, units: str, exponent: int) -> tuple[dict[str, str], dict[str, str]]:
+        """The axes' labels: time (``t [s]``, ``t [с]`` in Russian) and the values."""
+        language = self.language
+        return {"label": f"t [{language.unit('s')}]"}, {"label": self._y_label(units, exponent)}
+
+    def _y_label(self, units: str, exponent: int) -> str:
+        units = self.language.unit(unit_text(units))
         if exponent:
             return f"× 1e{exponent} {units}".strip()
-        return units or "value"
+        return units or self.language.gettext("value")
 
     def _upload(self, chart: Chart, log: RunLog) -> None:
         data = chart_data(log, chart.names, self.columns, self.time_scale)
         handle = chart.handle
         if data.exponent != chart.exponent:
             chart.exponent = data.exponent
-            handle.axes = ({"label": "t [s]"}, {"label": self._y_label(chart.units, data.exponent)})
+            handle.axes = self._axes(chart.units, data.exponent)
         fast_set(handle, "data", data.arrays())
         fast_set(handle, "scales", scales(data))
         chart.shown = _key(log)
@@ -244,12 +252,17 @@ def _key(log: RunLog) -> tuple[int, int]:
     return id(log), log.revision
 
 
-def _missing_html(titles: Sequence[str], preset: str | None) -> str:
-    which = "this preset" if preset else "these values"
-    names = ", ".join(f"“{html.escape(t)}”" for t in titles)
+def _missing_html(titles: Sequence[str], preset: str | None, language: Language = ENGLISH) -> str:
+    template = (
+        N_("Not defined for this preset: {names}.")
+        if preset
+        else N_("Not defined for these values: {names}.")
+    )
+    names = ", ".join(f"“{t}”" for t in titles)
+    text = language.gettext(template).format(names=names)
     return (
         f'<div class="al-plots-undefined" style="font-size:0.9em;color:#444">'
-        f"Not defined for {which}: {names}.</div>"
+        f"{html.escape(text)}</div>"
     )
 
 

@@ -7,6 +7,7 @@ import html
 from analyzer_lab.i18n import ENGLISH, Language
 from analyzer_lab.session.session import Session
 from analyzer_lab.view.notation import name_html, unit_text
+from analyzer_lab.viser_boundary import language_marker
 
 LEVEL_COLORS = {"info": "#1c4f8a", "warning": "#8a5a00", "error": "#a61b1b"}
 
@@ -22,7 +23,8 @@ def readout_html(s: Session, language: Language = ENGLISH) -> str:
     playing = html.escape(tr("playing"))
     state = playing if s.playing else html.escape(tr("paused"))
     if s.playing and s.slowed:
-        state = f'{playing} <span class="al-slow" style="color:#8a5a00">({html.escape(s.slow_text())})</span>'
+        slow = html.escape(language.message(s.slow_text()))
+        state = f'{playing} <span class="al-slow" style="color:#8a5a00">({slow})</span>'
     units = {x.name: x.unit for x in s.lesson.series}
     values = []
     for name in s.lesson.readout:
@@ -48,11 +50,13 @@ def readout_html(s: Session, language: Language = ENGLISH) -> str:
 
 
 def status_html(s: Session, language: Language = ENGLISH) -> str:
-    """The newest notice and the frame's message (a lesson's note in ``language``)."""
-    parts = []
+    """The newest notice (in the page's language: a session's message, a lesson's note)
+    and the frame's message; with the hidden marker of the page's language (its
+    ``<html lang>``)."""
+    parts = [language_marker(language.code)]
     if s.notice is not None:
-        level, text = s.notice
-        text = language.lesson_text(text)
+        level, message = s.notice
+        text = language.notice(message)
         color = LEVEL_COLORS.get(level, "#333")
         parts.append(
             f'<div class="al-message al-{level}" style="color:{color};font-size:0.9em">{html.escape(text)}</div>'
@@ -62,7 +66,9 @@ def status_html(s: Session, language: Language = ENGLISH) -> str:
             '<div class="al-frame-message" style="color:#8a5a00;font-size:0.9em">'
             f"{html.escape(s.frame.message)}</div>"
         )
-    return "".join(parts) or '<div class="al-message"></div>'
+    if len(parts) == 1:
+        parts.append('<div class="al-message"></div>')
+    return "".join(parts)
 
 
 def preset_note_html(s: Session, language: Language = ENGLISH) -> str:

@@ -16,6 +16,7 @@ import re
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
+from analyzer_lab.i18n import ENGLISH, N_, Language
 from analyzer_lab.lessons.kit.contract import SceneSpec
 from analyzer_lab.limits import Pacer
 from analyzer_lab.session.runlog import LogSample
@@ -35,11 +36,16 @@ MAX_REPLAY_POINTS = 60_000
 TRAIL_CHUNK = 20
 #: Points per line of the caption's static charts.
 PLOT_POINTS = 400
+#: The replay's heading (``lesson``: the lesson's problem and title).
+REPLAY_TITLE = N_("Analyzer Lab replay: {lesson}")
+#: The caption's texts (translated where they are shown).
+CAPTION_TEXTS = (N_("preset: {name}"), N_("(defaults)"), N_("(from {low} to {high})"))
 
 
-def replay_html(session: Session) -> str:
+def replay_html(session: Session, language: Language = ENGLISH) -> str:
     """The session's scene and recorded run as one self-contained HTML page: titled
-    with the lesson, a caption with its values and plots, the time shown in the scene.
+    with the lesson, a caption with its values and plots, the time shown in the scene
+    (its heading and captions in ``language``; the run's data as recorded).
     At most :data:`MAX_REPLAY_FRAMES` frames and :data:`MAX_REPLAY_POINTS` trail points
     (decimated; the caption says so)."""
     scene_api, ser = recording_scene()
@@ -61,16 +67,22 @@ def replay_html(session: Session) -> str:
         if chosen[-1] != count - 1:
             chosen.append(count - 1)
         if stride > 1:
-            notes.append(f"every {stride}th of {count} recorded frames shown")
+            notes.append(
+                language.ngettext(
+                    "every {stride}th of {count} recorded frame shown",
+                    "every {stride}th of {count} recorded frames shown",
+                    count,
+                ).format(stride=stride, count=count)
+            )
         # only the chosen rows are built (not all of a long run's rows)
         pace = Pacer()
         rows = []
         for k in chosen:
             rows.append(log.sample(k))
             pace()
-        _animate(scene_api, ser, session, spec, rows, size, hi)
+        _animate(scene_api, ser, session, spec, rows, size, hi, language)
     page = ser.as_html()
-    return _dress(page, session, notes)
+    return _dress(page, session, notes, language)
 
 
 def _static(
@@ -130,10 +142,14 @@ def _animate(
     chosen: list[LogSample],
     size: float,
     hi: np.ndarray,
+    language: Language = ENGLISH,
 ) -> None:
     """The moving points over the chosen samples, their trails as chunks that are only
     appended (linear in the run's length), and the time as a label."""
-    clock = scene_api.add_label("/lab/time", f"t = {chosen[0].t:.3f} s", position=tuple(hi))
+    second = language.unit("s")
+    clock = scene_api.add_label(
+        "/lab/time", f"t = {language.number(chosen[0].t, '.3f')} {second}", position=tuple(hi)
+    )
     handles: dict[str, Any] = {}
     last: dict[str, np.ndarray] = {}
     pending: dict[str, list[np.ndarray]] = {}
@@ -170,31 +186,41 @@ def _animate(
                     thickness_units="screen",
                 )
                 pending[name] = []
-        clock.text = f"t = {s.t:.3f} s"
+        clock.text = f"t = {language.number(s.t, '.3f')} {second}"
         dt = (s.t - t_prev) / max(session.speed * session.lesson.time_scale, 1e-12)
         ser.insert_sleep(min(max(dt, 0.0), 4.0 / REPLAY_FPS) if k else 0.0)
         t_prev = s.t
 
 
-def _dress(page: str, session: Session, notes: list[str]) -> str:
-    """The page titled with the lesson, with a caption: values, time span, plots."""
+def _dress(page: str, session: Session, notes: list[str], language: Language = ENGLISH) -> str:
+    """The page titled with the lesson, with a caption: values, time span, plots (in
+    ``language``, the page's ``lang`` too)."""
     esc = html.escape
+    tr, text = language.gettext, language.lesson_text
     lesson = session.lesson
-    title = f"Analyzer Lab replay: {lesson.problem} {lesson.title}".strip()
+    name = f"{text(lesson.problem)} {text(lesson.title)}".strip()
+    title = tr(REPLAY_TITLE).format(lesson=name).strip()
     page = re.sub(r"<title>.*?</title>", f"<title>{esc(title)}</title>", page, count=1)
+    page = re.sub(r"<html lang=\"[^\"]*\"", f'<html lang="{language.code}"', page, count=1)
     values = "".join(
         f"<tr><td>{esc(k)}</td><td>{esc(str(v))}</td></tr>" for k, v in session.raw_values().items()
     )
     t = session.log.t
-    span = f"t = {t[0]:g} ... {t[-1]:g} s" if len(t) else ""
+    second = language.unit("s")
+    span = (
+        f"t = {language.number(t[0], 'g')} ... {language.number(t[-1], 'g')} {second}"
+        if len(t)
+        else ""
+    )
     result = session.run_result()
     units = result.units
     plots = "".join(
         _svg_plot(
-            spec.title,
+            text(spec.title),
             result.t,
             {n: result.series[n] for n in spec.series if n in result.series},
             units,
+            language,
         )
         for spec in lesson.plots
     )
@@ -202,8 +228,9 @@ def _dress(page: str, session: Session, notes: list[str]) -> str:
         '<div id="al-caption" style="position:fixed;left:8px;top:8px;z-index:10;max-width:360px;'
         "max-height:95vh;overflow:auto;background:rgba(255,255,255,0.92);padding:8px;"
         'font:13px sans-serif;border-radius:6px">'
-        f"<b>{esc(title)}</b><br>{esc(lesson.source)}<br>"
-        f"preset: {esc(session.preset or '(defaults)')} &middot; {esc(span)}"
+        f"<b>{esc(title)}</b><br>{esc(text(lesson.source))}<br>"
+        f"{esc(tr('preset: {name}').format(name=session.preset or tr('(defaults)')))}"
+        f" &middot; {esc(span)}"
         + "".join(f"<br><i>{esc(n)}</i>" for n in notes)
         + f'<table style="font-size:12px">{values}</table>{plots}</div>'
     )
@@ -211,7 +238,11 @@ def _dress(page: str, session: Session, notes: list[str]) -> str:
 
 
 def _svg_plot(
-    title: str, t: np.ndarray, series: dict[str, np.ndarray], units: dict[str, str]
+    title: str,
+    t: np.ndarray,
+    series: dict[str, np.ndarray],
+    units: dict[str, str],
+    language: Language = ENGLISH,
 ) -> str:
     """A small static chart of the run (SVG), at most :data:`PLOT_POINTS` points a line."""
     if len(t) < 2 or not series:
@@ -235,11 +266,14 @@ def _svg_plot(
             f'points="{pts}"/>'
         )
     unit = {units.get(n, "") for n in series}
-    label = f" [{unit.pop()}]" if len(unit) == 1 and "" not in unit else ""
+    label = f" [{language.unit(unit.pop())}]" if len(unit) == 1 and "" not in unit else ""
     names = ", ".join(series)
+    span = language.gettext("(from {low} to {high})").format(
+        low=language.number(lo, ".4g"), high=language.number(hi, ".4g")
+    )
     return (
         f'<div style="margin-top:6px"><b>{html.escape(title)}</b>{html.escape(label)}: '
-        f"{html.escape(names)} (from {lo:.4g} to {hi:.4g})</div>"
+        f"{html.escape(names)} {html.escape(span)}</div>"
         f'<svg width="{w:.0f}" height="{h:.0f}" style="background:#fafafa">{"".join(lines)}</svg>'
     )
 

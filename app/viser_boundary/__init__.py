@@ -39,10 +39,12 @@ from analyzer_lab.viser_boundary._hot_path import WakeBatch as WakeBatch
 from analyzer_lab.viser_boundary._hot_path import event_loop as event_loop
 from analyzer_lab.viser_boundary._hot_path import fast_set as fast_set
 from analyzer_lab.viser_boundary._hot_path import set_pose as set_pose
+from analyzer_lab.viser_boundary._page import FOLLOW_LANGUAGE as FOLLOW_LANGUAGE
 from analyzer_lab.viser_boundary._page import KEYS_STAY_IN_FIELDS as KEYS_STAY_IN_FIELDS
 from analyzer_lab.viser_boundary._page import PAGE_TITLE as PAGE_TITLE
 from analyzer_lab.viser_boundary._page import PHONE_LAYOUT as PHONE_LAYOUT
 from analyzer_lab.viser_boundary._page import READABLE_TEXT as READABLE_TEXT
+from analyzer_lab.viser_boundary._page import language_marker as language_marker
 from analyzer_lab.viser_boundary._page import make_viser_server as make_viser_server
 from analyzer_lab.viser_boundary._patches import VISER_VERSION as VISER_VERSION
 from analyzer_lab.viser_boundary._patches import check_viser_version as check_viser_version

@@ -3,6 +3,7 @@ websocket hardened, callbacks ordered and the GUI guarded."""
 
 from __future__ import annotations
 
+import html
 import tempfile
 from pathlib import Path
 from typing import Any
@@ -84,9 +85,36 @@ READABLE_TEXT = """<style>
 </style>"""
 
 
+#: The attribute of the hidden element that carries the page's language (:func:`language_marker`).
+LANG_ATTRIBUTE = "data-al-lang"
+
+#: The page's ``<html lang>`` follows the language its panel shows (viser serves
+#: ``lang="en"``): the panel carries it in a hidden element (:func:`language_marker`),
+#: read again whenever the panel changes.
+FOLLOW_LANGUAGE = """<script>
+(function () {
+  var root = document.documentElement;
+  function follow() {
+    var marker = document.querySelector("[ATTR]");
+    var code = marker && marker.getAttribute("ATTR");
+    if (code && /^[a-z]{2,3}$/.test(code) && root.lang !== code) { root.lang = code; }
+  }
+  new MutationObserver(follow).observe(root, {
+    subtree: true, childList: true, attributes: true, attributeFilter: ["ATTR"]
+  });
+})();
+</script>""".replace("ATTR", LANG_ATTRIBUTE)
+
+
+def language_marker(code: str) -> str:
+    """The hidden element that sets the page's ``<html lang>`` to ``code``."""
+    return f'<span {LANG_ATTRIBUTE}="{html.escape(code)}" hidden></span>'
+
+
 def _client_root() -> Path:
     """viser's client page with our title (with :data:`KEYS_STAY_IN_FIELDS`,
-    :data:`PHONE_LAYOUT` and :data:`READABLE_TEXT`), in a private temporary directory."""
+    :data:`PHONE_LAYOUT`, :data:`READABLE_TEXT` and :data:`FOLLOW_LANGUAGE`), in a private
+    temporary directory."""
     import viser
 
     src = Path(viser.__file__).resolve().parent / "client" / "build" / "index.html"
@@ -94,7 +122,9 @@ def _client_root() -> Path:
     text = text.replace("<title>Viser</title>", f"<title>{PAGE_TITLE}</title>", 1)
     text = text.replace('content="Viser client"', f'content="{PAGE_TITLE}"', 1)
     text = text.replace(
-        "</head>", KEYS_STAY_IN_FIELDS + PHONE_LAYOUT + READABLE_TEXT + "</head>", 1
+        "</head>",
+        KEYS_STAY_IN_FIELDS + PHONE_LAYOUT + READABLE_TEXT + FOLLOW_LANGUAGE + "</head>",
+        1,
     )
     root = Path(tempfile.mkdtemp(prefix="analyzer-lab-page-"))
     (root / "index.html").write_text(text, encoding="utf-8")

@@ -16,8 +16,8 @@ from analyzer_lab.lessons.kit.formula import (
     FormulaError,
     parse_formula,
     parse_number,
-    plain_number,
 )
+from analyzer_lab.lessons.kit.message import N_, Message, Unit
 
 #: Relative round-off within which a value at a bound counts as the bound.
 _ROUND_OFF = 4 * 2.0**-52
@@ -30,7 +30,7 @@ class ParamError(ValueError):
     """A parameter value was refused.  ``str(err)`` is one line a user can act on."""
 
     def __init__(self, name: str, message: str) -> None:
-        super().__init__(f"{name}: {message}")
+        super().__init__(Message(N_("{name}: {message}"), name=name, message=message))
         self.name = name
         self.message = message
 
@@ -86,7 +86,9 @@ class Param:
                 raise ParamError(self.name, "expected a formula of t, got a boolean")
             if isinstance(raw, (int, float, np.floating, np.integer)):
                 if not math.isfinite(float(raw)):
-                    raise ParamError(self.name, f"must be finite, got {plain_number(raw)}")
+                    raise ParamError(
+                        self.name, Message(N_("must be finite, got {value}"), value=float(raw))
+                    )
                 raw = (
                     str(int(raw))
                     if float(raw).is_integer() and abs(raw) < 1e15
@@ -121,26 +123,44 @@ class Param:
         else:
             raise ParamError(self.name, f"expected a number, got {type(raw).__name__}")
         if not math.isfinite(value):
-            raise ParamError(self.name, f"must be a finite number, got {plain_number(value)}")
+            raise ParamError(
+                self.name, Message(N_("must be a finite number, got {value}"), value=value)
+            )
         if self.kind == "int":
             if not float(value).is_integer():
-                raise ParamError(self.name, f"must be a whole number, got {plain_number(value)}")
+                raise ParamError(
+                    self.name, Message(N_("must be a whole number, got {value}"), value=value)
+                )
             value = int(value)
-        unit = self.unit and " " + self.unit
+        unit = Unit(self.unit)
         # a bound typed as printed is accepted: within a few units of round-off of the
         # bound, the value is the bound (e.g. a limit computed as pi/2 and typed so)
         if self.min is not None and value < self.min:
             if value < self.min - _ROUND_OFF * max(abs(self.min), 1e-300):
                 raise ParamError(
                     self.name,
-                    f"{plain_number(value)} is below the minimum {plain_number(self.min)}{unit}",
+                    Message(
+                        N_("{value} is below the minimum {low} {unit}")
+                        if unit
+                        else N_("{value} is below the minimum {low}"),
+                        value=value,
+                        low=self.min,
+                        unit=unit,
+                    ),
                 )
             value = int(self.min) if self.kind == "int" else float(self.min)
         if self.max is not None and value > self.max:
             if value > self.max + _ROUND_OFF * max(abs(self.max), 1e-300):
                 raise ParamError(
                     self.name,
-                    f"{plain_number(value)} is above the maximum {plain_number(self.max)}{unit}",
+                    Message(
+                        N_("{value} is above the maximum {high} {unit}")
+                        if unit
+                        else N_("{value} is above the maximum {high}"),
+                        value=value,
+                        high=self.max,
+                        unit=unit,
+                    ),
                 )
             value = int(self.max) if self.kind == "int" else float(self.max)
         return value
