@@ -27,6 +27,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from analyzer_lab.lessons.kit.message import Message
+from analyzer_lab.pseudo import CODE as PSEUDO
+from analyzer_lab.pseudo import PseudoTranslations
 from analyzer_lab.text_numbers import abstract, restore
 from babel.messages.catalog import Catalog
 from babel.messages.mofile import write_mo
@@ -216,7 +218,10 @@ class Language:
 
 
 def language_of(code: str) -> Language:
-    """The :class:`Language` of a known ``code`` (its catalog loaded once)."""
+    """The :class:`Language` of a known ``code`` (its catalog loaded once), or of the
+    pseudo-language (:mod:`analyzer_lab.pseudo`)."""
+    if code == PSEUDO:
+        return Language(PSEUDO, PseudoTranslations(), ",", PseudoTranslations())
     catalog, failed = _load(code)
     if failed is not None:
         return Language(DEFAULT, translations(DEFAULT), ".")
@@ -231,6 +236,8 @@ def resolve(code: str | None) -> tuple[Language, str | None]:
     base = re.split(r"[_.@-]", raw, maxsplit=1)[0].lower()
     if base in ("c", "posix", ""):
         base = DEFAULT
+    if base == PSEUDO:
+        return language_of(PSEUDO), None
     if base not in LANGUAGES:
         known = ", ".join(LANGUAGES)
         return language_of(
@@ -243,6 +250,13 @@ def resolve(code: str | None) -> tuple[Language, str | None]:
 
 
 ENGLISH = Language(DEFAULT, NullTranslations(), ".")
+
+
+def picker_languages(code: str) -> dict[str, str]:
+    """The languages a page's picker offers, by code: :data:`LANGUAGES`, and the
+    pseudo-language too on a page that shows it."""
+    return {**LANGUAGES, PSEUDO: "Pseudo"} if code == PSEUDO else dict(LANGUAGES)
+
 
 __all__ = [
     "DEFAULT",
@@ -260,6 +274,7 @@ __all__ = [
     "compile_catalog",
     "language_of",
     "load_all",
+    "picker_languages",
     "placeholders",
     "resolve",
     "translations",

@@ -31,6 +31,7 @@ APP_LAYERS = (
     "token_bucket",
     "limits",
     "text_numbers",
+    "pseudo",
     "i18n",
     "lesson_texts",
     "viser_boundary",

@@ -360,8 +360,8 @@ def build_parser() -> argparse.ArgumentParser:
         "--lang",
         metavar="CODE",
         default=None,
-        help="the language of new pages: en (default) or ru; an unknown code: English, "
-        "with a notice",
+        help="the language of new pages: en (default) or ru (pseudo: every text half as long "
+        "again, a layout check); an unknown code: English, with a notice",
     )
     s.add_argument(
         "--instructor-code",

@@ -29,7 +29,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
-from analyzer_lab.i18n import ENGLISH, LANGUAGES, N_, Language, language_of
+from analyzer_lab.i18n import ENGLISH, N_, Language, language_of, picker_languages
 from analyzer_lab.lesson_texts import lesson_label
 from analyzer_lab.lessons.kit.contract import Param, ParamError
 from analyzer_lab.lessons.kit.formula import Formula, plain_number
@@ -265,10 +265,11 @@ class SessionView:
         self.dock_panel()
         s = self.session
         self.banner = gui.add_html("", visible=False)
+        offered = picker_languages(self.language.code)
         self.language_dd = gui.add_dropdown(
             tr(LANGUAGE_PICKER),
-            tuple(LANGUAGES.values()),
-            initial_value=LANGUAGES[self.language.code],
+            tuple(offered.values()),
+            initial_value=offered[self.language.code],
         )
         self.language_dd.on_update(self.guard(self._on_language))
         self._label_lessons()
@@ -413,7 +414,8 @@ class SessionView:
         self.after_state_change()
 
     def _on_language(self, event: Any) -> None:
-        code = next((c for c, name in LANGUAGES.items() if name == event.target.value), None)
+        offered = picker_languages(self.language.code)
+        code = next((c for c, name in offered.items() if name == event.target.value), None)
         if code is None:
             raise LabError(
                 self.language.gettext("unknown language {name}").format(
