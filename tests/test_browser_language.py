@@ -12,8 +12,8 @@ import pytest
 from analyzer_lab.lessons.catalog import get_lesson
 
 from tests.support.browser import ARTIFACTS, Page
+from tests.support.layout import GEOMETRY_JS, MIN_TEXT_PX
 from tests.support.waiting import wait_until
-from tests.test_browser_layout import GEOMETRY_JS, MIN_TEXT_PX
 
 pytestmark = [pytest.mark.browser, pytest.mark.timeout(600)]
 
