@@ -198,6 +198,10 @@ class Language:
             return self.message(text)
         return self.lesson_text(str(text))
 
+    def quantity(self, words: str) -> str:
+        """A quantity named in words (``position error``) as the language writes it."""
+        return self.catalog.pgettext("quantity", words) if words else words
+
     def unit(self, unit: str) -> str:
         """A unit as the language writes it (``s`` is ``с`` in Russian); others as given."""
         return self.catalog.pgettext("unit", unit) if unit else unit

@@ -62,3 +62,25 @@ def test_the_laser_readout_writes_micrometres() -> None:
     s = Session([lesson], lesson.id)
     text = readout_html(s)
     assert "deviation = " in text and "µm" in text and " um" not in text
+
+
+def test_every_quantity_named_in_words_is_in_the_catalogs_list() -> None:
+    """A lesson's readout or series named in words is translated as a quantity: the list
+    the catalogs are extracted from holds every one of them."""
+    from analyzer_lab.i18n import language_of
+    from analyzer_lab.lessons.catalog import all_lessons
+    from analyzer_lab.view.notation import QUANTITY_WORDS
+
+    seen: set[str] = set()
+
+    def words(text: str) -> str:
+        seen.add(text)
+        return text
+
+    for lesson in all_lessons():
+        for name in {*lesson.readout, *(s.name for s in lesson.series)}:
+            name_parts(name, words)
+    assert seen == set(QUANTITY_WORDS)
+    ru = language_of("ru")
+    assert name_html("position_error", ru.quantity) == "ошибка положения"
+    assert all(ru.quantity(w) != w for w in QUANTITY_WORDS)

@@ -6,7 +6,9 @@ from __future__ import annotations
 
 import html
 import re
+from collections.abc import Callable
 
+from analyzer_lab.i18n import NP_
 from analyzer_lab.view.math import GREEK_WORDS
 
 #: Greek letters spelled out in the models' names (the derivations' prose reads the same).
@@ -27,6 +29,40 @@ UNITS = {
     "deg/s": "°/s",
 }
 
+#: The lessons' quantities named in words (``position_error``), translated with the
+#: context ``quantity`` (:meth:`~analyzer_lab.i18n.Language.quantity`); a test keeps the
+#: list complete.
+QUANTITY_WORDS = (
+    NP_("quantity", "angle error"),
+    NP_("quantity", "axis b"),
+    NP_("quantity", "axis c"),
+    NP_("quantity", "axis x"),
+    NP_("quantity", "axis y"),
+    NP_("quantity", "axis z"),
+    NP_("quantity", "constraint error"),
+    NP_("quantity", "constraint residual"),
+    NP_("quantity", "dda error"),
+    NP_("quantity", "deviation"),
+    NP_("quantity", "dist sq"),
+    NP_("quantity", "drift"),
+    NP_("quantity", "energy error"),
+    NP_("quantity", "error"),
+    NP_("quantity", "error x"),
+    NP_("quantity", "error y"),
+    NP_("quantity", "feed"),
+    NP_("quantity", "input x"),
+    NP_("quantity", "input y"),
+    NP_("quantity", "length"),
+    NP_("quantity", "move"),
+    NP_("quantity", "off normal"),
+    NP_("quantity", "position error"),
+    NP_("quantity", "speed"),
+    NP_("quantity", "speed error"),
+    NP_("quantity", "tolerance"),
+    NP_("quantity", "travel linear"),
+    NP_("quantity", "travel tool"),
+)
+
 #: A subscript never smaller than the panel's smallest text.
 SUB_STYLE = ' style="font-size:max(11px,0.8em)"'
 
@@ -37,31 +73,33 @@ def _symbol(part: str) -> str:
     return GREEK.get(part, part)
 
 
-def name_parts(name: str) -> tuple[str, str]:
+def name_parts(name: str, words: Callable[[str], str] | None = None) -> tuple[str, str]:
     """A name as (letter, subscript): ``phi_dot`` -> ("φ̇", ""), ``x_A`` -> ("x", "A"),
-    ``M_phi`` -> ("M", "φ"); a name of words (``position_error``) -> ("position error", "")."""
+    ``M_phi`` -> ("M", "φ"); a name of words (``position_error``) -> ("position error", ""),
+    in a language through ``words`` (one of :data:`QUANTITY_WORDS`)."""
     if name in SPECIAL:
         return SPECIAL[name], ""
     parts = name.split("_")
     head, rest = parts[0], parts[1:]
     if head not in GREEK and _WORD.fullmatch(head):  # words, not a letter with an index
-        return " ".join(parts), ""
+        text = " ".join(parts)
+        return (words(text) if words is not None else text), ""
     letter = _symbol(head)
     while rest and rest[-1] in DOTS:  # x_dot, phi_ddot: the dots go over the letter
         letter += DOTS[rest.pop()]
     return letter, " ".join(_symbol(p) for p in rest)
 
 
-def name_html(name: str) -> str:
+def name_html(name: str, words: Callable[[str], str] | None = None) -> str:
     """The name as the page shows it (escaped HTML, the index as a subscript)."""
-    letter, sub = name_parts(name)
+    letter, sub = name_parts(name, words)
     esc = html.escape
     return esc(letter) + (f"<sub{SUB_STYLE}>{esc(sub)}</sub>" if sub else "")
 
 
-def name_text(name: str) -> str:
+def name_text(name: str, words: Callable[[str], str] | None = None) -> str:
     """The name as plain text (what a reader sees of :func:`name_html`)."""
-    letter, sub = name_parts(name)
+    letter, sub = name_parts(name, words)
     return letter + sub
 
 
@@ -70,4 +108,4 @@ def unit_text(unit: str) -> str:
     return UNITS.get(unit, unit)
 
 
-__all__ = ["GREEK", "UNITS", "name_html", "name_parts", "name_text", "unit_text"]
+__all__ = ["GREEK", "QUANTITY_WORDS", "UNITS", "name_html", "name_parts", "name_text", "unit_text"]

@@ -176,7 +176,7 @@ class PlotPanel:
                 data = chart_data(log, names, self.columns, lesson.time_scale)
                 series = [{"label": "t"}] + [
                     {
-                        "label": name_text(name),
+                        "label": name_text(name, language.quantity),
                         "stroke": PLOT_COLORS[i % len(PLOT_COLORS)],
                         "width": 1.5,
                     }

@@ -32,7 +32,7 @@ def readout_html(s: Session, language: Language = ENGLISH) -> str:
         if v is None:
             continue
         unit = language.unit(unit_text(units.get(name, "")))
-        shown = f"{name_html(name)} = {language.number(v)}" + (
+        shown = f"{name_html(name, language.quantity)} = {language.number(v)}" + (
             f"&nbsp;{html.escape(unit)}" if unit else ""
         )
         # one quantity never wraps inside itself; the line breaks between quantities
