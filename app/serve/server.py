@@ -38,7 +38,7 @@ from analyzer_lab.classroom.instructor_code import CodeError, class_code
 from analyzer_lab.classroom.log_limit import LogLimiter, left_out_text
 from analyzer_lab.classroom.room import Classroom
 from analyzer_lab.classroom.store.sql_store import redact
-from analyzer_lab.i18n import DEFAULT, ENGLISH, Language
+from analyzer_lab.i18n import ENGLISH, Language
 from analyzer_lab.i18n import load_all as load_catalogs
 from analyzer_lab.i18n import resolve as resolve_language
 from analyzer_lab.lessons.kit.contract import Lesson, Params
@@ -574,11 +574,32 @@ class LabServer:
                 setup = lesson.open(scene_of=lesson_scene)
                 setup.stepper.advance(0.01)
                 setup.scene  # built once here and kept in the scene cache for the first page
-                key = (params_key(lesson, setup.params), DEFAULT)
-                DERIVATION_CACHE.get_or_make(key, lambda: build(lesson, {}))
+                key = (params_key(lesson, setup.params), self.language.code)
+                if k > 0 and self.derivations.can_run(lesson):
+                    if DERIVATION_CACHE.get(key) is None:
+                        self._warm_derivation(lesson, key)
+                else:  # the lesson pages open with: here, before the start line
+                    DERIVATION_CACHE.get_or_make(key, lambda: build(lesson, {}, key[1]))
             except Exception:  # the lesson's own code: its first page says what is wrong
                 log.warning("warming up the lesson %s failed", lesson.id, exc_info=True)
             self.warmed.append(lesson.id)
+
+    def _warm_derivation(self, lesson: Lesson, key: tuple[Any, str]) -> None:
+        """Build ``lesson``'s derivation (default values) in a derivation process, at the
+        lower CPU priority the pages' derivations get, and keep it in the cache: the
+        interpreter stays free for the pages opening meanwhile."""
+        owner = ("warm-up", lesson.id)
+        while self.derivations.full() and not self._stop.is_set():
+            time.sleep(WARM_UP_YIELD)
+        if self._stop.is_set():
+            return
+        self.derivations.start(owner, lesson.id, {}, key[1])
+        while (content := self.derivations.poll(owner)) is None and not self._stop.is_set():
+            time.sleep(WARM_UP_YIELD)
+        if self._stop.is_set():
+            self.derivations.cancel(owner)
+        elif content is not None and not content.startswith('<div class="al-error">'):
+            DERIVATION_CACHE.put(key, content)
 
     def _page_comes_first(self) -> bool:
         """Whether a page is being built or was built less than :data:`WARM_UP_QUIET`
