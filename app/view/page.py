@@ -120,6 +120,7 @@ class SessionView:
         self.step_seconds = 0.0  # time spent in the lesson's stepper (frame loop)
         self.draw_seconds = 0.0  # time spent queueing the frame's updates
         self.renderer = SceneRenderer(client, self.config)
+        self.renderer.text = self.language.lesson_text
         self.renderer.on_surface_click = self._on_surface_click
         self.plots = PlotPanel(client.gui)
         self._plots_folder: Any = None
@@ -347,7 +348,7 @@ class SessionView:
         esc, text = html.escape, self.language.lesson_text
         problem, title = esc(text(lesson.problem)), esc(text(lesson.title))
         self.lesson_head.content = (
-            f'<div style="font-size:0.95em"><b>{problem} · {title}</b><br>'
+            f'<div class="al-lesson-head" style="font-size:0.95em"><b>{problem} · {title}</b><br>'
             f'<span style="color:#555">{esc(text(lesson.source))}</span><br>'
             f"{esc(text(lesson.summary))}</div>"
         )
@@ -444,6 +445,8 @@ class SessionView:
         self._label_lessons()
         self.lesson_dd.options = tuple(self._labels)
         self.controls.language = language
+        self.renderer.text = language.lesson_text
+        self._drawn_scene_rev = -1  # the scene's labels drawn again in the new language
         self.clock.set_language(language)
         self.exports.set_language(language)
         relabel_tabs(self.tabs, [tr(name) for name in TABS])

@@ -244,6 +244,8 @@ class SceneRenderer:
         #: The box the run will cover (a preset's, :mod:`~analyzer_lab.view.extents`):
         #: framed with the scene's; ``None`` for values whose run is not known ahead.
         self.run_box: tuple[np.ndarray, np.ndarray] | None = None
+        #: The scene's own words (a marker's label) in the page's language.
+        self.text: Callable[[str], str] = str
         #: a framing to check: (when, the camera position of the framing before, resends)
         self._unconfirmed: tuple[float, np.ndarray, int] | None = None
 
@@ -360,7 +362,7 @@ class SceneRenderer:
                 add(
                     scene_api.add_label(
                         f"/lab/static/marker_label/{node_name(mk.name)}",
-                        mk.label,
+                        self.text(mk.label),
                         position=tuple(map(float, pts[0])),
                         font_screen_scale=self.label_scale,
                     )

@@ -64,7 +64,7 @@ PHONE_LAYOUT = """<style>
 #: small text; viser's theme gives 3.3:1 and 4.4:1); the lab's own texts (readout, notes,
 #: messages, derivations) indented as far as viser's labels, not flush at the panel's edge.
 READABLE_TEXT = """<style>
-.al-readout, .al-preset-note, .al-message, .al-frame-message, .al-derivation,
+.al-readout, .al-preset-note, .al-message, .al-frame-message, .al-derivation, .al-lesson-head,
 .al-plots-undefined, .al-error, .al-field-error {
   padding-left: 0.55rem; padding-right: 0.55rem; box-sizing: border-box;
 }

@@ -131,7 +131,7 @@ GEOMETRY_JS = """(minText) => {
       && l.textContent.trim());
   const labelLeft = labels.length ? Math.min(...labels.map((l) => l.getBoundingClientRect().left))
       : null;
-  for (const el of document.querySelectorAll('.al-readout, .al-preset-note, .al-message')) {
+  for (const el of document.querySelectorAll('.al-readout, .al-preset-note, .al-message, .al-lesson-head')) {
     if (!el.offsetParent || labelLeft === null) continue;
     const text = el.getBoundingClientRect().left + parseFloat(getComputedStyle(el).paddingLeft);
     if (text < labelLeft - 4) flush.push(el.className + ' at ' + Math.round(text)
