@@ -206,6 +206,8 @@ def run_texts(lesson: Lesson) -> list[str]:
         params = lesson.open(None, preset).params
         for step in lesson.derivation(params):
             texts += [step.title, step.text, _shown_remark(step.reconstructed)]
+            caption = re.search(r'aria-label="([^"]*)"', step.svg or "")
+            texts += [caption.group(1)] if caption else []
             if re.search("[A-Za-z]", step.source or ""):
                 texts.append(step.source)
         texts += [note.text for note in lesson.notes(params)]
@@ -266,5 +268,6 @@ def test_every_remark_and_source_of_a_step_is_in_russian() -> None:
         "в источнике утрачено; (1.50) при u1 = u3 = 0, u2 = 1"
     )
     assert ru.lesson_text("the source cites (2.30), which holds accelerations, not velocities")
+    assert ru.lesson_text("C1.5: analyzer block diagram") == "С1.5: структурная схема анализатора"
     assert ru.gettext("reconstructed") == "восстановлено"
     assert ru.gettext("corrected") == "исправлено"

@@ -66,6 +66,21 @@ def test_a_steps_source_remark_and_tag_word_go_through_the_pages_language() -> N
     assert ">reconstructed<" in plain and "reconstructed: lost here" in plain
 
 
+def test_a_figures_caption_goes_through_the_pages_language() -> None:
+    """The caption (``aria-label`` and the line drawing it) is translated, escaped, the
+    rest of the figure is kept."""
+    svg = (
+        '<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 100 40" aria-label="Fig &amp; A">'
+        '<text x="10" y="20" font-weight="bold">Fig &amp; A</text><text>x0</text></svg>'
+    )
+    out = step_to_html(
+        DerivationStep("T", svg=svg), text=lambda t: "Рис <&>" if t == "Fig & A" else t
+    )
+    assert ">Рис &lt;&amp;&gt;</text>" in out  # the root's aria-label is not kept
+    assert "Fig" not in out and ">x0</text>" in out
+    assert "Fig &amp; A</text>" in step_to_html(DerivationStep("T", svg=svg))
+
+
 def test_step_without_reconstruction_has_no_tag() -> None:
     out = step_to_html(DerivationStep("Plain", math=sp.Integer(1), source="(1.42)"))
     assert "reconstructed" not in out

@@ -20,7 +20,7 @@ from html.parser import HTMLParser
 
 import sympy as sp
 from analyzer_lab.i18n import N_
-from analyzer_lab.lesson_texts import remark_parts
+from analyzer_lab.lesson_texts import figure_caption, remark_parts
 from analyzer_lab.lessons.kit.contract import DerivationStep
 from analyzer_lab.view.mathml_printer import TextbookMathML, tex_free, textbook_mathml
 
@@ -353,6 +353,18 @@ def _as_written(text: str) -> str:
     return text
 
 
+def _captioned(svg: str, text: Callable[[str], str]) -> str:
+    """``svg`` with its caption (:func:`figure_caption`, its ``aria-label`` and the line
+    that draws it) through ``text``; sanitized afterwards like any figure."""
+    caption = figure_caption(svg)
+    shown = text(caption) if caption else caption
+    if shown == caption:
+        return svg
+    return svg.replace(f"{html.escape(caption)}<", f"{html.escape(shown)}<").replace(
+        f'aria-label="{html.escape(caption)}"', f'aria-label="{html.escape(shown)}"', 1
+    )
+
+
 def step_to_html(
     step: DerivationStep,
     index: int | None = None,
@@ -361,7 +373,7 @@ def step_to_html(
 ) -> str:
     """One derivation step: heading (title, source equation number, "reconstructed" tag),
     prose, then each statement as a display ``<math>``; ``text`` puts the title, the
-    prose, the source and the remark into the page's language (e.g.
+    prose, the source, the remark and the figure's caption into the page's language (e.g.
     :meth:`analyzer_lab.i18n.Language.lesson_text`), ``tr`` the tag word (e.g.
     :meth:`analyzer_lab.i18n.Language.gettext`)."""
     esc = html.escape
@@ -386,8 +398,9 @@ def step_to_html(
     for item in _as_list(step.math):
         parts.append(formula_html(item))
     if step.svg:
+        svg = _captioned(step.svg, text)
         parts.append(
-            f'<div class="al-figure" style="width:100%;overflow-x:auto">{_fit_svg(step.svg)}</div>'
+            f'<div class="al-figure" style="width:100%;overflow-x:auto">{_fit_svg(svg)}</div>'
         )
     if tag:
         parts.append(
