@@ -228,6 +228,8 @@ def test_the_derivation_is_shown_in_the_pages_language(labs: dict[str, Any]) -> 
             assert "восстановлено" in words and "Рис. 1.15" in words
             assert "Fig." not in words and "Problem" not in words and "derived" not in words
             assert "Задача 1.4: структурная схема анализатора" in words  # the figure's caption
+            head = next(h for h in ru.html.values() if "Учебник, §1.3, задача 1.4" in h)
+            assert "Textbook" not in head and "eqs" not in head
             assert re.search(r"сфера R=1(\.0)?: F = \S+ с числами этого урока", shown)
             await until(lambda: "2. Tangency<" in _derivation(en), 60, "the English one")
             assert "Касание" not in _derivation(en)
