@@ -9,10 +9,11 @@ The page translates them with :meth:`analyzer_lab.i18n.Language.lesson_text` (th
 
 The texts a lesson writes per run (its derivation's step titles and prose, its notes) are
 collected by opening every lesson with its defaults and with each preset
-(:func:`run_fields`), each with its numbers taken out
-(:func:`analyzer_lab.text_numbers.abstract`): one entry, ``Here L = {0}: the profile is a
-trapezoid.``, covers every run.  The source's claims are checked by the command line and
-are not shown on a page, so they are not collected.
+(:func:`run_fields`), also each step's source words (``Fig. 1.14``, ``after (35)``), its
+remark on a formula rebuilt or corrected (:func:`remark_parts`) and its figure's caption,
+each with its numbers taken out (:func:`analyzer_lab.text_numbers.abstract`): one entry,
+``Here L = {0}: the profile is a trapezoid.``, covers every run.  The source's claims are
+checked by the command line and are not shown on a page, so they are not collected.
 
 ``python -m analyzer_lab.lesson_texts extract OUT.pot`` writes the template; the
 catalogs follow it with ``pybabel update -D lessons -i OUT.pot -d app/locale``.
@@ -22,6 +23,8 @@ from __future__ import annotations
 
 import argparse
 import functools
+import html
+import re
 import sys
 from collections.abc import Iterable, Iterator
 from pathlib import Path
@@ -59,18 +62,52 @@ def lesson_fields(lesson: Lesson) -> Iterator[tuple[str, str]]:
         yield f"{lid}.series.{s.name}.undefined", s.undefined
 
 
+def remark_parts(note: str | None) -> tuple[str, str]:
+    """A step's remark (:attr:`DerivationStep.reconstructed`) as ``(kind, why)``:
+    ``("corrected", why)`` for a misprint put right (``corrected: why``),
+    ``("reconstructed", why)`` for a formula rebuilt from the text, ``("", "")`` for a
+    formula as printed.  ``why`` is the text a page shows (and translates)."""
+    if not note:
+        return "", ""
+    if note.lower().startswith("corrected"):
+        return "corrected", note.split(":", 1)[1].strip() if ":" in note else note
+    return "reconstructed", note
+
+
+#: A figure's caption: its ``aria-label`` (a block diagram also draws it as its first line).
+_CAPTION = re.compile(r'<svg\b[^>]*\baria-label="([^"]*)"')
+
+
+def figure_caption(svg: str | None) -> str:
+    """The caption of a step's figure as written (e.g. ``Problem 1.4: analyzer block
+    diagram``); ``""`` without a figure or a caption."""
+    found = _CAPTION.search(svg or "")
+    return html.unescape(found.group(1)) if found else ""
+
+
 def run_fields(lesson: Lesson) -> Iterator[tuple[str, str]]:
     """``(where, text)`` for each text ``lesson`` writes per run, opened with its defaults
-    and with each preset: its derivation's step titles and prose, its notes; each text
-    with its numbers taken out (``where`` is e.g. ``sphere.derivation.3.title``)."""
+    and with each preset: its derivation's step titles, prose, source words, remarks
+    (:func:`remark_parts`) and figure captions (:func:`figure_caption`), its notes; each
+    text with its numbers taken out (``where`` is e.g. ``sphere.derivation.3.title``).  A
+    source that is only equation numbers (``(1.58)``) has no words and is left out."""
     lid = lesson.id
     for preset in (None, *(p.name for p in lesson.presets)):
         params = lesson.open(None, preset).params
         for i, step in enumerate(lesson.derivation(params), 1):
             yield f"{lid}.derivation.{i}.title", abstract(step.title)[0]
             yield f"{lid}.derivation.{i}.text", abstract(step.text)[0]
+            if step.source and _has_words(step.source):
+                yield f"{lid}.derivation.{i}.source", abstract(step.source)[0]
+            yield f"{lid}.derivation.{i}.remark", abstract(remark_parts(step.reconstructed)[1])[0]
+            yield f"{lid}.derivation.{i}.figure", abstract(figure_caption(step.svg))[0]
         for note in lesson.notes(params):
             yield f"{lid}.note", abstract(note.text)[0]
+
+
+def _has_words(text: str) -> bool:
+    """Whether ``text`` has a letter (``Fig. 1.14``), not only numbers (``(1.58)``)."""
+    return re.search(r"[^\W\d_]", text) is not None
 
 
 @functools.cache

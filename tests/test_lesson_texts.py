@@ -190,15 +190,26 @@ def test_a_missing_lessons_catalog_is_logged_and_shows_english(
     assert resolve("ru")[0].lesson_text("Curve on a sphere") == "Перемещение по кривой на сфере"
 
 
+def _shown_remark(remark: str | None) -> str:
+    """The remark as a page shows it: the text after ``corrected:``, else all of it."""
+    remark = remark or ""
+    corrected = remark.lower().startswith("corrected") and ":" in remark
+    return remark.split(":", 1)[1].strip() if corrected else remark
+
+
 def run_texts(lesson: Lesson) -> list[str]:
-    """Every text a lesson writes per run (its derivation's step titles and prose, its
-    notes) with its defaults and with each preset, walked here independently of the
-    collector."""
+    """Every text a lesson writes per run (its derivation's step titles, prose, sources
+    with words and remarks, its notes) with its defaults and with each preset, walked
+    here independently of the collector."""
     texts = []
     for preset in (None, *(p.name for p in lesson.presets)):
         params = lesson.open(None, preset).params
         for step in lesson.derivation(params):
-            texts += [step.title, step.text]
+            texts += [step.title, step.text, _shown_remark(step.reconstructed)]
+            caption = re.search(r'aria-label="([^"]*)"', step.svg or "")
+            texts += [caption.group(1)] if caption else []
+            if re.search("[A-Za-z]", step.source or ""):
+                texts.append(step.source)
         texts += [note.text for note in lesson.notes(params)]
     return [t for t in texts if t and t.strip()]
 
@@ -235,3 +246,28 @@ def test_a_run_with_other_numbers_reads_its_texts_in_russian_with_its_own_number
     assert ru.lesson_text("Here L = 0.5 and more: a text no lesson has") == (
         "Here L = 0.5 and more: a text no lesson has"
     )
+
+
+def test_every_remark_and_source_of_a_step_is_in_russian() -> None:
+    """The remarks on rebuilt or corrected formulas and the step sources with words
+    (``Fig. 1.15``, ``after (35)``) of every lesson and preset read in Russian."""
+    ru = resolve("ru")[0]
+    remarks, sources = set(), set()
+    for lesson in all_lessons():
+        for preset in (None, *(p.name for p in lesson.presets)):
+            for step in lesson.derivation(lesson.open(None, preset).params):
+                if step.reconstructed:
+                    remarks.add(_shown_remark(step.reconstructed))
+                if re.search("[A-Za-z]{2}", step.source or ""):
+                    sources.add(step.source)
+    assert len(remarks) >= 90 and len(sources) >= 40
+    english = [t for t in remarks | sources if not CYRILLIC.search(ru.lesson_text(t))]
+    assert english == []
+    assert ru.lesson_text("Fig. 1.15") == "Рис. 1.15"
+    assert ru.lesson_text("lost in the source; (1.50) with u1 = u3 = 0, u2 = 1") == (
+        "в источнике утрачено; (1.50) при u1 = u3 = 0, u2 = 1"
+    )
+    assert ru.lesson_text("the source cites (2.30), which holds accelerations, not velocities")
+    assert ru.lesson_text("C1.5: analyzer block diagram") == "С1.5: структурная схема анализатора"
+    assert ru.gettext("reconstructed") == "восстановлено"
+    assert ru.gettext("corrected") == "исправлено"

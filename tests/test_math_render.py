@@ -54,6 +54,33 @@ def test_step_html_escapes_prose_and_shows_tags() -> None:
     assert out.count("<math") == 2
 
 
+def test_a_steps_source_remark_and_tag_word_go_through_the_pages_language() -> None:
+    """``text`` translates the title, the source and the remark (the part after
+    ``corrected:``), ``tr`` the tag word; the tag's class stays the kind."""
+    step = DerivationStep("T", source="Fig. 1.15", reconstructed="corrected: sign <lost>")
+    out = step_to_html(step, 1, text=lambda t: f"<{t}>", tr=str.upper)
+    assert "&lt;Fig. 1.15&gt;" in out and "&lt;sign &lt;lost&gt;&gt;" in out
+    assert 'class="al-corrected"' in out and ">CORRECTED<" in out
+    assert "CORRECTED: &lt;sign" in out and "corrected:" not in out
+    plain = step_to_html(DerivationStep("T", reconstructed="lost here"))
+    assert ">reconstructed<" in plain and "reconstructed: lost here" in plain
+
+
+def test_a_figures_caption_goes_through_the_pages_language() -> None:
+    """The caption (``aria-label`` and the line drawing it) is translated, escaped, the
+    rest of the figure is kept."""
+    svg = (
+        '<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 100 40" aria-label="Fig &amp; A">'
+        '<text x="10" y="20" font-weight="bold">Fig &amp; A</text><text>x0</text></svg>'
+    )
+    out = step_to_html(
+        DerivationStep("T", svg=svg), text=lambda t: "Рис <&>" if t == "Fig & A" else t
+    )
+    assert ">Рис &lt;&amp;&gt;</text>" in out  # the root's aria-label is not kept
+    assert "Fig" not in out and ">x0</text>" in out
+    assert "Fig &amp; A</text>" in step_to_html(DerivationStep("T", svg=svg))
+
+
 def test_step_without_reconstruction_has_no_tag() -> None:
     out = step_to_html(DerivationStep("Plain", math=sp.Integer(1), source="(1.42)"))
     assert "reconstructed" not in out

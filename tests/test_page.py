@@ -223,6 +223,13 @@ def test_the_derivation_is_shown_in_the_pages_language(labs: dict[str, Any]) -> 
             await until(lambda: "2. Касание<" in _derivation(ru), 60, "the Russian derivation")
             shown = _derivation(ru)
             assert "Tangency" not in shown and "5. Сфера<" in shown
+            words = re.sub(r"<[^>]*>", " ", shown)  # the shown text, tags and classes left out
+            assert "reconstructed" not in words and "corrected" not in words
+            assert "восстановлено" in words and "Рис. 1.15" in words
+            assert "Fig." not in words and "Problem" not in words and "derived" not in words
+            assert "Задача 1.4: структурная схема анализатора" in words  # the figure's caption
+            head = next(h for h in ru.html.values() if "Учебник, §1.3, задача 1.4" in h)
+            assert "Textbook" not in head and "eqs" not in head
             assert re.search(r"сфера R=1(\.0)?: F = \S+ с числами этого урока", shown)
             await until(lambda: "2. Tangency<" in _derivation(en), 60, "the English one")
             assert "Касание" not in _derivation(en)

@@ -45,7 +45,8 @@ def build(lesson: Any, values: dict[str, Any], language: str = DEFAULT) -> str:
     """The derivation's HTML (or the too-large message) in the page's ``language`` (a
     code), in this process."""
     steps = lesson.derivation(lesson.open(values).params)
-    content = derivation_to_html(steps, text=language_of(language).lesson_text)
+    lang = language_of(language)
+    content = derivation_to_html(steps, text=lang.lesson_text, tr=lang.gettext)
     if len(content) > MAX_DERIVATION_BYTES:
         return too_large(
             f"{len(content) / 1e6:.1f} MB of formulas (at most {MAX_DERIVATION_BYTES / 1e6:.1f} MB)"

@@ -543,7 +543,9 @@ class LabServer:
         thread when it is not there)."""
         return DERIVATION_CACHE.get_or_make(
             (params_key(lesson, params), language.code),
-            lambda: derivation_to_html(lesson.derivation(params), text=language.lesson_text),
+            lambda: derivation_to_html(
+                lesson.derivation(params), text=language.lesson_text, tr=language.gettext
+            ),
         )
 
     def warm_up(self) -> None:

@@ -19,6 +19,8 @@ from collections.abc import Callable, Iterable, Sequence
 from html.parser import HTMLParser
 
 import sympy as sp
+from analyzer_lab.i18n import N_
+from analyzer_lab.lesson_texts import figure_caption, remark_parts
 from analyzer_lab.lessons.kit.contract import DerivationStep
 from analyzer_lab.view.mathml_printer import TextbookMathML, tex_free, textbook_mathml
 
@@ -343,36 +345,50 @@ def _fit_svg(svg: str) -> str:
     )
 
 
-def _tag_of(note: str | None) -> tuple[str, str]:
-    """("corrected", why) for a misprint put right, ("reconstructed", why) for a formula
-    rebuilt from the text; ("", "") for a formula as printed."""
-    if not note:
-        return "", ""
-    if note.lower().startswith("corrected"):
-        return "corrected", note.split(":", 1)[1].strip() if ":" in note else note
-    return "reconstructed", note
+#: The tag word of a step's remark, by its kind (:func:`remark_parts`), in the chrome's domain.
+TAG_WORDS: dict[str, str] = {"corrected": N_("corrected"), "reconstructed": N_("reconstructed")}
 
 
 def _as_written(text: str) -> str:
     return text
 
 
+def _captioned(svg: str, text: Callable[[str], str]) -> str:
+    """``svg`` with its caption (:func:`figure_caption`, its ``aria-label`` and the line
+    that draws it) through ``text``; sanitized afterwards like any figure."""
+    caption = figure_caption(svg)
+    shown = text(caption) if caption else caption
+    if shown == caption:
+        return svg
+    return svg.replace(f"{html.escape(caption)}<", f"{html.escape(shown)}<").replace(
+        f'aria-label="{html.escape(caption)}"', f'aria-label="{html.escape(shown)}"', 1
+    )
+
+
 def step_to_html(
-    step: DerivationStep, index: int | None = None, text: Callable[[str], str] = _as_written
+    step: DerivationStep,
+    index: int | None = None,
+    text: Callable[[str], str] = _as_written,
+    tr: Callable[[str], str] = _as_written,
 ) -> str:
     """One derivation step: heading (title, source equation number, "reconstructed" tag),
-    prose, then each statement as a display ``<math>``; ``text`` puts the title and the
-    prose into the page's language (e.g. :meth:`analyzer_lab.i18n.Language.lesson_text`)."""
+    prose, then each statement as a display ``<math>``; ``text`` puts the title, the
+    prose, the source, the remark and the figure's caption into the page's language (e.g.
+    :meth:`analyzer_lab.i18n.Language.lesson_text`), ``tr`` the tag word (e.g.
+    :meth:`analyzer_lab.i18n.Language.gettext`)."""
     esc = html.escape
     head = f"{index}. " if index is not None else ""
     parts = ['<div class="al-step" style="margin:0 0 12px 0">']
     parts.append(f"<div><b>{esc(head)}{prose_html(text(step.title))}</b>")
     if step.source:
-        parts.append(f'<span class="al-source" style="{SOURCE_STYLE}">{esc(step.source)}</span>')
-    tag, why = _tag_of(step.reconstructed)
+        parts.append(
+            f'<span class="al-source" style="{SOURCE_STYLE}">{esc(text(step.source))}</span>'
+        )
+    tag, why = remark_parts(step.reconstructed)
+    word, why = (tr(TAG_WORDS[tag]), text(why)) if tag else ("", "")
     if tag:
         parts.append(
-            f' <span class="al-{tag}" style="{RECON_STYLE}" title="{esc(why)}">{tag}</span>'
+            f' <span class="al-{tag}" style="{RECON_STYLE}" title="{esc(why)}">{esc(word)}</span>'
         )
     parts.append("</div>")
     if step.text:
@@ -382,23 +398,28 @@ def step_to_html(
     for item in _as_list(step.math):
         parts.append(formula_html(item))
     if step.svg:
+        svg = _captioned(step.svg, text)
         parts.append(
-            f'<div class="al-figure" style="width:100%;overflow-x:auto">{_fit_svg(step.svg)}</div>'
+            f'<div class="al-figure" style="width:100%;overflow-x:auto">{_fit_svg(svg)}</div>'
         )
     if tag:
         parts.append(
-            f'<div style="font-size:max(11px,0.8em);color:#7a5600">{tag}: {esc(why)}</div>'
+            f'<div style="font-size:max(11px,0.8em);color:#7a5600">{esc(word)}: {esc(why)}</div>'
         )
     parts.append("</div>")
     return "".join(parts)
 
 
 def derivation_to_html(
-    steps: Iterable[DerivationStep], header: str = "", text: Callable[[str], str] = _as_written
+    steps: Iterable[DerivationStep],
+    header: str = "",
+    text: Callable[[str], str] = _as_written,
+    tr: Callable[[str], str] = _as_written,
 ) -> str:
-    """The whole derivation as one HTML block (numbered steps), its titles and prose
-    through ``text`` (the page's language; as written by default)."""
-    body = "".join(step_to_html(s, i, text) for i, s in enumerate(steps, 1))
+    """The whole derivation as one HTML block (numbered steps), its titles, prose, sources
+    and remarks through ``text`` and its tag words through ``tr`` (the page's language; as
+    written by default)."""
+    body = "".join(step_to_html(s, i, text, tr) for i, s in enumerate(steps, 1))
     top = f'<div style="margin-bottom:8px">{html.escape(header)}</div>' if header else ""
     return (
         f'<div class="al-derivation" style="font-size:0.95em;line-height:1.35">'

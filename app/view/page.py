@@ -655,7 +655,9 @@ class SessionView:
         self.derivation_due = None
         try:
             steps = s.lesson.derivation(s.params)
-            content = derivation_to_html(steps, text=self.language.lesson_text)
+            content = derivation_to_html(
+                steps, text=self.language.lesson_text, tr=self.language.gettext
+            )
         except Exception as exc:  # any formula: the page says why
             log.warning(
                 "page %s: the derivation of %s failed",
