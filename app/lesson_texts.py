@@ -103,6 +103,8 @@ def run_fields(lesson: Lesson) -> Iterator[tuple[str, str]]:
             yield f"{lid}.derivation.{i}.figure", abstract(figure_caption(step.svg))[0]
         for note in lesson.notes(params):
             yield f"{lid}.note", abstract(note.text)[0]
+        for marker in lesson.scene(params).markers:
+            yield f"{lid}.scene.label", abstract(marker.label)[0]
 
 
 def _has_words(text: str) -> bool:
