@@ -39,6 +39,7 @@ pytestmark = [pytest.mark.browser, pytest.mark.timeout(900)]
 ALLOWED = {
     "analyzer", "lab", "csv", "json", "html", "sin", "cos", "tan", "exp", "sqrt", "atan",
     "atan2", "log", "abs", "max", "min", "sign", "pi", "english", "lsp", "dop853", "rk45",
+    "arcsin", "arccos", "arctan", "sinh", "cosh", "tanh",
 }  # fmt: skip
 #: The panel's visible prose: its text nodes outside formulas, figures and inputs.
 PROSE_JS = """() => {
@@ -49,6 +50,7 @@ PROSE_JS = """() => {
   for (let n = walk.nextNode(); n; n = walk.nextNode()) {
     const el = n.parentElement;
     if (!el || !el.offsetParent || el.closest('math, svg, script, style, input, textarea')) continue;
+    if (!el.checkVisibility({checkOpacity: true, checkVisibilityCSS: true})) continue;
     if (el.closest('.mantine-Notification-root')) continue;
     const r = el.getBoundingClientRect();
     if (r.width === 0 || r.height === 0) continue;
@@ -62,8 +64,15 @@ _WORD = re.compile(r"(?<![A-Za-z0-9_])[A-Za-z]{3,}(?![A-Za-z0-9_])")
 
 
 def english_words(text: str) -> list[str]:
-    """The Latin words of three letters or more not in :data:`ALLOWED`."""
-    return sorted({w for w in _WORD.findall(text) if w.lower() not in ALLOWED})
+    """The Latin words of three letters or more not in :data:`ALLOWED`, each with the
+    text around it."""
+    return sorted(
+        {
+            f"{m.group()} ({text[max(0, m.start() - 40) : m.end() + 20]!r})"
+            for m in _WORD.finditer(text)
+            if m.group().lower() not in ALLOWED
+        }
+    )
 
 
 @pytest.fixture(scope="module")

@@ -61,6 +61,20 @@ QUANTITY_WORDS = (
     NP_("quantity", "tolerance"),
     NP_("quantity", "travel linear"),
     NP_("quantity", "travel tool"),
+    # words as an index: q_steady, F_drive, v_limit
+    NP_("quantity", "along"),
+    NP_("quantity", "analyzer"),
+    NP_("quantity", "article"),
+    NP_("quantity", "blade"),
+    NP_("quantity", "damper"),
+    NP_("quantity", "dda"),
+    NP_("quantity", "drive"),
+    NP_("quantity", "limit"),
+    NP_("quantity", "sopr"),
+    NP_("quantity", "spring"),
+    NP_("quantity", "steady"),
+    NP_("quantity", "total"),
+    NP_("quantity", "transient"),
 )
 
 #: A subscript never smaller than the panel's smallest text.
@@ -87,7 +101,13 @@ def name_parts(name: str, words: Callable[[str], str] | None = None) -> tuple[st
     letter = _symbol(head)
     while rest and rest[-1] in DOTS:  # x_dot, phi_ddot: the dots go over the letter
         letter += DOTS[rest.pop()]
-    return letter, " ".join(_symbol(p) for p in rest)
+
+    def index(part: str) -> str:  # a word as an index (q_steady) in the language
+        if part not in GREEK and _WORD.fullmatch(part) and words is not None:
+            return words(part)
+        return _symbol(part)
+
+    return letter, " ".join(index(p) for p in rest)
 
 
 def name_html(name: str, words: Callable[[str], str] | None = None) -> str:
