@@ -34,6 +34,7 @@ from analyzer_lab.classroom.roster import Progress, clean_name, head_html, row_h
 from analyzer_lab.classroom.store.grades import export as export_grades
 from analyzer_lab.classroom.store.records import JoinError, StoreError, Student
 from analyzer_lab.classroom.table_rows import RowTable
+from analyzer_lab.i18n import ENGLISH, N_, Language
 from analyzer_lab.lessons.assignments import (
     Assignment,
     AssignmentError,
@@ -63,7 +64,7 @@ TOKEN_WAIT = 3.0
 TOKEN_TRIES = 5
 #: Seconds a check waits for that token (then the page joins with what it typed).
 CHECK_WAIT = 3.0
-NOT_RECORDED = (
+NOT_RECORDED = N_(
     "Your attempt could not be recorded: {why}. It is not in the course record and does "
     "not count yet; check again in a moment."
 )
@@ -77,18 +78,24 @@ def _box(body: str, colour: str = "#333", cls: str = "") -> str:
     )
 
 
-def task_html(a: Assignment) -> str:
-    """The task as the student sees it (every text escaped)."""
+def task_html(a: Assignment, language: Language = ENGLISH) -> str:
+    """The task as the student sees it in ``language`` (the file's text in that language
+    when it gives one; every text escaped)."""
+    tr = language.gettext
     checks = "".join(f"<li>{esc(c.describe())}</li>" for c in a.checks)
+    hint = a.hint_in(language.code)
+    may, locked, goal = tr("You may change:"), tr("(the other fields are locked)"), tr("Goal:")
+    hint_head = tr("Hint:")
+    numbers = tr("Your numbers: {numbers}").format(numbers=_numbers(a)) if a.variant else ""
     return _box(
         f"<b>{esc(a.title)}</b> <span style='color:#555'>({esc(a.lesson)})</span><br>"
-        f"{esc(a.task)}<br><b>You may change:</b> {esc(', '.join(a.unlocked))}"
-        " (the other fields are locked)<br><b>Goal:</b>"
+        f"{esc(a.task_in(language.code))}<br><b>{esc(may)}</b> "
+        f"{esc(', '.join(a.unlocked))} {esc(locked)}<br><b>{esc(goal)}</b>"
         f"<ul style='margin:2px 0 2px 1.1em;padding:0'>{checks}</ul>"
-        + (f"<i>Hint:</i> {esc(a.hint)}<br>" if a.hint else "")
+        + (f"<i>{esc(hint_head)}</i> {esc(hint)}<br>" if hint else "")
         + (
-            f"<span class='al-variant' style='color:#555'>Your numbers: {esc(_numbers(a))}</span><br>"
-            if a.variant
+            f"<span class='al-variant' style='color:#555'>{esc(numbers)}</span><br>"
+            if numbers
             else ""
         )
         + (f"<span style='color:#555'>{esc(a.reference)}</span>" if a.reference else ""),
@@ -100,14 +107,17 @@ def _numbers(a: Assignment) -> str:
     return ", ".join(f"{k} = {v:.12g}" for k, v in a.variant.items())
 
 
-def verdict_html(g: Grade) -> str:
-    """Which checks pass and by how much the others miss."""
+def verdict_html(g: Grade, language: Language = ENGLISH) -> str:
+    """Which checks pass and by how much the others miss, in ``language``."""
+    tr = language.gettext
     items = []
     for c in g.checks:
-        mark, colour = ("✓ pass", "#1b7a2e") if c.passed else ("✗ fail", "#a61b1b")
+        mark, colour = (
+            ("✓ " + tr("pass"), "#1b7a2e") if c.passed else ("✗ " + tr("fail"), "#a61b1b")
+        )
         items.append(
             f"<li class='al-check' data-check='{esc(c.id)}' data-pass='{'yes' if c.passed else 'no'}'>"
-            f"<b style='color:{colour}'>{mark}</b> {esc(c.text)}<br>"
+            f"<b style='color:{colour}'>{esc(mark)}</b> {esc(c.text)}<br>"
             f"<span style='color:#555'>{esc(c.message)}</span>"
             + (
                 f"<br><span class='al-check-feedback' style='color:#1a4d8f'>{esc(c.feedback)}</span>"
@@ -116,10 +126,14 @@ def verdict_html(g: Grade) -> str:
             )
             + "</li>"
         )
+    failing = language.ngettext(
+        "{failed} of {total} check fails.", "{failed} of {total} checks fail.", len(g.checks)
+    ).format(failed=len(g.failed), total=len(g.checks))
+    passing = tr("All checks pass.")
     head = (
-        "<b style='color:#1b7a2e'>All checks pass.</b>"
+        f"<b style='color:#1b7a2e'>{esc(passing)}</b>"
         if g.passed
-        else f"<b style='color:#a61b1b'>{len(g.failed)} of {len(g.checks)} checks fail.</b>"
+        else f"<b style='color:#a61b1b'>{esc(failing)}</b>"
     )
     return _box(
         f"{head}<ul style='margin:2px 0 0 1.1em;padding:0'>{''.join(items)}</ul>",
@@ -320,21 +334,24 @@ class StudentPanel:
         self.variant: Variant | None = None
         self.pending: str | None = None
         gui = view.client.gui
+        tr = view.language.gettext
         order = float(view.status.order) + 0.5
-        self.folder = gui.add_folder("Assignment", order=order, expand_by_default=True)
+        self.folder = gui.add_folder(tr("Assignment"), order=order, expand_by_default=True)
         with self.folder:
-            self.picker = gui.add_dropdown("Assignment", board.choices(), initial_value=NONE)
+            self.picker = gui.add_dropdown(tr("Assignment"), board.choices(), initial_value=NONE)
             self.task = gui.add_html("")
             self.who = gui.add_html("")
             self.code = gui.add_text(
-                "Join code", initial_value="", hint="the class's join code from the instructor"
+                tr("Join code"),
+                initial_value="",
+                hint=tr("the class's join code from the instructor"),
             )
             self.name = gui.add_text(
-                "Your name",
+                tr("Your name"),
                 initial_value="",
-                hint="your student id or your name, shown to the instructor",
+                hint=tr("your student id or your name, shown to the instructor"),
             )
-            self.check_btn = gui.add_button("Check my answer")
+            self.check_btn = gui.add_button(tr("Check my answer"))
             self.result = gui.add_html("")
         #: the student this page records for (decided on the server: a signed token or a join)
         self.student: Student | None = None
@@ -411,7 +428,10 @@ class StudentPanel:
     def _tell(self, text: str, color: str) -> None:
         try:
             self.view.client.add_notification(
-                "Course record", text, auto_close_seconds=8.0, color=color
+                self.view.language.gettext("Course record"),
+                text,
+                auto_close_seconds=8.0,
+                color=color,
             )
         except RuntimeError:  # the page left meanwhile
             pass
@@ -419,8 +439,9 @@ class StudentPanel:
     def _joined(self, student: Student) -> None:
         self.student = student
         ident = f" ({esc(student.roster_id)})" if student.roster_id else ""
+        recorded = esc(self.view.language.gettext("Recorded as"))
         self.who.content = _box(
-            f"Recorded as <b class='al-student'>{esc(student.name)}</b>{ident}",
+            f"{recorded} <b class='al-student'>{esc(student.name)}</b>{ident}",
             cls="al-student-who",
         )
         self._shown_visible(self.active is not None)
@@ -434,7 +455,9 @@ class StudentPanel:
             self.result.content = error_html(str(exc))
             return None
         except StoreError as exc:
-            self.result.content = error_html(NOT_RECORDED.format(why=exc))
+            self.result.content = error_html(
+                self.view.language.gettext(NOT_RECORDED).format(why=exc)
+            )
             return None
         try:
             self.view.client.local_storage.set_item(TOKEN_KEY, self.board.course.token(student))
@@ -477,15 +500,18 @@ class StudentPanel:
         self._pickers_disabled(True)
         if self.picker.value != aid:
             self.picker.value = aid
-        self.task.content = task_html(a)
+        self.task.content = task_html(a, self.view.language)
         self.result.content = ""
         self._shown_visible(True)
         self.board.grader.warm()  # a check may follow: its worker is started now
         s.notify(f"{'the instructor pushed' if pushed else 'opened'} assignment {a.id}: {a.title}")
         if pushed:
             try:
+                tr = self.view.language.gettext
                 self.view.client.add_notification(
-                    "Assignment", f"the instructor gave you: {a.title}", auto_close_seconds=6.0
+                    tr("Assignment"),
+                    tr("the instructor gave you: {title}").format(title=a.title),
+                    auto_close_seconds=6.0,
                 )
             except RuntimeError:  # the page left meanwhile
                 pass
@@ -521,7 +547,9 @@ class StudentPanel:
             return False
         self.open(a.id)
         self.result.content = error_html(
-            f"your numbers for this name: {_numbers(now.assignment)} (the start values are reset)"
+            self.view.language.gettext(
+                "your numbers for this name: {numbers} (the start values are reset)"
+            ).format(numbers=_numbers(now.assignment))
         )
         return True
 
@@ -555,21 +583,22 @@ class StudentPanel:
         if a is not None and view.session.lesson.id == a.lesson:
             target = getattr(event, "target", None)
             refused = None
+            tr = view.language.gettext
             if target is view.lesson_dd or target is view.preset_dd:
-                refused = "choose (none) under Assignment first to leave the assignment"
+                refused = tr("choose (none) under Assignment first to leave the assignment")
             elif target is None and hasattr(event, "ray_origin"):
                 start = view.session.lesson.start_point or ()
                 if any(n in self.locked() for n in start):
-                    refused = "the start point is locked in this assignment"
+                    refused = tr("the start point is locked in this assignment")
             else:
                 for name, widgets in view.controls.widgets.items():
                     if name in self.locked() and any(w is target for w in widgets):
-                        refused = f"{name} is locked in this assignment"
+                        refused = tr("{name} is locked in this assignment").format(name=name)
                         break
             if refused is not None:
                 try:
                     view.client.add_notification(
-                        "Assignment", refused, auto_close_seconds=4.0, color="yellow"
+                        tr("Assignment"), refused, auto_close_seconds=4.0, color="yellow"
                     )
                     with view.session.lock:
                         view.sync_widgets(force=True)
@@ -584,7 +613,9 @@ class StudentPanel:
         """Grade the session's values of the unlocked parameters (caller holds the lock)."""
         a = self.active
         if a is None:
-            self.result.content = error_html("choose an assignment first")
+            self.result.content = error_html(
+                self.view.language.gettext("choose an assignment first")
+            )
             return
         if self._renumber():  # who this page is changed without the update reaching us
             return
@@ -598,7 +629,11 @@ class StudentPanel:
             return
         s = self.view.session
         if s.lesson.id != a.lesson:
-            self.result.content = error_html(f"this assignment is about the lesson {a.lesson}")
+            self.result.content = error_html(
+                self.view.language.gettext("this assignment is about the lesson {lesson}").format(
+                    lesson=a.lesson
+                )
+            )
             return
         raw = s.raw_values()
         values = {n: raw[n] for n in a.unlocked}
@@ -620,10 +655,11 @@ class StudentPanel:
     def _in_line(self, place: int, locked: bool = False) -> None:
         """Say where the answer waits (0: being checked); from the grader's thread
         unless ``locked``."""
+        tr = self.view.language.gettext
         text = (
-            "Your answer is being checked…"
+            tr("Your answer is being checked…")
             if place == 0
-            else f"Your answer is number {place} in line to be checked."
+            else tr("Your answer is number {place} in line to be checked.").format(place=place)
         )
         box = _box(esc(text), "#555", "al-assignment-queue")
         if locked:
@@ -643,14 +679,15 @@ class StudentPanel:
                 self.board.course.record(student, g, values, variant)
             except StoreError as exc:
                 log.warning("page %s: an attempt not recorded: %s", self.view.client.client_id, exc)
-                g, outcome = None, GradeOutcome(None, NOT_RECORDED.format(why=exc))
+                why = self.view.language.gettext(NOT_RECORDED).format(why=exc)
+                g, outcome = None, GradeOutcome(None, why)
             else:
                 self.board.changed()
         with self.view.session.lock:
             if self.view.closed:
                 return
             if g is not None:
-                self.result.content = verdict_html(g)
+                self.result.content = verdict_html(g, self.view.language)
                 return
             self.result.content = error_html(outcome.error)
             field = outcome.field if outcome.field in self.view.controls.widgets else None

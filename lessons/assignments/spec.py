@@ -8,7 +8,8 @@ An assignment is plain JSON data (see the README section "Assignments"):
 * ``checks``: declared checks over the run (``within``, ``at-most``, ``at-least``,
   ``in-plane``, ``on-circle``, ``reaches``); expressions go through the formula whitelist
   of :mod:`analyzer_lab.lessons.kit.formula` with ``t`` and the lesson's series as variables;
-* ``task``, ``hint``, ``reference`` (text), ``answers`` (``correct``/``wrong`` values);
+* ``task``, ``hint``, ``reference`` (text), ``task_ru``, ``hint_ru`` (the task and hint in
+  Russian, shown on a Russian page; English when absent), ``answers`` (``correct``/``wrong`` values);
 * each check may carry ``feedback`` (shown when it fails) and ``feedback_pass`` (when it passes);
 * ``variables`` and ``variants``: varied quantities, one variant per student (see
   :mod:`analyzer_lab.lessons.assignments.space`).
@@ -76,6 +77,8 @@ _TOP = {
     "checks",
     "task",
     "hint",
+    "task_ru",
+    "hint_ru",
     "reference",
     "answers",
     "variables",
@@ -186,6 +189,9 @@ class Assignment:
     task: str
     hint: str = ""
     reference: str = ""
+    #: the task and hint in Russian (empty: the page shows the English ones)
+    task_ru: str = ""
+    hint_ru: str = ""
     answers: Mapping[str, Mapping[str, Any]] = field(default_factory=dict)
     source: str = ""
     data: Mapping[str, Any] = field(default_factory=dict, repr=False, compare=False)
@@ -195,6 +201,14 @@ class Assignment:
     sample: int | None = None
     #: this variant's values of the varied quantities (empty when not varied)
     variant: Mapping[str, float] = field(default_factory=dict)
+
+    def task_in(self, code: str) -> str:
+        """The task in the language ``code`` (``"ru"``), the English one when not given."""
+        return (self.task_ru if code == "ru" else "") or self.task
+
+    def hint_in(self, code: str) -> str:
+        """The hint in the language ``code``, the English one when not given."""
+        return (self.hint_ru if code == "ru" else "") or self.hint
 
     @property
     def varied(self) -> bool:
@@ -212,6 +226,8 @@ class Assignment:
             "checks": [{"id": c.id, "kind": c.kind, "text": c.describe()} for c in self.checks],
             "task": self.task,
             "hint": self.hint,
+            "task_ru": self.task_ru,
+            "hint_ru": self.hint_ru,
             "reference": self.reference,
             "source": self.source,
             "variables": {v.name: list(v.values) for v in self.variables},
@@ -563,6 +579,8 @@ def parse_concrete(data: Mapping[str, Any], where: str = "") -> Assignment:
         checks=checks,
         task=r.text(data, "task", "task", MAX_TEXT, True),
         hint=r.text(data, "hint", "hint", MAX_TEXT, False),
+        task_ru=r.text(data, "task_ru", "task_ru", MAX_TEXT, False),
+        hint_ru=r.text(data, "hint_ru", "hint_ru", MAX_TEXT, False),
         reference=r.text(data, "reference", "reference", MAX_SHORT, False),
         answers=answers,
         source=where,

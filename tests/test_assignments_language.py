@@ -1,0 +1,140 @@
+"""The student's assignment folder in the page's language: the labels, the task and hint
+the file gives in Russian (``task_ru``, ``hint_ru``; English when it gives none) and the
+check's verdict; real pages (viser's protocol over a websocket) against in-process servers."""
+
+from __future__ import annotations
+
+import asyncio
+import copy
+import html
+import json
+from collections.abc import Callable
+from typing import Any
+
+import pytest
+from analyzer_lab.classroom.assignments import task_html
+from analyzer_lab.i18n import language_of
+from analyzer_lab.lessons.analyzers.sphere import LESSON as SPHERE
+from analyzer_lab.lessons.assignments import AssignmentError, parse_assignment
+
+from tests.support.client import ProtoClient
+from tests.support.waiting import until
+
+pytestmark = pytest.mark.timeout(300)
+TASK = "sphere-equator"
+RU_ID = "sphere-equator-ru"
+
+
+@pytest.fixture(scope="module")
+def labs(make_lab: Callable[..., Any]) -> dict[str, Any]:
+    options = {"lessons": [SPHERE], "lesson": "sphere", "warm_up": False, "restore": False}
+    return {"ru": make_lab(language="ru", **options), "en": make_lab(**options)}
+
+
+def _with_russian(board: Any) -> None:
+    """The ready sphere assignment, its task and hint also given in Russian."""
+    data = copy.deepcopy(board.assignments[TASK].data)
+    data["id"] = RU_ID
+    data["task_ru"] = "Проведите точку по экватору со скоростью {s:g} м/с."
+    data["hint_ru"] = "Скорость вдоль экватора равна |u1|·R."
+    board.assignments[RU_ID] = parse_assignment(json.loads(json.dumps(data)), "ru.json")
+
+
+async def _page(lab: Any, first_label: str) -> tuple[ProtoClient, Any]:
+    before = set(lab.views)
+    c = await ProtoClient(lab.url).start()
+    await c.wait_for(first_label)
+    new = await until(lambda: set(lab.views) - before, 10, "the view")
+    return c, lab.views[max(new)]
+
+
+def _html(c: ProtoClient, cls: str) -> str:
+    return next((h for h in c.html.values() if cls in h), "")
+
+
+def test_a_russian_page_shows_the_assignment_and_its_verdict_in_russian(
+    labs: dict[str, Any],
+) -> None:
+    lab = labs["ru"]
+    board = lab.classroom.board
+    _with_russian(board)
+    s = board.variant(RU_ID, board.class_id, "Аня").values["s"]
+
+    async def go() -> None:
+        c, view = await _page(lab, "Движение")
+        try:
+            await c.wait_for("Проверить мой ответ")
+            for english in ("Check my answer", "Your name", "Join code"):
+                assert english not in c.gui, english
+            await c.set("Задание", RU_ID, 0.2)
+            await c.set("Ваше имя", "Аня", 0.1)
+            task = await until(
+                lambda: (
+                    "Ваши числа" in _html(c, "al-assignment-task")
+                    and _html(c, "al-assignment-task")
+                ),
+                30,
+                "the task",
+            )
+            assert f"со скоростью {s:g} м/с" in task  # the placeholder filled in
+            assert "Подсказка:" in task and "Скорость вдоль экватора" in task
+            assert "Можно менять:" in task and "Цель:" in task
+            assert "You may change" not in task and "Hint:" not in task
+            await c.click("Проверить мой ответ", 0.1)  # the start values: the speed misses
+            verdict = await until(
+                lambda: (
+                    "al-check" in _html(c, "al-assignment-result")
+                    and _html(c, "al-assignment-result")
+                ),
+                30,
+                "the verdict",
+            )
+            assert "не пройдена" in verdict and "не пройдено" in verdict
+            assert "checks fail" not in verdict and "✗ fail" not in verdict
+        finally:
+            await c.close()
+
+    asyncio.run(go())
+
+
+def test_an_english_page_shows_the_english_task(labs: dict[str, Any]) -> None:
+    lab = labs["en"]
+    board = lab.classroom.board
+    _with_russian(board)
+
+    async def go() -> None:
+        c, view = await _page(lab, "Run")
+        try:
+            await c.wait_for("Check my answer")
+            await c.set("Assignment", RU_ID, 0.2)
+            await c.set("Your name", "Ann", 0.1)
+            task = await until(
+                lambda: (
+                    "Your numbers" in _html(c, "al-assignment-task")
+                    and _html(c, "al-assignment-task")
+                ),
+                30,
+                "the task",
+            )
+            assert "You may change:" in task and "Goal:" in task and "Hint:" in task
+            assert "Проведите" not in task and "Подсказка" not in task
+        finally:
+            await c.close()
+
+    asyncio.run(go())
+
+
+def test_a_file_without_russian_falls_back_and_a_bad_one_is_refused(
+    labs: dict[str, Any],
+) -> None:
+    board = labs["en"].classroom.board
+    plain = board.variant(TASK, board.class_id, "Ann").assignment
+    assert not plain.task_ru
+    ru = language_of("ru")
+    shown = task_html(plain, ru)
+    assert html.escape(plain.task) in shown  # the English task, on a Russian page
+    assert "Цель:" in shown
+    data = copy.deepcopy(board.assignments[TASK].data)
+    data["task_ru"] = ["not", "text"]
+    with pytest.raises(AssignmentError, match="field task_ru: .*must be text"):
+        parse_assignment(json.loads(json.dumps(data)), "bad.json")
