@@ -138,3 +138,59 @@ def test_a_file_without_russian_falls_back_and_a_bad_one_is_refused(
     data["task_ru"] = ["not", "text"]
     with pytest.raises(AssignmentError, match="field task_ru: .*must be text"):
         parse_assignment(json.loads(json.dumps(data)), "bad.json")
+
+
+CODE = "ru-class-code-2026-lab"
+
+
+def test_the_instructors_assignments_folder_in_russian(make_lab: Callable[..., Any]) -> None:
+    lab = make_lab(
+        language="ru",
+        lessons=[SPHERE],
+        lesson="sphere",
+        instructor_code=CODE,
+        warm_up=False,
+        restore=False,
+    )
+
+    async def go() -> None:
+        inst, iv = await _page(lab, "Движение")
+        try:
+            await inst.set("Код преподавателя", CODE, 0.1)
+            await inst.click("Стать преподавателем")
+            await inst.wait_for("Выдать задание всем")
+            for english in (
+                "Push assignment to all",
+                "Download results (CSV)",
+                "Assignments (class)",
+            ):
+                assert english not in inst.gui, english
+            assert "Задания (класс)" in inst.gui and "Скачать оценки (CSV для Moodle)" in inst.gui
+            assert "Панель преподавателя" in inst.gui and "Следовать за мной" in inst.gui
+            panel = lab.classroom.instructors[iv.client.client_id]
+            await until(lambda: "подключено студентов" in panel.counts.content, 10, "the counts")
+            assert "работают самостоятельно" in panel.counts.content
+            head = await until(
+                lambda: next((h for h in inst.html.values() if "Задание не выдано" in h), ""),
+                10,
+                "the table's head",
+            )
+            assert "No assignment pushed" not in head
+            student, sv = await _page(lab, "Движение")
+            try:
+                await inst.set("Задание для всех", TASK, 0.1)
+                await inst.click("Выдать задание всем")
+                await until(
+                    lambda: lab.classroom.board.students[sv.client.client_id].active is not None,
+                    20,
+                    "the student's assignment",
+                )
+                task = await until(lambda: _html(student, "al-assignment-task"), 20, "the task")
+                assert "Цель:" in task
+                await until(lambda: any("Выдано:" in h for h in inst.html.values()), 10, "pushed")
+            finally:
+                await student.close()
+        finally:
+            await inst.close()
+
+    asyncio.run(go())

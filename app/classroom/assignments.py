@@ -68,6 +68,8 @@ NOT_RECORDED = N_(
     "Your attempt could not be recorded: {why}. It is not in the course record and does "
     "not count yet; check again in a moment."
 )
+#: The task of an assignment authored from a run, when the instructor types none.
+REPRODUCE = N_("Reproduce this run of {title}.")
 ENV_FOLDER = "ANALYZER_LAB_ASSIGNMENTS"  # analyzer_lab.serve.cli_assignments.ENV_FOLDER
 esc = html.escape
 
@@ -702,34 +704,40 @@ class TeacherPanel:
         self.board = board
         self.view = view
         gui = view.client.gui
-        self.folder = gui.add_folder("Assignments (class)", order=-999.0)
+        tr = view.language.gettext
+        self.folder = gui.add_folder(tr("Assignments (class)"), order=-999.0)
         with self.folder:
             self.picker = gui.add_dropdown(
-                "Assignment for all", board.choices(), initial_value=NONE
+                tr("Assignment for all"), board.choices(), initial_value=NONE
             )
-            self.push_btn = gui.add_button("Push assignment to all")
+            self.push_btn = gui.add_button(tr("Push assignment to all"))
             self.table = gui.add_html("")
-            self.csv_btn = gui.add_button("Download results (CSV)")
+            self.csv_btn = gui.add_button(tr("Download results (CSV)"))
             self.grades_btn = gui.add_button(
-                "Download grades (Moodle CSV)",
-                hint="one row per student, one column per assignment: 1 passed, 0 not yet",
+                tr("Download grades (Moodle CSV)"),
+                hint=tr("one row per student, one column per assignment: 1 passed, 0 not yet"),
             )
-            self.author = gui.add_folder("Author from this state", expand_by_default=False)
+            self.author = gui.add_folder(tr("Author from this state"), expand_by_default=False)
             with self.author:
                 gui.add_html(
                     _box(
-                        "The current lesson and values become the assignment; its goal: the"
-                        " chosen series end where they end now and stay as small as now, the"
-                        " chosen metrics (e.g. A0, T, deviation_max_um) stay at their values."
+                        esc(
+                            tr(
+                                "The current lesson and values become the assignment; its goal:"
+                                " the chosen series end where they end now and stay as small as"
+                                " now, the chosen metrics (e.g. A0, T, deviation_max_um) stay at"
+                                " their values."
+                            )
+                        )
                     )
                 )
-                self.a_id = gui.add_text("Id", initial_value="my-assignment")
-                self.a_title = gui.add_text("Title", initial_value="My assignment")
-                self.a_task = gui.add_text("Task", initial_value="", multiline=True)
-                self.a_unlocked = gui.add_text("Unlocked", initial_value="")
-                self.a_series = gui.add_text("Series to check", initial_value="")
-                self.a_metrics = gui.add_text("Metrics to check", initial_value="")
-                self.a_btn = gui.add_button("Download assignment")
+                self.a_id = gui.add_text(tr("Id"), initial_value="my-assignment")
+                self.a_title = gui.add_text(tr("Title"), initial_value="My assignment")
+                self.a_task = gui.add_text(tr("Task"), initial_value="", multiline=True)
+                self.a_unlocked = gui.add_text(tr("Unlocked"), initial_value="")
+                self.a_series = gui.add_text(tr("Series to check"), initial_value="")
+                self.a_metrics = gui.add_text(tr("Metrics to check"), initial_value="")
+                self.a_btn = gui.add_button(tr("Download assignment"))
                 self.a_error = gui.add_html("")
         #: the live table: its head in ``table``, one element per student below it
         self.lock = threading.Lock()
@@ -753,12 +761,20 @@ class TeacherPanel:
                 fn()
             except (LabError, AssignmentError, ValueError) as exc:
                 self.view.client.add_notification(
-                    "Assignments", f"refused: {exc}", auto_close_seconds=6.0, color="red"
+                    self.view.language.gettext("Assignments"),
+                    self.view.language.gettext("refused: {reason}").format(
+                        reason=self.view.language.message(exc)
+                    ),
+                    auto_close_seconds=6.0,
+                    color="red",
                 )
             except Exception as exc:  # a page callback: the page says so, the log how
                 log.exception("page %s: an assignments control failed", client.client_id)
                 self.view.client.add_notification(
-                    "Assignments", f"internal error: {exc}", auto_close_seconds=6.0, color="red"
+                    self.view.language.gettext("Assignments"),
+                    self.view.language.gettext("internal error: {error}").format(error=exc),
+                    auto_close_seconds=6.0,
+                    color="red",
                 )
 
         return wrapped
@@ -766,8 +782,14 @@ class TeacherPanel:
     def _push(self) -> None:
         aid = self.picker.value
         n = self.board.push(aid)
+        language = self.view.language
         self.view.client.add_notification(
-            "Assignments", f"pushed {aid} to {n} page(s)", auto_close_seconds=4.0, color="green"
+            language.gettext("Assignments"),
+            language.ngettext("pushed {aid} to {n} page", "pushed {aid} to {n} pages", n).format(
+                aid=aid, n=n
+            ),
+            auto_close_seconds=4.0,
+            color="green",
         )
 
     def _csv(self) -> None:
@@ -781,7 +803,9 @@ class TeacherPanel:
         try:
             data = self.board.grades("moodle").encode("utf-8")
         except StoreError as exc:
-            raise LabError(f"the grades cannot be read: {exc}") from exc
+            raise LabError(
+                self.view.language.gettext("the grades cannot be read: {reason}").format(reason=exc)
+            ) from exc
         stamp = time.strftime("%Y%m%d-%H%M%S")
         self.view.client.send_file_download(
             f"grades-moodle-{stamp}.csv", data, save_immediately=True
@@ -812,15 +836,22 @@ class TeacherPanel:
                 names(self.a_series.value),
                 assignment_id=str(self.a_id.value).strip(),
                 title=str(self.a_title.value).strip(),
-                task=str(self.a_task.value).strip() or f"Reproduce this run of {lesson.title}.",
+                task=str(self.a_task.value).strip() or REPRODUCE.format(title=lesson.title),
                 preset=preset,
                 t_end=s.t_end,
                 metrics=names(self.a_metrics.value),
             )
+            language = self.view.language
+            if not str(self.a_task.value).strip() and language.code == "ru":
+                # the default task also in the page's language (the file's task stays English)
+                data["task_ru"] = language.gettext(REPRODUCE).format(
+                    title=language.lesson_text(lesson.title)
+                )
         except (AssignmentError, LabError, ValueError) as exc:
             self.a_error.content = error_html(str(exc))
             return
-        self.a_error.content = _box(f"downloaded {esc(data['id'])}.json", "#1b7a2e")
+        done = self.view.language.gettext("downloaded {name}").format(name=f"{data['id']}.json")
+        self.a_error.content = _box(esc(done), "#1b7a2e")
         text = json.dumps(data, indent=1, ensure_ascii=False) + "\n"
         self.view.client.send_file_download(
             f"{data['id']}.json", text.encode("utf-8"), save_immediately=True
@@ -839,22 +870,25 @@ class TeacherPanel:
                 self.rows.clear()
                 self._rows_of = pushed
             records = self.board.progress.rows(pushed)
+            tr = self.view.language.gettext
+            pushed_head, code_head = tr("Pushed:"), tr("Join code:")
             title = (
-                f"Pushed: <b>{esc(pushed)}</b>"
+                f"{esc(pushed_head)} <b>{esc(pushed)}</b>"
                 if pushed
-                else "No assignment pushed: every answer checked"
+                else esc(tr("No assignment pushed: every answer checked"))
             )
             course = self.board.course
             if course.needs_code:
                 title += (
-                    f"<br>Join code: <b class='al-join-code'>{esc(course.info.join_code)}</b>"
+                    f"<br>{esc(code_head)} "
+                    f"<b class='al-join-code'>{esc(course.info.join_code)}</b>"
                     f"{esc(course.code_expiry())}"
                 )
             if self.board.store_problem:
-                title += (
-                    "<br><span class='al-store-down' style='color:#a61b1b'>The course record "
-                    f"cannot be read: {esc(self.board.store_problem)}</span>"
+                down = tr("The course record cannot be read: {reason}").format(
+                    reason=self.board.store_problem
                 )
+                title += f"<br><span class='al-store-down' style='color:#a61b1b'>{esc(down)}</span>"
             content = _box(title) + head_html(pushed, not records)
             if self.table.content != content:
                 self.table.content = content
