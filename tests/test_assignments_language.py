@@ -37,6 +37,8 @@ def _with_russian(board: Any) -> None:
     data["id"] = RU_ID
     data["task_ru"] = "Проведите точку по экватору со скоростью {s:g} м/с."
     data["hint_ru"] = "Скорость вдоль экватора равна |u1|·R."
+    for check in data["checks"]:
+        check["feedback_ru"] = f"Отзыв по проверке {check['id']} при скорости {{s:g}} м/с."
     board.assignments[RU_ID] = parse_assignment(json.loads(json.dumps(data)), "ru.json")
 
 
@@ -91,6 +93,8 @@ def test_a_russian_page_shows_the_assignment_and_its_verdict_in_russian(
             )
             assert "не пройдена" in verdict and "не пройдено" in verdict
             assert "checks fail" not in verdict and "✗ fail" not in verdict
+            assert f"Отзыв по проверке speed при скорости {s:g} м/с." in verdict
+            assert "the speed along the equator is" not in verdict  # the English feedback
         finally:
             await c.close()
 
@@ -137,6 +141,10 @@ def test_a_file_without_russian_falls_back_and_a_bad_one_is_refused(
     data = copy.deepcopy(board.assignments[TASK].data)
     data["task_ru"] = ["not", "text"]
     with pytest.raises(AssignmentError, match="field task_ru: .*must be text"):
+        parse_assignment(json.loads(json.dumps(data)), "bad.json")
+    data = copy.deepcopy(board.assignments[TASK].data)
+    data["checks"][0]["feedback_ru"] = 5
+    with pytest.raises(AssignmentError, match=r"checks\[0\]\.feedback_ru: .*must be text"):
         parse_assignment(json.loads(json.dumps(data)), "bad.json")
 
 

@@ -109,11 +109,15 @@ def _numbers(a: Assignment) -> str:
     return ", ".join(f"{k} = {v:.12g}" for k, v in a.variant.items())
 
 
-def verdict_html(g: Grade, language: Language = ENGLISH) -> str:
-    """Which checks pass and by how much the others miss, in ``language``."""
+def verdict_html(g: Grade, language: Language = ENGLISH, a: Assignment | None = None) -> str:
+    """Which checks pass and by how much the others miss, in ``language`` (the feedback
+    of ``a``'s checks in that language when the file gives it)."""
     tr = language.gettext
+    checks = {c.id: c for c in a.checks} if a is not None else {}
     items = []
     for c in g.checks:
+        check = checks.get(c.id)
+        feedback = check.feedback_in(language.code, c.passed) if check else c.feedback
         mark, colour = (
             ("✓ " + tr("pass"), "#1b7a2e") if c.passed else ("✗ " + tr("fail"), "#a61b1b")
         )
@@ -122,8 +126,8 @@ def verdict_html(g: Grade, language: Language = ENGLISH) -> str:
             f"<b style='color:{colour}'>{esc(mark)}</b> {esc(c.text)}<br>"
             f"<span style='color:#555'>{esc(c.message)}</span>"
             + (
-                f"<br><span class='al-check-feedback' style='color:#1a4d8f'>{esc(c.feedback)}</span>"
-                if c.feedback
+                f"<br><span class='al-check-feedback' style='color:#1a4d8f'>{esc(feedback)}</span>"
+                if feedback
                 else ""
             )
             + "</li>"
@@ -689,7 +693,7 @@ class StudentPanel:
             if self.view.closed:
                 return
             if g is not None:
-                self.result.content = verdict_html(g, self.view.language)
+                self.result.content = verdict_html(g, self.view.language, a)
                 return
             self.result.content = error_html(outcome.error)
             field = outcome.field if outcome.field in self.view.controls.widgets else None

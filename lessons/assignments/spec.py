@@ -10,7 +10,8 @@ An assignment is plain JSON data (see the README section "Assignments"):
   of :mod:`analyzer_lab.lessons.kit.formula` with ``t`` and the lesson's series as variables;
 * ``task``, ``hint``, ``reference`` (text), ``task_ru``, ``hint_ru`` (the task and hint in
   Russian, shown on a Russian page; English when absent), ``answers`` (``correct``/``wrong`` values);
-* each check may carry ``feedback`` (shown when it fails) and ``feedback_pass`` (when it passes);
+* each check may carry ``feedback`` (shown when it fails) and ``feedback_pass`` (when it passes),
+  and in Russian ``feedback_ru``, ``feedback_pass_ru``;
 * ``variables`` and ``variants``: varied quantities, one variant per student (see
   :mod:`analyzer_lab.lessons.assignments.space`).
 
@@ -94,6 +95,18 @@ _CHECK_FIELDS: dict[str, set[str]] = {
 }
 
 
+#: What every check may carry besides its kind's fields.
+_FEEDBACK_FIELDS = {
+    "id",
+    "kind",
+    "label",
+    "feedback",
+    "feedback_pass",
+    "feedback_ru",
+    "feedback_pass_ru",
+}
+
+
 class AssignmentError(ValueError):
     """An assignment or answer was refused: ``str(err)`` is one line (file, field, problem)."""
 
@@ -140,6 +153,15 @@ class Check:
     by: float | None = None
     feedback: str = ""
     feedback_pass: str = ""
+    #: the feedback in Russian (empty: the English one is shown)
+    feedback_ru: str = ""
+    feedback_pass_ru: str = ""
+
+    def feedback_in(self, code: str, passed: bool) -> str:
+        """The feedback for this outcome in the language ``code``, English when not given."""
+        if passed:
+            return (self.feedback_pass_ru if code == "ru" else "") or self.feedback_pass
+        return (self.feedback_ru if code == "ru" else "") or self.feedback
 
     def describe(self) -> str:
         """One line in words (the ``label`` when the file gives one)."""
@@ -373,13 +395,15 @@ def parse_check(
     kind = r.text(obj, "kind", f"{fld}.kind", 20, True)
     if kind not in KINDS:
         raise r.fail(f"{fld}.kind", f"{kind[:20]!r} is not one of {', '.join(KINDS)}")
-    extra = set(obj) - _CHECK_FIELDS[kind] - {"id", "kind", "label", "feedback", "feedback_pass"}
+    extra = set(obj) - _CHECK_FIELDS[kind] - _FEEDBACK_FIELDS
     if extra:
         raise r.fail(f"{fld}", f"unknown field {sorted(extra)[0][:30]!r} for a {kind} check")
     label = r.text(obj, "label", f"{fld}.label", MAX_SHORT, False)
     kw: dict[str, Any] = {"id": cid, "kind": kind, "label": label}
     kw["feedback"] = r.text(obj, "feedback", f"{fld}.feedback", MAX_FEEDBACK, False)
     kw["feedback_pass"] = r.text(obj, "feedback_pass", f"{fld}.feedback_pass", MAX_FEEDBACK, False)
+    for key in ("feedback_ru", "feedback_pass_ru"):
+        kw[key] = r.text(obj, key, f"{fld}.{key}", MAX_FEEDBACK, False)
     kw.update(_times(obj, r, fld, t_end))
     if kind == "within":
         kw["quantity"] = parse_quantity(obj.get("quantity"), lesson, params, r, f"{fld}.quantity")
