@@ -196,6 +196,16 @@ def test_the_instructors_assignments_folder_in_russian(make_lab: Callable[..., A
                 task = await until(lambda: _html(student, "al-assignment-task"), 20, "the task")
                 assert "Цель:" in task
                 await until(lambda: any("Выдано:" in h for h in inst.html.values()), 10, "pushed")
+                await student.set("Ваше имя", "Аня", 0.1)
+                await student.click("Проверить мой ответ", 0.1)
+                row = await until(
+                    lambda: next((h for h in inst.html.values() if "al-roster-row" in h), ""),
+                    30,
+                    "the student's row",
+                )
+                assert "Аня" in row and ">нет<" in row  # the start values fail
+                head = next(h for h in inst.html.values() if "<thead>" in h)
+                assert "студент" in head and "попытки" in head and "attempts" not in head
             finally:
                 await student.close()
         finally:

@@ -893,9 +893,12 @@ class TeacherPanel:
                     reason=self.board.store_problem
                 )
                 title += f"<br><span class='al-store-down' style='color:#a61b1b'>{esc(down)}</span>"
-            content = _box(title) + head_html(pushed, not records)
+            content = _box(title) + head_html(pushed, not records, self.view.language)
             if self.table.content != content:
                 self.table.content = content
             return self.rows.show(
-                [((r.student, r.assignment), row_html(r, pushed)) for r in records]
+                [
+                    ((r.student, r.assignment), row_html(r, pushed, self.view.language))
+                    for r in records
+                ]
             )
