@@ -79,6 +79,8 @@ def test_a_russian_page_shows_the_assignment_and_its_verdict_in_russian(
                 "the task",
             )
             assert f"со скоростью {s:g} м/с" in task  # the placeholder filled in
+            shown = [view.language.notice(text) for _, text in view.session.notices]
+            assert any(f"открыто задание {RU_ID}" in n for n in shown), shown
             assert "Подсказка:" in task and "Скорость вдоль экватора" in task
             assert "Можно менять:" in task and "Цель:" in task
             assert "You may change" not in task and "Hint:" not in task

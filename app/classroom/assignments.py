@@ -47,6 +47,7 @@ from analyzer_lab.lessons.assignments import (
 )
 from analyzer_lab.lessons.assignments import draft as draft_assignment
 from analyzer_lab.lessons.assignments.variants import DEFAULT_CLASS
+from analyzer_lab.lessons.kit.message import Message
 from analyzer_lab.session.session import LabError
 
 if TYPE_CHECKING:
@@ -415,7 +416,9 @@ class StudentPanel:
         try:
             student = self.board.course.restore(token)
         except JoinError as exc:
-            text = f"your saved student record was refused: {exc}; join again"
+            text = self.view.language.gettext(
+                "your saved student record was refused: {reason}; join again"
+            ).format(reason=exc)
             self.who.content = _box(esc(text), "#a61b1b", "al-student-refused")
             self._tell(text, "red")
             try:
@@ -424,7 +427,12 @@ class StudentPanel:
                 pass
             return None
         except StoreError as exc:
-            self._tell(f"your student record cannot be read now: {exc}", "yellow")
+            self._tell(
+                self.view.language.gettext(
+                    "your student record cannot be read now: {reason}"
+                ).format(reason=exc),
+                "yellow",
+            )
             return None
         if self.student is not None:  # the page joined meanwhile: it stays who it joined as
             return None
@@ -510,7 +518,15 @@ class StudentPanel:
         self.result.content = ""
         self._shown_visible(True)
         self.board.grader.warm()  # a check may follow: its worker is started now
-        s.notify(f"{'the instructor pushed' if pushed else 'opened'} assignment {a.id}: {a.title}")
+        s.notify(
+            Message(
+                N_("the instructor pushed assignment {id}: {title}")
+                if pushed
+                else N_("opened assignment {id}: {title}"),
+                id=a.id,
+                title=a.title,
+            )
+        )
         if pushed:
             try:
                 tr = self.view.language.gettext
