@@ -86,13 +86,18 @@ def test_the_english_catalog_is_the_text_of_the_code() -> None:
 
 
 def test_the_template_is_up_to_date_with_the_code() -> None:
-    """What Babel extracts from app/ (and lessons/kit/params.py) now is what the template and both catalogs hold
-    (after an edit: pybabel extract, then pybabel update; see babel.cfg)."""
+    """What Babel extracts from app/ (and lessons/kit/params.py, formula.py) now is what the
+    template and both catalogs hold (after an edit: pybabel extract, then pybabel update; see
+    babel.cfg)."""
     keywords = {"_": None, "gettext": None, "ngettext": (1, 2), "pgettext": ((1, "c"), 2)}
     keywords.update({"tr": None, "N_": None, "NP_": ((1, "c"), 2)})
     assert {k.split(":")[0] for k in KEYWORDS} <= set(keywords)
     # app/, and the model's refusals a page shows in its language (see babel.cfg)
-    sources = [(ROOT / "app", "**.py"), (ROOT / "lessons", "kit/params.py")]
+    sources = [
+        (ROOT / "app", "**.py"),
+        (ROOT / "lessons", "kit/params.py"),
+        (ROOT / "lessons", "kit/formula.py"),
+    ]
     found = {
         (context, msgid if isinstance(msgid, str) else msgid[0])
         for folder, pattern in sources

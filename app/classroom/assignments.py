@@ -34,6 +34,7 @@ from analyzer_lab.classroom.roster import Progress, clean_name, head_html, row_h
 from analyzer_lab.classroom.store.grades import export as export_grades
 from analyzer_lab.classroom.store.records import JoinError, StoreError, Student
 from analyzer_lab.classroom.table_rows import RowTable
+from analyzer_lab.i18n import ENGLISH, N_, Language
 from analyzer_lab.lessons.assignments import (
     Assignment,
     AssignmentError,
@@ -46,6 +47,7 @@ from analyzer_lab.lessons.assignments import (
 )
 from analyzer_lab.lessons.assignments import draft as draft_assignment
 from analyzer_lab.lessons.assignments.variants import DEFAULT_CLASS
+from analyzer_lab.lessons.kit.message import Message
 from analyzer_lab.session.session import LabError
 
 if TYPE_CHECKING:
@@ -63,10 +65,12 @@ TOKEN_WAIT = 3.0
 TOKEN_TRIES = 5
 #: Seconds a check waits for that token (then the page joins with what it typed).
 CHECK_WAIT = 3.0
-NOT_RECORDED = (
+NOT_RECORDED = N_(
     "Your attempt could not be recorded: {why}. It is not in the course record and does "
     "not count yet; check again in a moment."
 )
+#: The task of an assignment authored from a run, when the instructor types none.
+REPRODUCE = N_("Reproduce this run of {title}.")
 ENV_FOLDER = "ANALYZER_LAB_ASSIGNMENTS"  # analyzer_lab.serve.cli_assignments.ENV_FOLDER
 esc = html.escape
 
@@ -77,18 +81,24 @@ def _box(body: str, colour: str = "#333", cls: str = "") -> str:
     )
 
 
-def task_html(a: Assignment) -> str:
-    """The task as the student sees it (every text escaped)."""
+def task_html(a: Assignment, language: Language = ENGLISH) -> str:
+    """The task as the student sees it in ``language`` (the file's text in that language
+    when it gives one; every text escaped)."""
+    tr = language.gettext
     checks = "".join(f"<li>{esc(c.describe())}</li>" for c in a.checks)
+    hint = a.hint_in(language.code)
+    may, locked, goal = tr("You may change:"), tr("(the other fields are locked)"), tr("Goal:")
+    hint_head = tr("Hint:")
+    numbers = tr("Your numbers: {numbers}").format(numbers=_numbers(a)) if a.variant else ""
     return _box(
         f"<b>{esc(a.title)}</b> <span style='color:#555'>({esc(a.lesson)})</span><br>"
-        f"{esc(a.task)}<br><b>You may change:</b> {esc(', '.join(a.unlocked))}"
-        " (the other fields are locked)<br><b>Goal:</b>"
+        f"{esc(a.task_in(language.code))}<br><b>{esc(may)}</b> "
+        f"{esc(', '.join(a.unlocked))} {esc(locked)}<br><b>{esc(goal)}</b>"
         f"<ul style='margin:2px 0 2px 1.1em;padding:0'>{checks}</ul>"
-        + (f"<i>Hint:</i> {esc(a.hint)}<br>" if a.hint else "")
+        + (f"<i>{esc(hint_head)}</i> {esc(hint)}<br>" if hint else "")
         + (
-            f"<span class='al-variant' style='color:#555'>Your numbers: {esc(_numbers(a))}</span><br>"
-            if a.variant
+            f"<span class='al-variant' style='color:#555'>{esc(numbers)}</span><br>"
+            if numbers
             else ""
         )
         + (f"<span style='color:#555'>{esc(a.reference)}</span>" if a.reference else ""),
@@ -100,26 +110,37 @@ def _numbers(a: Assignment) -> str:
     return ", ".join(f"{k} = {v:.12g}" for k, v in a.variant.items())
 
 
-def verdict_html(g: Grade) -> str:
-    """Which checks pass and by how much the others miss."""
+def verdict_html(g: Grade, language: Language = ENGLISH, a: Assignment | None = None) -> str:
+    """Which checks pass and by how much the others miss, in ``language`` (the feedback
+    of ``a``'s checks in that language when the file gives it)."""
+    tr = language.gettext
+    checks = {c.id: c for c in a.checks} if a is not None else {}
     items = []
     for c in g.checks:
-        mark, colour = ("✓ pass", "#1b7a2e") if c.passed else ("✗ fail", "#a61b1b")
+        check = checks.get(c.id)
+        feedback = check.feedback_in(language.code, c.passed) if check else c.feedback
+        mark, colour = (
+            ("✓ " + tr("pass"), "#1b7a2e") if c.passed else ("✗ " + tr("fail"), "#a61b1b")
+        )
         items.append(
             f"<li class='al-check' data-check='{esc(c.id)}' data-pass='{'yes' if c.passed else 'no'}'>"
-            f"<b style='color:{colour}'>{mark}</b> {esc(c.text)}<br>"
+            f"<b style='color:{colour}'>{esc(mark)}</b> {esc(c.text)}<br>"
             f"<span style='color:#555'>{esc(c.message)}</span>"
             + (
-                f"<br><span class='al-check-feedback' style='color:#1a4d8f'>{esc(c.feedback)}</span>"
-                if c.feedback
+                f"<br><span class='al-check-feedback' style='color:#1a4d8f'>{esc(feedback)}</span>"
+                if feedback
                 else ""
             )
             + "</li>"
         )
+    failing = language.ngettext(
+        "{failed} of {total} check fails.", "{failed} of {total} checks fail.", len(g.checks)
+    ).format(failed=len(g.failed), total=len(g.checks))
+    passing = tr("All checks pass.")
     head = (
-        "<b style='color:#1b7a2e'>All checks pass.</b>"
+        f"<b style='color:#1b7a2e'>{esc(passing)}</b>"
         if g.passed
-        else f"<b style='color:#a61b1b'>{len(g.failed)} of {len(g.checks)} checks fail.</b>"
+        else f"<b style='color:#a61b1b'>{esc(failing)}</b>"
     )
     return _box(
         f"{head}<ul style='margin:2px 0 0 1.1em;padding:0'>{''.join(items)}</ul>",
@@ -320,21 +341,24 @@ class StudentPanel:
         self.variant: Variant | None = None
         self.pending: str | None = None
         gui = view.client.gui
+        tr = view.language.gettext
         order = float(view.status.order) + 0.5
-        self.folder = gui.add_folder("Assignment", order=order, expand_by_default=True)
+        self.folder = gui.add_folder(tr("Assignment"), order=order, expand_by_default=True)
         with self.folder:
-            self.picker = gui.add_dropdown("Assignment", board.choices(), initial_value=NONE)
+            self.picker = gui.add_dropdown(tr("Assignment"), board.choices(), initial_value=NONE)
             self.task = gui.add_html("")
             self.who = gui.add_html("")
             self.code = gui.add_text(
-                "Join code", initial_value="", hint="the class's join code from the instructor"
+                tr("Join code"),
+                initial_value="",
+                hint=tr("the class's join code from the instructor"),
             )
             self.name = gui.add_text(
-                "Your name",
+                tr("Your name"),
                 initial_value="",
-                hint="your student id or your name, shown to the instructor",
+                hint=tr("your student id or your name, shown to the instructor"),
             )
-            self.check_btn = gui.add_button("Check my answer")
+            self.check_btn = gui.add_button(tr("Check my answer"))
             self.result = gui.add_html("")
         #: the student this page records for (decided on the server: a signed token or a join)
         self.student: Student | None = None
@@ -392,7 +416,9 @@ class StudentPanel:
         try:
             student = self.board.course.restore(token)
         except JoinError as exc:
-            text = f"your saved student record was refused: {exc}; join again"
+            text = self.view.language.gettext(
+                "your saved student record was refused: {reason}; join again"
+            ).format(reason=exc)
             self.who.content = _box(esc(text), "#a61b1b", "al-student-refused")
             self._tell(text, "red")
             try:
@@ -401,7 +427,12 @@ class StudentPanel:
                 pass
             return None
         except StoreError as exc:
-            self._tell(f"your student record cannot be read now: {exc}", "yellow")
+            self._tell(
+                self.view.language.gettext(
+                    "your student record cannot be read now: {reason}"
+                ).format(reason=exc),
+                "yellow",
+            )
             return None
         if self.student is not None:  # the page joined meanwhile: it stays who it joined as
             return None
@@ -411,7 +442,10 @@ class StudentPanel:
     def _tell(self, text: str, color: str) -> None:
         try:
             self.view.client.add_notification(
-                "Course record", text, auto_close_seconds=8.0, color=color
+                self.view.language.gettext("Course record"),
+                text,
+                auto_close_seconds=8.0,
+                color=color,
             )
         except RuntimeError:  # the page left meanwhile
             pass
@@ -419,8 +453,9 @@ class StudentPanel:
     def _joined(self, student: Student) -> None:
         self.student = student
         ident = f" ({esc(student.roster_id)})" if student.roster_id else ""
+        recorded = esc(self.view.language.gettext("Recorded as"))
         self.who.content = _box(
-            f"Recorded as <b class='al-student'>{esc(student.name)}</b>{ident}",
+            f"{recorded} <b class='al-student'>{esc(student.name)}</b>{ident}",
             cls="al-student-who",
         )
         self._shown_visible(self.active is not None)
@@ -434,7 +469,9 @@ class StudentPanel:
             self.result.content = error_html(str(exc))
             return None
         except StoreError as exc:
-            self.result.content = error_html(NOT_RECORDED.format(why=exc))
+            self.result.content = error_html(
+                self.view.language.gettext(NOT_RECORDED).format(why=exc)
+            )
             return None
         try:
             self.view.client.local_storage.set_item(TOKEN_KEY, self.board.course.token(student))
@@ -477,15 +514,26 @@ class StudentPanel:
         self._pickers_disabled(True)
         if self.picker.value != aid:
             self.picker.value = aid
-        self.task.content = task_html(a)
+        self.task.content = task_html(a, self.view.language)
         self.result.content = ""
         self._shown_visible(True)
         self.board.grader.warm()  # a check may follow: its worker is started now
-        s.notify(f"{'the instructor pushed' if pushed else 'opened'} assignment {a.id}: {a.title}")
+        s.notify(
+            Message(
+                N_("the instructor pushed assignment {id}: {title}")
+                if pushed
+                else N_("opened assignment {id}: {title}"),
+                id=a.id,
+                title=a.title,
+            )
+        )
         if pushed:
             try:
+                tr = self.view.language.gettext
                 self.view.client.add_notification(
-                    "Assignment", f"the instructor gave you: {a.title}", auto_close_seconds=6.0
+                    tr("Assignment"),
+                    tr("the instructor gave you: {title}").format(title=a.title),
+                    auto_close_seconds=6.0,
                 )
             except RuntimeError:  # the page left meanwhile
                 pass
@@ -521,7 +569,9 @@ class StudentPanel:
             return False
         self.open(a.id)
         self.result.content = error_html(
-            f"your numbers for this name: {_numbers(now.assignment)} (the start values are reset)"
+            self.view.language.gettext(
+                "your numbers for this name: {numbers} (the start values are reset)"
+            ).format(numbers=_numbers(now.assignment))
         )
         return True
 
@@ -555,21 +605,22 @@ class StudentPanel:
         if a is not None and view.session.lesson.id == a.lesson:
             target = getattr(event, "target", None)
             refused = None
+            tr = view.language.gettext
             if target is view.lesson_dd or target is view.preset_dd:
-                refused = "choose (none) under Assignment first to leave the assignment"
+                refused = tr("choose (none) under Assignment first to leave the assignment")
             elif target is None and hasattr(event, "ray_origin"):
                 start = view.session.lesson.start_point or ()
                 if any(n in self.locked() for n in start):
-                    refused = "the start point is locked in this assignment"
+                    refused = tr("the start point is locked in this assignment")
             else:
                 for name, widgets in view.controls.widgets.items():
                     if name in self.locked() and any(w is target for w in widgets):
-                        refused = f"{name} is locked in this assignment"
+                        refused = tr("{name} is locked in this assignment").format(name=name)
                         break
             if refused is not None:
                 try:
                     view.client.add_notification(
-                        "Assignment", refused, auto_close_seconds=4.0, color="yellow"
+                        tr("Assignment"), refused, auto_close_seconds=4.0, color="yellow"
                     )
                     with view.session.lock:
                         view.sync_widgets(force=True)
@@ -584,7 +635,9 @@ class StudentPanel:
         """Grade the session's values of the unlocked parameters (caller holds the lock)."""
         a = self.active
         if a is None:
-            self.result.content = error_html("choose an assignment first")
+            self.result.content = error_html(
+                self.view.language.gettext("choose an assignment first")
+            )
             return
         if self._renumber():  # who this page is changed without the update reaching us
             return
@@ -598,7 +651,11 @@ class StudentPanel:
             return
         s = self.view.session
         if s.lesson.id != a.lesson:
-            self.result.content = error_html(f"this assignment is about the lesson {a.lesson}")
+            self.result.content = error_html(
+                self.view.language.gettext("this assignment is about the lesson {lesson}").format(
+                    lesson=a.lesson
+                )
+            )
             return
         raw = s.raw_values()
         values = {n: raw[n] for n in a.unlocked}
@@ -620,10 +677,11 @@ class StudentPanel:
     def _in_line(self, place: int, locked: bool = False) -> None:
         """Say where the answer waits (0: being checked); from the grader's thread
         unless ``locked``."""
+        tr = self.view.language.gettext
         text = (
-            "Your answer is being checked…"
+            tr("Your answer is being checked…")
             if place == 0
-            else f"Your answer is number {place} in line to be checked."
+            else tr("Your answer is number {place} in line to be checked.").format(place=place)
         )
         box = _box(esc(text), "#555", "al-assignment-queue")
         if locked:
@@ -643,14 +701,15 @@ class StudentPanel:
                 self.board.course.record(student, g, values, variant)
             except StoreError as exc:
                 log.warning("page %s: an attempt not recorded: %s", self.view.client.client_id, exc)
-                g, outcome = None, GradeOutcome(None, NOT_RECORDED.format(why=exc))
+                why = self.view.language.gettext(NOT_RECORDED).format(why=exc)
+                g, outcome = None, GradeOutcome(None, why)
             else:
                 self.board.changed()
         with self.view.session.lock:
             if self.view.closed:
                 return
             if g is not None:
-                self.result.content = verdict_html(g)
+                self.result.content = verdict_html(g, self.view.language, a)
                 return
             self.result.content = error_html(outcome.error)
             field = outcome.field if outcome.field in self.view.controls.widgets else None
@@ -665,34 +724,40 @@ class TeacherPanel:
         self.board = board
         self.view = view
         gui = view.client.gui
-        self.folder = gui.add_folder("Assignments (class)", order=-999.0)
+        tr = view.language.gettext
+        self.folder = gui.add_folder(tr("Assignments (class)"), order=-999.0)
         with self.folder:
             self.picker = gui.add_dropdown(
-                "Assignment for all", board.choices(), initial_value=NONE
+                tr("Assignment for all"), board.choices(), initial_value=NONE
             )
-            self.push_btn = gui.add_button("Push assignment to all")
+            self.push_btn = gui.add_button(tr("Push assignment to all"))
             self.table = gui.add_html("")
-            self.csv_btn = gui.add_button("Download results (CSV)")
+            self.csv_btn = gui.add_button(tr("Download results (CSV)"))
             self.grades_btn = gui.add_button(
-                "Download grades (Moodle CSV)",
-                hint="one row per student, one column per assignment: 1 passed, 0 not yet",
+                tr("Download grades (Moodle CSV)"),
+                hint=tr("one row per student, one column per assignment: 1 passed, 0 not yet"),
             )
-            self.author = gui.add_folder("Author from this state", expand_by_default=False)
+            self.author = gui.add_folder(tr("Author from this state"), expand_by_default=False)
             with self.author:
                 gui.add_html(
                     _box(
-                        "The current lesson and values become the assignment; its goal: the"
-                        " chosen series end where they end now and stay as small as now, the"
-                        " chosen metrics (e.g. A0, T, deviation_max_um) stay at their values."
+                        esc(
+                            tr(
+                                "The current lesson and values become the assignment; its goal:"
+                                " the chosen series end where they end now and stay as small as"
+                                " now, the chosen metrics (e.g. A0, T, deviation_max_um) stay at"
+                                " their values."
+                            )
+                        )
                     )
                 )
-                self.a_id = gui.add_text("Id", initial_value="my-assignment")
-                self.a_title = gui.add_text("Title", initial_value="My assignment")
-                self.a_task = gui.add_text("Task", initial_value="", multiline=True)
-                self.a_unlocked = gui.add_text("Unlocked", initial_value="")
-                self.a_series = gui.add_text("Series to check", initial_value="")
-                self.a_metrics = gui.add_text("Metrics to check", initial_value="")
-                self.a_btn = gui.add_button("Download assignment")
+                self.a_id = gui.add_text(tr("Id"), initial_value="my-assignment")
+                self.a_title = gui.add_text(tr("Title"), initial_value="My assignment")
+                self.a_task = gui.add_text(tr("Task"), initial_value="", multiline=True)
+                self.a_unlocked = gui.add_text(tr("Unlocked"), initial_value="")
+                self.a_series = gui.add_text(tr("Series to check"), initial_value="")
+                self.a_metrics = gui.add_text(tr("Metrics to check"), initial_value="")
+                self.a_btn = gui.add_button(tr("Download assignment"))
                 self.a_error = gui.add_html("")
         #: the live table: its head in ``table``, one element per student below it
         self.lock = threading.Lock()
@@ -716,12 +781,20 @@ class TeacherPanel:
                 fn()
             except (LabError, AssignmentError, ValueError) as exc:
                 self.view.client.add_notification(
-                    "Assignments", f"refused: {exc}", auto_close_seconds=6.0, color="red"
+                    self.view.language.gettext("Assignments"),
+                    self.view.language.gettext("refused: {reason}").format(
+                        reason=self.view.language.message(exc)
+                    ),
+                    auto_close_seconds=6.0,
+                    color="red",
                 )
             except Exception as exc:  # a page callback: the page says so, the log how
                 log.exception("page %s: an assignments control failed", client.client_id)
                 self.view.client.add_notification(
-                    "Assignments", f"internal error: {exc}", auto_close_seconds=6.0, color="red"
+                    self.view.language.gettext("Assignments"),
+                    self.view.language.gettext("internal error: {error}").format(error=exc),
+                    auto_close_seconds=6.0,
+                    color="red",
                 )
 
         return wrapped
@@ -729,8 +802,14 @@ class TeacherPanel:
     def _push(self) -> None:
         aid = self.picker.value
         n = self.board.push(aid)
+        language = self.view.language
         self.view.client.add_notification(
-            "Assignments", f"pushed {aid} to {n} page(s)", auto_close_seconds=4.0, color="green"
+            language.gettext("Assignments"),
+            language.ngettext("pushed {aid} to {n} page", "pushed {aid} to {n} pages", n).format(
+                aid=aid, n=n
+            ),
+            auto_close_seconds=4.0,
+            color="green",
         )
 
     def _csv(self) -> None:
@@ -744,7 +823,9 @@ class TeacherPanel:
         try:
             data = self.board.grades("moodle").encode("utf-8")
         except StoreError as exc:
-            raise LabError(f"the grades cannot be read: {exc}") from exc
+            raise LabError(
+                self.view.language.gettext("the grades cannot be read: {reason}").format(reason=exc)
+            ) from exc
         stamp = time.strftime("%Y%m%d-%H%M%S")
         self.view.client.send_file_download(
             f"grades-moodle-{stamp}.csv", data, save_immediately=True
@@ -775,15 +856,22 @@ class TeacherPanel:
                 names(self.a_series.value),
                 assignment_id=str(self.a_id.value).strip(),
                 title=str(self.a_title.value).strip(),
-                task=str(self.a_task.value).strip() or f"Reproduce this run of {lesson.title}.",
+                task=str(self.a_task.value).strip() or REPRODUCE.format(title=lesson.title),
                 preset=preset,
                 t_end=s.t_end,
                 metrics=names(self.a_metrics.value),
             )
+            language = self.view.language
+            if not str(self.a_task.value).strip() and language.code == "ru":
+                # the default task also in the page's language (the file's task stays English)
+                data["task_ru"] = language.gettext(REPRODUCE).format(
+                    title=language.lesson_text(lesson.title)
+                )
         except (AssignmentError, LabError, ValueError) as exc:
             self.a_error.content = error_html(str(exc))
             return
-        self.a_error.content = _box(f"downloaded {esc(data['id'])}.json", "#1b7a2e")
+        done = self.view.language.gettext("downloaded {name}").format(name=f"{data['id']}.json")
+        self.a_error.content = _box(esc(done), "#1b7a2e")
         text = json.dumps(data, indent=1, ensure_ascii=False) + "\n"
         self.view.client.send_file_download(
             f"{data['id']}.json", text.encode("utf-8"), save_immediately=True
@@ -802,25 +890,31 @@ class TeacherPanel:
                 self.rows.clear()
                 self._rows_of = pushed
             records = self.board.progress.rows(pushed)
+            tr = self.view.language.gettext
+            pushed_head, code_head = tr("Pushed:"), tr("Join code:")
             title = (
-                f"Pushed: <b>{esc(pushed)}</b>"
+                f"{esc(pushed_head)} <b>{esc(pushed)}</b>"
                 if pushed
-                else "No assignment pushed: every answer checked"
+                else esc(tr("No assignment pushed: every answer checked"))
             )
             course = self.board.course
             if course.needs_code:
                 title += (
-                    f"<br>Join code: <b class='al-join-code'>{esc(course.info.join_code)}</b>"
+                    f"<br>{esc(code_head)} "
+                    f"<b class='al-join-code'>{esc(course.info.join_code)}</b>"
                     f"{esc(course.code_expiry())}"
                 )
             if self.board.store_problem:
-                title += (
-                    "<br><span class='al-store-down' style='color:#a61b1b'>The course record "
-                    f"cannot be read: {esc(self.board.store_problem)}</span>"
+                down = tr("The course record cannot be read: {reason}").format(
+                    reason=self.board.store_problem
                 )
-            content = _box(title) + head_html(pushed, not records)
+                title += f"<br><span class='al-store-down' style='color:#a61b1b'>{esc(down)}</span>"
+            content = _box(title) + head_html(pushed, not records, self.view.language)
             if self.table.content != content:
                 self.table.content = content
             return self.rows.show(
-                [((r.student, r.assignment), row_html(r, pushed)) for r in records]
+                [
+                    ((r.student, r.assignment), row_html(r, pushed, self.view.language))
+                    for r in records
+                ]
             )

@@ -46,27 +46,30 @@ class Presenter:
         self.room = room
         self.view = view
         gui = view.client.gui
-        self.folder = gui.add_folder("Presenter", expand_by_default=False)
+        tr = view.language.gettext
+        self.folder = gui.add_folder(tr("Presenter"), expand_by_default=False)
         with self.folder:
             self.toggle = gui.add_checkbox(
-                "Presenter mode",
+                tr("Presenter mode"),
                 initial_value=False,
-                hint="large fonts for a projector; presets become bookmarks",
+                hint=tr("large fonts for a projector; presets become bookmarks"),
             )
             self.class_table = gui.add_checkbox(
-                "Show the class table",
+                tr("Show the class table"),
                 initial_value=False,
-                hint="while presenting: the students' names and results on the projected panel",
+                hint=tr("while presenting: the students' names and results on the projected panel"),
             )
             self.bookmarks = gui.add_html("")
+            keys = tr(
+                "Keys: PageDown / N = next, PageUp / P = previous (also in the command palette)."
+            )
             gui.add_html(
-                '<div style="font-size:max(11px,0.8em);color:#555">Keys: PageDown / N = next, PageUp / P = previous '
-                "(also in the command palette).</div>"
+                f'<div style="font-size:max(11px,0.8em);color:#555">{html.escape(keys)}</div>'
             )
         self.style = gui.add_html("")
         # projected: Previous/Next above everything (the readout moves up beside them)
-        self.top_prev = gui.add_button("◀ Previous", order=-3000.0, visible=False)
-        self.top_next = gui.add_button("Next ▶", order=-2999.0, visible=False)
+        self.top_prev = gui.add_button("◀ " + tr("Previous"), order=-3000.0, visible=False)
+        self.top_next = gui.add_button(tr("Next") + " ▶", order=-2999.0, visible=False)
         self.top_prev.on_click(view.guard(lambda e: self.step(-1)))
         self.top_next.on_click(view.guard(lambda e: self.step(+1)))
         self._readout_order = view.readout.order
@@ -173,20 +176,22 @@ class InstructorPanel:
         self.view = view
         self.link = link
         gui = view.client.gui
-        self.folder = gui.add_folder("Instructor panel", order=-1000.0)
+        tr = view.language.gettext
+        self.folder = gui.add_folder(tr("Instructor panel"), order=-1000.0)
         with self.folder:
             self.counts = gui.add_html("")
             self.follow_btn = gui.add_button(
-                "Follow me",
-                hint="every student sees this page's lesson, values, play state and camera",
+                tr("Follow me"),
+                hint=tr("every student sees this page's lesson, values, play state and camera"),
             )
             self.release_btn = gui.add_button(
-                "Release", hint="students get their own session back, from where the demo is"
+                tr("Release"),
+                hint=tr("students get their own session back, from where the demo is"),
             )
-            self.push_dd = gui.add_dropdown("Preset for all", ("(choose)",))
-            self.push_btn = gui.add_button("Push preset to all")
-            self.message = gui.add_text("Message", initial_value="")
-            self.notify_btn = gui.add_button("Notify all")
+            self.push_dd = gui.add_dropdown(tr("Preset for all"), ("(choose)",))
+            self.push_btn = gui.add_button(tr("Push preset to all"))
+            self.message = gui.add_text(tr("Message"), initial_value="")
+            self.notify_btn = gui.add_button(tr("Notify all"))
         self.follow_btn.on_click(self._cb(lambda: room.start_follow(view)))
         self.release_btn.on_click(self._cb(lambda: room.release(everywhere=True)))
         self.push_btn.on_click(self._cb(self._push))
@@ -210,13 +215,21 @@ class InstructorPanel:
             try:
                 fn()
             except LabError as exc:
+                tr = self.view.language.gettext
                 self.view.client.add_notification(
-                    "Instructor", f"refused: {exc}", auto_close_seconds=5.0, color="red"
+                    tr("Instructor"),
+                    tr("refused: {reason}").format(reason=self.view.language.message(exc)),
+                    auto_close_seconds=5.0,
+                    color="red",
                 )
             except Exception as exc:  # a page callback: the page says so, the log how
                 log.exception("page %s: an instructor control failed", self.view.client.client_id)
+                tr = self.view.language.gettext
                 self.view.client.add_notification(
-                    "Instructor", f"internal error: {exc}", auto_close_seconds=5.0, color="red"
+                    tr("Instructor"),
+                    tr("internal error: {error}").format(error=exc),
+                    auto_close_seconds=5.0,
+                    color="red",
                 )
             self.update()
 
@@ -246,29 +259,38 @@ class InstructorPanel:
         name = self.push_dd.value
         s = self.view.session
         if name not in {p.name for p in s.lesson.presets}:
-            raise LabError("choose one of this lesson's presets")
+            raise LabError(self.view.language.gettext("choose one of this lesson's presets"))
         self.room.push_preset(s.lesson.id, name)
 
     def _notify(self) -> None:
         text = self.message.value
         if not isinstance(text, str) or not text.strip():
-            raise LabError("type a message first")
+            raise LabError(self.view.language.gettext("type a message first"))
         self.room.notify_all(text.strip())  # cut to the longest notice there
         self.message.value = ""
 
     def update(self) -> None:
         """Counts and the preset list (cheap; called a few times a second)."""
         students, following = self.room.counts()
+        tr = self.view.language.gettext
         mode = (
-            "following you"
+            tr("following you")
             if self.room.broadcaster == self.view.client.client_id
-            else "exploring on their own"
+            else tr("exploring on their own")
         )
         servers = self.link.remote_totals()[2]
-        where = f" on {servers + 1} servers" if servers else ""
+        where = tr(" on {n} servers").format(n=servers + 1) if servers else ""
+        # the template is the catalog's; only numbers and escaped texts go into it
+        counts = tr("{students} student(s) connected{where}, {following} following; mode: {mode}")
         content = (
-            f'<div class="al-class-counts" style="font-size:0.9em"><b>{students}</b> student(s) connected{where}, '
-            f'<b class="al-following">{following}</b> following; mode: {mode}</div>'
+            '<div class="al-class-counts" style="font-size:0.9em">'
+            + counts.format(
+                students=f"<b>{students}</b>",
+                where=html.escape(where),
+                following=f'<b class="al-following">{following}</b>',
+                mode=html.escape(mode),
+            )
+            + "</div>"
             + self.link.panel_note()
         )
         if self.counts.content != content:

@@ -140,12 +140,15 @@ class Classroom:
         self.all_sessions.add(view.session)
         self.inputs.open(cid)
         gui = view.client.gui
-        folder = gui.add_folder("Instructor", expand_by_default=False)
+        tr = view.language.gettext
+        folder = gui.add_folder(tr("Instructor"), expand_by_default=False)
         with folder:
             text = gui.add_text(
-                "Instructor code", initial_value="", hint="the code printed when the lab started"
+                tr("Instructor code"),
+                initial_value="",
+                hint=tr("the code printed when the lab started"),
             )
-            btn = gui.add_button("Become instructor")
+            btn = gui.add_button(tr("Become instructor"))
         btn.on_click(lambda e: self._on_code(view, e))
         self.entries[cid] = (folder, text, btn)
         self.presenters[cid] = Presenter(self, view)
@@ -211,7 +214,12 @@ class Classroom:
         ok, message = self.check_code(cid, entry[1].value, client_address(self.lab.server, cid))
         entry[1].value = ""
         if not ok:
-            client.add_notification("Instructor code", message, auto_close_seconds=5.0, color="red")
+            client.add_notification(
+                view.language.gettext("Instructor code"),
+                message,
+                auto_close_seconds=5.0,
+                color="red",
+            )
             return
         self._grant(view)
         token = secrets.token_urlsafe(24)
@@ -221,8 +229,8 @@ class Classroom:
         except RuntimeError:  # the page left meanwhile
             pass
         client.add_notification(
-            "Instructor",
-            "you are the instructor: the Instructor panel is at the top",
+            view.language.gettext("Instructor"),
+            view.language.gettext("you are the instructor: the Instructor panel is at the top"),
             auto_close_seconds=5.0,
             color="green",
         )

@@ -20,6 +20,7 @@ from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
 
 from analyzer_lab.classroom.store.records import Attempt
+from analyzer_lab.i18n import ENGLISH, N_, Language
 
 MAX_NAME = 40
 #: Longest text looked at (a name is cut to MAX_NAME after cleaning).
@@ -149,7 +150,7 @@ _COLUMNS = {
     True: ((0, 2, 3, 4), ("36%", "22%", "18%", "24%")),
     False: ((0, 1, 2, 3, 4), ("26%", "22%", "19%", "15%", "18%")),
 }
-_SHORT = ["student", "assignment", "attempts", "passed", "first pass [s]"]
+_SHORT = [N_("student"), N_("assignment"), N_("attempts"), N_("passed"), N_("first pass [s]")]
 _TABLE = (
     "<table class='al-roster' style='font-size:0.85em;border-collapse:collapse;"
     "width:100%;table-layout:fixed;word-break:break-word'>"
@@ -161,25 +162,32 @@ def _cols(assignment: str | None) -> tuple[tuple[int, ...], str]:
     return keep, "<colgroup>" + "".join(f"<col style='width:{w}'>" for w in widths) + "</colgroup>"
 
 
-def head_html(assignment: str | None, empty: bool) -> str:
-    """The table's head (one assignment's table omits its column); ``empty``: with the
-    line saying no answer was checked yet."""
+def head_html(assignment: str | None, empty: bool, language: Language = ENGLISH) -> str:
+    """The table's head in ``language`` (one assignment's table omits its column);
+    ``empty``: with the line saying no answer was checked yet."""
+    tr = language.gettext
     keep, cols = _cols(assignment)
-    head = "".join(f"<th style='text-align:left;padding:2px 4px'>{_SHORT[k]}</th>" for k in keep)
+    head = "".join(
+        f"<th style='text-align:left;padding:2px 4px'>{html.escape(tr(_SHORT[k]))}</th>"
+        for k in keep
+    )
+    none_yet = html.escape(tr("no answers checked yet"))
     body = (
         f"<tbody><tr><td colspan='{len(keep)}' style='color:#555;padding:2px 4px'>"
-        "no answers checked yet</td></tr></tbody>"
+        f"{none_yet}</td></tr></tbody>"
         if empty
         else ""
     )
     return f"{_TABLE}{cols}<thead><tr>{head}</tr></thead>{body}</table>"
 
 
-def row_html(r: Record, assignment: str | None) -> str:
-    """One student's row, alone (every cell escaped); it lines up with :func:`head_html`."""
+def row_html(r: Record, assignment: str | None, language: Language = ENGLISH) -> str:
+    """One student's row in ``language``, alone (every cell escaped); it lines up with
+    :func:`head_html`."""
     keep, cols = _cols(assignment)
     colour = "#1b7a2e" if r.passed else "#a61b1b"
     cells = r.row()
+    cells[3] = language.gettext("yes") if r.passed else language.gettext("no")
     tds = "".join(
         f"<td style='padding:2px 4px{';color:' + colour if k == 3 else ''}'>"
         f"{html.escape(cells[k])}</td>"

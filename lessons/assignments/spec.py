@@ -8,8 +8,10 @@ An assignment is plain JSON data (see the README section "Assignments"):
 * ``checks``: declared checks over the run (``within``, ``at-most``, ``at-least``,
   ``in-plane``, ``on-circle``, ``reaches``); expressions go through the formula whitelist
   of :mod:`analyzer_lab.lessons.kit.formula` with ``t`` and the lesson's series as variables;
-* ``task``, ``hint``, ``reference`` (text), ``answers`` (``correct``/``wrong`` values);
-* each check may carry ``feedback`` (shown when it fails) and ``feedback_pass`` (when it passes);
+* ``task``, ``hint``, ``reference`` (text), ``task_ru``, ``hint_ru`` (the task and hint in
+  Russian, shown on a Russian page; English when absent), ``answers`` (``correct``/``wrong`` values);
+* each check may carry ``feedback`` (shown when it fails) and ``feedback_pass`` (when it passes),
+  and in Russian ``feedback_ru``, ``feedback_pass_ru``;
 * ``variables`` and ``variants``: varied quantities, one variant per student (see
   :mod:`analyzer_lab.lessons.assignments.space`).
 
@@ -76,6 +78,8 @@ _TOP = {
     "checks",
     "task",
     "hint",
+    "task_ru",
+    "hint_ru",
     "reference",
     "answers",
     "variables",
@@ -88,6 +92,18 @@ _CHECK_FIELDS: dict[str, set[str]] = {
     "in-plane": {"path", "normal", "offset", "tolerance"},
     "on-circle": {"path", "center", "radius", "normal", "tolerance"},
     "reaches": {"path", "point", "by", "tolerance"},
+}
+
+
+#: What every check may carry besides its kind's fields.
+_FEEDBACK_FIELDS = {
+    "id",
+    "kind",
+    "label",
+    "feedback",
+    "feedback_pass",
+    "feedback_ru",
+    "feedback_pass_ru",
 }
 
 
@@ -137,6 +153,15 @@ class Check:
     by: float | None = None
     feedback: str = ""
     feedback_pass: str = ""
+    #: the feedback in Russian (empty: the English one is shown)
+    feedback_ru: str = ""
+    feedback_pass_ru: str = ""
+
+    def feedback_in(self, code: str, passed: bool) -> str:
+        """The feedback for this outcome in the language ``code``, English when not given."""
+        if passed:
+            return (self.feedback_pass_ru if code == "ru" else "") or self.feedback_pass
+        return (self.feedback_ru if code == "ru" else "") or self.feedback
 
     def describe(self) -> str:
         """One line in words (the ``label`` when the file gives one)."""
@@ -186,6 +211,9 @@ class Assignment:
     task: str
     hint: str = ""
     reference: str = ""
+    #: the task and hint in Russian (empty: the page shows the English ones)
+    task_ru: str = ""
+    hint_ru: str = ""
     answers: Mapping[str, Mapping[str, Any]] = field(default_factory=dict)
     source: str = ""
     data: Mapping[str, Any] = field(default_factory=dict, repr=False, compare=False)
@@ -195,6 +223,14 @@ class Assignment:
     sample: int | None = None
     #: this variant's values of the varied quantities (empty when not varied)
     variant: Mapping[str, float] = field(default_factory=dict)
+
+    def task_in(self, code: str) -> str:
+        """The task in the language ``code`` (``"ru"``), the English one when not given."""
+        return (self.task_ru if code == "ru" else "") or self.task
+
+    def hint_in(self, code: str) -> str:
+        """The hint in the language ``code``, the English one when not given."""
+        return (self.hint_ru if code == "ru" else "") or self.hint
 
     @property
     def varied(self) -> bool:
@@ -212,6 +248,8 @@ class Assignment:
             "checks": [{"id": c.id, "kind": c.kind, "text": c.describe()} for c in self.checks],
             "task": self.task,
             "hint": self.hint,
+            "task_ru": self.task_ru,
+            "hint_ru": self.hint_ru,
             "reference": self.reference,
             "source": self.source,
             "variables": {v.name: list(v.values) for v in self.variables},
@@ -357,13 +395,15 @@ def parse_check(
     kind = r.text(obj, "kind", f"{fld}.kind", 20, True)
     if kind not in KINDS:
         raise r.fail(f"{fld}.kind", f"{kind[:20]!r} is not one of {', '.join(KINDS)}")
-    extra = set(obj) - _CHECK_FIELDS[kind] - {"id", "kind", "label", "feedback", "feedback_pass"}
+    extra = set(obj) - _CHECK_FIELDS[kind] - _FEEDBACK_FIELDS
     if extra:
         raise r.fail(f"{fld}", f"unknown field {sorted(extra)[0][:30]!r} for a {kind} check")
     label = r.text(obj, "label", f"{fld}.label", MAX_SHORT, False)
     kw: dict[str, Any] = {"id": cid, "kind": kind, "label": label}
     kw["feedback"] = r.text(obj, "feedback", f"{fld}.feedback", MAX_FEEDBACK, False)
     kw["feedback_pass"] = r.text(obj, "feedback_pass", f"{fld}.feedback_pass", MAX_FEEDBACK, False)
+    for key in ("feedback_ru", "feedback_pass_ru"):
+        kw[key] = r.text(obj, key, f"{fld}.{key}", MAX_FEEDBACK, False)
     kw.update(_times(obj, r, fld, t_end))
     if kind == "within":
         kw["quantity"] = parse_quantity(obj.get("quantity"), lesson, params, r, f"{fld}.quantity")
@@ -563,6 +603,8 @@ def parse_concrete(data: Mapping[str, Any], where: str = "") -> Assignment:
         checks=checks,
         task=r.text(data, "task", "task", MAX_TEXT, True),
         hint=r.text(data, "hint", "hint", MAX_TEXT, False),
+        task_ru=r.text(data, "task_ru", "task_ru", MAX_TEXT, False),
+        hint_ru=r.text(data, "hint_ru", "hint_ru", MAX_TEXT, False),
         reference=r.text(data, "reference", "reference", MAX_SHORT, False),
         answers=answers,
         source=where,

@@ -19,6 +19,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 import sympy as sp
+from analyzer_lab.lessons.kit.message import N_, Message
 
 MAX_LENGTH = 400
 MAX_DEPTH = 24
@@ -109,71 +110,104 @@ class Formula:
         bad = ~np.isfinite(vals)
         if bad.any():
             t_bad = float(np.asarray(t, dtype=float).ravel()[np.argmax(bad.ravel())])
-            raise FormulaError(f"{self.text!r} is not finite at t = {t_bad:g}")
+            raise FormulaError(
+                Message(N_("{text} is not finite at t = {t:g}"), text=repr(self.text), t=t_bad)
+            )
 
     def __str__(self) -> str:
         return self.text
 
 
-def _fail(text: str, col: int | None, message: str) -> FormulaError:
-    where = f" at column {col}" if col is not None else ""
-    return FormulaError(f"{message}{where} in {text[:60]!r}")
+def _fail(text: str, col: int | None, message: Message) -> FormulaError:
+    """The refusal ``message``, where it is (column, 1-based) and in which text."""
+    if col is None:
+        return FormulaError(
+            Message(N_("{message} in {text}"), message=message, text=repr(text[:60]))
+        )
+    return FormulaError(
+        Message(
+            N_("{message} at column {col} in {text}"),
+            message=message,
+            col=col,
+            text=repr(text[:60]),
+        )
+    )
 
 
 def parse_formula(text: str, variables: Sequence[str] = ("t",)) -> Formula:
     """Parse ``text`` as a whitelisted formula of ``variables``; raise :class:`FormulaError`."""
     if not isinstance(text, str):
-        raise FormulaError(f"expected text, got {type(text).__name__}")
+        raise FormulaError(Message(N_("expected text, got {kind}"), kind=type(text).__name__))
     if len(text) > MAX_LENGTH:
-        raise FormulaError(f"formula is {len(text)} characters long; the limit is {MAX_LENGTH}")
+        raise FormulaError(
+            Message(
+                N_("formula is {length} characters long; the limit is {limit}"),
+                length=len(text),
+                limit=MAX_LENGTH,
+            )
+        )
     src = text.strip()
     if not src:
-        raise FormulaError("formula is empty")
+        raise FormulaError(Message(N_("formula is empty")))
     for i, ch in enumerate(src):
         if ch not in _ALLOWED_CHARS:
-            raise _fail(src, i + 1, f"character {ch!r} is not allowed")
+            raise _fail(src, i + 1, Message(N_("character {char} is not allowed"), char=repr(ch)))
     comma = _DECIMAL_COMMA.search(src)
     if comma is not None:  # 0,5: no formula has a comma between digits (one-argument functions)
         found = comma.group(0)
         raise _fail(
             src,
             comma.start() + 1,
-            f"{found} has a decimal comma: write {found.replace(',', '.')} with a dot",
+            Message(
+                N_("{found} has a decimal comma: write {dotted} with a dot"),
+                found=found,
+                dotted=found.replace(",", "."),
+            ),
         )
     depth = 0
     for i, ch in enumerate(src):
         if ch == "(":
             depth += 1
             if depth > MAX_DEPTH:
-                raise _fail(src, i + 1, f"parentheses nested deeper than {MAX_DEPTH}")
+                raise _fail(
+                    src,
+                    i + 1,
+                    Message(N_("parentheses nested deeper than {limit}"), limit=MAX_DEPTH),
+                )
         elif ch == ")":
             depth -= 1
             if depth < 0:
-                raise _fail(src, i + 1, "unmatched ')'")
+                raise _fail(src, i + 1, Message(N_("unmatched ')'")))
     if depth:
-        raise _fail(src, None, "unclosed '('")
+        raise _fail(src, None, Message(N_("unclosed '('")))
     try:
         tree = ast.parse(src.replace("^", "**"), mode="eval")
     except SyntaxError as exc:
-        raise _fail(src, exc.offset, "syntax error") from None
+        raise _fail(src, exc.offset, Message(N_("syntax error"))) from None
     except (RecursionError, MemoryError, ValueError):
-        raise _fail(src, None, "formula too complex") from None
+        raise _fail(src, None, Message(N_("formula too complex"))) from None
     nodes = sum(1 for _ in ast.walk(tree))
     if nodes > MAX_NODES:
-        raise FormulaError(f"formula has {nodes} syntax nodes; the limit is {MAX_NODES}")
+        raise FormulaError(
+            Message(
+                N_("formula has {nodes} syntax nodes; the limit is {limit}"),
+                nodes=nodes,
+                limit=MAX_NODES,
+            )
+        )
     symbols = {v: sp.Symbol(v, real=True) for v in variables}
     expr = _build(tree.body, src, symbols, 0)
     if not isinstance(expr, sp.Expr):
-        raise _fail(src, None, "not a numeric expression")
+        raise _fail(src, None, Message(N_("not a numeric expression")))
     if expr.free_symbols - set(symbols.values()):
-        raise _fail(src, None, "unknown symbols")
+        raise _fail(src, None, Message(N_("unknown symbols")))
     if expr.is_number:
         try:
             val = complex(sp.N(expr))
         except (TypeError, ValueError, OverflowError):
-            raise _fail(src, None, "value cannot be computed") from None
+            raise _fail(src, None, Message(N_("value cannot be computed"))) from None
         if abs(val.imag) > 1e-12 * max(1.0, abs(val.real)) or not math.isfinite(val.real):
-            raise _fail(src, None, "value is not a finite real number")
+            raise _fail(src, None, Message(N_("value is not a finite real number")))
     return Formula(text=src, expr=expr, variables=tuple(variables))
 
 
@@ -192,7 +226,11 @@ def _build(node: ast.AST, src: str, symbols: dict[str, sp.Symbol], depth: int) -
         v = _num(expr)
         if v is not None and (not math.isfinite(v) or abs(v) > MAX_VALUE):
             col = getattr(node, "col_offset", 0) + 1
-            raise _fail(src, col, f"value {v:.3g} is larger than {MAX_VALUE:g}")
+            raise _fail(
+                src,
+                col,
+                Message(N_("value {value:.3g} is larger than {limit:g}"), value=v, limit=MAX_VALUE),
+            )
     return expr
 
 
@@ -200,13 +238,21 @@ def _build_node(node: ast.AST, src: str, symbols: dict[str, sp.Symbol], depth: i
     col = getattr(node, "col_offset", None)
     col = None if col is None else col + 1
     if depth > 3 * MAX_DEPTH:
-        raise _fail(src, col, "formula too deeply nested")
+        raise _fail(src, col, Message(N_("formula too deeply nested")))
     if isinstance(node, ast.Constant):
         v = node.value
         if isinstance(v, bool) or not isinstance(v, (int, float)):
-            raise _fail(src, col, f"only numbers are allowed, not {type(v).__name__}")
+            raise _fail(
+                src, col, Message(N_("only numbers are allowed, not {kind}"), kind=type(v).__name__)
+            )
         if not math.isfinite(float(v)) or abs(v) > MAX_NUMBER:
-            raise _fail(src, col, f"number {v!r} is larger than {MAX_NUMBER:g}")
+            raise _fail(
+                src,
+                col,
+                Message(
+                    N_("number {number} is larger than {limit:g}"), number=repr(v), limit=MAX_NUMBER
+                ),
+            )
         if isinstance(v, int):
             return sp.Integer(v)
         return sp.Rational(str(v)) if len(str(v)) <= 20 else sp.Float(v)
@@ -216,9 +262,21 @@ def _build_node(node: ast.AST, src: str, symbols: dict[str, sp.Symbol], depth: i
         if node.id in CONSTANTS:
             return CONSTANTS[node.id]
         if node.id in FUNCTIONS:
-            raise _fail(src, col, f"function {node.id!r} needs an argument in parentheses")
+            raise _fail(
+                src,
+                col,
+                Message(N_("function {name} needs an argument in parentheses"), name=repr(node.id)),
+            )
         allowed = ", ".join([*symbols, *CONSTANTS])
-        raise _fail(src, col, f"unknown name {node.id[:20]!r} (allowed: {allowed})")
+        raise _fail(
+            src,
+            col,
+            Message(
+                N_("unknown name {name} (allowed: {allowed})"),
+                name=repr(node.id[:20]),
+                allowed=allowed,
+            ),
+        )
     if isinstance(node, ast.UnaryOp) and isinstance(node.op, (ast.UAdd, ast.USub)):
         inner = _build(node.operand, src, symbols, depth + 1)
         return -inner if isinstance(node.op, ast.USub) else inner
@@ -234,33 +292,41 @@ def _build_node(node: ast.AST, src: str, symbols: dict[str, sp.Symbol], depth: i
             return left * right
         if isinstance(op, ast.Div):
             if right.is_number and right.is_zero:
-                raise _fail(src, col, "division by zero")
+                raise _fail(src, col, Message(N_("division by zero")))
             return left / right
         if isinstance(op, (ast.Pow, ast.BitXor)):
             e = _num(right)
             if right.is_number and (e is None or abs(e) > MAX_EXPONENT):
-                raise _fail(src, col, f"exponent is larger than {MAX_EXPONENT}")
+                raise _fail(
+                    src, col, Message(N_("exponent is larger than {limit}"), limit=MAX_EXPONENT)
+                )
             b = _num(left)
             if b is not None and e is not None and b != 0 and abs(e * math.log10(abs(b))) > 300:
-                raise _fail(src, col, "power overflows")
+                raise _fail(src, col, Message(N_("power overflows")))
             if b == 0 and e is not None and e < 0:
-                raise _fail(src, col, "zero to a negative power")
+                raise _fail(src, col, Message(N_("zero to a negative power")))
             return sp.Pow(left, right)
-        raise _fail(src, col, f"operator {type(op).__name__} is not allowed")
+        raise _fail(src, col, Message(N_("operator {kind} is not allowed"), kind=type(op).__name__))
     if isinstance(node, ast.Call):
         if not isinstance(node.func, ast.Name) or node.func.id not in FUNCTIONS:
             name = node.func.id if isinstance(node.func, ast.Name) else "this call"
             raise _fail(
                 src,
                 col,
-                f"function {str(name)[:20]!r} is not allowed (allowed: {', '.join(FUNCTIONS)})",
+                Message(
+                    N_("function {name} is not allowed (allowed: {allowed})"),
+                    name=repr(str(name)[:20]),
+                    allowed=", ".join(FUNCTIONS),
+                ),
             )
         if node.keywords or len(node.args) != 1:
-            raise _fail(src, col, f"{node.func.id} takes exactly one argument")
+            raise _fail(
+                src, col, Message(N_("{name} takes exactly one argument"), name=node.func.id)
+            )
         arg = _build(node.args[0], src, symbols, depth + 1)
         return FUNCTIONS[node.func.id](arg)
     kind = type(node).__name__
-    raise _fail(src, col, f"{kind} is not allowed in a formula")
+    raise _fail(src, col, Message(N_("{kind} is not allowed in a formula"), kind=kind))
 
 
 def plain_number(value: object) -> str:
@@ -284,9 +350,11 @@ def parse_number(text: str) -> float:
         # float; 15 significant digits would make 1e-5 read as 9.999999999999999e-06
         value = float(f.expr) if f.expr.is_Rational else float(sp.N(f.expr, 30))
     except (TypeError, ValueError, OverflowError):
-        raise FormulaError(f"{text[:60]!r} is not a real number") from None
+        raise FormulaError(
+            Message(N_("{text} is not a real number"), text=repr(text[:60]))
+        ) from None
     if not math.isfinite(value):
-        raise FormulaError(f"{text[:60]!r} is not finite")
+        raise FormulaError(Message(N_("{text} is not finite"), text=repr(text[:60])))
     return value
 
 

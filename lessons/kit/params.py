@@ -76,14 +76,14 @@ class Param:
         try:
             return self._parse(raw)
         except FormulaError as exc:
-            raise ParamError(self.name, str(exc)) from None
+            raise ParamError(self.name, exc.args[0] if exc.args else str(exc)) from None
 
     def _parse(self, raw: Any) -> Value:
         if self.kind == "formula":
             if isinstance(raw, Formula):
                 return raw
             if isinstance(raw, bool):
-                raise ParamError(self.name, "expected a formula of t, got a boolean")
+                raise ParamError(self.name, Message(N_("expected a formula of t, got a boolean")))
             if isinstance(raw, (int, float, np.floating, np.integer)):
                 if not math.isfinite(float(raw)):
                     raise ParamError(
@@ -95,13 +95,21 @@ class Param:
                     else repr(float(raw))
                 )
             if not isinstance(raw, str):
-                raise ParamError(self.name, f"expected a formula of t, got {type(raw).__name__}")
+                raise ParamError(
+                    self.name,
+                    Message(N_("expected a formula of t, got {kind}"), kind=type(raw).__name__),
+                )
             return parse_formula(raw, variables=("t",))
         if self.kind == "choice":
             text = str(raw).strip()
             if text not in self.choices:
                 raise ParamError(
-                    self.name, f"must be one of {', '.join(self.choices)}; got {text[:40]!r}"
+                    self.name,
+                    Message(
+                        N_("must be one of {choices}; got {text}"),
+                        choices=", ".join(self.choices),
+                        text=repr(text[:40]),
+                    ),
                 )
             return text
         if self.kind == "bool":
@@ -112,16 +120,20 @@ class Param:
                 return True
             if text in ("0", "false", "off", "no"):
                 return False
-            raise ParamError(self.name, f"expected on/off, got {text[:40]!r}")
+            raise ParamError(
+                self.name, Message(N_("expected on/off, got {text}"), text=repr(text[:40]))
+            )
         # float / int
         if isinstance(raw, bool):
-            raise ParamError(self.name, "expected a number, got a boolean")
+            raise ParamError(self.name, Message(N_("expected a number, got a boolean")))
         if isinstance(raw, (int, float, np.floating, np.integer)):
             value = float(raw)
         elif isinstance(raw, str):
             value = parse_number(raw)
         else:
-            raise ParamError(self.name, f"expected a number, got {type(raw).__name__}")
+            raise ParamError(
+                self.name, Message(N_("expected a number, got {kind}"), kind=type(raw).__name__)
+            )
         if not math.isfinite(value):
             raise ParamError(
                 self.name, Message(N_("must be a finite number, got {value}"), value=value)

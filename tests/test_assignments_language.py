@@ -1,0 +1,216 @@
+"""The student's assignment folder in the page's language: the labels, the task and hint
+the file gives in Russian (``task_ru``, ``hint_ru``; English when it gives none) and the
+check's verdict; real pages (viser's protocol over a websocket) against in-process servers."""
+
+from __future__ import annotations
+
+import asyncio
+import copy
+import html
+import json
+from collections.abc import Callable
+from typing import Any
+
+import pytest
+from analyzer_lab.classroom.assignments import task_html
+from analyzer_lab.i18n import language_of
+from analyzer_lab.lessons.analyzers.sphere import LESSON as SPHERE
+from analyzer_lab.lessons.assignments import AssignmentError, parse_assignment
+
+from tests.support.client import ProtoClient
+from tests.support.waiting import until
+
+pytestmark = pytest.mark.timeout(300)
+TASK = "sphere-equator"
+RU_ID = "sphere-equator-ru"
+
+
+@pytest.fixture(scope="module")
+def labs(make_lab: Callable[..., Any]) -> dict[str, Any]:
+    options = {"lessons": [SPHERE], "lesson": "sphere", "warm_up": False, "restore": False}
+    return {"ru": make_lab(language="ru", **options), "en": make_lab(**options)}
+
+
+def _with_russian(board: Any) -> None:
+    """The ready sphere assignment, its task and hint also given in Russian."""
+    data = copy.deepcopy(board.assignments[TASK].data)
+    data["id"] = RU_ID
+    data["task_ru"] = "Проведите точку по экватору со скоростью {s:g} м/с."
+    data["hint_ru"] = "Скорость вдоль экватора равна |u1|·R."
+    for check in data["checks"]:
+        check["feedback_ru"] = f"Отзыв по проверке {check['id']} при скорости {{s:g}} м/с."
+    board.assignments[RU_ID] = parse_assignment(json.loads(json.dumps(data)), "ru.json")
+
+
+async def _page(lab: Any, first_label: str) -> tuple[ProtoClient, Any]:
+    before = set(lab.views)
+    c = await ProtoClient(lab.url).start()
+    await c.wait_for(first_label)
+    new = await until(lambda: set(lab.views) - before, 10, "the view")
+    return c, lab.views[max(new)]
+
+
+def _html(c: ProtoClient, cls: str) -> str:
+    return next((h for h in c.html.values() if cls in h), "")
+
+
+def test_a_russian_page_shows_the_assignment_and_its_verdict_in_russian(
+    labs: dict[str, Any],
+) -> None:
+    lab = labs["ru"]
+    board = lab.classroom.board
+    _with_russian(board)
+    s = board.variant(RU_ID, board.class_id, "Аня").values["s"]
+
+    async def go() -> None:
+        c, view = await _page(lab, "Движение")
+        try:
+            await c.wait_for("Проверить мой ответ")
+            for english in ("Check my answer", "Your name", "Join code"):
+                assert english not in c.gui, english
+            await c.set("Задание", RU_ID, 0.2)
+            await c.set("Ваше имя", "Аня", 0.1)
+            task = await until(
+                lambda: (
+                    "Ваши числа" in _html(c, "al-assignment-task")
+                    and _html(c, "al-assignment-task")
+                ),
+                30,
+                "the task",
+            )
+            assert f"со скоростью {s:g} м/с" in task  # the placeholder filled in
+            shown = [view.language.notice(text) for _, text in view.session.notices]
+            assert any(f"открыто задание {RU_ID}" in n for n in shown), shown
+            assert "Подсказка:" in task and "Скорость вдоль экватора" in task
+            assert "Можно менять:" in task and "Цель:" in task
+            assert "You may change" not in task and "Hint:" not in task
+            await c.click("Проверить мой ответ", 0.1)  # the start values: the speed misses
+            verdict = await until(
+                lambda: (
+                    "al-check" in _html(c, "al-assignment-result")
+                    and _html(c, "al-assignment-result")
+                ),
+                30,
+                "the verdict",
+            )
+            assert "не пройдена" in verdict and "не пройдено" in verdict
+            assert "checks fail" not in verdict and "✗ fail" not in verdict
+            assert f"Отзыв по проверке speed при скорости {s:g} м/с." in verdict
+            assert "the speed along the equator is" not in verdict  # the English feedback
+        finally:
+            await c.close()
+
+    asyncio.run(go())
+
+
+def test_an_english_page_shows_the_english_task(labs: dict[str, Any]) -> None:
+    lab = labs["en"]
+    board = lab.classroom.board
+    _with_russian(board)
+
+    async def go() -> None:
+        c, view = await _page(lab, "Run")
+        try:
+            await c.wait_for("Check my answer")
+            await c.set("Assignment", RU_ID, 0.2)
+            await c.set("Your name", "Ann", 0.1)
+            task = await until(
+                lambda: (
+                    "Your numbers" in _html(c, "al-assignment-task")
+                    and _html(c, "al-assignment-task")
+                ),
+                30,
+                "the task",
+            )
+            assert "You may change:" in task and "Goal:" in task and "Hint:" in task
+            assert "Проведите" not in task and "Подсказка" not in task
+        finally:
+            await c.close()
+
+    asyncio.run(go())
+
+
+def test_a_file_without_russian_falls_back_and_a_bad_one_is_refused(
+    labs: dict[str, Any],
+) -> None:
+    board = labs["en"].classroom.board
+    plain = board.variant(TASK, board.class_id, "Ann").assignment
+    assert not plain.task_ru
+    ru = language_of("ru")
+    shown = task_html(plain, ru)
+    assert html.escape(plain.task) in shown  # the English task, on a Russian page
+    assert "Цель:" in shown
+    data = copy.deepcopy(board.assignments[TASK].data)
+    data["task_ru"] = ["not", "text"]
+    with pytest.raises(AssignmentError, match="field task_ru: .*must be text"):
+        parse_assignment(json.loads(json.dumps(data)), "bad.json")
+    data = copy.deepcopy(board.assignments[TASK].data)
+    data["checks"][0]["feedback_ru"] = 5
+    with pytest.raises(AssignmentError, match=r"checks\[0\]\.feedback_ru: .*must be text"):
+        parse_assignment(json.loads(json.dumps(data)), "bad.json")
+
+
+CODE = "ru-class-code-2026-lab"
+
+
+def test_the_instructors_assignments_folder_in_russian(make_lab: Callable[..., Any]) -> None:
+    lab = make_lab(
+        language="ru",
+        lessons=[SPHERE],
+        lesson="sphere",
+        instructor_code=CODE,
+        warm_up=False,
+        restore=False,
+    )
+
+    async def go() -> None:
+        inst, iv = await _page(lab, "Движение")
+        try:
+            await inst.set("Код преподавателя", CODE, 0.1)
+            await inst.click("Стать преподавателем")
+            await inst.wait_for("Выдать задание всем")
+            for english in (
+                "Push assignment to all",
+                "Download results (CSV)",
+                "Assignments (class)",
+            ):
+                assert english not in inst.gui, english
+            assert "Задания (класс)" in inst.gui and "Скачать оценки (CSV для Moodle)" in inst.gui
+            assert "Панель преподавателя" in inst.gui and "Следовать за мной" in inst.gui
+            panel = lab.classroom.instructors[iv.client.client_id]
+            await until(lambda: "подключено студентов" in panel.counts.content, 10, "the counts")
+            assert "работают самостоятельно" in panel.counts.content
+            head = await until(
+                lambda: next((h for h in inst.html.values() if "Задание не выдано" in h), ""),
+                10,
+                "the table's head",
+            )
+            assert "No assignment pushed" not in head
+            student, sv = await _page(lab, "Движение")
+            try:
+                await inst.set("Задание для всех", TASK, 0.1)
+                await inst.click("Выдать задание всем")
+                await until(
+                    lambda: lab.classroom.board.students[sv.client.client_id].active is not None,
+                    20,
+                    "the student's assignment",
+                )
+                task = await until(lambda: _html(student, "al-assignment-task"), 20, "the task")
+                assert "Цель:" in task
+                await until(lambda: any("Выдано:" in h for h in inst.html.values()), 10, "pushed")
+                await student.set("Ваше имя", "Аня", 0.1)
+                await student.click("Проверить мой ответ", 0.1)
+                row = await until(
+                    lambda: next((h for h in inst.html.values() if "al-roster-row" in h), ""),
+                    30,
+                    "the student's row",
+                )
+                assert "Аня" in row and ">нет<" in row  # the start values fail
+                head = next(h for h in inst.html.values() if "<thead>" in h)
+                assert "студент" in head and "попытки" in head and "attempts" not in head
+            finally:
+                await student.close()
+        finally:
+            await inst.close()
+
+    asyncio.run(go())
