@@ -28,6 +28,7 @@ from pathlib import Path
 
 from analyzer_lab.lessons.kit.message import Message
 from analyzer_lab.pseudo import CODE as PSEUDO
+from analyzer_lab.pseudo import HTML_LANG as PSEUDO_HTML_LANG
 from analyzer_lab.pseudo import PseudoTranslations
 from analyzer_lab.text_numbers import abstract, restore
 from babel.messages.catalog import Catalog
@@ -197,6 +198,11 @@ class Language:
         if isinstance(text, Message) or isinstance(text, BaseException):
             return self.message(text)
         return self.lesson_text(str(text))
+
+    @property
+    def html_lang(self) -> str:
+        """The page's ``<html lang>`` in this language (a BCP 47 tag)."""
+        return PSEUDO_HTML_LANG if self.code == PSEUDO else self.code
 
     def quantity(self, words: str) -> str:
         """A quantity named in words (``position error``) as the language writes it."""

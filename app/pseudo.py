@@ -12,6 +12,8 @@ from babel.support import NullTranslations
 
 #: The pseudo-language's code.
 CODE = "pseudo"
+#: The page's ``<html lang>`` in the pseudo-language (BCP 47's pseudo-locale for long text).
+HTML_LANG = "en-XA"
 #: How much longer every text becomes (a share of its length).
 GROWTH = 0.5
 #: The word the texts are padded with (Cyrillic, about as wide as Russian prose).
@@ -40,4 +42,4 @@ class PseudoTranslations(NullTranslations):
         return message if context == "unit" else pad(message)
 
 
-__all__ = ["CODE", "FILLER", "GROWTH", "PseudoTranslations", "pad"]
+__all__ = ["CODE", "FILLER", "GROWTH", "HTML_LANG", "PseudoTranslations", "pad"]

@@ -19,6 +19,7 @@ import pytest
 from analyzer_lab.i18n import language_of
 from analyzer_lab.lessons.catalog import all_lessons, get_lesson
 from analyzer_lab.pseudo import CODE as PSEUDO
+from analyzer_lab.pseudo import HTML_LANG
 
 from tests.support.browser import Page
 from tests.support.layout import (
@@ -111,7 +112,7 @@ def test_every_lesson_in_russian_at_1400x900_and_1280x720(ru_page: Page, lesson_
         tab.view.set_language(language_of(PSEUDO))
     try:
         wait_until(
-            lambda: tab.page.evaluate("document.documentElement.lang") == PSEUDO,
+            lambda: tab.page.evaluate("document.documentElement.lang") == HTML_LANG,
             20,
             "the pseudo-language's page",
         )

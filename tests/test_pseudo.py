@@ -21,6 +21,7 @@ def test_every_text_is_half_as_long_again_with_its_placeholders() -> None:
 def test_the_pseudo_language_pads_the_chrome_the_lessons_and_messages() -> None:
     lang, notice = resolve(CODE)
     assert notice is None and lang.code == CODE and lang.decimal == ","
+    assert lang.html_lang == "en-XA" and resolve("ru")[0].html_lang == "ru"
     assert lang.gettext("Lesson") == pad("Lesson")
     assert lang.lesson_text("Curve on a sphere") == pad("Curve on a sphere")
     assert lang.unit("s") == "s"  # units as they are

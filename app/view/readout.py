@@ -53,7 +53,7 @@ def status_html(s: Session, language: Language = ENGLISH) -> str:
     """The newest notice (in the page's language: a session's message, a lesson's note)
     and the frame's message; with the hidden marker of the page's language (its
     ``<html lang>``)."""
-    parts = [language_marker(language.code)]
+    parts = [language_marker(language.html_lang)]
     if s.notice is not None:
         level, message = s.notice
         text = language.notice(message)

@@ -97,7 +97,7 @@ FOLLOW_LANGUAGE = """<script>
   function follow() {
     var marker = document.querySelector("[ATTR]");
     var code = marker && marker.getAttribute("ATTR");
-    if (code && /^[a-z]{2,3}$/.test(code) && root.lang !== code) { root.lang = code; }
+    if (code && /^[a-z]{2,3}(-[A-Z]{2})?$/.test(code) && root.lang !== code) { root.lang = code; }
   }
   new MutationObserver(follow).observe(root, {
     subtree: true, childList: true, attributes: true, attributeFilter: ["ATTR"]
