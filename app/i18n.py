@@ -76,6 +76,19 @@ UNITS = (
     NP_("unit", "mm/s"),
     NP_("unit", "kg"),
     NP_("unit", "N"),
+    NP_("unit", "1/s"),
+    NP_("unit", "J"),
+    NP_("unit", "N m"),
+    NP_("unit", "N m/rad"),
+    NP_("unit", "N s/m"),
+    NP_("unit", "N/m"),
+    NP_("unit", "kg m^2"),
+    NP_("unit", "m/s^2"),
+    NP_("unit", "m^2"),
+    NP_("unit", "m^2/s"),
+    NP_("unit", "mm (mm^2, mm^3)"),
+    NP_("unit", "rad/s^2"),
+    NP_("unit", "µm"),
 )
 
 _PLACEHOLDER = re.compile(r"\{[^{}]*\}")

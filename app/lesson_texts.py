@@ -105,6 +105,9 @@ def run_fields(lesson: Lesson) -> Iterator[tuple[str, str]]:
             yield f"{lid}.note", abstract(note.text)[0]
         for marker in lesson.scene(params).markers:
             yield f"{lid}.scene.label", abstract(marker.label)[0]
+        message = lesson.open(None, preset).stepper.frame().message
+        if message:
+            yield f"{lid}.frame.message", abstract(message)[0]
 
 
 def _has_words(text: str) -> bool:

@@ -40,7 +40,9 @@ pytestmark = [pytest.mark.browser, pytest.mark.timeout(900)]
 ALLOWED = {
     "analyzer", "lab", "csv", "json", "html", "sin", "cos", "tan", "exp", "sqrt", "atan",
     "atan2", "log", "abs", "max", "min", "sign", "pi", "english", "lsp", "dop853", "rk45",
-    "arcsin", "arccos", "arctan", "sinh", "cosh", "tanh",
+    "arcsin", "arccos", "arctan", "sinh", "cosh", "tanh", "nan", "scipy", "linalg", "eigh",
+    # the lessons' own names: a triangle, a choice's value, variables of a derivation's prose
+    "abc", "inertia", "vertical", "varpi", "phiy",
 }  # fmt: skip
 #: The panel's visible prose: its text nodes outside formulas, figures and inputs.
 PROSE_JS = """() => {

@@ -121,6 +121,7 @@ class SessionView:
         self.draw_seconds = 0.0  # time spent queueing the frame's updates
         self.renderer = SceneRenderer(client, self.config)
         self.renderer.text = self.language.lesson_text
+        self._derived_lesson: str | None = None  # the lesson whose derivation is shown
         self.renderer.on_surface_click = self._on_surface_click
         self.plots = PlotPanel(client.gui)
         self._plots_folder: Any = None
@@ -610,6 +611,9 @@ class SessionView:
             self._build_lesson_gui()
             self.sync_widgets()
             self.derivation_due = time.monotonic()
+            if self._derived_lesson not in (None, s.lesson.id):
+                self.set_derivation("")  # not another lesson's while this one's is built
+            self._derived_lesson = s.lesson.id
             new_lesson = True
         else:
             new_lesson = False

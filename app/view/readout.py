@@ -64,7 +64,7 @@ def status_html(s: Session, language: Language = ENGLISH) -> str:
     if s.frame.message:
         parts.append(
             '<div class="al-frame-message" style="color:#8a5a00;font-size:0.9em">'
-            f"{html.escape(s.frame.message)}</div>"
+            f"{html.escape(language.lesson_text(s.frame.message))}</div>"
         )
     if len(parts) == 1:
         parts.append('<div class="al-message"></div>')
