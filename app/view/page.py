@@ -121,7 +121,6 @@ class SessionView:
         self.draw_seconds = 0.0  # time spent queueing the frame's updates
         self.renderer = SceneRenderer(client, self.config)
         self.renderer.text = self.language.lesson_text
-        self._derived_lesson: str | None = None  # the lesson whose derivation is shown
         self.renderer.on_surface_click = self._on_surface_click
         self.plots = PlotPanel(client.gui)
         self._plots_folder: Any = None
@@ -389,6 +388,9 @@ class SessionView:
             opts = self._preset_options()
             if tuple(self.preset_dd.options) != opts:
                 self.preset_dd.options = opts
+                # new options: the page is sent the value again (viser moved its own copy to
+                # the first option, and the page may still show the old lesson's choice)
+                self.preset_dd.value = s.preset or self.no_preset
             put(self.preset_dd, s.preset or self.no_preset, force, current)
             put(self.speed_dd, speed_label(s.speed), force, current)
             if hasattr(self, "pause_cb"):
@@ -611,9 +613,6 @@ class SessionView:
             self._build_lesson_gui()
             self.sync_widgets()
             self.derivation_due = time.monotonic()
-            if self._derived_lesson not in (None, s.lesson.id):
-                self.set_derivation("")  # not another lesson's while this one's is built
-            self._derived_lesson = s.lesson.id
             new_lesson = True
         else:
             new_lesson = False
