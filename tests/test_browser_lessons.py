@@ -17,6 +17,7 @@ import pytest
 from analyzer_lab.view.notation import name_text
 
 from tests.support.browser import Page, quat_matrix
+from tests.support.layout import run_box
 from tests.support.waiting import wait_until
 
 pytestmark = [pytest.mark.browser, pytest.mark.timeout(600)]
@@ -105,7 +106,7 @@ def _framed(tab: Page) -> float:
         if cam is None:
             return None
         try:
-            return coverage(cam, tab.session.scene.bounds)
+            return coverage(cam, run_box(tab.session))
         except AssertionError:
             return None
 
@@ -122,7 +123,8 @@ def test_every_preset_is_framed_fits_and_reads(
     cover = _framed(tab)
     cam = tab.view.client.camera
     assert COVER[0] <= cover <= COVER[1], (
-        f"the scene covers {cover:.0%} of the canvas; bounds {tab.session.scene.bounds}, "
+        f"the scene covers {cover:.0%} of the canvas; the scene and its run "
+        f"{run_box(tab.session)}, "
         f"framed {tab.view.renderer.framed}, camera {cam.position} -> {cam.look_at}, "
         f"fov {cam.fov}, image {cam.image_width}x{cam.image_height}"
     )
