@@ -47,6 +47,7 @@ from analyzer_lab.serve.back_pressure import PAUSED_NOTICE, BackPressure, Turn
 from analyzer_lab.serve.course_record import CourseRecordError, open_course, resolve
 from analyzer_lab.serve.derivation_jobs import DerivationJobs, build
 from analyzer_lab.serve.fair_share import fair_order
+from analyzer_lab.serve.heap import HeapTrim
 from analyzer_lab.serve.page_opens import WAIT_NOTICE, PageOpens
 from analyzer_lab.session.runlog import LRUCache, lesson_scene, params_key
 from analyzer_lab.session.session import (
@@ -176,6 +177,7 @@ class LabServer:
         # for the browser's saved state), not in the turns of the page callbacks
         self._gone: set[int] = set()  # pages that left while being built
         self._building = 0  # pages being built now
+        self.heap = HeapTrim()  # the memory of closed pages goes back to the system
         self._page_built_at = -math.inf  # when the latest page was built (monotonic)
         #: the lessons the warm-up built, in its order
         self.warmed: list[str] = []
@@ -313,6 +315,7 @@ class LabServer:
         self.classroom.detach(client.client_id, view)  # classroom hook
         if view is not None:
             view.close()
+        self.heap.page_closed()
 
     def sessions(self) -> list[Session]:
         with self._views_lock:
@@ -438,7 +441,8 @@ class LabServer:
             f"[loop] sessions {len(views)} ticks/s {(self.stats.ticks - self._report_ticks) / span:.1f} "
             f"busy {busy / span:.0%} stepping {(steps - self._report_steps) / span:.0%} "
             f"drawing {(draws - self._report_draws) / span:.0%} load {self.stats.load:.2f} "
-            f"skipped {self.stats.skipped} dropped {dropped_types() or '-'}",
+            f"skipped {self.stats.skipped} dropped {dropped_types() or '-'} "
+            f"warm {len(self.warmed)}/{len(self.lessons)} trims {self.heap.trims}",
             file=sys.stderr,
             flush=True,
         )
@@ -473,6 +477,9 @@ class LabServer:
                             left_out_text(skipped),
                         )
             views = view = None  # type: ignore[assignment]  # classroom hook: no stale reference
+            with self._views_lock:
+                building = self._building > 0
+            self.heap.poll(building or self.page_opens.waiting() > 0)
         self.derivations.stop()
         self._deriving.clear()
 

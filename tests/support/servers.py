@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import http.client
 import os
+import re
 import socket
 import subprocess
 import sys
@@ -112,6 +113,20 @@ class ServeProcess:
     @property
     def pid(self) -> int:
         return self.proc.pid
+
+    def wait_warm(self, timeout: float = 240.0) -> None:
+        """Wait until the server's loop figures say every lesson is warmed up (the
+        ``warm k/n`` of its ``[loop]`` lines; ``ANALYZER_LAB_STATS`` is set): the memory a
+        test measures afterwards is the class's, not the warm-up's."""
+        deadline = time.monotonic() + timeout
+        while time.monotonic() < deadline:
+            warm = re.findall(r"^\[loop\].* warm (\d+)/(\d+) ", self.log_path.read_text(), re.M)
+            if warm and warm[-1][0] == warm[-1][1]:
+                return
+            if self.proc.poll() is not None:
+                raise RuntimeError(f"the server exited with code {self.proc.returncode}")
+            time.sleep(0.5)
+        raise RuntimeError(f"the lessons were not warmed up within {timeout:.0f} s")
 
     def stop(self) -> None:
         stop_process(self.proc)
