@@ -102,6 +102,16 @@ def make_lab(request: pytest.FixtureRequest) -> Iterator[Callable[..., Any]]:
 
 
 @pytest.fixture(scope="module")
+def labs(make_lab: Callable[..., Any]) -> dict[str, Any]:
+    """Two in-process servers on the sphere alone (no warm-up, nothing restored): ``"ru"``
+    opens its pages in Russian, ``"en"`` in English."""
+    from analyzer_lab.lessons.analyzers.sphere import LESSON as SPHERE
+
+    options = {"lessons": [SPHERE], "lesson": "sphere", "warm_up": False, "restore": False}
+    return {"ru": make_lab(language="ru", **options), "en": make_lab(**options)}
+
+
+@pytest.fixture(scope="module")
 def lab(make_lab: Callable[..., Any]) -> Any:
     """The module's in-process server on the sphere (every lesson, warmed up)."""
     return make_lab(lesson="sphere")

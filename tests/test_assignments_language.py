@@ -17,18 +17,12 @@ from analyzer_lab.i18n import language_of
 from analyzer_lab.lessons.analyzers.sphere import LESSON as SPHERE
 from analyzer_lab.lessons.assignments import AssignmentError, parse_assignment
 
-from tests.support.client import ProtoClient
+from tests.support.client import ProtoClient, open_page
 from tests.support.waiting import until
 
 pytestmark = pytest.mark.timeout(300)
 TASK = "sphere-equator"
 RU_ID = "sphere-equator-ru"
-
-
-@pytest.fixture(scope="module")
-def labs(make_lab: Callable[..., Any]) -> dict[str, Any]:
-    options = {"lessons": [SPHERE], "lesson": "sphere", "warm_up": False, "restore": False}
-    return {"ru": make_lab(language="ru", **options), "en": make_lab(**options)}
 
 
 def _with_russian(board: Any) -> None:
@@ -40,14 +34,6 @@ def _with_russian(board: Any) -> None:
     for check in data["checks"]:
         check["feedback_ru"] = f"Отзыв по проверке {check['id']} при скорости {{s:g}} м/с."
     board.assignments[RU_ID] = parse_assignment(json.loads(json.dumps(data)), "ru.json")
-
-
-async def _page(lab: Any, first_label: str) -> tuple[ProtoClient, Any]:
-    before = set(lab.views)
-    c = await ProtoClient(lab.url).start()
-    await c.wait_for(first_label)
-    new = await until(lambda: set(lab.views) - before, 10, "the view")
-    return c, lab.views[max(new)]
 
 
 def _html(c: ProtoClient, cls: str) -> str:
@@ -63,7 +49,7 @@ def test_a_russian_page_shows_the_assignment_and_its_verdict_in_russian(
     s = board.variant(RU_ID, board.class_id, "Аня").values["s"]
 
     async def go() -> None:
-        c, view = await _page(lab, "Движение")
+        c, view = await open_page(lab, "Движение")
         try:
             await c.wait_for("Проверить мой ответ")
             for english in ("Check my answer", "Your name", "Join code"):
@@ -109,7 +95,7 @@ def test_an_english_page_shows_the_english_task(labs: dict[str, Any]) -> None:
     _with_russian(board)
 
     async def go() -> None:
-        c, view = await _page(lab, "Run")
+        c, view = await open_page(lab, "Run")
         try:
             await c.wait_for("Check my answer")
             await c.set("Assignment", RU_ID, 0.2)
@@ -164,7 +150,7 @@ def test_the_instructors_assignments_folder_in_russian(make_lab: Callable[..., A
     )
 
     async def go() -> None:
-        inst, iv = await _page(lab, "Движение")
+        inst, iv = await open_page(lab, "Движение")
         try:
             await inst.set("Код преподавателя", CODE, 0.1)
             await inst.click("Стать преподавателем")
@@ -186,7 +172,7 @@ def test_the_instructors_assignments_folder_in_russian(make_lab: Callable[..., A
                 "the table's head",
             )
             assert "No assignment pushed" not in head
-            student, sv = await _page(lab, "Движение")
+            student, sv = await open_page(lab, "Движение")
             try:
                 await inst.set("Задание для всех", TASK, 0.1)
                 await inst.click("Выдать задание всем")

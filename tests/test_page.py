@@ -13,7 +13,7 @@ from typing import Any
 import pytest
 from analyzer_lab.lessons.catalog import get_lesson
 
-from tests.support.client import ProtoClient, handled
+from tests.support.client import ProtoClient, handled, open_page
 from tests.support.waiting import until
 
 pytestmark = pytest.mark.timeout(300)
@@ -35,25 +35,9 @@ CHROME = {
 }
 
 
-@pytest.fixture(scope="module")
-def labs(make_lab: Callable[..., Any]) -> dict[str, Any]:
-    """A server whose new pages are Russian and one with the default (English)."""
-    sphere = get_lesson("sphere")
-    options = {"lessons": [sphere], "lesson": "sphere", "warm_up": False, "restore": False}
-    return {"ru": make_lab(language="ru", **options), "en": make_lab(**options)}
-
-
-async def page(lab: Any, first_label: str) -> tuple[ProtoClient, Any]:
-    before = set(lab.views)
-    c = await ProtoClient(lab.url).start()
-    await c.wait_for(first_label)
-    new = await until(lambda: set(lab.views) - before, 10, "the view")
-    return c, lab.views[max(new)]
-
-
 def test_a_page_built_in_russian_shows_russian_chrome(labs: dict[str, Any]) -> None:
     async def go() -> None:
-        c, view = await page(labs["ru"], "Движение")
+        c, view = await open_page(labs["ru"], "Движение")
         try:
             await c.wait_for("шаг сетки [с]")
             assert view.language.code == "ru"
@@ -88,7 +72,7 @@ def test_a_page_built_in_russian_shows_russian_chrome(labs: dict[str, Any]) -> N
 
 def test_an_english_page_stays_english(labs: dict[str, Any]) -> None:
     async def go() -> None:
-        c, view = await page(labs["en"], "Run")
+        c, view = await open_page(labs["en"], "Run")
         try:
             await c.wait_for("grid step [s]")
             assert view.language.code == "en"
@@ -121,8 +105,8 @@ def test_a_decimal_comma_is_read_in_russian_and_refused_with_a_message_in_englis
     labs: dict[str, Any],
 ) -> None:
     async def go() -> None:
-        ru, ru_view = await page(labs["ru"], "Движение")
-        en, en_view = await page(labs["en"], "Run")
+        ru, ru_view = await open_page(labs["ru"], "Движение")
+        en, en_view = await open_page(labs["en"], "Run")
         try:
             await ru.set("радиус сферы R", "0,5")  # the lesson's label in Russian
             await ru.set("u1(t) =", "0,5*sin(2,5*t)")
@@ -217,8 +201,8 @@ def test_the_derivation_is_shown_in_the_pages_language(labs: dict[str, Any]) -> 
     the English page switches."""
 
     async def go() -> None:
-        ru, _ = await page(labs["ru"], "Движение")
-        en, en_view = await page(labs["en"], "Run")
+        ru, _ = await open_page(labs["ru"], "Движение")
+        en, en_view = await open_page(labs["en"], "Run")
         try:
             await until(lambda: "2. Касание<" in _derivation(ru), 60, "the Russian derivation")
             shown = _derivation(ru)
@@ -252,7 +236,7 @@ def test_a_lessons_note_is_shown_in_the_pages_language(labs: dict[str, Any]) -> 
     assert "(2, 0, 0)" in note.text
 
     async def go() -> None:
-        c, view = await page(labs["ru"], "Движение")
+        c, view = await open_page(labs["ru"], "Движение")
         try:
             with view.session.lock:
                 view.session.notify(note.text, "warning")

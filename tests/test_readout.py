@@ -6,32 +6,15 @@ from __future__ import annotations
 
 import asyncio
 import html
-from collections.abc import Callable
 from typing import Any
 
 import pytest
 from analyzer_lab.i18n import language_of
-from analyzer_lab.lessons.catalog import get_lesson
 
-from tests.support.client import ProtoClient, handled
+from tests.support.client import ProtoClient, handled, open_page
 from tests.support.waiting import until
 
 pytestmark = pytest.mark.timeout(300)
-
-
-@pytest.fixture(scope="module")
-def labs(make_lab: Callable[..., Any]) -> dict[str, Any]:
-    sphere = get_lesson("sphere")
-    options = {"lessons": [sphere], "lesson": "sphere", "warm_up": False, "restore": False}
-    return {"ru": make_lab(language="ru", **options), "en": make_lab(**options)}
-
-
-async def page(lab: Any, first_label: str) -> tuple[ProtoClient, Any]:
-    before = set(lab.views)
-    c = await ProtoClient(lab.url).start()
-    await c.wait_for(first_label)
-    new = await until(lambda: set(lab.views) - before, 10, "the view")
-    return c, lab.views[max(new)]
 
 
 def _shown(c: ProtoClient, css: str) -> str:
@@ -63,7 +46,7 @@ def test_a_refused_value_and_the_end_of_the_run_in_the_pages_language(
     labs: dict[str, Any], code: str, first: str, refused: str, reached: str
 ) -> None:
     async def go() -> None:
-        c, view = await page(labs[code], first)
+        c, view = await open_page(labs[code], first)
         try:
             label = language_of(code).lesson_text(view.session.lesson.param("h").label)
             field = next(k for k in c.gui if k.startswith(label))
@@ -94,7 +77,7 @@ def test_a_russian_speed_refusal_names_the_speeds_with_a_decimal_comma(
     labs: dict[str, Any],
 ) -> None:
     async def go() -> None:
-        c, view = await page(labs["ru"], "Движение")
+        c, view = await open_page(labs["ru"], "Движение")
         try:
             with view.session.lock:
                 try:

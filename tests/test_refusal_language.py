@@ -5,35 +5,18 @@ on an English one; real websockets to an in-process server."""
 from __future__ import annotations
 
 import asyncio
-from collections.abc import Callable
 from typing import Any
 
 import pytest
 from analyzer_lab.i18n import language_of
-from analyzer_lab.lessons.catalog import get_lesson
 from analyzer_lab.lessons.kit.formula import FormulaError, parse_formula
 from analyzer_lab.lessons.kit.message import Message
 from analyzer_lab.lessons.kit.params import Param, ParamError
 
-from tests.support.client import ProtoClient, handled
+from tests.support.client import ProtoClient, handled, open_page
 from tests.support.waiting import until
 
 pytestmark = pytest.mark.timeout(300)
-
-
-@pytest.fixture(scope="module")
-def labs(make_lab: Callable[..., Any]) -> dict[str, Any]:
-    sphere = get_lesson("sphere")
-    options = {"lessons": [sphere], "lesson": "sphere", "warm_up": False, "restore": False}
-    return {"ru": make_lab(language="ru", **options), "en": make_lab(**options)}
-
-
-async def _page(lab: Any, first_label: str) -> tuple[ProtoClient, Any]:
-    before = set(lab.views)
-    c = await ProtoClient(lab.url).start()
-    await c.wait_for(first_label)
-    new = await until(lambda: set(lab.views) - before, 10, "the view")
-    return c, lab.views[max(new)]
 
 
 def _field_error(c: ProtoClient) -> str:
@@ -49,7 +32,7 @@ async def _refused(c: ProtoClient, view: Any, label: str, text: str, expect: str
 
 def test_a_russian_page_refuses_a_formula_in_russian(labs: dict[str, Any]) -> None:
     async def go() -> None:
-        c, view = await _page(labs["ru"], "Движение")
+        c, view = await open_page(labs["ru"], "Движение")
         try:
             before = view.session.params["u1"].text
             shown = await _refused(c, view, "u1(t) =", "sin(", "не закрыта скобка")
@@ -66,7 +49,7 @@ def test_a_russian_page_refuses_a_formula_in_russian(labs: dict[str, Any]) -> No
 
 def test_an_english_page_refuses_a_formula_as_before(labs: dict[str, Any]) -> None:
     async def go() -> None:
-        c, view = await _page(labs["en"], "Run")
+        c, view = await open_page(labs["en"], "Run")
         try:
             shown = await _refused(c, view, "u1(t) =", "sin(", "unclosed")
             assert "unclosed &#x27;(&#x27; in &#x27;sin(&#x27;" in shown

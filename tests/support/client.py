@@ -206,3 +206,13 @@ async def handled(c: ProtoClient, view: Any, timeout: float = 10.0) -> None:
         timeout,
         "the server to handle the page's messages",
     )
+
+
+async def open_page(lab: Any, first_label: str) -> tuple[ProtoClient, Any]:
+    """A page on the in-process server ``lab``: the client once ``first_label`` is shown,
+    and the server's view of it."""
+    before = set(lab.views)
+    c = await ProtoClient(lab.url).start()
+    await c.wait_for(first_label)
+    new = await until(lambda: set(lab.views) - before, 10, "the view")
+    return c, lab.views[max(new)]
