@@ -348,3 +348,45 @@ def test_relabel_tabs_renames_the_tabs_in_place(server: Any) -> None:
     with pytest.raises(ValueError):
         vb.relabel_tabs(group, ("one",))
     group.remove()
+
+
+def test_a_callback_reads_the_value_its_page_sent(server: Any) -> None:
+    """A page's input resets another widget in its callback (a lesson change resets the
+    preset picker); the page's next input, a value of that widget sent before the first
+    callback ran, is read as the page sent it."""
+    from tests.support.client import ProtoClient
+
+    seen: list[tuple[Any, Any]] = []
+    picker = server.gui.add_dropdown("picker", ("a", "b", "c"), initial_value="a")
+
+    def reset_picker(_: Any) -> None:
+        time.sleep(0.3)  # the picker's own update arrives meanwhile
+        picker.value = "a"
+
+    server.gui.add_text("first", "x").on_update(reset_picker)
+    picker.on_update(
+        lambda e: seen.append((vb.sent_value(e), e.target.value)) if e.client else None
+    )  # the server's own set of the picker is an event without a page
+    url = f"ws://127.0.0.1:{server.get_port()}/"
+
+    async def go() -> None:
+        c = await ProtoClient(url).start()
+        try:
+            await c.set("first", "y", 0.0)
+            await c.set("picker", "b", 0.0)
+            await until(lambda: seen, 10, "the picker's callback")
+        finally:
+            await c.close()
+
+    asyncio.run(go())
+    assert seen == [("b", "a")]
+
+
+def test_an_event_made_in_the_server_reads_the_widget() -> None:
+    class Widget:
+        value = 3.0
+
+    class Event:
+        target = Widget()
+
+    assert vb.sent_value(Event()) == 3.0

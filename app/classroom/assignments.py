@@ -49,6 +49,7 @@ from analyzer_lab.lessons.assignments import draft as draft_assignment
 from analyzer_lab.lessons.assignments.variants import DEFAULT_CLASS
 from analyzer_lab.lessons.kit.message import Message
 from analyzer_lab.session.session import LabError
+from analyzer_lab.viser_boundary import sent_value
 
 if TYPE_CHECKING:
     from analyzer_lab.view.page import SessionView
@@ -481,7 +482,7 @@ class StudentPanel:
         return student
 
     def _on_pick(self, event: Any) -> None:
-        value = event.target.value
+        value = sent_value(event)
         if value == NONE:
             self.close()
             return

@@ -19,6 +19,7 @@ from analyzer_lab.i18n import ENGLISH, Language
 from analyzer_lab.lessons.kit.contract import Lesson, Param, Params
 from analyzer_lab.lessons.kit.formula import Formula
 from analyzer_lab.view.notation import unit_text
+from analyzer_lab.viser_boundary import sent_value
 
 _UNSHOWN = object()
 Handler = Callable[[Any], None]
@@ -161,10 +162,10 @@ class ParamControls:
                     hint=hint,
                     disabled=self.read_only or not is_constant(value),
                 )
-                slider.on_update(self.guard(lambda e, p=p: self.on_slider(p, e.target.value)))
+                slider.on_update(self.guard(lambda e, p=p: self.on_slider(p, sent_value(e))))
                 widgets.append(slider)
             text = gui.add_text(f"{label} =", initial_value=shown_value(p, value), hint=hint)
-            text.on_update(self.guard(lambda e, p=p: self.on_text(p, e.target.value)))
+            text.on_update(self.guard(lambda e, p=p: self.on_text(p, sent_value(e))))
             widgets.append(text)
         elif p.kind == "choice":
             w = gui.add_dropdown(label, tuple(p.choices), initial_value=str(value), hint=hint)
@@ -186,7 +187,7 @@ class ParamControls:
             # typed text (a number or a constant expression such as pi/2): a bad entry
             # stays visible next to its message instead of being blanked by the browser
             text = gui.add_text(label, initial_value=number_text(value), hint=hint)
-            text.on_update(self.guard(lambda e, p=p: self.on_text(p, e.target.value)))
+            text.on_update(self.guard(lambda e, p=p: self.on_text(p, sent_value(e))))
             widgets.append(text)
         for w in widgets:
             if (self.read_only or p.name in self.locked) and not w.disabled:
@@ -194,7 +195,7 @@ class ParamControls:
             if not p.applies(params):  # e.g. the paraboloid's p while the cone is chosen
                 w.visible = False
         if p.kind in ("choice", "bool", "int"):
-            widgets[0].on_update(self.guard(lambda e, p=p: self.on_value(p, e.target.value)))
+            widgets[0].on_update(self.guard(lambda e, p=p: self.on_value(p, sent_value(e))))
         if any(isinstance(w.value, str) for w in widgets):
             self.errors[p.name] = gui.add_html("", visible=False)
         self.widgets[p.name] = widgets

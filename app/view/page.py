@@ -43,7 +43,7 @@ from analyzer_lab.view.plots import PlotPanel
 from analyzer_lab.view.readout import preset_note_html, readout_html, speed_label, status_html
 from analyzer_lab.view.scene import SceneRenderer
 from analyzer_lab.view.transport import MAX_DRAWN_FRAMES, Transport
-from analyzer_lab.viser_boundary import fast_set, relabel_tabs
+from analyzer_lab.viser_boundary import fast_set, relabel_tabs, sent_value
 
 if TYPE_CHECKING:
     import viser
@@ -334,7 +334,7 @@ class SessionView:
                             tr("show {name}").format(name=name), initial_value=name in visible
                         )
                         cb.on_update(
-                            self.guard(lambda e, n=name: self._on_vector_toggle(n, e.target.value))
+                            self.guard(lambda e, n=name: self._on_vector_toggle(n, sent_value(e)))
                         )
             folder = gui.add_folder(tr("Playback"))
             self._lesson_folders.append(folder)
@@ -405,10 +405,10 @@ class SessionView:
 
     def _on_lesson(self, event: Any) -> None:
         tr = self.language.gettext
-        lesson_id = self._labels.get(event.target.value)
+        lesson_id = self._labels.get(sent_value(event))
         if lesson_id is None:
             raise LabError(
-                tr("unknown lesson {name}").format(name=repr(str(event.target.value)[:60]))
+                tr("unknown lesson {name}").format(name=repr(str(sent_value(event))[:60]))
             )
         if lesson_id == self.session.lesson.id:
             return
@@ -419,11 +419,11 @@ class SessionView:
 
     def _on_language(self, event: Any) -> None:
         offered = picker_languages(self.language.code)
-        code = next((c for c, name in offered.items() if name == event.target.value), None)
+        code = next((c for c, name in offered.items() if name == sent_value(event)), None)
         if code is None:
             raise LabError(
                 self.language.gettext("unknown language {name}").format(
-                    name=repr(str(event.target.value)[:30])
+                    name=repr(str(sent_value(event))[:30])
                 )
             )
         if code != self.language.code:
@@ -464,7 +464,7 @@ class SessionView:
 
     def _on_preset(self, event: Any) -> None:
         tr = self.language.gettext
-        name = event.target.value
+        name = sent_value(event)
         if name == self.no_preset:
             self.session.apply_preset(None)
         else:
@@ -485,7 +485,7 @@ class SessionView:
         self._save_state()
 
     def _on_pause_at_end(self, event: Any) -> None:
-        self.session.pause_at_end = bool(event.target.value)
+        self.session.pause_at_end = bool(sent_value(event))
         self._save_state()
 
     def _on_vector_toggle(self, name: str, value: Any) -> None:

@@ -10,6 +10,7 @@ from analyzer_lab.i18n import ENGLISH, N_, Language
 from analyzer_lab.lessons.kit.formula import parse_number
 from analyzer_lab.session.session import SPEEDS, LabError, Session
 from analyzer_lab.view.readout import speed_label
+from analyzer_lab.viser_boundary import sent_value
 
 #: Frames of a jump ("go to t") drawn into the trail at most.
 MAX_DRAWN_FRAMES = 2000
@@ -76,7 +77,7 @@ class Transport:
 
     def _on_button(self, event: Any) -> None:
         tr = self.language.gettext
-        what = self.commands.get(event.target.value, event.target.value)
+        what = self.commands.get(sent_value(event), sent_value(event))
         s = self.session()
         if what == PLAY:
             s.play()
@@ -93,7 +94,7 @@ class Transport:
             raise LabError(tr("unknown transport command {name}").format(name=repr(str(what)[:40])))
 
     def _on_speed(self, event: Any) -> None:
-        text = str(event.target.value)
+        text = str(sent_value(event))
         if not text.endswith("x"):
             raise LabError(
                 self.language.gettext("unknown speed {name}").format(name=repr(text[:20]))
@@ -102,7 +103,7 @@ class Transport:
         self.played([])
 
     def _on_goto(self, event: Any) -> None:
-        text = str(event.target.value).strip()
+        text = str(sent_value(event)).strip()
         if not text:
             return
         try:

@@ -12,7 +12,9 @@ viser whose internals were not checked:
   handlers, each connection is paced (a flooding page waits on its own socket) and waits
   while its callbacks queue up;
 * :func:`order_callbacks`: one connection's callbacks run in the order its messages came,
-  round-robin over connections within a CPU budget (:class:`OrderedExecutor`);
+  round-robin over connections within a CPU budget (:class:`OrderedExecutor`); each
+  callback reads the value its page sent (:func:`sent_value`), not the widget's value when
+  it runs;
 * :func:`client_address`: the network address a page connected from;
 * :func:`send_lag`: how many messages a page's sender is behind (a page that does not read);
 * :class:`WakeBatch`: the messages of one frame-loop tick wake viser's loop once;
@@ -32,6 +34,7 @@ from analyzer_lab.viser_boundary._backlog import send_lag as send_lag
 from analyzer_lab.viser_boundary._callbacks import CONNECTION as CONNECTION
 from analyzer_lab.viser_boundary._callbacks import OrderedExecutor as OrderedExecutor
 from analyzer_lab.viser_boundary._callbacks import order_callbacks as order_callbacks
+from analyzer_lab.viser_boundary._callbacks import sent_value as sent_value
 from analyzer_lab.viser_boundary._callbacks import submit_callback as submit_callback
 from analyzer_lab.viser_boundary._gui_guard import guard_gui_updates as guard_gui_updates
 from analyzer_lab.viser_boundary._gui_guard import value_problem as value_problem

@@ -4,12 +4,15 @@ came, round-robin over connections within a CPU budget."""
 from __future__ import annotations
 
 import contextvars
+import logging
 import threading
 import time
 from collections import deque
 from collections.abc import Callable
 from concurrent.futures import Future
 from typing import Any
+
+log = logging.getLogger(__name__)
 
 #: A connection's socket is not read while this many of its callbacks wait to run.
 MAX_PENDING_CALLBACKS = 16
@@ -57,6 +60,34 @@ class CpuBudget:
             self.tokens -= seconds
 
 
+#: The attribute of a viser ``GuiEvent`` that keeps the value its message carried.
+SENT_VALUE = "_analyzer_lab_sent_value"
+
+
+def keep_sent_value(event: Any) -> None:
+    """Keep on ``event`` the value its widget has now: viser queues a GUI callback right
+    after it stores the value a page sent, so this is the page's value, whatever the
+    server sets the widget to before the callback runs."""
+    target = getattr(event, "target", None)
+    if target is None or not hasattr(event, "client_id"):
+        return
+    try:
+        object.__setattr__(event, SENT_VALUE, target.value)
+    except (AttributeError, TypeError):  # an event of another kind: read the widget
+        log.debug("the value of an event was not kept", exc_info=True)
+
+
+def sent_value(event: Any) -> Any:
+    """The value the page sent with ``event`` (a GUI update), kept when its callback was
+    queued: a page's own input, not what the server set the widget to meanwhile (a
+    lesson change resetting the preset picker while the preset chosen next waits its
+    turn).  An event made in the server (a replay, a test) reads the widget."""
+    try:
+        return object.__getattribute__(event, SENT_VALUE)
+    except AttributeError:
+        return event.target.value
+
+
 class OrderedExecutor:
     """viser's callback pool, but the callbacks of one connection run one after the other
     in the order its messages arrived, connections take turns (round-robin), and all
@@ -95,6 +126,8 @@ class OrderedExecutor:
         key = CONNECTION.get()
         if key is None:
             return self.pool.submit(fn, *args, **kwargs)
+        for arg in args:
+            keep_sent_value(arg)
         return self.submit_for(key, fn, *args, **kwargs)
 
     def submit_for(self, key: Any, fn: Callable[..., Any], /, *args: Any, **kwargs: Any) -> Future:
