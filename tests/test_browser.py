@@ -205,26 +205,11 @@ def _catalog_cases() -> list[tuple[str, str]]:
 
 
 def _choose_preset(tab: Page, preset: str, want: str | None) -> None:
-    """Choose ``preset`` in the picker. A choice right after a lesson's may be refused by
-    the page's input budget (a lesson or preset choice costs half a second's worth), and a
-    picker that already shows ``preset`` sends nothing: then the defaults are chosen first
-    and the preset again, a moment later."""
-    for attempt in range(3):
-        if attempt:
-            time.sleep(1.0)  # the input budget refills
-            if tab.input_for("Preset").input_value() == preset and want is not None:
-                tab.input_for("Preset").click()
-                tab.page.get_by_role("option", name="(defaults)", exact=True).click()
-                wait_until(lambda: tab.session.preset is None, 10, "the defaults")
-                time.sleep(1.0)
-        tab.input_for("Preset").click()
-        tab.page.get_by_role("option", name=preset, exact=True).click()
-        try:
-            wait_until(lambda: tab.session.preset == want, 10, f"preset {preset}")
-            return
-        except AssertionError:
-            if attempt == 2:
-                raise
+    """Choose ``preset`` in the picker, once: the page's choice is taken as it was sent,
+    also right after a lesson's (whose handling resets the picker)."""
+    tab.input_for("Preset").click()
+    tab.page.get_by_role("option", name=preset, exact=True).click()
+    wait_until(lambda: tab.session.preset == want, 10, f"preset {preset}")
 
 
 @pytest.mark.parametrize("lesson_id, preset", _catalog_cases())
