@@ -4,6 +4,7 @@ import csv
 import io
 import json
 import os
+import re
 import subprocess
 import sys
 
@@ -190,3 +191,90 @@ def test_the_russian_readme_gives_the_two_start_commands_and_readme_links_it():
     langs = [build_parser().parse_args(shlex.split(c)[1:]).lang for c in commands]
     assert langs == [None, "ru"]
     assert "(README.ru.md)" in (root / "README.md").read_text(encoding="utf-8")
+
+
+#: The commands whose help is checked (the main parser's is ``()``).
+HELP_COMMANDS = [(), *[(c,) for c in ("serve", "grades", "lessons", "run", "check")]]
+HELP_COMMANDS += [("assignments",), ("grade",)]
+#: Latin words the Russian help keeps: the commands, option values, names and formats.
+KEPT_WORDS = {
+    *("serve", "grades", "lessons", "run", "check", "assignments", "grade", "analyzer", "lab"),
+    *("en", "ru", "pseudo", "json", "csv", "moodle", "canvas", "local", "redis", "default"),
+    *("sqlite", "postgresql", "email", "feedback", "assignment", "for", "t_end", "h", "s"),
+    *("lesson", "class"),
+}
+
+
+def english_words(help_text: str) -> list[str]:
+    """The Latin words of a help text that are not an option, a metavar, a path, an
+    address, a placeholder or a kept word."""
+    words = []
+    for token in help_text.split():
+        token = token.strip(".,;:()[]'\"")
+        if token.startswith(("-", "$", "~", "{", "<")) or "://" in token or "/" in token:
+            continue
+        for word in re.findall(r"[A-Za-z_]+", token):
+            if not word.isupper() and word.lower() not in KEPT_WORDS:
+                words.append(word)
+    return words
+
+
+@pytest.mark.parametrize("command", HELP_COMMANDS, ids=lambda c: " ".join(c) or "main")
+def test_the_help_is_russian_under_lang_ru(command):
+    """``LANG=ru_RU.UTF-8 analyzer-lab [COMMAND] --help``: argparse's own words and every
+    option's help in Russian; no English left but option names, metavars and kept words."""
+    out = cli(*command, "--help", lang="ru_RU.UTF-8")
+    assert out.returncode == 0, out.stderr
+    text = out.stdout
+    assert text.startswith("использование: analyzer-lab")
+    assert "параметры:" in text and "показать эту справку и выйти" in text
+    for english in ("usage:", "options:", "show this help", "positional arguments", "default"):
+        assert english not in text.replace("'default'", "")
+    assert english_words(text) == []
+    # every argument has its help, in Russian (the list of commands aside)
+    entries = re.split(r"\n(?=  \S|    \S)", text.split("\n\n", 1)[1])
+    entries = [e for e in entries if e.startswith(" ") and not e.strip().startswith("{")]
+    assert entries and [e for e in entries if not re.search("[а-я]", e)] == []
+    assert english_words(cli(*command, "--help").stdout) != []  # the check sees English
+
+
+def test_the_help_follows_the_lang_option_before_the_environment():
+    """``--lang`` (the main parser's, or serve's) chooses the help's language over
+    ``LANG``; English by default and for a language the lab does not speak."""
+    ru = cli("--lang", "ru", "serve", "--help")
+    assert ru.stdout.startswith("использование: analyzer-lab serve")
+    assert "язык новых страниц и сообщений команды" in ru.stdout
+    assert cli("serve", "--lang=ru", "--help").stdout == ru.stdout
+    assert cli("serve", "--lang", "ru", "--help", lang="de_DE.UTF-8").stdout == ru.stdout
+    en = cli("serve", "--help")
+    assert cli("--lang", "en", "serve", "--help", lang="ru_RU.UTF-8").stdout == en.stdout
+    assert cli("serve", "--help", lang="de_DE.UTF-8").stdout == en.stdout
+    assert en.stdout.startswith("usage: analyzer-lab serve")
+    assert "show this help message and exit" in en.stdout
+    assert "the language of new pages" in en.stdout
+    assert re.search("[а-яА-Я]", en.stdout) is None
+    main = cli("--help").stdout
+    assert "positional arguments:" in main and "options:" in main
+    assert "start the browser lab" in main
+
+
+def test_the_parsers_refusals_are_russian_under_lang_ru():
+    """argparse's refusals (a wrong value, a missing argument, an unknown option) in the
+    command's language; the option's name and the value as typed."""
+    bad = cli("run", "sphere", "--format", "xml", lang="ru_RU.UTF-8")
+    assert bad.returncode == 2 and bad.stdout == ""
+    assert bad.stderr.startswith("использование: analyzer-lab run")
+    last = bad.stderr.strip().splitlines()[-1]
+    assert last == (
+        "analyzer-lab run: ошибка: аргумент --format: недопустимый вариант: 'xml'"
+        " (возможны: 'json', 'csv')"
+    )
+    missing = cli("--lang", "ru", "grade").stderr.strip().splitlines()[-1]
+    assert missing == (
+        "analyzer-lab grade: ошибка: не хватает обязательных аргументов: assignment,"
+        " FOLDER_OR_FILES"
+    )
+    en = cli("run", "sphere", "--port", "1").stderr.strip().splitlines()[-1]
+    assert en == "analyzer-lab: error: unrecognized arguments: --port 1"
+    ru = cli("--lang", "ru", "run", "sphere", "--port", "1").stderr.strip().splitlines()[-1]
+    assert ru == "analyzer-lab: ошибка: нераспознанные аргументы: --port 1"

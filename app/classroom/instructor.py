@@ -31,6 +31,11 @@ LABEL_SCALE = 1.8
 PANEL_ERRORS = (RuntimeError, ValueError)
 
 
+def _keys_html(keys: str) -> str:
+    """The presenter's keys, as the folder shows them."""
+    return f'<div style="font-size:max(11px,0.8em);color:#555">{html.escape(keys)}</div>'
+
+
 class Presenter:
     """Presenter mode of one page: large fonts, docked (collapsible) panel, the
     lesson's presets as bookmarks stepped with "◀ Previous" / "Next ▶" and with the
@@ -63,9 +68,7 @@ class Presenter:
             keys = tr(
                 "Keys: PageDown / N = next, PageUp / P = previous (also in the command palette)."
             )
-            gui.add_html(
-                f'<div style="font-size:max(11px,0.8em);color:#555">{html.escape(keys)}</div>'
-            )
+            self.keys = gui.add_html(_keys_html(keys))
         self.style = gui.add_html("")
         # projected: Previous/Next above everything (the readout moves up beside them)
         self.top_prev = gui.add_button("◀ " + tr("Previous"), order=-3000.0, visible=False)
@@ -78,6 +81,22 @@ class Presenter:
         self.class_table.on_update(view.guard(self._on_class_table))
         self.on = False
         self.update_bookmarks()
+
+    def relabel(self) -> None:
+        """The folder in the page's language now (after a switch of it)."""
+        tr = self.view.language.gettext
+        self.folder.label = tr("Presenter")
+        self.toggle.label = tr("Presenter mode")
+        self.toggle.hint = tr("large fonts for a projector; presets become bookmarks")
+        self.class_table.label = tr("Show the class table")
+        self.class_table.hint = tr(
+            "while presenting: the students' names and results on the projected panel"
+        )
+        self.keys.content = _keys_html(
+            tr("Keys: PageDown / N = next, PageUp / P = previous (also in the command palette).")
+        )
+        self.top_prev.label = "◀ " + tr("Previous")
+        self.top_next.label = tr("Next") + " ▶"
 
     def _on_toggle(self, event: Any) -> None:
         if getattr(event, "client", None) is None:
@@ -203,6 +222,22 @@ class InstructorPanel:
         )  # when the instructor's lesson last changed (the view framed it)
         self._lesson = view.session.lesson.id
         view.client.camera.on_update(self._on_camera)
+        self.update()
+
+    def relabel(self) -> None:
+        """The panel in the page's language now (after a switch of it)."""
+        tr = self.view.language.gettext
+        self.folder.label = tr("Instructor panel")
+        self.follow_btn.label = tr("Follow me")
+        self.follow_btn.hint = tr(
+            "every student sees this page's lesson, values, play state and camera"
+        )
+        self.release_btn.label = tr("Release")
+        self.release_btn.hint = tr("students get their own session back, from where the demo is")
+        self.push_dd.label = tr("Preset for all")
+        self.push_btn.label = tr("Push preset to all")
+        self.message.label = tr("Message")
+        self.notify_btn.label = tr("Notify all")
         self.update()
 
     def _cb(self, fn: Callable[[], None]) -> Callable[[Any], None]:

@@ -137,6 +137,7 @@ class Classroom:
         """A page connected (its view is built): gate, code entry, presenter, follow."""
         cid = view.client.client_id
         view.gate = self._gate
+        view.language_hooks.append(self._relabel)  # what is built so far follows a switch
         self.all_sessions.add(view.session)
         self.inputs.open(cid)
         gui = view.client.gui
@@ -158,6 +159,26 @@ class Classroom:
         with self.lock:
             if self.broadcaster is not None and self.demo is not None:
                 self._follow(view)
+
+    def _relabel(self, view: SessionView) -> None:
+        """The page's classroom folders in its language now (the page switched it; its
+        session lock is held): the code entry, the presenter's folder, the instructor's
+        panel."""
+        cid = view.client.client_id
+        tr = view.language.gettext
+        entry = self.entries.get(cid)
+        try:
+            if entry is not None:
+                folder, text, btn = entry
+                folder.label = tr("Instructor")
+                text.label = tr("Instructor code")
+                text.hint = tr("the code printed when the lab started")
+                btn.label = tr("Become instructor")
+            for part in (self.presenters.get(cid), self.instructors.get(cid)):
+                if part is not None:
+                    part.relabel()
+        except RuntimeError:  # the page left meanwhile
+            log.info("page %s left while its classroom folders were relabelled", cid)
 
     def detach(self, client_id: int, view: SessionView | None) -> None:
         """A page left: forget it; if it was the broadcasting instructor, release."""

@@ -13,11 +13,12 @@ import logging
 import os
 import sys
 import time
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from typing import TYPE_CHECKING
 
 from analyzer_lab.i18n import ENGLISH, N_, Language, resolve
 from analyzer_lab.lessons.kit.message import Message
+from analyzer_lab.serve.cli_help import LabParser, lang_option
 
 if TYPE_CHECKING:
     from analyzer_lab.classroom.store.grades import Feedback
@@ -274,27 +275,31 @@ def cmd_serve(args: argparse.Namespace) -> int:
     )  # fps: classroom hook
 
 
-def _record_options(s: argparse.ArgumentParser) -> None:
+def _record_options(s: argparse.ArgumentParser, tr: Callable[[str], str]) -> None:
     s.add_argument(
         "--data",
         metavar="DIR",
         default=None,
-        help="the data folder: the SQLite course record and the secret that signs students' "
-        "tokens (default $XDG_DATA_HOME/analyzer-lab or ~/.local/share/analyzer-lab)",
+        help=tr(
+            "the data folder: the SQLite course record and the secret that signs students' "
+            "tokens (default $XDG_DATA_HOME/analyzer-lab or ~/.local/share/analyzer-lab)"
+        ),
     )
     s.add_argument(
         "--db",
         metavar="URL",
         default=None,
-        help="the course record in a database server: postgresql://USER:PASS@HOST:PORT/NAME "
-        "(default: the SQLite file in the data folder)",
+        help=tr(
+            "the course record in a database server: postgresql://USER:PASS@HOST:PORT/NAME "
+            "(default: the SQLite file in the data folder)"
+        ),
     )
     s.add_argument(
         "--class",
         dest="class_name",
         metavar="NAME",
         default=None,
-        help="the class (default 'default')",
+        help=tr("the class (default 'default')"),
     )
 
 
@@ -342,165 +347,221 @@ def cmd_grades(args: argparse.Namespace) -> int:
     return 0
 
 
-def build_parser() -> argparse.ArgumentParser:
-    p = argparse.ArgumentParser(
-        prog="analyzer-lab", description="Analyzer Lab: programmed motion of mechatronic systems."
+def build_parser(language: Language = ENGLISH) -> argparse.ArgumentParser:
+    """The command line's parser, its help and refusals in ``language``."""
+    tr = language.gettext
+    p = LabParser(
+        prog="analyzer-lab",
+        description=tr("Analyzer Lab: programmed motion of mechatronic systems."),
+        language=language,
     )
-    sub = p.add_subparsers(dest="command", required=True)
-
-    s = sub.add_parser("serve", help="start the browser lab")
-    s.add_argument(
-        "--host",
-        default="127.0.0.1",
-        help="interface to bind (default loopback; 0.0.0.0 = every interface)",
-    )
-    s.add_argument("--port", type=int, default=8080)
-    s.add_argument("--lesson", default="sphere", help="lesson shown first")
-    s.add_argument(
+    p.add_argument(
         "--lang",
         metavar="CODE",
         default=None,
-        help="the language of new pages: en (default) or ru (pseudo: every text half as long "
-        "again, a layout check); an unknown code: English, with a notice",
+        help=tr(
+            "the language of the command's help and messages: en or ru (default: the "
+            "environment's, LC_ALL, LC_MESSAGES or LANG; else English)"
+        ),
+    )
+    sub = p.add_subparsers(dest="command", required=True)
+
+    s = sub.add_parser("serve", help=tr("start the browser lab"), language=language)
+    s.add_argument(
+        "--host",
+        default="127.0.0.1",
+        help=tr("interface to bind (default loopback; 0.0.0.0 = every interface)"),
+    )
+    s.add_argument(
+        "--port", type=int, default=8080, help=tr("the port to listen on (default 8080)")
+    )
+    s.add_argument("--lesson", default="sphere", help=tr("lesson shown first"))
+    s.add_argument(
+        "--lang",
+        metavar="CODE",
+        default=argparse.SUPPRESS,  # the main parser's --lang holds it when not given here
+        help=tr(
+            "the language of new pages and of the command's messages: en (default) or ru"
+            " (pseudo: every text half as long again, a layout check); an unknown code:"
+            " English, with a notice"
+        ),
     )
     s.add_argument(
         "--instructor-code",
         default=None,
-        help="code that makes a page the instructor (at least 12 letters or digits; generated "
-        "if omitted); any local user can read it from the process list: prefer "
-        "--instructor-code-file or ANALYZER_LAB_INSTRUCTOR_CODE",
+        help=tr(
+            "code that makes a page the instructor (at least 12 letters or digits; generated "
+            "if omitted); any local user can read it from the process list: prefer "
+            "--instructor-code-file or ANALYZER_LAB_INSTRUCTOR_CODE"
+        ),
     )
     s.add_argument(
         "--instructor-code-file",
         default=None,
         metavar="PATH",
-        help="read the instructor code from the first line of PATH (not shown in the process "
-        "list); the environment variable ANALYZER_LAB_INSTRUCTOR_CODE works too",
+        help=tr(
+            "read the instructor code from the first line of PATH (not shown in the process "
+            "list); the environment variable ANALYZER_LAB_INSTRUCTOR_CODE works too"
+        ),
     )
-    s.add_argument("--no-browser", action="store_true", help="do not open a browser window")
+    s.add_argument("--no-browser", action="store_true", help=tr("do not open a browser window"))
     s.add_argument(
         "--fps",
         type=float,
         default=36.0,
-        help="frames per second of the live view (default 36: every page gets 30 updates/s or more)",
+        help=tr(
+            "frames per second of the live view (default 36: every page gets 30 updates/s or more)"
+        ),
     )
     s.add_argument(
         "--workers",
         type=int,
         default=1,
-        help="worker processes (default 1: this process serves every page); N > 1 starts N "
-        "workers on the next ports and a front door on --port that sends each page to the "
-        "least-loaded one (needs --bus redis://...)",
+        help=tr(
+            "worker processes (default 1: this process serves every page); N > 1 starts N "
+            "workers on the next ports and a front door on --port that sends each page to the "
+            "least-loaded one (needs --bus redis://...)"
+        ),
     )
     s.add_argument(
         "--public-host",
         action="append",
         default=[],
         metavar="NAME",
-        help="with --workers: a host name or address the students' pages use to reach this "
-        "machine (repeatable); the front door redirects only to these, the address it listens "
-        "on and, for 0.0.0.0, this machine's own names",
+        help=tr(
+            "with --workers: a host name or address the students' pages use to reach this "
+            "machine (repeatable); the front door redirects only to these, the address it listens "
+            "on and, for 0.0.0.0, this machine's own names"
+        ),
     )
     s.add_argument(
         "--bus",
         default=None,
         metavar="URL",
-        help="the class bus shared by the servers of a class: 'local' (default, in-process) "
-        "or redis://HOST:PORT",
+        help=tr(
+            "the class bus shared by the servers of a class: 'local' (default, in-process) "
+            "or redis://HOST:PORT"
+        ),
     )
     s.add_argument(
         "--worker-name",
         default=None,
-        help="this server's name on the bus (default: random; unique within a class)",
+        help=tr("this server's name on the bus (default: random; unique within a class)"),
     )
-    s.add_argument("--assignments", metavar="DIR", help="also offer the assignment files in DIR")
-    _record_options(s)
+    s.add_argument(
+        "--assignments", metavar="DIR", help=tr("also offer the assignment files in DIR")
+    )
+    _record_options(s, tr)
     s.add_argument(
         "--roster",
         metavar="CSV",
-        help="open the class with this roster (columns: student id, name, email, group); "
-        "only its students can join",
+        help=tr(
+            "open the class with this roster (columns: student id, name, email, group); "
+            "only its students can join"
+        ),
     )
     s.add_argument(
-        "--join-code", metavar="CODE", help="the class's join code (default: generated once)"
+        "--join-code", metavar="CODE", help=tr("the class's join code (default: generated once)")
     )
     s.add_argument(
         "--join-code-hours",
         type=float,
         metavar="H",
         default=None,
-        help="the join code expires H hours from now (students who joined keep their "
-        "record; default: a code given with --join-code never expires)",
+        help=tr(
+            "the join code expires H hours from now (students who joined keep their "
+            "record; default: a code given with --join-code never expires)"
+        ),
     )
     s.set_defaults(func=cmd_serve)
 
     s = sub.add_parser(
         "grades",
-        help="export the class's grades (Moodle, Canvas or long CSV)",
-        description="Export the class's grades from the course record. Score: 1 per "
-        "assignment passed (every check of one attempt passed), 0 attempted and not "
-        "passed, empty never attempted (Moodle, Canvas).",
+        language=language,
+        help=tr("export the class's grades (Moodle, Canvas or long CSV)"),
+        description=tr(
+            "Export the class's grades from the course record. Score: 1 per "
+            "assignment passed (every check of one attempt passed), 0 attempted and not "
+            "passed, empty never attempted (Moodle, Canvas)."
+        ),
     )
-    _record_options(s)
-    s.add_argument("--format", choices=("moodle", "canvas", "long"), default="moodle")
+    _record_options(s, tr)
+    s.add_argument(
+        "--format",
+        choices=("moodle", "canvas", "long"),
+        default="moodle",
+        help=tr("the export's layout (default moodle)"),
+    )
     s.add_argument(
         "--assignment",
         action="append",
         default=[],
         metavar="ID",
-        help="a column for this assignment (repeatable; default: every assignment attempted)",
+        help=tr("a column for this assignment (repeatable; default: every assignment attempted)"),
     )
     s.add_argument(
         "--feedback",
         action="store_true",
-        help="moodle: after each assignment's column a feedback column '<assignment> "
-        "(Feedback)' (map it to 'Feedback for <assignment>' at import): the checks the best "
-        "attempt missed, by how much, with the assignment's feedback texts",
+        help=tr(
+            "moodle: after each assignment's column a feedback column '<assignment> "
+            "(Feedback)' (map it to 'Feedback for <assignment>' at import): the checks the best "
+            "attempt missed, by how much, with the assignment's feedback texts"
+        ),
     )
     s.add_argument(
         "--assignments",
         metavar="DIR",
-        help="with --feedback: also read the feedback texts of the assignment files in DIR "
-        "(those served with serve --assignments DIR)",
+        help=tr(
+            "with --feedback: also read the feedback texts of the assignment files in DIR "
+            "(those served with serve --assignments DIR)"
+        ),
     )
-    s.add_argument("--out", metavar="FILE", help="write here (default: standard output)")
+    s.add_argument("--out", metavar="FILE", help=tr("write here (default: standard output)"))
     s.set_defaults(func=cmd_grades)
 
-    s = sub.add_parser("lessons", help="list the lessons")
-    s.add_argument("--json", action="store_true")
+    s = sub.add_parser("lessons", help=tr("list the lessons"), language=language)
+    s.add_argument("--json", action="store_true", help=tr("print the lessons as JSON"))
     s.set_defaults(func=cmd_lessons)
 
-    from analyzer_lab.serve.run_limits import LIMITS_TEXT
+    from analyzer_lab.serve.run_limits import limits_text
 
     s = sub.add_parser(
         "run",
-        help="run one lesson headless",
-        description=f"Run one lesson headless; {LIMITS_TEXT}.",
+        help=tr("run one lesson headless"),
+        description=tr("Run one lesson headless; {limits}.").format(limits=limits_text(language)),
+        language=language,
     )
-    s.add_argument("lesson")
-    s.add_argument("--preset")
+    s.add_argument("lesson", help=tr("the lesson's id ('analyzer-lab lessons' lists them)"))
+    s.add_argument("--preset", help=tr("start from this preset (an example of the lesson)"))
     s.add_argument(
-        "--set", action="append", metavar="NAME=VALUE", help="set a parameter (repeatable)"
+        "--set", action="append", metavar="NAME=VALUE", help=tr("set a parameter (repeatable)")
     )
-    s.add_argument("--t-end", type=float)
-    s.add_argument("--format", choices=("json", "csv"), default="json")
-    s.add_argument("--out")
+    s.add_argument("--t-end", type=float, help=tr("the run's end time, s (default: the lesson's)"))
+    s.add_argument(
+        "--format", choices=("json", "csv"), default="json", help=tr("the output (default json)")
+    )
+    s.add_argument("--out", help=tr("write here (default: standard output)"))
     s.set_defaults(func=cmd_run)
 
-    s = sub.add_parser("check", help="check the lessons against the textbook's claims")
-    s.add_argument("lessons", nargs="*")
-    s.add_argument("--json", action="store_true")
+    s = sub.add_parser(
+        "check", help=tr("check the lessons against the textbook's claims"), language=language
+    )
+    s.add_argument("lessons", nargs="*", help=tr("the lessons to check (default: every lesson)"))
+    s.add_argument("--json", action="store_true", help=tr("print the verdicts as JSON"))
     s.set_defaults(func=cmd_check)
 
     from analyzer_lab.serve.cli_assignments import add_parsers
 
-    add_parsers(sub)
+    add_parsers(sub, language)
     return p
 
 
 def main(argv: Sequence[str] | None = None) -> int:
     global LANGUAGE
-    parser = build_parser()
+    argv = list(sys.argv[1:] if argv is None else argv)
+    # the help's language too: read before the parser is built
+    LANGUAGE = command_language(lang_option(argv), dict(os.environ))[0]
+    parser = build_parser(LANGUAGE)
     try:
         args = parser.parse_args(argv)
     except SystemExit as exc:

@@ -27,6 +27,8 @@ import sys
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+from analyzer_lab.i18n import ENGLISH, Language
+
 if TYPE_CHECKING:
     from analyzer_lab.lessons.assignments import Assignment
 
@@ -244,41 +246,47 @@ def use_folder_for_serve(folder: str | None) -> str | None:
     return None
 
 
-def add_parsers(sub: argparse._SubParsersAction) -> None:
-    """Register ``assignments`` and ``grade`` on the main parser."""
-    s = sub.add_parser("assignments", help="list the assignments")
-    s.add_argument("--json", action="store_true")
-    s.add_argument("--dir", help="a folder of assignment files (default: the ready ones)")
+def add_parsers(sub: argparse._SubParsersAction, language: Language = ENGLISH) -> None:
+    """Register ``assignments`` and ``grade`` on the main parser, their help in ``language``."""
+    tr = language.gettext
+    s = sub.add_parser("assignments", help=tr("list the assignments"), language=language)
+    s.add_argument("--json", action="store_true", help=tr("print the assignments as JSON"))
+    s.add_argument("--dir", help=tr("a folder of assignment files (default: the ready ones)"))
     s.set_defaults(func=cmd_assignments)
 
     s = sub.add_parser(
         "grade",
-        help="check answer files against an assignment",
-        description=(
+        language=language,
+        help=tr("check answer files against an assignment"),
+        description=tr(
             "Grade one answer file (an indented JSON verdict) or many, or folders of them,"
             " in one process (JSON lines, one per file). Exit 0 when all pass, 1 when one"
             " fails a check, 2 when one is refused as bad input. Each answer's run is held"
             " to the limits of 'run'."
         ),
     )
-    s.add_argument("assignment", help="an assignment id or an assignment file")
+    s.add_argument("assignment", help=tr("an assignment id or an assignment file"))
     s.add_argument(
         "answers",
         nargs="+",
         metavar="FOLDER_OR_FILES",
-        help="answer files (JSON objects of the unlocked parameters' values) or folders of them",
+        help=tr(
+            "answer files (JSON objects of the unlocked parameters' values) or folders of them"
+        ),
     )
-    s.add_argument("--dir", help="a folder of assignment files (default: the ready ones)")
+    s.add_argument("--dir", help=tr("a folder of assignment files (default: the ready ones)"))
     s.add_argument(
         "--class",
         dest="class_id",
         metavar="CLASS",
         default=DEFAULT_CLASS,
-        help=f"the class whose variants are graded (default {DEFAULT_CLASS!r})",
+        help=tr("the class whose variants are graded (default {default})").format(
+            default=repr(DEFAULT_CLASS)
+        ),
     )
     s.add_argument(
         "--student",
         metavar="KEY",
-        help="the student whose variant is graded (default: each file's name without .json)",
+        help=tr("the student whose variant is graded (default: each file's name without .json)"),
     )
     s.set_defaults(func=cmd_grade)

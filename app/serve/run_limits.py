@@ -26,6 +26,8 @@ import logging
 import math
 from typing import TYPE_CHECKING, Any
 
+from analyzer_lab.i18n import ENGLISH, N_, Language
+
 if TYPE_CHECKING:  # imported where used: ``run --help`` reads the limits without the model
     from analyzer_lab.lessons.kit.contract import LessonSetup, RunResult
 
@@ -41,16 +43,28 @@ PROBE_WORK = 500_000
 #: Numbers in the result (samples times series): about 160 MB as floats.
 MAX_VALUES = 20_000_000
 
-LIMITS_TEXT = (
-    f"run refuses, before it starts, a run of more than {MAX_POINT_STEPS:,} fixed"
-    f" integration steps (t_end / h times the points of a family), one of more than"
-    f" {MAX_WORK:,} units of work (evaluations of the equations weighted by their known"
-    " cost, counted over steps, substeps and points on a piece of the run, never timed:"
-    " the same on a busy machine), or one whose"
-    f" result would hold more than {MAX_VALUES:,} numbers (samples times series); a run"
-    " that passes that count while it runs stops there; a run whose result is not finite"
-    " somewhere exits with code 2 naming the quantity and time"
+#: What ``run --help`` says of the limits (numbers: :func:`limits_text`).
+LIMITS = N_(
+    "run refuses, before it starts, a run of more than {steps} fixed integration steps"
+    " (t_end / h times the points of a family), one of more than {work} units of work"
+    " (evaluations of the equations weighted by their known cost, counted over steps,"
+    " substeps and points on a piece of the run, never timed: the same on a busy"
+    " machine), or one whose result would hold more than {values} numbers (samples times"
+    " series); a run that passes that count while it runs stops there; a run whose result"
+    " is not finite somewhere exits with code 2 naming the quantity and time"
 )
+
+
+def limits_text(language: Language = ENGLISH) -> str:
+    """:data:`LIMITS` in ``language``, its numbers grouped as the language groups them."""
+    sep = "," if language.decimal == "." else "\u00a0"
+
+    def grouped(n: int) -> str:
+        return f"{n:,}".replace(",", sep)
+
+    return language.gettext(LIMITS).format(
+        steps=grouped(MAX_POINT_STEPS), work=grouped(MAX_WORK), values=grouped(MAX_VALUES)
+    )
 
 
 def _points(setup: LessonSetup) -> int:
@@ -176,12 +190,13 @@ def first_non_finite(
 
 
 __all__: list[Any] = [
-    "LIMITS_TEXT",
+    "LIMITS",
     "MAX_POINT_STEPS",
     "MAX_VALUES",
     "MAX_WORK",
     "PROBE_WORK",
     "first_non_finite",
+    "limits_text",
     "refusal",
     "run_within_limit",
     "work_estimate",

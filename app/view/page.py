@@ -9,7 +9,8 @@ the state saved in the browser.  The live frames come from the server's loop thr
 :meth:`SessionView.tick`.
 
 The classroom attaches through the public interface: :attr:`SessionView.gate` (refuse
-an input), :meth:`show_session` (show another session, e.g. the instructor's demo),
+an input), :attr:`SessionView.language_hooks` (relabel its folders after a switch of the
+page's language), :meth:`show_session` (show another session, e.g. the instructor's demo),
 :meth:`redraw`, :meth:`sync_widgets`, :meth:`after_state_change` and :meth:`guard`.
 
 Cost per frame is kept small (DESIGN §5): one assignment for the moving points,
@@ -135,6 +136,8 @@ class SessionView:
         )
         #: classroom hook: ``gate(view, event, retry)`` returning False refuses an input
         self.gate: Callable[[SessionView, Any, Callable[[Any], None] | None], bool] | None = None
+        #: classroom hooks: called with the view after its language is switched
+        self.language_hooks: list[Callable[[SessionView], None]] = []
         with session.lock:  # a callback of an early click waits until the page is built
             self._build_gui()
 
@@ -461,6 +464,8 @@ class SessionView:
         self.derivation_due = time.monotonic()  # its prose in the new language
         self.status.content = status_html(self.session, language)  # and the page's lang
         self.redraw()
+        for hook in self.language_hooks:  # the classroom's folders
+            hook(self)
 
     def _on_preset(self, event: Any) -> None:
         tr = self.language.gettext
