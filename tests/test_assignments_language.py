@@ -12,10 +12,12 @@ from collections.abc import Callable
 from typing import Any
 
 import pytest
-from analyzer_lab.classroom.assignments import task_html
+from analyzer_lab.classroom.assignments import task_html, verdict_html
+from analyzer_lab.classroom.course import Course
+from analyzer_lab.classroom.store.sql_store import SqlStore
 from analyzer_lab.i18n import language_of
 from analyzer_lab.lessons.analyzers.sphere import LESSON as SPHERE
-from analyzer_lab.lessons.assignments import AssignmentError, parse_assignment
+from analyzer_lab.lessons.assignments import AssignmentError, grade, parse_assignment
 
 from tests.support.client import ProtoClient, open_page
 from tests.support.waiting import until
@@ -200,3 +202,139 @@ def test_the_instructors_assignments_folder_in_russian(make_lab: Callable[..., A
             await inst.close()
 
     asyncio.run(go())
+
+
+WORDS_ID = "sphere-equator-words"
+
+
+def _without_labels(board: Any) -> None:
+    """The ready sphere assignment with its checks described by the model (no labels),
+    the speed held within 0.0025 from t = 0.5 on."""
+    data = copy.deepcopy(board.assignments[TASK].data)
+    data["id"] = WORDS_ID
+    for check in data["checks"]:
+        check.pop("label")
+    data["checks"][1].update({"tolerance": 0.0025, "from": 0.5})
+    board.assignments[WORDS_ID] = parse_assignment(json.loads(json.dumps(data)), "words.json")
+
+
+def test_the_checks_described_by_the_model_and_their_verdict_in_russian(
+    labs: dict[str, Any],
+) -> None:
+    """A Russian page: the checks in words and what the verdict measured in Russian, with
+    decimal commas (the English texts the grade holds unchanged)."""
+    lab = labs["ru"]
+    board = lab.classroom.board
+    _without_labels(board)
+
+    async def go() -> None:
+        c, view = await open_page(lab, "Движение")
+        try:
+            await c.wait_for("Проверить мой ответ")
+            await c.set("Задание", WORDS_ID, 0.2)
+            await c.set("Ваше имя", "Аня", 0.1)
+            task = await until(
+                lambda: (
+                    "Ваши числа" in _html(c, "al-assignment-task")
+                    and _html(c, "al-assignment-task")
+                ),
+                30,
+                "the task",
+            )
+            assert "траектория (x, y, z) лежит в плоскости +0*x +0*y +1*z = 0" in task, task
+            assert "(с допуском 1e-09)" in task
+            assert "speed отличается от" in task
+            assert "не более чем на 0,0025 при t от 0,5 до конца" in task, task
+            for english in ("stays within", "the path", "for t in", "lies in the plane"):
+                assert english not in task, english
+            await c.click("Проверить мой ответ", 0.1)  # the start values: the speed misses
+            verdict = await until(
+                lambda: (
+                    "al-check" in _html(c, "al-assignment-result")
+                    and _html(c, "al-assignment-result")
+                ),
+                30,
+                "the verdict",
+            )
+            assert "не более чем на 0,0025 при t от 0,5 до конца" in verdict, verdict
+            assert "наибольшее отклонение от плоскости" in verdict
+            assert ", наибольшее при t = " in verdict
+            assert "не выполнено: превышает допуск 0,0025 на " in verdict, verdict
+            for english in ("largest at", "misses the tolerance", "farthest from", "stays within"):
+                assert english not in verdict, english
+        finally:
+            await c.close()
+
+    asyncio.run(go())
+
+
+def test_the_checks_in_words_are_english_on_an_english_page_and_in_the_grade(
+    labs: dict[str, Any],
+) -> None:
+    """The English text is the one the grade, the exports and the API hold; a grade that
+    came back as plain data (JSON) shows its English text even on a Russian page."""
+    board = labs["en"].classroom.board
+    _without_labels(board)
+    a = board.variant(WORDS_ID, board.class_id, "Ann").assignment
+    speed = a.checks[1]
+    assert speed.target is not None
+    s = speed.target.text
+    assert speed.describe() == f"speed stays within 0.0025 of {s} for t in [0.5, end]"
+    assert str(a.checks[0].describe()) == (
+        "the path (x, y, z) lies in the plane +0*x +0*y +1*z = 0 (within 1e-09)"
+    )
+    english = task_html(a)
+    assert html.escape(str(speed.describe())) in english and "Goal:" in english
+    g = grade(a, a.answers["wrong"])
+    out = g.checks[1]
+    assert out.message.startswith(f"|speed - ({s})| = ")
+    assert " largest at t = " in out.message and "; misses the tolerance 0.0025 by " in out.message
+    assert json.loads(json.dumps(g.to_json_dict()))["checks"][1]["message"] == out.message
+    ru = language_of("ru")
+    shown = verdict_html(g, ru, a)
+    assert "при t от 0,5 до конца" in shown and "превышает допуск 0,0025 на" in shown
+    assert "stays within" not in shown and "misses the tolerance" not in shown
+    plain = copy.deepcopy(g)
+    for o in plain.checks:
+        o.text, o.message = str(o.text), str(o.message)  # as the store or the bus give it
+    shown = verdict_html(plain, ru)
+    assert html.escape(out.message) in shown and html.escape(str(speed.describe())) in shown
+
+
+def test_a_join_refusal_on_a_russian_page_is_in_russian(make_lab: Callable[..., Any]) -> None:
+    store = SqlStore("sqlite://")
+    course = Course(store, store.open_class("ru-class", join_code="JOIN42"), b"r" * 32)
+    lab = make_lab(language="ru", lessons=[SPHERE], lesson="sphere", course=course, warm_up=False)
+
+    async def go() -> None:
+        c, _ = await open_page(lab, "Движение")
+        try:
+            await c.wait_for("Проверить мой ответ")
+            await c.set("Задание", TASK, 0.2)
+            await until(lambda: _html(c, "al-assignment-task"), 30, "the task")
+            await c.set("Ваше имя", "Аня", 0.1)
+            await c.click("Проверить мой ответ", 0.1)  # no join code typed
+            box = await until(
+                lambda: _html(c, "al-assignment-error"), 30, "the refusal of the join"
+            )
+            assert "введите код класса, который дал преподаватель" in box, box
+            assert "type the join code" not in box
+            await c.set("Код класса", "WRONG9", 0.1)
+            await c.click("Проверить мой ответ", 0.1)
+            box = await until(
+                lambda: (
+                    "неизвестный код класса" in _html(c, "al-assignment-error")
+                    and _html(c, "al-assignment-error")
+                ),
+                30,
+                "the refusal of the wrong code",
+            )
+            assert "unknown join code" not in box
+        finally:
+            await c.close()
+
+    try:
+        asyncio.run(go())
+        assert course.attempts() == []  # nothing recorded for a page that did not join
+    finally:
+        store.close()

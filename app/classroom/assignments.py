@@ -86,7 +86,7 @@ def task_html(a: Assignment, language: Language = ENGLISH) -> str:
     """The task as the student sees it in ``language`` (the file's text in that language
     when it gives one; every text escaped)."""
     tr = language.gettext
-    checks = "".join(f"<li>{esc(c.describe())}</li>" for c in a.checks)
+    checks = "".join(f"<li>{esc(language.message(c.describe()))}</li>" for c in a.checks)
     hint = a.hint_in(language.code)
     may, locked, goal = tr("You may change:"), tr("(the other fields are locked)"), tr("Goal:")
     hint_head = tr("Hint:")
@@ -112,21 +112,23 @@ def _numbers(a: Assignment) -> str:
 
 
 def verdict_html(g: Grade, language: Language = ENGLISH, a: Assignment | None = None) -> str:
-    """Which checks pass and by how much the others miss, in ``language`` (the feedback
-    of ``a``'s checks in that language when the file gives it)."""
+    """Which checks pass and by how much the others miss, in ``language``: each check
+    described from ``a``'s own check and its feedback in that language when the file gives
+    it; a grade that came back as plain text (from the store or the bus) shows its text."""
     tr = language.gettext
     checks = {c.id: c for c in a.checks} if a is not None else {}
     items = []
     for c in g.checks:
         check = checks.get(c.id)
         feedback = check.feedback_in(language.code, c.passed) if check else c.feedback
+        text = language.message(check.describe() if check else c.text)
         mark, colour = (
             ("✓ " + tr("pass"), "#1b7a2e") if c.passed else ("✗ " + tr("fail"), "#a61b1b")
         )
         items.append(
             f"<li class='al-check' data-check='{esc(c.id)}' data-pass='{'yes' if c.passed else 'no'}'>"
-            f"<b style='color:{colour}'>{esc(mark)}</b> {esc(c.text)}<br>"
-            f"<span style='color:#555'>{esc(c.message)}</span>"
+            f"<b style='color:{colour}'>{esc(mark)}</b> {esc(text)}<br>"
+            f"<span style='color:#555'>{esc(language.message(c.message))}</span>"
             + (
                 f"<br><span class='al-check-feedback' style='color:#1a4d8f'>{esc(feedback)}</span>"
                 if feedback
@@ -419,7 +421,7 @@ class StudentPanel:
         except JoinError as exc:
             text = self.view.language.gettext(
                 "your saved student record was refused: {reason}; join again"
-            ).format(reason=exc)
+            ).format(reason=self.view.language.message(exc))
             self.who.content = _box(esc(text), "#a61b1b", "al-student-refused")
             self._tell(text, "red")
             try:
@@ -467,7 +469,7 @@ class StudentPanel:
         try:
             student = self.board.course.join(self.code.value, self.name.value)
         except JoinError as exc:
-            self.result.content = error_html(str(exc))
+            self.result.content = error_html(self.view.language.message(exc))
             return None
         except StoreError as exc:
             self.result.content = error_html(

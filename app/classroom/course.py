@@ -26,14 +26,16 @@ from analyzer_lab.classroom.store.records import (
     Student,
 )
 from analyzer_lab.lessons.assignments import Grade
+from analyzer_lab.lessons.kit.message import N_, Message
 
 log = logging.getLogger(__name__)
 
 #: Where a page keeps its student token (its own browser storage).
 TOKEN_KEY = "analyzer-lab-student"
 #: What a student typing the class's code after its lifetime is told (a page that joined
-#: before keeps its token, which does not expire with the code).
-EXPIRED = "this join code has expired: ask the instructor for a new one"
+#: before keeps its token, which does not expire with the code).  The refusals here are
+#: :class:`Message` s: a page shows them in its language.
+EXPIRED = Message(N_("this join code has expired: ask the instructor for a new one"))
 
 
 class Course:
@@ -76,7 +78,7 @@ class Course:
         sid = tokens.verify(self.secret, token, self.info.id)
         student = self.store.student(sid)
         if student is None or student.class_id != self.info.id:
-            raise JoinError("the saved student token names no student of this class")
+            raise JoinError(Message(N_("the saved student token names no student of this class")))
         return student
 
     def join(self, code: object, who: object) -> Student:
@@ -85,29 +87,45 @@ class Course:
 
         if self.needs_code:
             if not isinstance(code, str) or not code.strip():
-                raise JoinError("type the join code the instructor gave you")
+                raise JoinError(Message(N_("type the join code the instructor gave you")))
             if not hmac.compare_digest(code.strip().upper(), self.info.join_code.upper()):
-                raise JoinError("unknown join code: check it with the instructor")
+                raise JoinError(Message(N_("unknown join code: check it with the instructor")))
             if self.info.code_expired(time.time()):
                 raise JoinError(EXPIRED)
         try:
             name = clean_name(who)
         except ValueError:
-            raise JoinError("type your name first (or your student id)") from None
+            raise JoinError(Message(N_("type your name first (or your student id)"))) from None
         student = self.store.find_roster(self.info.id, name)
         if student is None and self.info.closed:
             named = self.store.find_name(self.info.id, name)
             if len(named) > 1:
-                raise JoinError(f"{len(named)} students are called {name!r}: type your student id")
+                raise JoinError(
+                    Message(
+                        N_("{count} students are called {name!r}: type your student id"),
+                        count=len(named),
+                        name=name,
+                    )
+                )
             student = named[0] if named else None
             if student is None:
-                raise JoinError(f"{name!r} is not on this class's roster: type your student id")
+                raise JoinError(
+                    Message(
+                        N_("{name!r} is not on this class's roster: type your student id"),
+                        name=name,
+                    )
+                )
         if student is None:
             return self.store.enrol(self.info.id, name)
         if not self.store.claim(student.id):
             raise JoinError(
-                f"student {student.roster_id} has already joined on another page; open the lab "
-                "in the browser where you joined, or ask the instructor"
+                Message(
+                    N_(
+                        "student {roster_id} has already joined on another page; open the lab "
+                        "in the browser where you joined, or ask the instructor"
+                    ),
+                    roster_id=student.roster_id,
+                )
             )
         return student
 

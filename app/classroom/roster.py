@@ -21,6 +21,7 @@ from dataclasses import dataclass
 
 from analyzer_lab.classroom.store.records import Attempt
 from analyzer_lab.i18n import ENGLISH, N_, Language
+from analyzer_lab.lessons.kit.message import Message
 
 MAX_NAME = 40
 #: Longest text looked at (a name is cut to MAX_NAME after cleaning).
@@ -47,7 +48,7 @@ def clean_name(text: object) -> str:
     characters removed, whitespace collapsed to single spaces, at most
     :data:`MAX_NAME` characters; ``ValueError`` when nothing is left."""
     if not isinstance(text, str):
-        raise ValueError("type your name first")
+        raise ValueError(Message(N_("type your name first")))
     text = unicodedata.normalize("NFC", text[:MAX_NAME_INPUT])
     kept = "".join(
         " " if ch.isspace() else ch
@@ -56,7 +57,7 @@ def clean_name(text: object) -> str:
     )
     name = " ".join(kept.split())[:MAX_NAME].rstrip()
     if not name:
-        raise ValueError("type your name first")
+        raise ValueError(Message(N_("type your name first")))
     return name
 
 

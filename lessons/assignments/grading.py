@@ -21,8 +21,10 @@ from analyzer_lab.lessons.assignments.spec import (
     Check,
     Quantity,
     decode_json,
+    reduction_text,
 )
 from analyzer_lab.lessons.kit.contract import ParamError, RunResult
+from analyzer_lab.lessons.kit.message import N_, Message
 
 
 @dataclass
@@ -166,10 +168,10 @@ def _window(c: Check, t: np.ndarray) -> np.ndarray:
     return mask
 
 
-def _undefined(values: np.ndarray, t: np.ndarray) -> str:
+def _undefined(values: np.ndarray, t: np.ndarray) -> Message | str:
     bad = ~np.isfinite(values)
     if bad.any():
-        return f"not defined from t = {float(t[int(np.argmax(bad))]):g}"
+        return Message(N_("not defined from t = {t:g}"), t=float(t[int(np.argmax(bad))]))
     return ""
 
 
@@ -199,9 +201,13 @@ def measure(c: Check, run: RunResult) -> CheckOutcome:
         raw = run.metrics.get(c.metric)
         if isinstance(raw, bool) or not isinstance(raw, (int, float, np.floating, np.integer)):
             return _outcome(
-                c, text, math.inf, float(c.bound or 0), f"the run has no metric {c.metric}"
+                c,
+                text,
+                math.inf,
+                float(c.bound or 0),
+                Message(N_("the run has no metric {metric}"), metric=c.metric),
             )
-        return _bound(c, text, float(raw), f"metric {c.metric}")
+        return _bound(c, text, float(raw), Message(N_("metric {metric}"), metric=c.metric))
     mask = _window(c, t)
     tw = t[mask]
     if c.kind == "within":
@@ -211,23 +217,24 @@ def measure(c: Check, run: RunResult) -> CheckOutcome:
             if not np.isfinite(diff).all():
                 return _outcome(c, text, math.inf, c.tolerance, _undefined(diff, t))
             d = abs(float(np.interp(c.at, t, diff)))
-            where = f"at t = {c.at:g}"
+            when = N_("|{quantity} - ({target})| = {value:.4g} at t = {t:g}")
+            at = c.at
         else:
             dw = diff[mask]
             if not np.isfinite(dw).all():
                 return _outcome(c, text, math.inf, c.tolerance, _undefined(dw, tw))
             k = int(np.argmax(np.abs(dw)))
             d = float(abs(dw[k]))
-            where = f"largest at t = {float(tw[k]):g}"
-        return _outcome(
-            c, text, d, c.tolerance, f"|{c.quantity.text} - ({c.target.text})| = {d:.4g} {where}"
-        )
+            when = N_("|{quantity} - ({target})| = {value:.4g} largest at t = {t:g}")
+            at = float(tw[k])
+        detail = Message(when, quantity=c.quantity.text, target=c.target.text, value=d, t=at)
+        return _outcome(c, text, d, c.tolerance, detail)
     if c.kind in ("at-most", "at-least"):
         assert c.quantity is not None
         v = _eval(c.quantity, run)[mask]
         if not np.isfinite(v).all():
             return _outcome(c, text, math.inf, float(c.bound or 0), _undefined(v, tw))
-        return _bound(c, text, _reduce(c.reduce, v), f"{c.reduce} of {c.quantity.text}")
+        return _bound(c, text, _reduce(c.reduce, v), reduction_text(c.reduce, c.quantity.text))
     assert c.tolerance is not None
     pts = _points(c, run)
     if c.kind == "reaches":
@@ -235,14 +242,17 @@ def measure(c: Check, run: RunResult) -> CheckOutcome:
         if not np.isfinite(pw).all():
             return _outcome(c, text, math.inf, c.tolerance, _undefined(pw.sum(axis=1), tw))
         dist = np.linalg.norm(pw - np.asarray(c.point), axis=1)
-        return _at(c, text, dist, tw, int(np.argmin(dist)), "closest approach")
+        return _at(
+            c, text, dist, tw, int(np.argmin(dist)), N_("closest approach {value:.4g} at t = {t:g}")
+        )
     if not np.isfinite(pts).all():
         return _outcome(c, text, math.inf, c.tolerance, _undefined(pts.sum(axis=1), t))
     if c.kind == "in-plane":
         n = np.asarray(c.normal, dtype=float)
         nn = float(np.linalg.norm(n))
         dev = np.abs(pts @ n - c.offset) / nn
-        return _at(c, text, dev, t, int(np.argmax(dev)), "farthest from the plane by")
+        far = N_("farthest from the plane by {value:.4g} at t = {t:g}")
+        return _at(c, text, dev, t, int(np.argmax(dev)), far)
     # on-circle
     centre = np.asarray(c.center, dtype=float)
     rel = pts - centre
@@ -253,38 +263,62 @@ def measure(c: Check, run: RunResult) -> CheckOutcome:
         dev = np.hypot(
             np.abs(np.linalg.norm(rel - np.outer(off, n), axis=1) - float(c.radius or 0)), off
         )
-    return _at(c, text, dev, t, int(np.argmax(dev)), "farthest from the circle by")
+    far = N_("farthest from the circle by {value:.4g} at t = {t:g}")
+    return _at(c, text, dev, t, int(np.argmax(dev)), far)
 
 
-def _bound(c: Check, text: str, value: float, what: str) -> CheckOutcome:
+def _bound(c: Check, text: str, value: float, what: Message) -> CheckOutcome:
     bound = float(c.bound if c.bound is not None else 0.0)
     if not math.isfinite(value):
-        return _outcome(c, text, math.inf, bound, f"{what} is not finite")
+        return _outcome(c, text, math.inf, bound, Message(N_("{what} is not finite"), what=what))
     above = c.kind == "at-most"
     miss = max(0.0, value - bound) if above else max(0.0, bound - value)
-    side = "above" if above else "below"
-    return CheckOutcome(
-        c.id,
-        c.kind,
-        text,
-        miss == 0.0,
-        value,
-        bound,
-        miss,
-        f"{what} = {value:.4g}" + (f", {miss:.3g} {side} the bound {bound:g}" if miss else ""),
-    )
+    if not miss:
+        detail = Message(N_("{what} = {value:.4g}"), what=what, value=value)
+    elif above:
+        detail = Message(
+            N_("{what} = {value:.4g}, {miss:.3g} above the bound {bound:g}"),
+            what=what,
+            value=value,
+            miss=miss,
+            bound=bound,
+        )
+    else:
+        detail = Message(
+            N_("{what} = {value:.4g}, {miss:.3g} below the bound {bound:g}"),
+            what=what,
+            value=value,
+            miss=miss,
+            bound=bound,
+        )
+    return CheckOutcome(c.id, c.kind, text, miss == 0.0, value, bound, miss, detail)
 
 
-def _at(c: Check, text: str, values: np.ndarray, t: np.ndarray, k: int, what: str) -> CheckOutcome:
-    """The deviation ``values[k]`` at the time ``t[k]`` checked against the tolerance."""
+def _at(
+    c: Check, text: str, values: np.ndarray, t: np.ndarray, k: int, template: str
+) -> CheckOutcome:
+    """The deviation ``values[k]`` at the time ``t[k]`` checked against the tolerance
+    (``template`` says it in words with ``{value}`` and ``{t}``)."""
     assert c.tolerance is not None
     v = float(values[k])
-    return _outcome(c, text, v, c.tolerance, f"{what} {v:.4g} at t = {float(t[k]):g}")
+    return _outcome(c, text, v, c.tolerance, Message(template, value=v, t=float(t[k])))
 
 
-def _outcome(c: Check, text: str, measured: float, tol: float, detail: str) -> CheckOutcome:
-    """A deviation checked against a tolerance (``measured`` <= ``tol`` passes)."""
+def _outcome(
+    c: Check, text: str, measured: float, tol: float, detail: Message | str
+) -> CheckOutcome:
+    """A deviation checked against a tolerance (``measured`` <= ``tol`` passes); the
+    detail a :class:`Message` (shown in a page's language)."""
     miss = max(0.0, measured - tol) if math.isfinite(measured) else math.inf
     passed = bool(math.isfinite(measured) and measured <= tol)
-    msg = detail if passed else f"{detail}; misses the tolerance {tol:g} by {miss:.3g}"
+    msg = (
+        detail
+        if passed
+        else Message(
+            N_("{detail}; misses the tolerance {tolerance:g} by {miss:.3g}"),
+            detail=detail,
+            tolerance=tol,
+            miss=miss,
+        )
+    )
     return CheckOutcome(c.id, c.kind, text, passed, measured, tol, miss, msg)

@@ -51,6 +51,7 @@ from analyzer_lab.lessons.kit.formula import (
     parse_formula,
 )
 from analyzer_lab.lessons.kit.formula import parse_number as _parse_number
+from analyzer_lab.lessons.kit.message import N_, Message
 
 FORMAT = "analyzer-lab assignment"
 VERSION = 1
@@ -164,36 +165,89 @@ class Check:
         return (self.feedback_ru if code == "ru" else "") or self.feedback
 
     def describe(self) -> str:
-        """One line in words (the ``label`` when the file gives one)."""
+        """One line in words: a :class:`Message` (shown in a page's language; its English
+        text is what grades and exports hold), or the ``label`` when the file gives one."""
         if self.label:
             return self.label
-        win = _window_text(self.t_from, self.t_to)
+        window = _window_text(self.t_from, self.t_to)
         if self.kind == "within":
             assert self.quantity is not None and self.target is not None
-            when = f" at t = {self.at:g}" if self.at is not None else win
-            return (
-                f"{self.quantity.text} stays within {self.tolerance:g} of {self.target.text}{when}"
+            what = {"quantity": self.quantity.text, "target": self.target.text}
+            if self.at is not None:
+                return Message(
+                    N_("{quantity} stays within {tolerance:g} of {target} at t = {at:g}"),
+                    tolerance=self.tolerance,
+                    at=self.at,
+                    **what,
+                )
+            if window:
+                return Message(
+                    N_("{quantity} stays within {tolerance:g} of {target} {window}"),
+                    tolerance=self.tolerance,
+                    window=window,
+                    **what,
+                )
+            return Message(
+                N_("{quantity} stays within {tolerance:g} of {target}"),
+                tolerance=self.tolerance,
+                **what,
             )
         if self.kind in ("at-most", "at-least"):
-            what = (
-                f"metric {self.metric}"
-                if self.metric
-                else f"{self.reduce} of {self.quantity.text if self.quantity else ''}{win}"
+            most = self.kind == "at-most"
+            if self.metric:
+                return Message(
+                    N_("metric {metric} <= {bound:g}")
+                    if most
+                    else N_("metric {metric} >= {bound:g}"),
+                    metric=self.metric,
+                    bound=self.bound,
+                )
+            reduction = reduction_text(self.reduce, self.quantity.text if self.quantity else "")
+            if window:
+                return Message(
+                    N_("{reduction} {window} <= {bound:g}")
+                    if most
+                    else N_("{reduction} {window} >= {bound:g}"),
+                    reduction=reduction,
+                    window=window,
+                    bound=self.bound,
+                )
+            return Message(
+                N_("{reduction} <= {bound:g}") if most else N_("{reduction} >= {bound:g}"),
+                reduction=reduction,
+                bound=self.bound,
             )
-            sign = "<=" if self.kind == "at-most" else ">="
-            return f"{what} {sign} {self.bound:g}"
-        p = ", ".join(self.path)
+        path = ", ".join(self.path)
         if self.kind == "in-plane":
-            n = " ".join(f"{c:+g}*{a}" for c, a in zip(self.normal or (), "xyz"))
-            return f"the path ({p}) lies in the plane {n} = {self.offset:g} (within {self.tolerance:g})"
-        if self.kind == "on-circle":
-            c = ", ".join(f"{v:g}" for v in self.center)
-            return (
-                f"the path ({p}) lies on the circle centre ({c}), radius {self.radius:g}"
-                f" (within {self.tolerance:g})"
+            terms = [Message(f"{{c:+g}}*{a}", c=c) for c, a in zip(self.normal or (), "xyz")]
+            return Message(
+                N_(
+                    "the path ({path}) lies in the plane {normal} = {offset:g}"
+                    " (within {tolerance:g})"
+                ),
+                path=path,
+                normal=_joined(" ", terms),
+                offset=self.offset,
+                tolerance=self.tolerance,
             )
-        pt = ", ".join(f"{v:g}" for v in self.point)
-        return f"the path ({p}) reaches ({pt}) by t = {self.by:g} (within {self.tolerance:g})"
+        if self.kind == "on-circle":
+            return Message(
+                N_(
+                    "the path ({path}) lies on the circle centre ({center}), radius {radius:g}"
+                    " (within {tolerance:g})"
+                ),
+                path=path,
+                center=coordinates(self.center),
+                radius=self.radius,
+                tolerance=self.tolerance,
+            )
+        return Message(
+            N_("the path ({path}) reaches ({point}) by t = {by:g} (within {tolerance:g})"),
+            path=path,
+            point=coordinates(self.point),
+            by=self.by,
+            tolerance=self.tolerance,
+        )
 
 
 @dataclass(frozen=True)
@@ -256,12 +310,51 @@ class Assignment:
         }
 
 
-def _window_text(a: float | None, b: float | None) -> str:
+#: Each reduction of a quantity in words (``max-abs of e``), by the name a file gives.
+_REDUCTIONS: dict[str, str] = {
+    "max-abs": N_("max-abs of {quantity}"),
+    "max": N_("max of {quantity}"),
+    "min": N_("min of {quantity}"),
+    "final": N_("final of {quantity}"),
+    "mean": N_("mean of {quantity}"),
+    "rms": N_("rms of {quantity}"),
+}
+
+
+def reduction_text(how: str, quantity: str) -> Message:
+    """The reduction ``how`` (one of :data:`REDUCTIONS`) of ``quantity`` in words."""
+    return Message(_REDUCTIONS[how], quantity=quantity)
+
+
+def _joined(separator: str, parts: list[Message]) -> Message:
+    """``parts`` side by side (each shown in the page's language), ``separator`` between."""
+    template = (
+        separator.replace("{", "{{").replace("}", "}}").join(f"{{p{i}}}" for i in range(len(parts)))
+    )
+    return Message(template, **{f"p{i}": part for i, part in enumerate(parts)})
+
+
+def coordinates(values: tuple[float, ...]) -> Message | str:
+    """A point's coordinates (``1, 2.5``), each as the page's language writes a number and
+    separated as it separates them (``1; 2,5`` in Russian)."""
+    numbers = [Message("{v:g}", v=float(v)) for v in values]
+    if not numbers:
+        return ""
+    shown = numbers[0]
+    for n in numbers[1:]:
+        shown = Message(N_("{first}, {next}"), first=shown, next=n)
+    return shown
+
+
+def _window_text(a: float | None, b: float | None) -> Message | str:
+    """The time window of a check in words (empty: the whole run)."""
     if a is None and b is None:
         return ""
-    lo = "0" if a is None else f"{a:g}"
-    hi = "end" if b is None else f"{b:g}"
-    return f" for t in [{lo}, {hi}]"
+    if a is None:
+        return Message(N_("for t in [0, {end:g}]"), end=b)
+    if b is None:
+        return Message(N_("for t in [{start:g}, end]"), start=a)
+    return Message(N_("for t in [{start:g}, {end:g}]"), start=a, end=b)
 
 
 class _Reader:

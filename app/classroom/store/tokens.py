@@ -9,6 +9,7 @@ import hmac
 import time
 
 from analyzer_lab.classroom.store.records import JoinError
+from analyzer_lab.lessons.kit.message import N_, Message
 
 VERSION = "s1"
 MAX_TOKEN = 200
@@ -26,15 +27,17 @@ def sign(secret: bytes, class_id: int, student_id: int, issued: float | None = N
 def verify(secret: bytes, token: object, class_id: int) -> int:
     """The student id the token names; :class:`JoinError` saying why it is refused."""
     if not isinstance(token, str) or len(token) > MAX_TOKEN:
-        raise JoinError("the saved student token is not a token")
+        raise JoinError(Message(N_("the saved student token is not a token")))
     parts = token.split(".")
     if len(parts) != 5 or parts[0] != VERSION or not all(p.isdigit() for p in parts[1:4]):
-        raise JoinError("the saved student token is malformed")
+        raise JoinError(Message(N_("the saved student token is malformed")))
     body = ".".join(parts[:4])
     if not hmac.compare_digest(parts[4], _mac(secret, body)):
-        raise JoinError("the saved student token was not signed by this server (tampered with)")
+        raise JoinError(
+            Message(N_("the saved student token was not signed by this server (tampered with)"))
+        )
     if int(parts[1]) != class_id:
-        raise JoinError("the saved student token belongs to another class")
+        raise JoinError(Message(N_("the saved student token belongs to another class")))
     return int(parts[2])
 
 
