@@ -338,3 +338,34 @@ def test_a_join_refusal_on_a_russian_page_is_in_russian(make_lab: Callable[..., 
         assert course.attempts() == []  # nothing recorded for a page that did not join
     finally:
         store.close()
+
+
+def test_the_assignment_folder_follows_a_switch_of_the_pages_language(
+    labs: dict[str, Any],
+) -> None:
+    """An English page with an open assignment switched to Russian: the folder's labels,
+    "(none)" and the open task in Russian; choosing "(нет)" closes the assignment."""
+    lab = labs["en"]
+
+    async def go() -> None:
+        c, view = await open_page(lab, "Run")
+        try:
+            students = lab.classroom.board.students
+            panel = await until(lambda: students.get(view.client.client_id), 10, "the folder")
+            assert panel.picker.options[0] == "(none)"
+            await c.set("Assignment", TASK, 0.2)
+            await until(lambda: "Goal:" in panel.task.content, 30, "the assignment open")
+            await c.set("Language", "Русский")
+            await until(lambda: view.language.code == "ru", 10, "the page in Russian")
+            with view.session.lock:
+                assert panel.picker.options[0] == "(нет)" and panel.picker.value == TASK
+                labels = (panel.folder.label, panel.name.label, panel.check_btn.label)
+                assert labels == ("Задание", "Ваше имя", "Проверить мой ответ")
+                assert "Цель:" in panel.task.content and "Goal:" not in panel.task.content
+            await c.set("Assignment", "(нет)", 0.2)
+            await until(lambda: panel.active is None, 10, "the assignment closed")
+            assert panel.picker.value == "(нет)" and panel.task.content == ""
+        finally:
+            await c.close()
+
+    asyncio.run(go())

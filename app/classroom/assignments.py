@@ -56,7 +56,7 @@ if TYPE_CHECKING:
 
 log = logging.getLogger(__name__)
 
-NONE = "(none)"
+NONE = N_("(none)")  # the picker's "no assignment", shown in the page's language
 #: Seconds between two reads of the course record for the instructor's table (the
 #: attempts of pages on other workers arrive within this).
 POLL_SECONDS = 1.0
@@ -260,8 +260,10 @@ class AssignmentBoard:
 
     # -- the class
 
-    def choices(self) -> tuple[str, ...]:
-        return (NONE, *self.assignments)
+    def choices(self, none: str = NONE) -> tuple[str, ...]:
+        """The picker's options: ``none`` (no assignment, in the page's language), then
+        the assignments' ids."""
+        return (none, *self.assignments)
 
     def push(self, aid: str) -> int:
         """Open ``aid`` on every student page (not the instructors'); returns how many.
@@ -346,9 +348,12 @@ class StudentPanel:
         gui = view.client.gui
         tr = view.language.gettext
         order = float(view.status.order) + 0.5
+        self.none = tr(NONE)  # "no assignment" as the page's language writes it
         self.folder = gui.add_folder(tr("Assignment"), order=order, expand_by_default=True)
         with self.folder:
-            self.picker = gui.add_dropdown(tr("Assignment"), board.choices(), initial_value=NONE)
+            self.picker = gui.add_dropdown(
+                tr("Assignment"), board.choices(self.none), initial_value=self.none
+            )
             self.task = gui.add_html("")
             self.who = gui.add_html("")
             self.code = gui.add_text(
@@ -367,6 +372,7 @@ class StudentPanel:
         self.student: Student | None = None
         self._restored = threading.Event()  # set once the saved token was read (or not)
         self.picker.on_update(view.guard(self._on_pick))
+        view.language_hooks.append(self._relabel)
         self.check_btn.on_click(view.guard(lambda e: self.check()))
         self.name.on_update(view.guard(lambda e: self._renumber()))
         inner = view.gate
@@ -375,6 +381,24 @@ class StudentPanel:
         threading.Thread(
             target=self._restore, name="analyzer-lab-student-token", daemon=True
         ).start()
+
+    def _relabel(self, view: SessionView) -> None:
+        """The folder in the page's language now (after a switch of it; caller holds the
+        session lock): its labels, "no assignment", the open task."""
+        tr = view.language.gettext
+        none, self.none = self.none, tr(NONE)
+        self.folder.label = tr("Assignment")
+        self.picker.label = tr("Assignment")
+        chosen = self.picker.value
+        self.picker.options = self.board.choices(self.none)
+        self.picker.value = self.none if chosen == none else chosen
+        self.code.label = tr("Join code")
+        self.code.hint = tr("the class's join code from the instructor")
+        self.name.label = tr("Your name")
+        self.name.hint = tr("your student id or your name, shown to the instructor")
+        self.check_btn.label = tr("Check my answer")
+        if self.variant is not None and self.active is not None:
+            self.task.content = task_html(self.variant.assignment, view.language)
 
     # -- opening and closing
 
@@ -485,7 +509,7 @@ class StudentPanel:
 
     def _on_pick(self, event: Any) -> None:
         value = sent_value(event)
-        if value == NONE:
+        if value in (self.none, NONE):
             self.close()
             return
         if value not in self.board.assignments:
@@ -583,8 +607,8 @@ class StudentPanel:
         self.variant = None
         self.view.controls.set_locked(frozenset(), self.view.session.params)
         self._pickers_disabled(self.view.following)
-        if self.picker.value != NONE:
-            self.picker.value = NONE
+        if self.picker.value != self.none:
+            self.picker.value = self.none
         self.task.content = ""
         self.result.content = ""
         self._shown_visible(False)
@@ -731,7 +755,7 @@ class TeacherPanel:
         self.folder = gui.add_folder(tr("Assignments (class)"), order=-999.0)
         with self.folder:
             self.picker = gui.add_dropdown(
-                tr("Assignment for all"), board.choices(), initial_value=NONE
+                tr("Assignment for all"), board.choices(tr(NONE)), initial_value=tr(NONE)
             )
             self.push_btn = gui.add_button(tr("Push assignment to all"))
             self.table = gui.add_html("")
