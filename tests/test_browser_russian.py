@@ -42,7 +42,7 @@ ALLOWED = {
     "atan2", "log", "abs", "max", "min", "sign", "pi", "english", "lsp", "dop853", "rk45",
     "arcsin", "arccos", "arctan", "sinh", "cosh", "tanh", "nan", "scipy", "linalg", "eigh",
     # the lessons' own names: a triangle, a choice's value, variables of a derivation's prose
-    "abc", "inertia", "vertical", "varpi", "phiy",
+    "abc", "inertia", "vertical",
 }  # fmt: skip
 #: The panel's visible prose: its text nodes outside formulas, figures and inputs.
 PROSE_JS = """() => {

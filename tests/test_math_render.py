@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import pytest
 import sympy as sp
 from analyzer_lab.lessons.kit.contract import DerivationStep
 from analyzer_lab.view.math import derivation_to_html, expr_to_mathml, sanitize_mathml, step_to_html
@@ -261,3 +262,20 @@ def test_a_corrected_misprint_is_tagged_corrected() -> None:
     assert ">corrected</span>" in out and "corrected: (2.18) names g_i" in out
     out = step_to_html(DerivationStep("(1.53)", reconstructed="lost in the source"))
     assert ">reconstructed</span>" in out and "reconstructed: lost in the source" in out
+
+
+@pytest.mark.parametrize(
+    "text, html_",
+    [
+        ("m varpi^2 (e + z)", "m ϖ<sup>2</sup> (e + z)"),
+        ("A_phiy/A_x", "A<sub>φy</sub>/A<sub>x</sub>"),
+        ("varpi_c, varpi_K", "ϖ<sub>c</sub>, ϖ<sub>K</sub>"),
+        ("phi_y = A_phiy sin(varpi t)", "φ<sub>y</sub> = A<sub>φy</sub> sin(ϖ t)"),
+        ("e^(-t/tau) and x^2.5", "e^(-t/τ) and x^2.5"),  # only a one-digit power is raised
+        ("pi r^2 < 10^4", "π r<sup>2</sup> &lt; 10<sup>4</sup>"),
+    ],
+)
+def test_prose_writes_names_as_the_textbook(text: str, html_: str) -> None:
+    from analyzer_lab.view.math import prose_html
+
+    assert prose_html(text) == html_

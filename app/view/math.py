@@ -178,6 +178,7 @@ GREEK_WORDS = {
     "chi": "χ",
     "psi": "ψ",
     "omega": "ω",
+    "varpi": "ϖ",
     "Gamma": "Γ",
     "Delta": "Δ",
     "Theta": "Θ",
@@ -188,15 +189,28 @@ GREEK_WORDS = {
     "Omega": "Ω",
 }
 _GREEK_WORD = re.compile(r"(?<![A-Za-z])(" + "|".join(GREEK_WORDS) + r")(?![A-Za-z])")
+#: A Greek letter opening a subscript, with an index of its own: ``A_phiy`` is A_φy.
+_GREEK_INDEX = re.compile(r"(?<=_)(" + "|".join(GREEK_WORDS) + r")(?=[A-Za-z0-9]{1,2}(?!\w))")
 #: A one-letter name with a short subscript in prose: ``x_A``, ``M_φ``, ``t_end``.
-_SUBSCRIPT = re.compile(r"(?<![\w'])([A-Za-zα-ωΑ-Ω])_([A-Za-z0-9α-ωΑ-Ω]{1,4})(?![\w])")
+_SUBSCRIPT = re.compile(r"(?<![\w'])([A-Za-zα-ωΑ-Ωϖ])_([A-Za-z0-9α-ωΑ-Ωϖ]{1,4})(?![\w])")
+#: A one-digit power after a name or a closing bracket in prose: ``varpi^2`` is ϖ².
+_POWER = re.compile(r"(?<=[\w)])\^([0-9])(?![\w.])")
+
+
+def prose_text(text: str) -> str:
+    """Prose as plain text with the Greek letters spelled out written as letters
+    (``varpi`` is ϖ, ``A_phiy`` is A_φy): a tooltip's text."""
+    out = _GREEK_INDEX.sub(lambda m: GREEK_WORDS[m.group(1)], text)
+    return _GREEK_WORD.sub(lambda m: GREEK_WORDS[m.group(1)], out)
 
 
 def prose_html(text: str) -> str:
     """Prose as HTML, escaped, with names written as in the textbook: ``phi`` is φ,
-    ``x_A`` is x with subscript A."""
-    out = _GREEK_WORD.sub(lambda m: GREEK_WORDS[m.group(1)], html.escape(text))
-    return _SUBSCRIPT.sub(r"\1<sub>\2</sub>", out)
+    ``varpi`` is ϖ, ``x_A`` is x with subscript A, ``A_phiy`` is A with subscript φy,
+    ``varpi^2`` is ϖ with the power 2 raised."""
+    out = html.escape(prose_text(text))
+    out = _SUBSCRIPT.sub(r"\1<sub>\2</sub>", out)
+    return _POWER.sub(r"<sup>\1</sup>", out)
 
 
 def _math(inner: str, display: str) -> str:
@@ -388,7 +402,8 @@ def step_to_html(
     word, why = (tr(TAG_WORDS[tag]), text(why)) if tag else ("", "")
     if tag:
         parts.append(
-            f' <span class="al-{tag}" style="{RECON_STYLE}" title="{esc(why)}">{esc(word)}</span>'
+            f' <span class="al-{tag}" style="{RECON_STYLE}" title="{esc(prose_text(why))}">'
+            f"{esc(word)}</span>"
         )
     parts.append("</div>")
     if step.text:
@@ -404,7 +419,8 @@ def step_to_html(
         )
     if tag:
         parts.append(
-            f'<div style="font-size:max(11px,0.8em);color:#7a5600">{esc(word)}: {esc(why)}</div>'
+            f'<div style="font-size:max(11px,0.8em);color:#7a5600">{esc(word)}: '
+            f"{prose_html(why)}</div>"
         )
     parts.append("</div>")
     return "".join(parts)
