@@ -258,7 +258,7 @@ def test_no_lesson_shows_raw_tex() -> None:
 def test_a_corrected_misprint_is_tagged_corrected() -> None:
     from analyzer_lab.view.math import step_to_html
 
-    out = step_to_html(DerivationStep("(2.19)", reconstructed="corrected: (2.18) names g<sub>i</sub>"))
+    out = step_to_html(DerivationStep("(2.19)", reconstructed="corrected: (2.18) names g_i"))
     assert ">corrected</span>" in out and "corrected: (2.18) names g<sub>i</sub>" in out
     out = step_to_html(DerivationStep("(1.53)", reconstructed="lost in the source"))
     assert ">reconstructed</span>" in out and "reconstructed: lost in the source" in out
