@@ -697,7 +697,7 @@ class StudentPanel:
                 owner=self.view.client.client_id,
             )
         except GraderBusy as exc:
-            self.result.content = error_html(str(exc))
+            self.result.content = error_html(self.view.language.message(exc))
             return
         self._in_line(place, locked=True)
 
@@ -738,10 +738,11 @@ class StudentPanel:
             if g is not None:
                 self.result.content = verdict_html(g, self.view.language, a)
                 return
-            self.result.content = error_html(outcome.error)
+            error = self.view.language.message(outcome.error)
+            self.result.content = error_html(error)
             field = outcome.field if outcome.field in self.view.controls.widgets else None
             if field is not None:
-                self.view.controls.show_error(field, outcome.error)
+                self.view.controls.show_error(field, error)
 
 
 class TeacherPanel:

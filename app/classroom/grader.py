@@ -26,6 +26,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from analyzer_lab.lessons.assignments import Assignment, AssignmentError, Grade, grade
+from analyzer_lab.lessons.kit.message import N_, Message
 from analyzer_lab.token_bucket import TokenBucket
 
 log = logging.getLogger(__name__)
@@ -44,10 +45,15 @@ NICENESS = 10
 
 PlaceCallback = Callable[[int], None]
 
+#: What a student is told, each a template translated where the page shows it.
+STOPPING = N_("the server is stopping: check again when it is back")
+STOPPED = N_("the grader stopped while checking: check again")
+
 
 @dataclass(frozen=True)
 class GradeOutcome:
-    """A check's result: the grade, or why there is none (``field``: the value refused)."""
+    """A check's result: the grade, or why there is none (``field``: the value refused;
+    ``error`` a :class:`Message` when the grader says it)."""
 
     grade: Grade | None
     error: str = ""
@@ -55,7 +61,7 @@ class GradeOutcome:
 
 
 class GraderBusy(Exception):
-    """An answer not taken into the line (the message says why, to the student)."""
+    """An answer not taken into the line (its :class:`Message` says why, to the student)."""
 
 
 @dataclass
@@ -87,7 +93,13 @@ def _check(job: tuple[Assignment, dict[str, Any], float]) -> tuple[str, Any, Any
         return ("overtime", None, None)
     except Exception as exc:  # a fault of one check: said to its student, the worker goes on
         log.exception("checking an answer of %s failed", assignment.id)
-        return ("failed", f"{type(exc).__name__}: {exc}", None)
+        return (
+            "failed",
+            Message(
+                N_("the answer could not be checked ({why})"), why=f"{type(exc).__name__}: {exc}"
+            ),
+            None,
+        )
     finally:
         signal.setitimer(signal.ITIMER_PROF, 0)
 
@@ -155,26 +167,41 @@ class Grader:
         its place (1: next).  :class:`GraderBusy` says why it was not taken."""
         with self._cond:
             if self._stopped:
-                raise GraderBusy("the server is stopping: check again when it is back")
+                raise GraderBusy(Message(STOPPING))
             if self._current is not None and self._current.key == key:
-                raise GraderBusy("your previous answer is being checked: wait for its verdict")
+                raise GraderBusy(
+                    Message(N_("your previous answer is being checked: wait for its verdict"))
+                )
             for k, job in enumerate(self._waiting):
                 if job.key == key:
                     raise GraderBusy(
-                        f"your previous answer is number {k + 1} in line: wait for its verdict"
+                        Message(
+                            N_(
+                                "your previous answer is number {place} in line: wait for its verdict"
+                            ),
+                            place=k + 1,
+                        )
                     )
             if len(self._waiting) >= self.max_waiting:
                 raise GraderBusy(
-                    f"{len(self._waiting)} answers of the class are waiting to be checked: "
-                    "check again in a minute"
+                    Message(
+                        N_(
+                            "{count} answers of the class are waiting to be checked: "
+                            "check again in a minute"
+                        ),
+                        count=len(self._waiting),
+                    )
                 )
             bucket = self._buckets.setdefault(
                 key, TokenBucket(self.student_rate / 60.0, self.student_burst)
             )
             if not bucket.take():
                 raise GraderBusy(
-                    f"at most {self.student_rate:g} checks a minute: check again in "
-                    f"{bucket.wait_time():.0f} s"
+                    Message(
+                        N_("at most {rate:g} checks a minute: check again in {wait:.0f} s"),
+                        rate=self.student_rate,
+                        wait=bucket.wait_time(),
+                    )
                 )
             self._waiting.append(_Job(key, owner, assignment, dict(values), on_done, on_place))
             self._cond.notify_all()
@@ -267,7 +294,9 @@ class Grader:
                 outcome = self._grade(job)
             except Exception as exc:  # the grader's thread goes on; the student is told
                 log.exception("grading failed")
-                outcome = GradeOutcome(None, f"the answer could not be checked ({exc})")
+                outcome = GradeOutcome(
+                    None, Message(N_("the answer could not be checked ({why})"), why=str(exc))
+                )
             finally:
                 with self._cond:
                     self._current = None
@@ -283,17 +312,17 @@ class Grader:
         deadline = time.monotonic() + self.cpu_seconds * WALL_FACTOR + 30.0
         while not conn.poll(0.25):
             if self._stopped:
-                return GradeOutcome(None, "the server is stopping: check again when it is back")
+                return GradeOutcome(None, Message(STOPPING))
             if not self._proc.is_alive() or time.monotonic() > deadline:
                 self.stats["failed"] += 1
                 self._stop_worker()
-                return GradeOutcome(None, "the grader stopped while checking: check again")
+                return GradeOutcome(None, Message(STOPPED))
         try:
             kind, value, field = conn.recv()
         except (EOFError, OSError):
             self.stats["failed"] += 1
             self._stop_worker()
-            return GradeOutcome(None, "the grader stopped while checking: check again")
+            return GradeOutcome(None, Message(STOPPED))
         if kind == "grade":
             self.stats["graded"] += 1
             return GradeOutcome(value)
@@ -301,8 +330,13 @@ class Grader:
             self.stats["overtime"] += 1
             return GradeOutcome(
                 None,
-                f"your answer needs more than {self.cpu_seconds:g} s of computing to check: "
-                "a run this costly is not graded",
+                Message(
+                    N_(
+                        "your answer needs more than {cpu:g} s of computing to check: "
+                        "a run this costly is not graded"
+                    ),
+                    cpu=self.cpu_seconds,
+                ),
             )
         self.stats["refused" if kind == "refused" else "failed"] += 1
         return GradeOutcome(None, str(value), field)

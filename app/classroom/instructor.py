@@ -14,6 +14,8 @@ from typing import TYPE_CHECKING, Any
 
 from analyzer_lab.classroom.link import ClassLink
 from analyzer_lab.classroom.ports import RoomForPanels
+from analyzer_lab.i18n import N_
+from analyzer_lab.lessons.kit.message import Message
 from analyzer_lab.session.session import LabError
 
 if TYPE_CHECKING:
@@ -29,6 +31,17 @@ LABEL_SCALE = 1.8
 #: What docking or floating the page's panel can raise (the page left, or its panel
 #: cannot be placed so): presenter mode goes on with the panel where it is.
 PANEL_ERRORS = (RuntimeError, ValueError)
+
+
+#: The presenter's entries in the command palette: label, hotkey, step.
+COMMANDS = (
+    (N_("Next bookmark"), "pagedown", 1),
+    (N_("Previous bookmark"), "pageup", -1),
+    (N_("Next bookmark (N)"), "N", 1),
+    (N_("Previous bookmark (P)"), "P", -1),
+)
+COMMAND_HINT = N_("presenter mode: step through the lesson's presets")
+NO_PRESETS = N_("(this lesson has no presets)")
 
 
 def _keys_html(keys: str) -> str:
@@ -97,6 +110,9 @@ class Presenter:
         )
         self.top_prev.label = "◀ " + tr("Previous")
         self.top_next.label = tr("Next") + " ▶"
+        if self.on:  # the palette's entries are made again under their new labels
+            self._set_commands(True)
+        self.update_bookmarks()
 
     def _on_toggle(self, event: Any) -> None:
         if getattr(event, "client", None) is None:
@@ -114,30 +130,30 @@ class Presenter:
         if self.on:
             self.room.project(self.view, True, self.show_class)
 
-    def set_mode(self, on: bool) -> None:
+    def _set_commands(self, on: bool) -> None:
+        """The presenter's entries of the command palette, in the page's language (none
+        when ``on`` is False)."""
         gui = self.view.client.gui
-        self.on = on
-        self.style.content = self.CSS if on else ""
+        tr = self.view.language.gettext
         for c in self.commands:
             try:
                 c.remove()
             except RuntimeError:  # the page left meanwhile
                 pass
         self.commands = []
+        if not on:
+            return
+        for label, key, step in COMMANDS:
+            cmd = gui.add_command(tr(label), hotkey=key, description=tr(COMMAND_HINT))
+            cmd.on_trigger(self.view.guard(lambda e, s=step: self.step(s)))
+            self.commands.append(cmd)
+
+    def set_mode(self, on: bool) -> None:
+        gui = self.view.client.gui
+        self.on = on
+        self.style.content = self.CSS if on else ""
+        self._set_commands(on)
         if on:
-            for label, key, step in (
-                ("Next bookmark", "pagedown", 1),
-                ("Previous bookmark", "pageup", -1),
-                ("Next bookmark (N)", "N", 1),
-                ("Previous bookmark (P)", "P", -1),
-            ):
-                cmd = gui.add_command(
-                    label,
-                    hotkey=key,
-                    description="presenter mode: step through the lesson's presets",
-                )
-                cmd.on_trigger(self.view.guard(lambda e, s=step: self.step(s)))
-                self.commands.append(cmd)
             try:
                 gui.main_panel.dock_right()
                 gui.main_panel.set_width(PANEL_WIDTH)
@@ -159,29 +175,38 @@ class Presenter:
         s = self.view.session
         names = [p.name for p in s.lesson.presets]
         if not names:
-            raise LabError("this lesson has no presets to step through")
+            raise LabError(Message(N_("this lesson has no presets to step through")))
         k = names.index(s.preset) if s.preset in names else (-1 if direction > 0 else len(names))
         k = min(max(k + direction, 0), len(names) - 1)
         if names[k] != s.preset:
             s.apply_preset(names[k])
-            s.notify(f"bookmark {k + 1}/{len(names)}: {names[k]}")
+            s.notify(
+                Message(
+                    N_("bookmark {number}/{count}: {name}"),
+                    number=k + 1,
+                    count=len(names),
+                    name=names[k],
+                )
+            )
             self.view.after_state_change()
         self.update_bookmarks()
 
     def update_bookmarks(self) -> None:
         s = self.view.session
+        language = self.view.language
         items = []
         for k, p in enumerate(s.lesson.presets):
             cur = p.name == s.preset
             style = "font-weight:bold;color:#1c4f8a" if cur else "color:#444"
             items.append(
                 f'<li class="al-bookmark{" al-current" if cur else ""}" style="{style}">'
-                f"{html.escape(p.name)}: {html.escape(p.title)}</li>"
+                f"{html.escape(p.name)}: {html.escape(language.lesson_text(p.title))}</li>"
             )
         content = (
             f'<ol class="al-bookmarks" style="font-size:max(11px,0.85em);padding-left:1.4em">{"".join(items)}</ol>'
             if items
-            else '<div class="al-bookmarks" style="font-size:max(11px,0.85em)">(this lesson has no presets)</div>'
+            else '<div class="al-bookmarks" style="font-size:max(11px,0.85em)">'
+            f"{html.escape(language.gettext(NO_PRESETS))}</div>"
         )
         if self.bookmarks.content != content:
             self.bookmarks.content = content

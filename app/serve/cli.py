@@ -65,12 +65,15 @@ def cmd_lessons(args: argparse.Namespace) -> int:
     if args.json:
         print(json.dumps([l.describe() for l in items], indent=1, default=str))
         return 0
+    tr = LANGUAGE.gettext
     for l in items:
-        print(f"{l.id:28s} {l.problem:18s} {l.title}")
+        print(f"{l.id:28s} {l.problem:18s} {LANGUAGE.lesson_text(l.title)}")
         print(f"{'':28s} {l.source}")
-        print(f"{'':28s} params: {', '.join(p.name for p in l.params)}")
+        params = tr("params: {names}").format(names=", ".join(p.name for p in l.params))
+        print(f"{'':28s} {params}")
         if l.presets:
-            print(f"{'':28s} presets: {', '.join(p.name for p in l.presets)}")
+            presets = tr("presets: {names}").format(names=", ".join(p.name for p in l.presets))
+            print(f"{'':28s} {presets}")
     return 0
 
 
@@ -569,6 +572,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     # the command's own messages: --lang (serve), else the environment's language; an
     # unknown --lang is said once, by serve
     LANGUAGE = command_language(getattr(args, "lang", None), dict(os.environ))[0]
+    args.language = LANGUAGE  # the commands of other modules say their words in it
     try:
         return int(args.func(args))
     except BrokenPipeError:  # the reader stopped early (``| head``): nothing more to say

@@ -27,10 +27,11 @@ import sys
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from analyzer_lab.i18n import ENGLISH, Language
+from analyzer_lab.i18n import ENGLISH, N_, Language
+from analyzer_lab.lessons.kit.message import Message
 
 if TYPE_CHECKING:
-    from analyzer_lab.lessons.assignments import Assignment
+    from analyzer_lab.lessons.assignments import Assignment, AssignmentError
 
 EXIT_FAIL = 1
 EXIT_USAGE = 2
@@ -43,8 +44,24 @@ DEFAULT_CLASS = "class"
 ENV_FOLDER = "ANALYZER_LAB_ASSIGNMENTS"
 
 
-def _fail(message: str) -> int:
-    print(f"analyzer-lab: error: {message}", file=sys.stderr)
+def _language(args: argparse.Namespace) -> Language:
+    """The command's language (``main`` puts it on ``args``; English otherwise)."""
+    return getattr(args, "language", ENGLISH)
+
+
+def _error(exc: AssignmentError, language: Language) -> str:
+    """A refusal in ``language``: its file and field, then its words (translated when
+    they are a :class:`Message`)."""
+    loc = f"{exc.where}: " if exc.where else ""
+    tr = language.gettext
+    fld = tr("field {name}").format(name=exc.field) + ": " if exc.field else ""
+    return f"{loc}{fld}{language.message(exc.message)}".replace("\n", " ")
+
+
+def _fail(message: str, language: Language = ENGLISH) -> int:
+    tr = language.gettext
+    text = tr("analyzer-lab: error: {message}").format(message=message)
+    print(text, file=sys.stderr)
     return EXIT_USAGE
 
 
@@ -57,19 +74,22 @@ def _folder(folder: str | None) -> list[Assignment]:
 def cmd_assignments(args: argparse.Namespace) -> int:
     from analyzer_lab.lessons.assignments import AssignmentError
 
+    language = _language(args)
+    tr = language.gettext
     try:
         items = _folder(getattr(args, "dir", None))
     except AssignmentError as exc:
-        return _fail(str(exc))
+        return _fail(_error(exc, language), language)
     if args.json:
         print(json.dumps([a.summary() for a in items], indent=1, ensure_ascii=False))
         return 0
     for a in items:
         print(f"{a.id:32s} {a.lesson:26s} {a.title}")
-        print(
-            f"{'':32s} you set: {', '.join(a.unlocked)}; checks: {', '.join(c.id for c in a.checks)}"
+        line = tr("you set: {unlocked}; checks: {checks}").format(
+            unlocked=", ".join(a.unlocked), checks=", ".join(c.id for c in a.checks)
         )
-    print(f"{len(items)} assignments")
+        print(f"{'':32s} {line}")
+    print(tr("{count} assignments").format(count=len(items)))
     return 0
 
 
@@ -101,7 +121,12 @@ def find_assignment(target: str, folder: str | None = None) -> Assignment:
     found = [a for a in _folder(folder) if a.id == target]
     if not found:
         raise AssignmentError(
-            "", "", f"{target[:60]!r}: no such assignment ('analyzer-lab assignments' lists them)"
+            "",
+            "",
+            Message(
+                N_("{target}: no such assignment ('analyzer-lab assignments' lists them)"),
+                target=repr(target[:60]),
+            ),
         )
     return found[0]
 
@@ -133,7 +158,9 @@ def read_answer(path: str | Path, assignment: Assignment) -> dict[str, Any]:
     try:
         raw = path.read_bytes()[: MAX_ANSWER_BYTES + 1]
     except OSError as exc:
-        raise AssignmentError(str(path), "", f"cannot be read ({exc.strerror})") from None
+        raise AssignmentError(
+            str(path), "", Message(N_("cannot be read ({why})"), why=exc.strerror or str(exc))
+        ) from None
     return load_answer(raw, assignment, str(path))
 
 
@@ -146,7 +173,9 @@ def answer_files(targets: list[str]) -> list[Path]:
         p = Path(t)
         out.extend(sorted(p.glob("*.json")) if p.is_dir() else [p])
         if len(out) > MAX_BATCH:
-            raise AssignmentError(t, "", f"makes more than {MAX_BATCH} answer files to grade")
+            raise AssignmentError(
+                t, "", Message(N_("makes more than {count} answer files to grade"), count=MAX_BATCH)
+            )
     return out
 
 
@@ -197,17 +226,18 @@ def check_run_limits(a: Assignment, values: dict[str, Any], where: str) -> None:
 def cmd_grade(args: argparse.Namespace) -> int:
     from analyzer_lab.lessons.assignments import AssignmentError
 
+    language = _language(args)
     try:
         assignment = find_assignment(args.assignment, getattr(args, "dir", None))
         files = answer_files(args.answers)
         grader = Grader(assignment, args.class_id, args.student)
     except AssignmentError as exc:
-        return _fail(str(exc))
+        return _fail(_error(exc, language), language)
     if len(args.answers) == 1 and len(files) == 1 and not Path(args.answers[0]).is_dir():
         try:
             doc = grader.grade_file(files[0])
         except AssignmentError as exc:
-            return _fail(str(exc))
+            return _fail(_error(exc, language), language)
         print(json.dumps(doc, indent=1, ensure_ascii=False))
         failed = [c for c in doc["checks"] if not c["pass"]]
         for c in failed:
@@ -220,15 +250,15 @@ def cmd_grade(args: argparse.Namespace) -> int:
         except AssignmentError as exc:
             refused += 1
             print(json.dumps({"file": str(f), "error": str(exc)}, ensure_ascii=False), flush=True)
-            print(f"analyzer-lab: error: {exc}", file=sys.stderr)
+            _fail(_error(exc, language), language)
             continue
         failed += not doc["pass"]
         print(json.dumps(doc, ensure_ascii=False), flush=True)
-    print(
-        f"graded {len(files)} file(s): {len(files) - failed - refused} pass,"
-        f" {failed} fail, {refused} refused",
-        file=sys.stderr,
+    tr = language.gettext
+    summary = tr("graded {files} file(s): {passed} pass, {failed} fail, {refused} refused").format(
+        files=len(files), passed=len(files) - failed - refused, failed=failed, refused=refused
     )
+    print(summary, file=sys.stderr)
     return EXIT_USAGE if refused else EXIT_FAIL if failed else 0
 
 
