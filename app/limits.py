@@ -36,11 +36,13 @@ def prefer_returned_memory() -> None:
         pass
 
 
-def return_free_memory() -> None:
-    """Give the heap's free memory back to the system (after an export)."""
+def return_free_memory() -> bool:
+    """Give the heap's free memory back to the system (after an export); False where the
+    C library has no ``malloc_trim`` (not glibc), which leaves the heap as it is."""
     try:
         import ctypes
 
         ctypes.CDLL("libc.so.6").malloc_trim(0)
     except (OSError, AttributeError):
-        pass
+        return False
+    return True

@@ -72,3 +72,20 @@ def test_the_server_trims_after_pages_leave_mid_build(lab: Any) -> None:
         assert lab._building == 0
     time.sleep(0.5)
     assert lab.heap.trims == before + 1  # once for the burst
+
+
+def test_a_c_library_without_malloc_trim_counts_no_trim(monkeypatch: Any) -> None:
+    import analyzer_lab.serve.heap as heap_module
+
+    monkeypatch.setattr(heap_module, "return_free_memory", lambda: False)
+    clock = Clock()
+    heap = HeapTrim(quiet=2.0, every=10.0, clock=clock)
+    heap.page_closed()
+    clock.t += 2.0
+    assert not heap.poll(building=False) and heap.trims == 0
+
+
+def test_glibc_returns_the_free_memory() -> None:
+    from analyzer_lab.limits import return_free_memory
+
+    assert return_free_memory() is True

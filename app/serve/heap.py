@@ -49,7 +49,8 @@ class HeapTrim:
     def poll(self, building: bool) -> bool:
         """Trim now if pages closed since the last trim, none closed in the last
         :attr:`quiet` s, none is being built, and the last trim is :attr:`every` s old;
-        True when it trimmed."""
+        True when it trimmed (counted in :attr:`trims`; a C library without
+        ``malloc_trim`` trims nothing and counts nothing)."""
         now = self.clock()
         with self._lock:
             due = (
@@ -62,6 +63,7 @@ class HeapTrim:
                 return False
             self._closed = 0
             self._trimmed_at = now
-        return_free_memory()
+        if not return_free_memory():
+            return False
         self.trims += 1
         return True
