@@ -25,6 +25,7 @@ import pytest
 
 from tests.support.browser import ARTIFACTS, CHROMIUM, LAUNCH_ARGS, Page, require_browser
 from tests.support.postgres import PostgresCluster
+from tests.support.busy import BusyProcesses, busy_count
 from tests.support.redis_server import RedisServer
 from tests.support.servers import ServeProcess
 
@@ -78,6 +79,33 @@ def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item
     for item in items:
         if item.path.name in LIVE_FILES or item.get_closest_marker("browser") is not None:
             item.add_marker(pytest.mark.live)
+
+
+def _in_quick_subset(item: pytest.Item) -> bool:
+    """Whether ``item`` is selected by ``-m "quick or not (live or slow)"``."""
+    if item.get_closest_marker("quick") is not None:
+        return True
+    return item.get_closest_marker("live") is None and item.get_closest_marker("slow") is None
+
+
+@pytest.fixture(scope="session")
+def busy_processes() -> Iterator[BusyProcesses]:
+    """The busy processes ``ANALYZER_LAB_BUSY`` asks for (none by default)."""
+    busy = BusyProcesses(busy_count())
+    try:
+        yield busy
+    finally:
+        busy.stop()
+
+
+@pytest.fixture(autouse=True)
+def busy_machine(request: pytest.FixtureRequest, busy_processes: BusyProcesses) -> None:
+    """The quick subset's tests run beside the busy processes; the live servers' measured
+    tests (attacks, loads, browsers) run without them."""
+    if _in_quick_subset(request.node):
+        busy_processes.start()
+    else:
+        busy_processes.stop()
 
 
 @pytest.fixture(scope="module")
