@@ -24,8 +24,8 @@ from typing import Any
 import pytest
 
 from tests.support.browser import ARTIFACTS, CHROMIUM, LAUNCH_ARGS, Page, require_browser
-from tests.support.postgres import PostgresCluster
 from tests.support.busy import BusyProcesses, busy_count
+from tests.support.postgres import PostgresCluster
 from tests.support.redis_server import RedisServer
 from tests.support.servers import ServeProcess
 
