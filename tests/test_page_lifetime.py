@@ -13,7 +13,7 @@ from typing import Any
 import pytest
 
 from tests.support.client import ProtoClient, play
-from tests.support.waiting import wait_until
+from tests.support.waiting import until, wait_until
 
 pytestmark = pytest.mark.live
 
@@ -73,6 +73,42 @@ def test_no_session_outlives_its_page(churn_lab: Any) -> None:
         lambda: _when(_alive(churn_lab), lambda a: not any(a.values())),
         timeout=30.0,
         what="every page's view, entry and session to be released",
+    )
+    assert left == dict.fromkeys(left, 0)
+
+
+def test_a_page_whose_answer_was_checked_leaves_nothing(make_lab: Callable[..., Any]) -> None:
+    from analyzer_lab.classroom.course import Course
+    from analyzer_lab.classroom.store.sql_store import SqlStore
+
+    store = SqlStore("sqlite://")
+    course = Course(store, store.open_class("lifetime", join_code="LIFE42"), b"l" * 32)
+    lab = make_lab(lesson="sphere", course=course, warm_up=False)
+    url = f"ws://127.0.0.1:{lab.port}/"
+
+    async def checked(k: int) -> None:
+        c = await ProtoClient(url).start()
+        await c.wait_for("Check my answer", 60)
+        await c.set("Assignment", "sphere-equator", 0.3)
+        await c.set("Join code", "LIFE42", 0.1)
+        await c.set("Your name", f"Student {k}", 0.1)
+        await c.click("Check my answer", 0.0)
+        await until(
+            lambda: any("al-check" in h for h in c.html.values() if "al-assignment" in h),
+            90,
+            "the verdict",
+        )
+        await c.close()
+
+    async def go() -> None:
+        await asyncio.gather(*(checked(k) for k in range(3)))
+
+    asyncio.run(go())
+    assert len(store.attempts(course.info.id)) == 3  # recorded before each page was told
+    left = wait_until(
+        lambda: _when(_alive(lab), lambda a: not any(a.values())),
+        timeout=30.0,
+        what="the checked pages' views, entries and sessions to be released",
     )
     assert left == dict.fromkeys(left, 0)
 

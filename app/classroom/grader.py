@@ -270,41 +270,48 @@ class Grader:
                 proc.join(timeout=2.0)
 
     def _run(self) -> None:
-        while True:
+        while self._serve_one():
+            pass
+
+    def _serve_one(self) -> bool:
+        """Wait for the next answer (or a request to start the worker) and check it;
+        False once the grader is stopped.  One call per answer: the thread then waits
+        holding nothing of the last one (its callbacks hold the page and its session)."""
+        with self._cond:
+            while not self._stopped and not self._waiting and not self._want_worker:
+                self._cond.wait()
+            if self._stopped:
+                return False
+            job = self._waiting.popleft() if self._waiting else None
+            self._current = job
+            self._want_worker = False
+            places = [(j.on_place, k + 1) for k, j in enumerate(self._waiting)]
+        try:
+            if self._proc is None or not self._proc.is_alive():
+                if self._proc is not None:
+                    self.stats["restarts"] += 1
+                    self._stop_worker()
+                self._start_worker()
+            if job is None:
+                return True
+            _tell(job.on_place, 0)
+            for tell, k in places:
+                _tell(tell, k)
+            outcome = self._grade(job)
+        except Exception as exc:  # the grader's thread goes on; the student is told
+            log.exception("grading failed")
+            outcome = GradeOutcome(
+                None, Message(N_("the answer could not be checked ({why})"), why=str(exc))
+            )
+        finally:
             with self._cond:
-                while not self._stopped and not self._waiting and not self._want_worker:
-                    self._cond.wait()
-                if self._stopped:
-                    return
-                job = self._waiting.popleft() if self._waiting else None
-                self._current = job
-                self._want_worker = False
-                places = [(j.on_place, k + 1) for k, j in enumerate(self._waiting)]
+                self._current = None
+        if job is not None:
             try:
-                if self._proc is None or not self._proc.is_alive():
-                    if self._proc is not None:
-                        self.stats["restarts"] += 1
-                        self._stop_worker()
-                    self._start_worker()
-                if job is None:
-                    continue
-                _tell(job.on_place, 0)
-                for tell, k in places:
-                    _tell(tell, k)
-                outcome = self._grade(job)
-            except Exception as exc:  # the grader's thread goes on; the student is told
-                log.exception("grading failed")
-                outcome = GradeOutcome(
-                    None, Message(N_("the answer could not be checked ({why})"), why=str(exc))
-                )
-            finally:
-                with self._cond:
-                    self._current = None
-            if job is not None:
-                try:
-                    job.on_done(outcome)
-                except Exception:  # a page's own fault: logged, the line goes on
-                    log.exception("a page could not be told its verdict")
+                job.on_done(outcome)
+            except Exception:  # a page's own fault: logged, the line goes on
+                log.exception("a page could not be told its verdict")
+        return True
 
     def _grade(self, job: _Job) -> GradeOutcome:
         conn = self._conn
