@@ -252,3 +252,13 @@ def test_a_lessons_note_is_shown_in_the_pages_language(labs: dict[str, Any]) -> 
             await c.close()
 
     asyncio.run(go())
+
+
+def test_the_lesson_head_writes_names_as_the_textbook_does() -> None:
+    from analyzer_lab.i18n import ENGLISH
+    from analyzer_lab.lessons.catalog import get_lesson
+    from analyzer_lab.view.page import lesson_head_html
+
+    head = lesson_head_html(get_lesson("planar-3axis"), ENGLISH)
+    assert "turns by φ" in head and "x<sub>A</sub>, y<sub>A</sub>, φ" in head, head
+    assert "phi" not in head and "x_A" not in head

@@ -32,13 +32,13 @@ from typing import TYPE_CHECKING, Any
 
 from analyzer_lab.i18n import ENGLISH, N_, Language, language_of, picker_languages
 from analyzer_lab.lesson_texts import lesson_label
-from analyzer_lab.lessons.kit.contract import Param, ParamError
+from analyzer_lab.lessons.kit.contract import Lesson, Param, ParamError
 from analyzer_lab.lessons.kit.formula import Formula, plain_number
 from analyzer_lab.session.session import LabError, Session
 from analyzer_lab.view.controls import ParamControls
 from analyzer_lab.view.export import ExportPanel
 from analyzer_lab.view.extents import preset_extent
-from analyzer_lab.view.math import derivation_to_html
+from analyzer_lab.view.math import derivation_to_html, prose_html
 from analyzer_lab.view.persistence import save_state
 from analyzer_lab.view.plots import PlotPanel
 from analyzer_lab.view.readout import preset_note_html, readout_html, speed_label, status_html
@@ -83,6 +83,18 @@ class ViewConfig:
     plot_send_every: int = 6  # frames between plot uploads (round-robin over plots)
     readout_every: int = 6  # frames between time readouts
 
+
+
+def lesson_head_html(lesson: Lesson, language: Language) -> str:
+    """The lesson's head: problem, title, source and summary in ``language``, escaped,
+    with names written as the textbook writes them (φ, x with subscript A)."""
+    text = language.lesson_text
+    problem, title = html.escape(text(lesson.problem)), prose_html(text(lesson.title))
+    return (
+        f'<div class="al-lesson-head" style="font-size:0.95em"><b>{problem} · {title}</b><br>'
+        f'<span style="color:#555">{html.escape(text(lesson.source))}</span><br>'
+        f"{prose_html(text(lesson.summary))}</div>"
+    )
 
 class SessionView:
     """One browser tab: its GUI, its scene, and the frames of its session."""
@@ -348,13 +360,7 @@ class SessionView:
                 self.pause_cb.on_update(self.guard(self._on_pause_at_end))
         self._build_plots()
         self.exports.show_default_step(lesson, self.session.t_end)
-        esc, text = html.escape, self.language.lesson_text
-        problem, title = esc(text(lesson.problem)), esc(text(lesson.title))
-        self.lesson_head.content = (
-            f'<div class="al-lesson-head" style="font-size:0.95em"><b>{problem} · {title}</b><br>'
-            f'<span style="color:#555">{esc(text(lesson.source))}</span><br>'
-            f"{esc(text(lesson.summary))}</div>"
-        )
+        self.lesson_head.content = lesson_head_html(lesson, self.language)
         self._drawn_lesson = lesson.id
 
     def _retire(self, folders: list[Any]) -> None:
