@@ -163,7 +163,7 @@ def main(argv: list[str] | None = None) -> int:
     os.environ["ANALYZER_LAB_STATS"] = "10"
     try:
         with open(log_path, "w") as log:
-            proc = start_server(port, "sphere", log, ("--join-code", JOIN))
+            proc = start_server(port, "sphere", log, ("--join-code", JOIN), ready_within=180.0)
     finally:
         if before is None:
             os.environ.pop("ANALYZER_LAB_STATS", None)

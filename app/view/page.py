@@ -84,7 +84,6 @@ class ViewConfig:
     readout_every: int = 6  # frames between time readouts
 
 
-
 def lesson_head_html(lesson: Lesson, language: Language) -> str:
     """The lesson's head: problem, title, source and summary in ``language``, escaped,
     with names written as the textbook writes them (φ, x with subscript A)."""
@@ -95,6 +94,7 @@ def lesson_head_html(lesson: Lesson, language: Language) -> str:
         f'<span style="color:#555">{html.escape(text(lesson.source))}</span><br>'
         f"{prose_html(text(lesson.summary))}</div>"
     )
+
 
 class SessionView:
     """One browser tab: its GUI, its scene, and the frames of its session."""

@@ -29,11 +29,15 @@ def free_port() -> int:
 
 
 def start_server(
-    port: int, lesson: str, log: Any = subprocess.DEVNULL, extra_args: tuple[str, ...] = ()
+    port: int,
+    lesson: str,
+    log: Any = subprocess.DEVNULL,
+    extra_args: tuple[str, ...] = (),
+    ready_within: float = 30.0,
 ) -> subprocess.Popen:
     """``python -m analyzer_lab serve`` (plus ``extra_args``) in a subprocess, its stderr to
-    ``log``; returns when it said it is ready and its HTTP answers (polled, at most 30 s;
-    the page is served before the lessons are loaded)."""
+    ``log``; returns when it said it is ready and its HTTP answers (polled, at most
+    ``ready_within`` s; the page is served before the lessons are loaded)."""
     env = dict(os.environ)
     env["PYTHONPATH"] = str(ROOT) + os.pathsep + env.get("PYTHONPATH", "")
     env.setdefault("ANALYZER_LAB_STATS", "5")
@@ -46,7 +50,7 @@ def start_server(
         stderr=log,
         cwd=ROOT,
     )
-    deadline = time.monotonic() + 30
+    deadline = time.monotonic() + ready_within
     try:
         while time.monotonic() < deadline:
             out.seek(0)
@@ -62,7 +66,7 @@ def start_server(
     finally:
         out.close()
     proc.kill()
-    raise RuntimeError("the server was not ready within 30 s")
+    raise RuntimeError(f"the server was not ready within {ready_within:g} s")
 
 
 def stop_process(proc: subprocess.Popen) -> None:
