@@ -12,7 +12,7 @@ import pytest
 from analyzer_lab.lessons.analyzers.sphere import V2_TABLE
 from analyzer_lab.lessons.catalog import all_lessons
 from analyzer_lab.session.session import LabError, Session
-from analyzer_lab.view.export import export_run, grid_run, parse_step
+from analyzer_lab.view.export import export_run, grid_run, paced_json, parse_step, thinned
 
 
 def _session(lesson: str, preset: str) -> Session:
@@ -148,3 +148,48 @@ def test_the_pacer_rests_after_its_share_of_work() -> None:
         pace()
     assert pace.rested >= 0.04  # about twice the 50 ms of work
     assert time.monotonic() - t0 >= 0.09
+
+
+@pytest.mark.parametrize(
+    ("lesson", "preset", "kind"),
+    [
+        ("sphere", "example-1.2", "json"),
+        ("servo-errors", "circle", "json"),
+        ("sphere", "example-1.1", "frames-json"),
+        ("servo-errors", "circle", "frames-json"),
+    ],
+)
+def test_the_json_is_written_in_slices_byte_for_byte_as_one_dump(
+    lesson: str, preset: str, kind: str
+) -> None:
+    import json
+
+    s = _session(lesson, preset)
+    if kind.startswith("frames"):
+        s.go_to(2.0)
+        result = thinned(s.run_result())
+    else:
+        result = grid_run(s, None)
+    expected = json.dumps(result.to_json_dict(), indent=1).encode()
+    name, data = export_run(s, kind)
+    assert name.endswith(".json") and len(data) > 1000
+    assert data == expected
+
+
+def test_the_paced_json_writer_matches_json_dumps_and_is_charged_as_it_goes() -> None:
+    import json
+
+    from analyzer_lab.limits import charged_by
+
+    data = {
+        "a": [1.5, float("nan"), float("inf"), -0.0, 10**20, 'é\u202e"\\'],
+        "b": {"c": [], "d": {}, "e": [[1, 2], [None, True, False]]},
+        "t": [k / 7 for k in range(100_000)],
+    }
+    charges: list[int] = []
+    with charged_by(lambda: float(charges.append(1) or 0.0)):
+        text = paced_json(data)
+    assert text == json.dumps(data, indent=1)
+    # the page callback's budget was charged between slices (every 4 ms of CPU), not once
+    assert len(charges) >= 3, charges
+    assert paced_json([]) == "[]" and paced_json(3.25) == "3.25"

@@ -160,6 +160,68 @@ def test_callbacks_take_turns_within_the_cpu_budget() -> None:
         ex.shutdown(wait=False)
 
 
+def _burn(seconds: float, paced: bool) -> None:
+    """``seconds`` of this thread's CPU; ``paced``: charged as it goes (an export's loop)."""
+    from analyzer_lab.limits import charge_running
+
+    end = time.thread_time() + seconds
+    mark = time.thread_time()
+    while time.thread_time() < end:
+        if paced and time.thread_time() - mark >= 0.004:
+            charge_running()
+            mark = time.thread_time()
+
+
+def test_a_long_callback_is_charged_as_it_runs_and_others_keep_their_turn() -> None:
+    from concurrent.futures import ThreadPoolExecutor
+
+    ex = vb.OrderedExecutor(ThreadPoolExecutor(2), share=0.2, burst=0.05, workers=3)
+    try:
+        t0 = time.monotonic()
+        long = ex.submit_for("export", _burn, 0.4, True)
+        waits: list[float] = []
+        while not long.done():
+            t = time.monotonic()
+            ex.submit_for("other", _burn, 0.002, False).result(timeout=30)
+            waits.append(time.monotonic() - t)
+            time.sleep(0.1)  # a page's next input
+        took = time.monotonic() - t0
+        # 0.4 s of CPU at a share of 0.2: the export itself waited its turns (about 2 s)
+        assert took > 1.2, took
+        # the share held while it ran: CPU <= burst + share x wall time (+ one slice)
+        assert ex.stats["cpu"] <= 0.05 + 0.2 * took + 0.03, (ex.stats, took)
+        assert len(waits) >= 5, waits
+        # the other page answered all along, each in a small part of the export's time
+        assert max(waits) < 0.25 * took, (max(waits), took)
+        # and right after: the export left at most one slice unpaid (not 0.4 / 0.2 = 2 s)
+        assert ex.budget.wait_time() < 0.2 * took, (ex.budget.wait_time(), took)
+        t = time.monotonic()
+        ex.submit_for("other", _burn, 0.002, False).result(timeout=30)
+        assert time.monotonic() - t < 0.25 * took, (time.monotonic() - t, took)
+
+        # a callback that never calls charge_running pays at its end: the next one waits
+        ex.budget.wait()
+        ex.submit_for("export", _burn, 0.3, False).result(timeout=30)
+        assert ex.budget.wait_time() > 0.8, (
+            ex.budget.wait_time()
+        )  # about (0.3 - 0.05) / 0.2 = 1.25 s
+    finally:
+        ex.shutdown(wait=False)
+
+
+def test_charge_running_outside_a_callback_charges_nothing() -> None:
+    from analyzer_lab.limits import charge_running, charged_by
+
+    assert charge_running() == 0.0
+    calls: list[int] = []
+    with charged_by(lambda: float(calls.append(1) or 0.25)):
+        assert charge_running() == 0.25
+        with charged_by(lambda: 0.5):
+            assert charge_running() == 0.5
+        assert charge_running() == 0.25
+    assert charge_running() == 0.0 and calls == [1, 1]
+
+
 def test_submit_callback_goes_through_the_ordered_executor(server: Any) -> None:
     done: list[int] = []
     assert vb.submit_callback(server, ("replay", 1), done.append, 5)

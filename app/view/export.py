@@ -120,7 +120,7 @@ def export_run(
         raise LabError(f"unknown export {kind[:20]!r}")
     if kind.endswith("csv"):
         return stem + ".csv", paced_csv(result).encode()
-    return stem + ".json", json.dumps(result.to_json_dict(), indent=1).encode()
+    return stem + ".json", paced_json(result.to_json_dict()).encode()
 
 
 def thinned(result: RunResult) -> RunResult:
@@ -157,6 +157,22 @@ def paced_csv(result: RunResult) -> str:
         w.writerow([repr(float(x)) for x in row])
         pace()
     return buf.getvalue()
+
+
+#: JSON pieces (keys, numbers, brackets) written between two looks at the pacer.
+JSON_SLICE = 512
+
+
+def paced_json(data: Any) -> str:
+    """``json.dumps(data, indent=1)`` (the same text), written in slices with pauses
+    (:class:`~analyzer_lab.limits.Pacer`)."""
+    parts: list[str] = []
+    pace = Pacer()
+    for k, part in enumerate(json.JSONEncoder(indent=1).iterencode(data)):
+        parts.append(part)
+        if k % JSON_SLICE == 0:
+            pace()
+    return "".join(parts)
 
 
 class ExportPanel:

@@ -12,6 +12,8 @@ from collections.abc import Callable
 from concurrent.futures import Future
 from typing import Any
 
+from analyzer_lab.limits import charged_by
+
 log = logging.getLogger(__name__)
 
 #: A connection's socket is not read while this many of its callbacks wait to run.
@@ -34,7 +36,8 @@ CONNECTION: contextvars.ContextVar[int | None] = contextvars.ContextVar(
 
 class CpuBudget:
     """CPU seconds that callbacks may spend: ``share`` per second of wall time, up to
-    ``burst`` saved; one callback may overdraw it (the next waits until it is paid)."""
+    ``burst`` saved; a callback may overdraw it by what it used since it was last charged
+    (the next waits until it is paid)."""
 
     def __init__(self, share: float, burst: float) -> None:
         self.share = float(share)
@@ -58,6 +61,42 @@ class CpuBudget:
         with self.lock:
             self._refill()
             self.tokens -= seconds
+
+    def wait(self) -> float:
+        """Sleep until the budget is positive again; the seconds slept."""
+        slept = 0.0
+        pause = self.wait_time()
+        while pause > 0:
+            time.sleep(min(pause, 0.05))
+            slept += min(pause, 0.05)
+            pause = self.wait_time()
+        return slept
+
+
+class RunningCharge:
+    """The thread CPU time of one running callback, charged to ``budget`` as it runs:
+    :meth:`charge` (called from the callback's long loops through
+    :func:`~analyzer_lab.limits.charge_running`) charges what it used since the last
+    mark, and waits while the budget is spent, so a long callback (an export) takes its
+    share in turns with the other pages' callbacks instead of paying it all at its end
+    (which held every page's controls for ``used / share`` seconds afterwards)."""
+
+    def __init__(self, budget: CpuBudget) -> None:
+        self.budget = budget
+        self.mark = time.thread_time()
+        self.used = 0.0
+        self.waited = 0.0
+
+    def charge(self, wait: bool = True) -> float:
+        """Charge the CPU used since the last mark; wait (``wait``) while the budget is
+        spent; the seconds waited."""
+        now = time.thread_time()
+        self.used += now - self.mark
+        self.budget.spend(now - self.mark)
+        self.mark = now  # the waiting's own CPU is charged next time
+        waited = self.budget.wait() if wait else 0.0
+        self.waited += waited
+        return waited
 
 
 #: The attribute of a viser ``GuiEvent`` that keeps the value its message carried.
@@ -98,8 +137,11 @@ class OrderedExecutor:
     could show the old checkbox value over the new one), and many pages' inputs could
     take the interpreter from the frame loop.  Here each connection has a queue; a few
     worker threads take one callback from the next connection in turn, and wait while
-    the budget is spent (a callback's thread CPU time is charged to it).  Work submitted
-    outside a connection's message (connect handlers, server code) goes to the pool."""
+    the budget is spent.  A callback's thread CPU time is charged as it runs
+    (:class:`RunningCharge`: its long loops call
+    :func:`~analyzer_lab.limits.charge_running`, and wait there while the budget is
+    spent) and the rest at its end.  Work submitted outside a connection's message
+    (connect handlers, server code) goes to the pool."""
 
     def __init__(
         self,
@@ -151,21 +193,18 @@ class OrderedExecutor:
                     return
                 key = self._ready.popleft()
                 fut, fn, args, kwargs = self._queues[key].popleft()
-            wait = self.budget.wait_time()
-            while wait > 0:
-                self.stats["waited"] += wait
-                time.sleep(min(wait, 0.05))
-                wait = self.budget.wait_time()
+            self.stats["waited"] += self.budget.wait()
             if fut.set_running_or_notify_cancel():
-                cpu = time.thread_time()
-                try:
-                    fut.set_result(fn(*args, **kwargs))
-                except BaseException as exc:  # noqa: BLE001 - delivered to the future (viser logs it)
-                    fut.set_exception(exc)
-                used = time.thread_time() - cpu
-                self.budget.spend(used)
+                running = RunningCharge(self.budget)
+                with charged_by(running.charge):
+                    try:
+                        fut.set_result(fn(*args, **kwargs))
+                    except BaseException as exc:  # noqa: BLE001 - delivered to the future (viser logs it)
+                        fut.set_exception(exc)
+                running.charge(wait=False)  # the rest, paid by the next callback's wait
                 self.stats["run"] += 1
-                self.stats["cpu"] += used
+                self.stats["cpu"] += running.used
+                self.stats["waited"] += running.waited
             # the worker waits for its next callback holding nothing of this one: its
             # arguments (a GUI event, its handle, the page's view) would otherwise stay
             # alive as this thread's locals after the page left
