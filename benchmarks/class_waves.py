@@ -8,7 +8,8 @@ Runs ``python -m analyzer_lab serve --join-code ...`` as a subprocess.  Each wav
 pages (real websocket clients speaking viser's protocol, from five loopback addresses)
 open, choose one of the sphere's examples, set the speed and play; ``--graders`` of them
 choose an assignment, give the class's join code and a name, and press "Check my answer"
-(checked by the grader's worker process) and wait for their verdict; at the wave's end
+(checked by the grader's worker process) and wait for their verdict; those pages (at
+least five) count the moving point's updates, the others read without decoding; at the wave's end
 every page leaves.  The waves together play ``--lesson-minutes`` of lesson time at
 ``--speed`` (60 lesson minutes at 8x: 7.5 minutes of wall time).  After each wave the
 script waits for the server's next ``[classroom]`` figures and reads its memory (RSS);
@@ -44,14 +45,17 @@ PRESETS = ("example-1.1", "example-1.2", "example-1.3")
 SOURCES = tuple(f"127.0.0.{k}" for k in range(2, 7))
 
 
-async def _player(url: str, k: int, speed: str, rng: random.Random) -> ProtoClient:
+async def _player(url: str, k: int, speed: str, rng: random.Random, measured: bool) -> ProtoClient:
+    """A page that plays; a page not ``measured`` then reads its socket without decoding
+    it (the clients' own CPU stays off the server's machine)."""
     c = await ProtoClient(url, source=SOURCES[k % len(SOURCES)]).start()
     await c.wait_for("Run", 60)
     await c.set("Preset", rng.choice(PRESETS), 0.2)
     await c.set("Speed", speed, 0.05)
     await c.set("pause at t_end", False, 0.05)
     await c.set("Run", "Play", 0.05)
-    c.measuring = True
+    c.measuring = measured
+    c.skim = not measured
     return c
 
 
@@ -79,7 +83,8 @@ async def wave(
     rng = random.Random(k)
     t0 = time.monotonic()
     opened = await asyncio.gather(
-        *(_player(url, j, speed, rng) for j in range(pages)), return_exceptions=True
+        *(_player(url, j, speed, rng, measured=j < max(graders, 5)) for j in range(pages)),
+        return_exceptions=True,
     )
     clients = [c for c in opened if isinstance(c, ProtoClient)]
     failed = [repr(c)[:120] for c in opened if not isinstance(c, ProtoClient)]
@@ -92,7 +97,7 @@ async def wave(
     )
     await asyncio.sleep(max(0.0, seconds - (time.monotonic() - t0)))
     played = time.monotonic() - t0 - joined
-    rates = [c.point_updates / max(played, 1e-9) for c in clients]
+    rates = [c.point_updates / max(played, 1e-9) for c in clients if c.measuring]
     for c in clients:
         await c.close()
     return {
