@@ -46,6 +46,7 @@ from analyzer_lab.lessons.assignments import (
     release,
 )
 from analyzer_lab.lessons.assignments import draft as draft_assignment
+from analyzer_lab.lessons.assignments.spec import said
 from analyzer_lab.lessons.assignments.variants import DEFAULT_CLASS
 from analyzer_lab.lessons.kit.message import Message
 from analyzer_lab.session.session import LabError
@@ -92,7 +93,7 @@ def task_html(a: Assignment, language: Language = ENGLISH) -> str:
     hint_head = tr("Hint:")
     numbers = tr("Your numbers: {numbers}").format(numbers=_numbers(a)) if a.variant else ""
     return _box(
-        f"<b>{esc(a.title)}</b> <span style='color:#555'>({esc(a.lesson)})</span><br>"
+        f"<b>{esc(a.title_in(language.code))}</b> <span style='color:#555'>({esc(a.lesson)})</span><br>"
         f"{esc(a.task_in(language.code))}<br><b>{esc(may)}</b> "
         f"{esc(', '.join(a.unlocked))} {esc(locked)}<br><b>{esc(goal)}</b>"
         f"<ul style='margin:2px 0 2px 1.1em;padding:0'>{checks}</ul>"
@@ -518,7 +519,7 @@ class StudentPanel:
             self.open(value)
         except AssignmentError as exc:
             self.close()
-            raise LabError(str(exc)) from None
+            raise LabError(said(exc)) from None
 
     def open(self, aid: str, pushed: bool = False) -> None:
         """Load the assignment's lesson, preset and start values, lock the other fields
@@ -551,7 +552,7 @@ class StudentPanel:
                 if pushed
                 else N_("opened assignment {id}: {title}"),
                 id=a.id,
-                title=a.title,
+                title=a.title_in(self.view.language.code),
             )
         )
         if pushed:
@@ -559,7 +560,9 @@ class StudentPanel:
                 tr = self.view.language.gettext
                 self.view.client.add_notification(
                     tr("Assignment"),
-                    tr("the instructor gave you: {title}").format(title=a.title),
+                    tr("the instructor gave you: {title}").format(
+                        title=a.title_in(self.view.language.code)
+                    ),
                     auto_close_seconds=6.0,
                 )
             except RuntimeError:  # the page left meanwhile
@@ -896,7 +899,7 @@ class TeacherPanel:
                     title=language.lesson_text(lesson.title)
                 )
         except (AssignmentError, LabError, ValueError) as exc:
-            self.a_error.content = error_html(str(exc))
+            self.a_error.content = error_html(self.view.language.message(exc))
             return
         done = self.view.language.gettext("downloaded {name}").format(name=f"{data['id']}.json")
         self.a_error.content = _box(esc(done), "#1b7a2e")

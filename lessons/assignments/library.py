@@ -17,6 +17,7 @@ from analyzer_lab.lessons.assignments.spec import (
     load_assignment,
     parse_assignment,
 )
+from analyzer_lab.lessons.kit.message import N_, Message
 
 #: The ready assignments shipped with the lab (one or more per lesson): the source tree's
 #: ``assets/assignments``, or where an installed wheel puts them.
@@ -35,15 +36,27 @@ def load_folder(folder: str | Path) -> list[Assignment]:
 
     d = Path(folder)
     if not d.is_dir():
-        raise AssignmentError(str(d), "", "is not a folder")
+        raise AssignmentError(str(d), "", Message(N_("is not a folder")))
     files = sorted(d.glob("*.json"))
     if len(files) > MAX_FILES:
-        raise AssignmentError(str(d), "", f"holds {len(files)} files; the limit is {MAX_FILES}")
+        raise AssignmentError(
+            str(d),
+            "",
+            Message(
+                N_("holds {count} files; the limit is {limit}"), count=len(files), limit=MAX_FILES
+            ),
+        )
     out: dict[str, Assignment] = {}
     for f in files:
         a = load_assignment(f)
         if a.id in out:
-            raise AssignmentError(str(f), "id", f"{a.id!r} is also the id of {out[a.id].source}")
+            raise AssignmentError(
+                str(f),
+                "id",
+                Message(
+                    N_("{id} is also the id of {source}"), id=repr(a.id), source=out[a.id].source
+                ),
+            )
         out[a.id] = a
     order = {l.id: k for k, l in enumerate(all_lessons())}
     return sorted(out.values(), key=lambda a: (order.get(a.lesson, 999), a.id))
