@@ -58,6 +58,13 @@ if TYPE_CHECKING:
 log = logging.getLogger(__name__)
 
 NONE = N_("(none)")  # the picker's "no assignment", shown in the page's language
+#: What the instructor's authoring folder says it does.
+AUTHORING = N_(
+    "The current lesson and values become the assignment; its goal:"
+    " the chosen series end where they end now and stay as small as"
+    " now, the chosen metrics (e.g. A0, T, deviation_max_um) stay at"
+    " their values."
+)
 #: Seconds between two reads of the course record for the instructor's table (the
 #: attempts of pages on other workers arrive within this).
 POLL_SECONDS = 1.0
@@ -770,18 +777,7 @@ class TeacherPanel:
             )
             self.author = gui.add_folder(tr("Author from this state"), expand_by_default=False)
             with self.author:
-                gui.add_html(
-                    _box(
-                        esc(
-                            tr(
-                                "The current lesson and values become the assignment; its goal:"
-                                " the chosen series end where they end now and stay as small as"
-                                " now, the chosen metrics (e.g. A0, T, deviation_max_um) stay at"
-                                " their values."
-                            )
-                        )
-                    )
-                )
+                self.a_intro = gui.add_html(_box(esc(tr(AUTHORING))))
                 self.a_id = gui.add_text(tr("Id"), initial_value="my-assignment")
                 self.a_title = gui.add_text(tr("Title"), initial_value="My assignment")
                 self.a_task = gui.add_text(tr("Task"), initial_value="", multiline=True)
@@ -798,7 +794,39 @@ class TeacherPanel:
         self.csv_btn.on_click(self._cb(self._csv))
         self.grades_btn.on_click(self._cb(self._grades))
         self.a_btn.on_click(self._cb(self._draft))
+        view.language_hooks.append(self._relabel)  # a switch after the role was granted
         self.suggest()
+        self.update()
+
+    def _relabel(self, view: SessionView) -> None:
+        """The folder in the page's language now (after a switch of it; caller holds the
+        session lock): its labels, "no assignment" in the picker, the live table."""
+        tr = view.language.gettext
+        none = tr(NONE)
+        self.folder.label = tr("Assignments (class)")
+        self.picker.label = tr("Assignment for all")
+        chosen = self.picker.value
+        self.picker.options = self.board.choices(none)
+        self.picker.value = chosen if chosen in self.board.assignments else none
+        self.push_btn.label = tr("Push assignment to all")
+        self.csv_btn.label = tr("Download results (CSV)")
+        self.grades_btn.label = tr("Download grades (Moodle CSV)")
+        self.grades_btn.hint = tr(
+            "one row per student, one column per assignment: 1 passed, 0 not yet"
+        )
+        self.author.label = tr("Author from this state")
+        self.a_intro.content = _box(esc(tr(AUTHORING)))
+        for widget, label in (
+            (self.a_id, "Id"),
+            (self.a_title, "Title"),
+            (self.a_task, "Task"),
+            (self.a_unlocked, "Unlocked"),
+            (self.a_series, "Series to check"),
+            (self.a_metrics, "Metrics to check"),
+            (self.a_btn, "Download assignment"),
+        ):
+            widget.label = tr(label)
+        self.a_error.content = ""
         self.update()
 
     def _cb(self, fn: Any) -> Any:

@@ -25,6 +25,8 @@ _SOURCE_READY = Path(__file__).resolve().parents[2] / "assets" / "assignments"
 _INSTALLED_READY = Path(sys.prefix) / "share" / "analyzer-lab" / "assignments"
 READY_DIR = _SOURCE_READY if _SOURCE_READY.is_dir() else _INSTALLED_READY
 MAX_FILES = 500
+#: Where a refusal of a drafted assignment says it is.
+DRAFT = Message(N_("draft"))
 
 
 def load_folder(folder: str | Path) -> list[Assignment]:
@@ -97,7 +99,13 @@ def draft(
     for i, name in enumerate(unlocked):
         if name not in known:
             raise AssignmentError(
-                "draft", f"unlocked[{i}]", f"{name[:40]!r} is not a parameter of {lesson.id}"
+                DRAFT,
+                f"unlocked[{i}]",
+                Message(
+                    N_("{name} is not a parameter of {lesson}"),
+                    name=repr(name[:40]),
+                    lesson=lesson.id,
+                ),
             )
     params = lesson.resolve(dict(values), preset)
     te = float(t_end if t_end is not None else lesson.preset_t_end(preset))
@@ -107,11 +115,17 @@ def draft(
     for name in series:
         if name not in usable or name not in run.series:
             raise AssignmentError(
-                "draft", "series", f"{name[:40]!r} is not a series of {lesson.id}"
+                DRAFT,
+                "series",
+                Message(
+                    N_("{name} is not a series of {lesson}"), name=repr(name[:40]), lesson=lesson.id
+                ),
             )
         v = np.asarray(run.series[name], dtype=float)
         if not np.isfinite(v).all():
-            raise AssignmentError("draft", "series", f"{name} is not finite on the whole run")
+            raise AssignmentError(
+                DRAFT, "series", Message(N_("{name} is not finite on the whole run"), name=name)
+            )
         size = float(np.max(np.abs(v)))
         scale = max(size, 1e-9)
         checks.append(
@@ -137,11 +151,19 @@ def draft(
         value = run.metrics.get(name)
         if isinstance(value, bool) or not isinstance(value, (int, float, np.number)):
             raise AssignmentError(
-                "draft", "metrics", f"{name[:40]!r} is not a numeric metric of {lesson.id}"
+                DRAFT,
+                "metrics",
+                Message(
+                    N_("{name} is not a numeric metric of {lesson}"),
+                    name=repr(name[:40]),
+                    lesson=lesson.id,
+                ),
             )
         value = float(value)
         if not np.isfinite(value):
-            raise AssignmentError("draft", "metrics", f"{name} is not finite in this run")
+            raise AssignmentError(
+                DRAFT, "metrics", Message(N_("{name} is not finite in this run"), name=name)
+            )
         slack = margin * max(abs(value), 1e-9)
         slug = name.lower().replace("_", "-")
         checks.append(
@@ -169,7 +191,7 @@ def draft(
         "reference": reference or lesson.source,
         "answers": {"correct": correct},
     }
-    parse_assignment(data, "draft")
+    parse_assignment(data, DRAFT)
     return data
 
 
