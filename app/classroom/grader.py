@@ -342,7 +342,8 @@ class Grader:
                 ),
             )
         self.stats["refused" if kind == "refused" else "failed"] += 1
-        return GradeOutcome(None, str(value), field)
+        # its Message as it came: the page shows it in its own language
+        return GradeOutcome(None, value if isinstance(value, Message) else str(value), field)
 
 
 def _tell(on_place: PlaceCallback, place: int) -> None:
