@@ -181,7 +181,12 @@ def test_the_instructors_assignments_folder_in_russian(make_lab: Callable[..., A
                 await inst.set("Задание для всех", TASK, 0.1)
                 await inst.click("Выдать задание всем")
                 await until(
-                    lambda: lab.classroom.board.students[sv.client.client_id].active is not None,
+                    lambda: (
+                        getattr(
+                            lab.classroom.board.students.get(sv.client.client_id), "active", None
+                        )
+                        is not None
+                    ),
                     20,
                     "the student's assignment",
                 )
