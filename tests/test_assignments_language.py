@@ -473,3 +473,14 @@ def test_a_refused_draft_on_a_russian_page_is_in_russian(make_lab: Callable[...,
             await inst.close()
 
     asyncio.run(go())
+
+
+def test_a_refused_varied_file_names_its_field_in_russian() -> None:
+    data = copy.deepcopy(dict(READY[TASK].data))
+    data["variables"] = {"s": {"from": 2, "to": 1.5, "step": 0.5}}
+    with pytest.raises(AssignmentError) as caught:
+        parse_assignment(json.loads(json.dumps(data)), "bad.json")
+    assert str(caught.value) == "bad.json: field variables.s.to: 1.5 is below 'from' (2)"
+    assert language_of("ru").message(caught.value) == (
+        "bad.json: поле variables.s.to: 1,5 меньше 'from' (2)"
+    )
