@@ -30,7 +30,7 @@ from analyzer_lab.lessons.kit.message import Message
 from analyzer_lab.pseudo import CODE as PSEUDO
 from analyzer_lab.pseudo import HTML_LANG as PSEUDO_HTML_LANG
 from analyzer_lab.pseudo import PseudoTranslations
-from analyzer_lab.text_numbers import abstract, restore
+from analyzer_lab.text_numbers import abstract, restore, with_decimal
 from babel.messages.catalog import Catalog
 from babel.messages.mofile import write_mo
 from babel.messages.pofile import PoFileError, read_po
@@ -189,6 +189,12 @@ class Language:
         found = self.lessons.gettext(key)
         return text if found == key else restore(found, numbers)
 
+    def prose(self, text: str) -> str:
+        """A lesson's prose shown as prose (a note, a preset's note, a frame's message):
+        :meth:`lesson_text` with its numbers written as the language writes them (the
+        decimal comma in Russian); formulas and exports keep the dot."""
+        return with_decimal(self.lesson_text(text), self.decimal)
+
     def gettext(self, message: str) -> str:
         return self.catalog.gettext(message)
 
@@ -207,10 +213,10 @@ class Language:
 
     def notice(self, text: object) -> str:
         """A notice a page shows in this language: a session's :class:`Message`
-        (:meth:`message`), or a lesson's note (:meth:`lesson_text`)."""
+        (:meth:`message`), or a lesson's note (:meth:`prose`)."""
         if isinstance(text, Message) or isinstance(text, BaseException):
             return self.message(text)
-        return self.lesson_text(str(text))
+        return self.prose(str(text))
 
     @property
     def html_lang(self) -> str:

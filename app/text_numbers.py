@@ -7,7 +7,9 @@ covers every run; :func:`restore` puts a run's numbers back as they were written
 their dot: a derivation's numbers are formula-like).  Numbers that belong to a name
 (``u1``, ``x0``, ``C1.4``), an equation number (``(1.58)``), a section (``§1.3``), a
 numbered example, problem or figure (``Example 1.2``, ``Figs. 1.27-1.29``), an ordinal
-(``2nd``) or an exponent (``x**2``, ``T2^2``) are part of the text and stay in it.
+(``2nd``) or an exponent (``x**2``, ``T2^2``) are part of the text and stay in it (so are
+the Russian ones: ``Пример 1.2``, ``рис. 1.27``).  :func:`with_decimal` writes a prose
+text's numbers with a language's decimal sign.
 """
 
 from __future__ import annotations
@@ -19,6 +21,8 @@ _PROTECTED = r"""
 | §\s*\d+(?:\.\d+)*
 | \b(?:Examples?|Problems?|Figs?\.|Figures?|[Ee]qs?\.?|Sections?|Chapters?|Ch\.|Tables?|pp?\.)
   \s*\d+(?:\.\d+)*[a-z]?(?:\s*(?:[-–,]|and)\s*\d+(?:\.\d+)*[a-z]?)*
+| \b(?:[Пп]ример|[Зз]адач|[Рр]ис|[Гг]лав|[Рр]аздел|[Тт]абл|[Уу]равнени|[Фф]ормул)[а-яё]*\.?
+  \s*\d+(?:\.\d+)*[a-z]?(?:\s*(?:[-–,]|и)\s*\d+(?:\.\d+)*[a-z]?)*
 | [A-Za-z_][A-Za-z_0-9]*(?:\.\d+)*
 """
 #: A standalone number: 0.05, 1e-05, -3, 2.4e+08 (a minus only where it is a sign).
@@ -55,4 +59,15 @@ def restore(template: str, numbers: list[str]) -> str:
     return template.format(*numbers)
 
 
-__all__ = ["abstract", "restore"]
+def with_decimal(text: str, sign: str) -> str:
+    """``text`` with its standalone numbers (as :func:`abstract` finds them) written with
+    the decimal ``sign`` (``0,05`` in Russian prose); names, equation, section, example and
+    figure numbers keep their dot."""
+    if sign == ".":
+        return text
+    return _TOKEN.sub(
+        lambda m: m.group() if m.group("num") is None else m.group().replace(".", sign), text
+    )
+
+
+__all__ = ["abstract", "restore", "with_decimal"]

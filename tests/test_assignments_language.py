@@ -17,7 +17,12 @@ from analyzer_lab.classroom.course import Course
 from analyzer_lab.classroom.store.sql_store import SqlStore
 from analyzer_lab.i18n import language_of
 from analyzer_lab.lessons.analyzers.sphere import LESSON as SPHERE
-from analyzer_lab.lessons.assignments import AssignmentError, grade, parse_assignment
+from analyzer_lab.lessons.assignments import (
+    AssignmentError,
+    grade,
+    parse_assignment,
+    ready_assignments,
+)
 
 from tests.support.client import ProtoClient, open_page
 from tests.support.waiting import until
@@ -25,6 +30,7 @@ from tests.support.waiting import until
 pytestmark = pytest.mark.timeout(300)
 TASK = "sphere-equator"
 RU_ID = "sphere-equator-ru"
+READY = {a.id: a for a in ready_assignments()}
 
 
 def _with_russian(board: Any) -> None:
@@ -42,6 +48,24 @@ def _html(c: ProtoClient, cls: str) -> str:
     return next((h for h in c.html.values() if cls in h), "")
 
 
+async def _chosen(lab: Any, code: str, aid: str, name: str) -> tuple[ProtoClient, Any, str]:
+    """A page of ``lab`` (in ``code``, its language) with the assignment ``aid`` chosen and
+    the student's ``name`` typed: its client, its view and the task once it shows the
+    student's numbers."""
+    tr = language_of(code).gettext
+    c, view = await open_page(lab, tr("Run"))
+    await c.wait_for(tr("Check my answer"))
+    await c.set(tr("Assignment"), aid, 0.2)
+    await c.set(tr("Your name"), name, 0.1)
+    numbers = tr("Your numbers: {numbers}").split("{")[0].rstrip(": ")
+    task = await until(
+        lambda: numbers in _html(c, "al-assignment-task") and _html(c, "al-assignment-task"),
+        30,
+        "the task",
+    )
+    return c, view, task
+
+
 def test_a_russian_page_shows_the_assignment_and_its_verdict_in_russian(
     labs: dict[str, Any],
 ) -> None:
@@ -51,21 +75,10 @@ def test_a_russian_page_shows_the_assignment_and_its_verdict_in_russian(
     s = board.variant(RU_ID, board.class_id, "Аня").values["s"]
 
     async def go() -> None:
-        c, view = await open_page(lab, "Движение")
+        c, view, task = await _chosen(lab, "ru", RU_ID, "Аня")
         try:
-            await c.wait_for("Проверить мой ответ")
             for english in ("Check my answer", "Your name", "Join code"):
                 assert english not in c.gui, english
-            await c.set("Задание", RU_ID, 0.2)
-            await c.set("Ваше имя", "Аня", 0.1)
-            task = await until(
-                lambda: (
-                    "Ваши числа" in _html(c, "al-assignment-task")
-                    and _html(c, "al-assignment-task")
-                ),
-                30,
-                "the task",
-            )
             assert f"со скоростью {s:g} м/с" in task  # the placeholder filled in
             shown = [view.language.notice(text) for _, text in view.session.notices]
             assert any(f"открыто задание {RU_ID}" in n for n in shown), shown
@@ -97,19 +110,8 @@ def test_an_english_page_shows_the_english_task(labs: dict[str, Any]) -> None:
     _with_russian(board)
 
     async def go() -> None:
-        c, view = await open_page(lab, "Run")
+        c, view, task = await _chosen(lab, "en", RU_ID, "Ann")
         try:
-            await c.wait_for("Check my answer")
-            await c.set("Assignment", RU_ID, 0.2)
-            await c.set("Your name", "Ann", 0.1)
-            task = await until(
-                lambda: (
-                    "Your numbers" in _html(c, "al-assignment-task")
-                    and _html(c, "al-assignment-task")
-                ),
-                30,
-                "the task",
-            )
             assert "You may change:" in task and "Goal:" in task and "Hint:" in task
             assert "Проведите" not in task and "Подсказка" not in task
         finally:
@@ -179,7 +181,12 @@ def test_the_instructors_assignments_folder_in_russian(make_lab: Callable[..., A
                 await inst.set("Задание для всех", TASK, 0.1)
                 await inst.click("Выдать задание всем")
                 await until(
-                    lambda: lab.classroom.board.students[sv.client.client_id].active is not None,
+                    lambda: (
+                        getattr(
+                            lab.classroom.board.students.get(sv.client.client_id), "active", None
+                        )
+                        is not None
+                    ),
                     20,
                     "the student's assignment",
                 )
@@ -228,19 +235,8 @@ def test_the_checks_described_by_the_model_and_their_verdict_in_russian(
     _without_labels(board)
 
     async def go() -> None:
-        c, view = await open_page(lab, "Движение")
+        c, view, task = await _chosen(lab, "ru", WORDS_ID, "Аня")
         try:
-            await c.wait_for("Проверить мой ответ")
-            await c.set("Задание", WORDS_ID, 0.2)
-            await c.set("Ваше имя", "Аня", 0.1)
-            task = await until(
-                lambda: (
-                    "Ваши числа" in _html(c, "al-assignment-task")
-                    and _html(c, "al-assignment-task")
-                ),
-                30,
-                "the task",
-            )
             assert "траектория (x, y, z) лежит в плоскости +0*x +0*y +1*z = 0" in task, task
             assert "(с допуском 1e-09)" in task
             assert "speed отличается от" in task
@@ -369,3 +365,122 @@ def test_the_assignment_folder_follows_a_switch_of_the_pages_language(
             await c.close()
 
     asyncio.run(go())
+
+
+REFUSALS = [
+    (
+        {"t_end": -1},
+        "bad.json: field t_end: must be positive, got -1",
+        "bad.json: поле t_end: должно быть положительным, получено -1",
+    ),
+    (
+        {"t_end": 2.5e4},
+        "bad.json: field t_end: 25000 is above the limit 10000",
+        "bad.json: поле t_end: 25000 больше предела 10000",
+    ),
+    (
+        {"unlocked": "u1"},
+        "bad.json: field unlocked: must be a non-empty list of parameter names, got text 'u1'",
+        "bad.json: поле unlocked: должно быть непустым списком имён параметров, получено: текст 'u1'",
+    ),
+    (
+        {"lesson": "nope"},
+        "bad.json: field lesson: no lesson 'nope' (see 'analyzer-lab lessons')",
+        "bad.json: поле lesson: нет урока 'nope' (см. 'analyzer-lab lessons')",
+    ),
+    (
+        {"extra": 1},
+        "bad.json: field extra: is not a field of an assignment",
+        "bad.json: поле extra: не является полем задания",
+    ),
+    (
+        {
+            "t_end": 1.25,
+            "checks": [{"id": "a", "kind": "within", "quantity": "x", "tolerance": 0.5, "at": 1.5}],
+        },
+        "bad.json: field checks[0].at: 1.5 is outside the run [0, 1.25]",
+        "bad.json: поле checks[0].at: 1,5 вне расчёта [0; 1,25]",
+    ),
+]
+
+
+@pytest.mark.parametrize(("change", "english", "russian"), REFUSALS)
+def test_a_refused_file_in_english_unchanged_and_in_russian(
+    change: dict[str, Any], english: str, russian: str
+) -> None:
+    """The refusal's English text is what it always was (logs, exports, tests compare
+    it); a Russian page or command shows it in Russian with its decimal commas."""
+    data = copy.deepcopy(dict(READY["circle-radius-2"].data))
+    data.update(change)
+    with pytest.raises(AssignmentError) as caught:
+        parse_assignment(json.loads(json.dumps(data)), "bad.json")
+    assert str(caught.value) == english
+    assert language_of("ru").message(caught.value) == russian
+    assert language_of("en").message(caught.value) == english
+
+
+def test_a_refused_answer_says_answer_in_russian(labs: dict[str, Any]) -> None:
+    a = labs["en"].classroom.board.variant(TASK, "class", "Ann").assignment
+    with pytest.raises(AssignmentError) as caught:
+        grade(a, {"u1": [1]})
+    assert str(caught.value) == "answer: field u1: must be a number, a formula text or true/false"
+    assert language_of("ru").message(caught.value) == (
+        "ответ: поле u1: должно быть числом, текстом формулы или true/false"
+    )
+
+
+def test_the_russian_title_on_a_russian_page(labs: dict[str, Any]) -> None:
+    board = labs["ru"].classroom.board
+    a = board.variant(TASK, board.class_id, "Аня").assignment
+    assert a.title_ru.startswith("По экватору со скоростью ") and "{" not in a.title_ru
+    assert html.escape(a.title) in task_html(a) and a.title_ru not in task_html(a)
+
+    async def go() -> None:
+        c, _, task = await _chosen(labs["ru"], "ru", TASK, "Аня")
+        try:
+            assert f"<b>{html.escape(a.title_ru)}</b>" in task, task
+            assert "Round the equator" not in task
+        finally:
+            await c.close()
+
+    asyncio.run(go())
+
+
+def test_a_refused_draft_on_a_russian_page_is_in_russian(make_lab: Callable[..., Any]) -> None:
+    lab = make_lab(
+        language="ru",
+        lessons=[SPHERE],
+        lesson="sphere",
+        instructor_code=CODE,
+        warm_up=False,
+        restore=False,
+    )
+
+    async def go() -> None:
+        inst, iv = await open_page(lab, "Движение")
+        try:
+            await inst.set("Код преподавателя", CODE, 0.1)
+            await inst.click("Стать преподавателем")
+            await inst.wait_for("Выдать задание всем")
+            ru = language_of("ru").gettext
+            await inst.set(ru("Unlocked"), "nope", 0.1)
+            await inst.click(ru("Download assignment"), 0.1)
+            panel = lab.classroom.board.teachers[iv.client.client_id]
+            shown = await until(lambda: panel.a_error.content, 30, "the refusal")
+            assert html.escape("черновик: поле unlocked[0]: 'nope' не является параметром") in shown
+            assert "is not a parameter" not in shown and "draft" not in shown
+        finally:
+            await inst.close()
+
+    asyncio.run(go())
+
+
+def test_a_refused_varied_file_names_its_field_in_russian() -> None:
+    data = copy.deepcopy(dict(READY[TASK].data))
+    data["variables"] = {"s": {"from": 2, "to": 1.5, "step": 0.5}}
+    with pytest.raises(AssignmentError) as caught:
+        parse_assignment(json.loads(json.dumps(data)), "bad.json")
+    assert str(caught.value) == "bad.json: field variables.s.to: 1.5 is below 'from' (2)"
+    assert language_of("ru").message(caught.value) == (
+        "bad.json: поле variables.s.to: 1,5 меньше 'from' (2)"
+    )

@@ -54,6 +54,17 @@ def panel_labels(lab: Any, view: Any) -> tuple[str, ...]:
     return p.folder.label, p.follow_btn.label, p.release_btn.label, p.notify_btn.label
 
 
+def teacher_labels(t: Any) -> tuple[str, ...]:
+    return (
+        t.folder.label,
+        t.picker.label,
+        t.push_btn.label,
+        t.csv_btn.label,
+        t.author.label,
+        t.a_btn.label,
+    )
+
+
 def test_the_classroom_folders_follow_the_pages_language(lab: Any) -> None:
     english_entry = (
         "Instructor",
@@ -104,7 +115,31 @@ def test_the_classroom_folders_follow_the_pages_language(lab: Any) -> None:
                 )
                 assert presenter_labels(lab, av)[:2] == ("Presenter", "Presenter mode")
                 counts = lab.classroom.instructors[av.client.client_id].counts.content
+                # the Assignments folder, built in Russian when the role was granted
+                teacher = lab.classroom.board.teachers[av.client.client_id]
+                assert teacher_labels(teacher) == (
+                    "Assignments (class)",
+                    "Assignment for all",
+                    "Push assignment to all",
+                    "Download results (CSV)",
+                    "Author from this state",
+                    "Download assignment",
+                )
+                assert teacher.picker.options[0] == "(none)"
+                assert teacher.picker.value == "(none)"
+                assert "become the assignment" in teacher.a_intro.content
+                assert "No assignment pushed" in teacher.table.content
             assert "connected" in counts and "подключено" not in counts
+            await a.set("Language", "Русский")
+            await until(lambda: av.language.code == "ru", 10, "the page in Russian again")
+            with av.session.lock:
+                assert teacher_labels(teacher)[:3] == (
+                    "Задания (класс)",
+                    "Задание для всех",
+                    "Выдать задание всем",
+                )
+                assert teacher.picker.options[0] == teacher.picker.value == RU.gettext("(none)")
+                assert "Задание не выдано" in teacher.table.content
         finally:
             lab.classroom.release()
             await a.close()

@@ -100,3 +100,30 @@ def test_a_russian_page_shows_the_grader_refusal_in_russian(labs: dict[str, Any]
 
 def _html(c: Any, cls: str) -> str:
     return next((h for h in c.html.values() if cls in h), "")
+
+
+def test_an_answer_the_worker_refuses_is_told_in_the_page_language() -> None:
+    """A refusal from the worker process comes back as its message: English in the
+    outcome's text (logs, API), Russian on a Russian page."""
+    g = Grader()
+    done = threading.Event()
+    told: list[GradeOutcome] = []
+    try:
+        g.submit(
+            "gus",
+            CHEAP,
+            {"u1": 1, "zz": 0},
+            lambda o: (told.append(o), done.set()),
+            lambda k: None,
+        )
+        assert done.wait(120), "the verdict"
+    finally:
+        g.close()
+    outcome = told[0]
+    assert outcome.grade is None and outcome.field == "zz"
+    assert str(outcome.error) == (
+        "your answer: field zz: is not a parameter (you may set u1, u2, u3)"
+    )
+    assert RU.message(outcome.error) == (
+        "ваш ответ: поле zz: не является параметром (можно задать u1, u2, u3)"
+    )

@@ -87,7 +87,7 @@ def test_the_english_catalog_is_the_text_of_the_code() -> None:
 
 def test_the_template_is_up_to_date_with_the_code() -> None:
     """What Babel extracts from app/ (and lessons/kit/params.py, formula.py, the assignments'
-    spec.py and grading.py) now is what the template and both catalogs hold (after an
+    spec.py, grading.py, library.py, variants.py and space.py) now is what the template and both catalogs hold (after an
     edit: pybabel extract, then pybabel update; see babel.cfg)."""
     keywords = {"_": None, "gettext": None, "ngettext": (1, 2), "pgettext": ((1, "c"), 2)}
     keywords.update({"tr": None, "N_": None, "NP_": ((1, "c"), 2)})
@@ -99,6 +99,9 @@ def test_the_template_is_up_to_date_with_the_code() -> None:
         (ROOT / "lessons", "kit/formula.py"),
         (ROOT / "lessons", "assignments/spec.py"),
         (ROOT / "lessons", "assignments/grading.py"),
+        (ROOT / "lessons", "assignments/library.py"),
+        (ROOT / "lessons", "assignments/variants.py"),
+        (ROOT / "lessons", "assignments/space.py"),
     ]
     found = {
         (context, msgid if isinstance(msgid, str) else msgid[0])

@@ -92,3 +92,30 @@ def test_a_russian_speed_refusal_names_the_speeds_with_a_decimal_comma(
             await c.close()
 
     asyncio.run(go())
+
+
+def test_a_lessons_note_on_a_russian_page_writes_its_numbers_with_the_decimal_comma(
+    make_lab: Any,
+) -> None:
+    """The lesson's own note (translated in the ``lessons`` catalog) on a Russian page: its
+    numbers with the decimal comma, its equation numbers with their dot; English keeps
+    the dot."""
+    from analyzer_lab.lessons.analyzers.motion_program import LESSON
+
+    note = LESSON.notes(LESSON.resolve({}, None))[0].text
+    assert note == "L = 3.44288: trapezoid, T = 5.44288 s (1.8), (1.9)"
+    lab = make_lab(language="ru", lessons=[LESSON], lesson=LESSON.id, warm_up=False, restore=False)
+
+    async def go() -> None:
+        c, view = await open_page(lab, "Движение")
+        try:
+            with view.session.lock:
+                view.session.notify(note, "warning")
+                view.session.revision += 1
+            text = await until(lambda: _shown(c, "al-message al-warning"), 10, "the note")
+            assert ">L = 3,44288: трапеция, T = 5,44288 с (1.8), (1.9)<" in text, text
+        finally:
+            await c.close()
+
+    asyncio.run(go())
+    assert language_of("en").notice(note) == note

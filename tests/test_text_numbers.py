@@ -5,7 +5,7 @@ an exponent stay, and the numbers come back as written."""
 from __future__ import annotations
 
 import pytest
-from analyzer_lab.text_numbers import abstract, restore
+from analyzer_lab.text_numbers import abstract, restore, with_decimal
 
 
 @pytest.mark.parametrize(
@@ -52,3 +52,23 @@ def test_a_translation_gets_the_numbers_of_its_own_run() -> None:
     assert restore("Здесь delta = {0} мм.", abstract("Here delta = -7e-06 mm.")[1]) == (
         "Здесь delta = -7e-06 мм."
     )
+
+
+@pytest.mark.parametrize(
+    ("text", "shown"),
+    [
+        (
+            "L = 3.44288: трапеция, T = 5.4 с (1.8), (1.9)",
+            "L = 3,44288: трапеция, T = 5,4 с (1.8), (1.9)",
+        ),
+        (
+            "Пример 1.2 и рис. 1.27, задача 2.5: шаг 0.05",
+            "Пример 1.2 и рис. 1.27, задача 2.5: шаг 0,05",
+        ),
+        ("u1 = 0.5, C1.4, §1.3, tol 1e-05, -0.25", "u1 = 0,5, C1.4, §1.3, tol 1e-05, -0,25"),
+        ("Example 1.1 at 2.5 m", "Example 1.1 at 2,5 m"),
+    ],
+)
+def test_prose_numbers_with_the_decimal_comma(text: str, shown: str) -> None:
+    assert with_decimal(text, ",") == shown
+    assert with_decimal(text, ".") == text

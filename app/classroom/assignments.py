@@ -46,6 +46,7 @@ from analyzer_lab.lessons.assignments import (
     release,
 )
 from analyzer_lab.lessons.assignments import draft as draft_assignment
+from analyzer_lab.lessons.assignments.spec import said
 from analyzer_lab.lessons.assignments.variants import DEFAULT_CLASS
 from analyzer_lab.lessons.kit.message import Message
 from analyzer_lab.session.session import LabError
@@ -57,6 +58,13 @@ if TYPE_CHECKING:
 log = logging.getLogger(__name__)
 
 NONE = N_("(none)")  # the picker's "no assignment", shown in the page's language
+#: What the instructor's authoring folder says it does.
+AUTHORING = N_(
+    "The current lesson and values become the assignment; its goal:"
+    " the chosen series end where they end now and stay as small as"
+    " now, the chosen metrics (e.g. A0, T, deviation_max_um) stay at"
+    " their values."
+)
 #: Seconds between two reads of the course record for the instructor's table (the
 #: attempts of pages on other workers arrive within this).
 POLL_SECONDS = 1.0
@@ -92,7 +100,7 @@ def task_html(a: Assignment, language: Language = ENGLISH) -> str:
     hint_head = tr("Hint:")
     numbers = tr("Your numbers: {numbers}").format(numbers=_numbers(a)) if a.variant else ""
     return _box(
-        f"<b>{esc(a.title)}</b> <span style='color:#555'>({esc(a.lesson)})</span><br>"
+        f"<b>{esc(a.title_in(language.code))}</b> <span style='color:#555'>({esc(a.lesson)})</span><br>"
         f"{esc(a.task_in(language.code))}<br><b>{esc(may)}</b> "
         f"{esc(', '.join(a.unlocked))} {esc(locked)}<br><b>{esc(goal)}</b>"
         f"<ul style='margin:2px 0 2px 1.1em;padding:0'>{checks}</ul>"
@@ -518,7 +526,7 @@ class StudentPanel:
             self.open(value)
         except AssignmentError as exc:
             self.close()
-            raise LabError(str(exc)) from None
+            raise LabError(said(exc)) from None
 
     def open(self, aid: str, pushed: bool = False) -> None:
         """Load the assignment's lesson, preset and start values, lock the other fields
@@ -551,7 +559,7 @@ class StudentPanel:
                 if pushed
                 else N_("opened assignment {id}: {title}"),
                 id=a.id,
-                title=a.title,
+                title=a.title_in(self.view.language.code),
             )
         )
         if pushed:
@@ -559,7 +567,9 @@ class StudentPanel:
                 tr = self.view.language.gettext
                 self.view.client.add_notification(
                     tr("Assignment"),
-                    tr("the instructor gave you: {title}").format(title=a.title),
+                    tr("the instructor gave you: {title}").format(
+                        title=a.title_in(self.view.language.code)
+                    ),
                     auto_close_seconds=6.0,
                 )
             except RuntimeError:  # the page left meanwhile
@@ -767,18 +777,7 @@ class TeacherPanel:
             )
             self.author = gui.add_folder(tr("Author from this state"), expand_by_default=False)
             with self.author:
-                gui.add_html(
-                    _box(
-                        esc(
-                            tr(
-                                "The current lesson and values become the assignment; its goal:"
-                                " the chosen series end where they end now and stay as small as"
-                                " now, the chosen metrics (e.g. A0, T, deviation_max_um) stay at"
-                                " their values."
-                            )
-                        )
-                    )
-                )
+                self.a_intro = gui.add_html(_box(esc(tr(AUTHORING))))
                 self.a_id = gui.add_text(tr("Id"), initial_value="my-assignment")
                 self.a_title = gui.add_text(tr("Title"), initial_value="My assignment")
                 self.a_task = gui.add_text(tr("Task"), initial_value="", multiline=True)
@@ -795,7 +794,39 @@ class TeacherPanel:
         self.csv_btn.on_click(self._cb(self._csv))
         self.grades_btn.on_click(self._cb(self._grades))
         self.a_btn.on_click(self._cb(self._draft))
+        view.language_hooks.append(self._relabel)  # a switch after the role was granted
         self.suggest()
+        self.update()
+
+    def _relabel(self, view: SessionView) -> None:
+        """The folder in the page's language now (after a switch of it; caller holds the
+        session lock): its labels, "no assignment" in the picker, the live table."""
+        tr = view.language.gettext
+        none = tr(NONE)
+        self.folder.label = tr("Assignments (class)")
+        self.picker.label = tr("Assignment for all")
+        chosen = self.picker.value
+        self.picker.options = self.board.choices(none)
+        self.picker.value = chosen if chosen in self.board.assignments else none
+        self.push_btn.label = tr("Push assignment to all")
+        self.csv_btn.label = tr("Download results (CSV)")
+        self.grades_btn.label = tr("Download grades (Moodle CSV)")
+        self.grades_btn.hint = tr(
+            "one row per student, one column per assignment: 1 passed, 0 not yet"
+        )
+        self.author.label = tr("Author from this state")
+        self.a_intro.content = _box(esc(tr(AUTHORING)))
+        for widget, label in (
+            (self.a_id, "Id"),
+            (self.a_title, "Title"),
+            (self.a_task, "Task"),
+            (self.a_unlocked, "Unlocked"),
+            (self.a_series, "Series to check"),
+            (self.a_metrics, "Metrics to check"),
+            (self.a_btn, "Download assignment"),
+        ):
+            widget.label = tr(label)
+        self.a_error.content = ""
         self.update()
 
     def _cb(self, fn: Any) -> Any:
@@ -896,7 +927,7 @@ class TeacherPanel:
                     title=language.lesson_text(lesson.title)
                 )
         except (AssignmentError, LabError, ValueError) as exc:
-            self.a_error.content = error_html(str(exc))
+            self.a_error.content = error_html(self.view.language.message(exc))
             return
         done = self.view.language.gettext("downloaded {name}").format(name=f"{data['id']}.json")
         self.a_error.content = _box(esc(done), "#1b7a2e")

@@ -26,6 +26,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from analyzer_lab.lessons.assignments import Assignment, AssignmentError, Grade, grade
+from analyzer_lab.lessons.assignments.spec import said
 from analyzer_lab.lessons.kit.message import N_, Message
 from analyzer_lab.token_bucket import TokenBucket
 
@@ -48,6 +49,8 @@ PlaceCallback = Callable[[int], None]
 #: What a student is told, each a template translated where the page shows it.
 STOPPING = N_("the server is stopping: check again when it is back")
 STOPPED = N_("the grader stopped while checking: check again")
+#: Where a refusal of a student's answer says it is.
+YOUR_ANSWER = N_("your answer")
 
 
 @dataclass(frozen=True)
@@ -86,9 +89,9 @@ def _check(job: tuple[Assignment, dict[str, Any], float]) -> tuple[str, Any, Any
     assignment, values, cpu_seconds = job
     signal.setitimer(signal.ITIMER_PROF, cpu_seconds)
     try:
-        return ("grade", grade(assignment, values, "your answer"), None)
-    except AssignmentError as exc:
-        return ("refused", str(exc), exc.field)
+        return ("grade", grade(assignment, values, Message(YOUR_ANSWER)), None)
+    except AssignmentError as exc:  # its Message: the page shows it in its language
+        return ("refused", said(exc), exc.field)
     except _OverTime:
         return ("overtime", None, None)
     except Exception as exc:  # a fault of one check: said to its student, the worker goes on
@@ -346,7 +349,8 @@ class Grader:
                 ),
             )
         self.stats["refused" if kind == "refused" else "failed"] += 1
-        return GradeOutcome(None, str(value), field)
+        # its Message as it came: the page shows it in its own language
+        return GradeOutcome(None, value if isinstance(value, Message) else str(value), field)
 
 
 def _tell(on_place: PlaceCallback, place: int) -> None:

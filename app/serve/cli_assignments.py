@@ -50,12 +50,9 @@ def _language(args: argparse.Namespace) -> Language:
 
 
 def _error(exc: AssignmentError, language: Language) -> str:
-    """A refusal in ``language``: its file and field, then its words (translated when
-    they are a :class:`Message`)."""
-    loc = f"{exc.where}: " if exc.where else ""
-    tr = language.gettext
-    fld = tr("field {name}").format(name=exc.field) + ": " if exc.field else ""
-    return f"{loc}{fld}{language.message(exc.message)}".replace("\n", " ")
+    """A refusal in ``language``: its file and field, then its words (its
+    :class:`Message` translated)."""
+    return language.message(exc).replace("\n", " ")
 
 
 def _fail(message: str, language: Language = ENGLISH) -> int:
@@ -84,7 +81,7 @@ def cmd_assignments(args: argparse.Namespace) -> int:
         print(json.dumps([a.summary() for a in items], indent=1, ensure_ascii=False))
         return 0
     for a in items:
-        print(f"{a.id:32s} {a.lesson:26s} {a.title}")
+        print(f"{a.id:32s} {a.lesson:26s} {a.title_in(language.code)}")
         line = tr("you set: {unlocked}; checks: {checks}").format(
             unlocked=", ".join(a.unlocked), checks=", ".join(c.id for c in a.checks)
         )
@@ -218,9 +215,9 @@ def check_run_limits(a: Assignment, values: dict[str, Any], where: str) -> None:
         setup = get_lesson(a.lesson).open({**a.start, **values}, a.preset)
     except (ParamError, ValueError):  # grading names the value
         return
-    why = refusal(setup, a.t_end)
+    why = refusal(setup, a.t_end, Message(N_("the assignment's t_end")))
     if why is not None:
-        raise AssignmentError(where, "", why.replace("--t-end", "the assignment's t_end"))
+        raise AssignmentError(where, "", why)
 
 
 def cmd_grade(args: argparse.Namespace) -> int:
@@ -241,7 +238,10 @@ def cmd_grade(args: argparse.Namespace) -> int:
         print(json.dumps(doc, indent=1, ensure_ascii=False))
         failed = [c for c in doc["checks"] if not c["pass"]]
         for c in failed:
-            print(f"FAIL {c['id']}: {c['message']}", file=sys.stderr)
+            line = language.gettext("FAIL {id}: {message}").format(
+                id=c["id"], message=language.message(c["message"])
+            )
+            print(line, file=sys.stderr)
         return 0 if doc["pass"] else EXIT_FAIL
     refused = failed = 0
     for f in files:

@@ -27,6 +27,7 @@ import math
 from typing import TYPE_CHECKING, Any
 
 from analyzer_lab.i18n import ENGLISH, N_, Language
+from analyzer_lab.lessons.kit.message import Message
 
 if TYPE_CHECKING:  # imported where used: ``run --help`` reads the limits without the model
     from analyzer_lab.lessons.kit.contract import LessonSetup, RunResult
@@ -74,8 +75,15 @@ def _points(setup: LessonSetup) -> int:
     return 1
 
 
-def refusal(setup: LessonSetup, t_end: float) -> str | None:
-    """Why the run of ``setup`` up to ``t_end`` is refused (one line), or None."""
+#: The option that shortens a run, as a refusal names it (``grade`` names the
+#: assignment's ``t_end`` instead).
+T_END_OPTION = "--t-end"
+
+
+def refusal(setup: LessonSetup, t_end: float, option: str = T_END_OPTION) -> Message | None:
+    """Why the run of ``setup`` up to ``t_end`` is refused (one line, a :class:`Message`
+    the command line shows in its language), or None; ``option`` is what shortens the
+    run."""
     lesson, params = setup.lesson, setup.params
     points = _points(setup)
     h = params.get("h")
@@ -83,40 +91,64 @@ def refusal(setup: LessonSetup, t_end: float) -> str | None:
     if isinstance(h, (int, float)) and h > 0 and method.startswith("gauss-legendre"):
         steps = math.ceil(t_end / float(h)) * points
         if steps > MAX_POINT_STEPS:
-            return (
-                f"this run needs {steps:.3g} integration steps (t_end / h = {t_end:g} /"
-                f" {float(h):g} times {points} point(s)); the limit is {MAX_POINT_STEPS:,}:"
-                " use a larger h, a shorter --t-end or a smaller family"
+            return Message(
+                N_(
+                    "this run needs {steps:.3g} integration steps (t_end / h = {t_end:g} /"
+                    " {h:g} times {points} point(s)); the limit is {limit:,}:"
+                    " use a larger h, a shorter {option} or a smaller family"
+                ),
+                steps=steps,
+                t_end=t_end,
+                h=float(h),
+                points=points,
+                limit=MAX_POINT_STEPS,
+                option=option,
             )
     bound = lesson.work_bound(params, t_end)
     if bound > MAX_WORK:
-        return _too_much(bound, "counted from its steps, stages and points")
+        return _too_much(bound, Message(N_("counted from its steps, stages and points")), option)
     grid = getattr(lesson, "run_grid", None)
     if callable(grid):
         samples = len(grid(params, t_end))
         values = samples * max(1, len(lesson.series_for(params)))
         if values > MAX_VALUES:
-            return (
-                f"the result would hold {values:.3g} numbers ({samples} samples of"
-                f" {len(lesson.series_for(params))} series); the limit is {MAX_VALUES:,}:"
-                " use a shorter --t-end or a smaller family"
+            return Message(
+                N_(
+                    "the result would hold {values:.3g} numbers ({samples} samples of"
+                    " {series} series); the limit is {limit:,}:"
+                    " use a shorter {option} or a smaller family"
+                ),
+                values=values,
+                samples=samples,
+                series=len(lesson.series_for(params)),
+                limit=MAX_VALUES,
+                option=option,
             )
     estimate = work_estimate(setup, t_end)
     if estimate is not None and estimate > MAX_WORK:
         if math.isinf(estimate):
-            return (
-                f"this run's first piece alone needs more than {10 * PROBE_WORK:,} units of"
-                " work (counted, not timed): use a larger step or tolerance, or gentler values"
+            return Message(
+                N_(
+                    "this run's first piece alone needs more than {limit:,} units of"
+                    " work (counted, not timed): use a larger step or tolerance, or gentler values"
+                ),
+                limit=10 * PROBE_WORK,
             )
-        return _too_much(estimate, "counted on a piece of it")
+        return _too_much(estimate, Message(N_("counted on a piece of it")), option)
     return None
 
 
-def _too_much(work: float, how: str) -> str:
-    return (
-        f"this run needs about {work:.3g} units of work ({how}); the limit"
-        f" is {MAX_WORK:,}: use a larger step or tolerance, a shorter --t-end or a smaller"
-        " family"
+def _too_much(work: float, how: Message, option: str) -> Message:
+    return Message(
+        N_(
+            "this run needs about {work:.3g} units of work ({how}); the limit"
+            " is {limit:,}: use a larger step or tolerance, a shorter {option} or a smaller"
+            " family"
+        ),
+        work=work,
+        how=how,
+        limit=MAX_WORK,
+        option=option,
     )
 
 

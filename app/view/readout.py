@@ -64,7 +64,7 @@ def status_html(s: Session, language: Language = ENGLISH) -> str:
     if s.frame.message:
         parts.append(
             '<div class="al-frame-message" style="color:#8a5a00;font-size:0.9em">'
-            f"{html.escape(language.lesson_text(s.frame.message))}</div>"
+            f"{html.escape(language.prose(s.frame.message))}</div>"
         )
     if len(parts) == 1:
         parts.append('<div class="al-message"></div>')
@@ -95,7 +95,7 @@ def preset_note_html(s: Session, language: Language = ENGLISH) -> str:
         )
     elif s.preset:
         pr = s.lesson.preset(s.preset)
-        title, note = language.lesson_text(pr.title), language.lesson_text(pr.note)
+        title, note = language.lesson_text(pr.title), language.prose(pr.note)
         body = f"<b>{esc(title)}</b>" + (f"<br>{esc(note)}" if note else "")
     else:
         body = ""

@@ -15,6 +15,7 @@ from typing import Any
 
 import numpy as np
 from analyzer_lab.lessons.assignments.spec import (
+    LOCKED,
     MAX_ANSWER_BYTES,
     Assignment,
     AssignmentError,
@@ -22,6 +23,7 @@ from analyzer_lab.lessons.assignments.spec import (
     Quantity,
     decode_json,
     reduction_text,
+    said,
 )
 from analyzer_lab.lessons.kit.contract import ParamError, RunResult
 from analyzer_lab.lessons.kit.message import N_, Message
@@ -88,21 +90,40 @@ class Grade:
         return [c for c in self.checks if not c.passed]
 
 
-def check_answer_values(a: Assignment, values: Any, where: str = "answer") -> dict[str, Any]:
+#: Where a refusal of an answer says it is, when the caller names no file.
+ANSWER = N_("answer")
+
+
+def check_answer_values(a: Assignment, values: Any, where: str = ANSWER) -> dict[str, Any]:
     """The answer's values, refused (one line) if not an object of unlocked parameters."""
+    where = _where(where)
+    unlocked = ", ".join(a.unlocked)
     if not isinstance(values, dict):
-        raise AssignmentError(where, "", "an answer is a JSON object of parameter values")
+        raise AssignmentError(
+            where, "", Message(N_("an answer is a JSON object of parameter values"))
+        )
     if not values:
-        raise AssignmentError(where, "", f"gives no values; set some of {', '.join(a.unlocked)}")
+        raise AssignmentError(
+            where, "", Message(N_("gives no values; set some of {names}"), names=unlocked)
+        )
     for k, v in values.items():
         if k not in a.unlocked:
-            what = "is locked in this assignment" if _known(a, k) else "is not a parameter"
+            what = Message(LOCKED if _known(a, k) else N_("is not a parameter"))
             raise AssignmentError(
-                where, str(k)[:40], f"{what} (you may set {', '.join(a.unlocked)})"
+                where,
+                str(k)[:40],
+                Message(N_("{what} (you may set {names})"), what=what, names=unlocked),
             )
         if not isinstance(v, (str, int, float, bool)) or (isinstance(v, str) and len(v) > 400):
-            raise AssignmentError(where, k, "must be a number, a formula text or true/false")
+            raise AssignmentError(
+                where, k, Message(N_("must be a number, a formula text or true/false"))
+            )
     return dict(values)
+
+
+def _where(where: str) -> str:
+    """``where`` as a refusal names it: the default ``answer`` in the page's language."""
+    return Message(ANSWER) if where == ANSWER and not isinstance(where, Message) else where
 
 
 def _known(a: Assignment, name: str) -> bool:
@@ -116,21 +137,22 @@ def load_answer(text: str | bytes, a: Assignment, where: str) -> dict[str, Any]:
     return check_answer_values(a, decode_json(text, where, MAX_ANSWER_BYTES), where)
 
 
-def run_answer(a: Assignment, values: Mapping[str, Any], where: str = "answer") -> RunResult:
+def run_answer(a: Assignment, values: Mapping[str, Any], where: str = ANSWER) -> RunResult:
     """Resolve the answer over the assignment's start and simulate (refusals name the value)."""
     from analyzer_lab.lessons.catalog import get_lesson
 
     lesson = get_lesson(a.lesson)
+    where = _where(where)
     try:
         params = lesson.resolve({**a.start, **values}, a.preset)
         return lesson.simulate(params, a.t_end)
     except ParamError as exc:
         raise AssignmentError(where, exc.name, exc.message) from None
     except ValueError as exc:
-        raise AssignmentError(where, "", str(exc)) from None
+        raise AssignmentError(where, "", said(exc)) from None
 
 
-def grade(a: Assignment, values: Mapping[str, Any], where: str = "answer") -> Grade:
+def grade(a: Assignment, values: Mapping[str, Any], where: str = ANSWER) -> Grade:
     """Check ``values`` against every check of ``a`` (raises :class:`AssignmentError` on bad input)."""
     vals = check_answer_values(a, dict(values), where)
     run = run_answer(a, vals, where)

@@ -17,6 +17,7 @@ from analyzer_lab.lessons.assignments.spec import (
     load_assignment,
     parse_assignment,
 )
+from analyzer_lab.lessons.kit.message import N_, Message
 
 #: The ready assignments shipped with the lab (one or more per lesson): the source tree's
 #: ``assets/assignments``, or where an installed wheel puts them.
@@ -24,6 +25,8 @@ _SOURCE_READY = Path(__file__).resolve().parents[2] / "assets" / "assignments"
 _INSTALLED_READY = Path(sys.prefix) / "share" / "analyzer-lab" / "assignments"
 READY_DIR = _SOURCE_READY if _SOURCE_READY.is_dir() else _INSTALLED_READY
 MAX_FILES = 500
+#: Where a refusal of a drafted assignment says it is.
+DRAFT = Message(N_("draft"))
 
 
 def load_folder(folder: str | Path) -> list[Assignment]:
@@ -35,15 +38,27 @@ def load_folder(folder: str | Path) -> list[Assignment]:
 
     d = Path(folder)
     if not d.is_dir():
-        raise AssignmentError(str(d), "", "is not a folder")
+        raise AssignmentError(str(d), "", Message(N_("is not a folder")))
     files = sorted(d.glob("*.json"))
     if len(files) > MAX_FILES:
-        raise AssignmentError(str(d), "", f"holds {len(files)} files; the limit is {MAX_FILES}")
+        raise AssignmentError(
+            str(d),
+            "",
+            Message(
+                N_("holds {count} files; the limit is {limit}"), count=len(files), limit=MAX_FILES
+            ),
+        )
     out: dict[str, Assignment] = {}
     for f in files:
         a = load_assignment(f)
         if a.id in out:
-            raise AssignmentError(str(f), "id", f"{a.id!r} is also the id of {out[a.id].source}")
+            raise AssignmentError(
+                str(f),
+                "id",
+                Message(
+                    N_("{id} is also the id of {source}"), id=repr(a.id), source=out[a.id].source
+                ),
+            )
         out[a.id] = a
     order = {l.id: k for k, l in enumerate(all_lessons())}
     return sorted(out.values(), key=lambda a: (order.get(a.lesson, 999), a.id))
@@ -84,7 +99,13 @@ def draft(
     for i, name in enumerate(unlocked):
         if name not in known:
             raise AssignmentError(
-                "draft", f"unlocked[{i}]", f"{name[:40]!r} is not a parameter of {lesson.id}"
+                DRAFT,
+                f"unlocked[{i}]",
+                Message(
+                    N_("{name} is not a parameter of {lesson}"),
+                    name=repr(name[:40]),
+                    lesson=lesson.id,
+                ),
             )
     params = lesson.resolve(dict(values), preset)
     te = float(t_end if t_end is not None else lesson.preset_t_end(preset))
@@ -94,11 +115,17 @@ def draft(
     for name in series:
         if name not in usable or name not in run.series:
             raise AssignmentError(
-                "draft", "series", f"{name[:40]!r} is not a series of {lesson.id}"
+                DRAFT,
+                "series",
+                Message(
+                    N_("{name} is not a series of {lesson}"), name=repr(name[:40]), lesson=lesson.id
+                ),
             )
         v = np.asarray(run.series[name], dtype=float)
         if not np.isfinite(v).all():
-            raise AssignmentError("draft", "series", f"{name} is not finite on the whole run")
+            raise AssignmentError(
+                DRAFT, "series", Message(N_("{name} is not finite on the whole run"), name=name)
+            )
         size = float(np.max(np.abs(v)))
         scale = max(size, 1e-9)
         checks.append(
@@ -124,11 +151,19 @@ def draft(
         value = run.metrics.get(name)
         if isinstance(value, bool) or not isinstance(value, (int, float, np.number)):
             raise AssignmentError(
-                "draft", "metrics", f"{name[:40]!r} is not a numeric metric of {lesson.id}"
+                DRAFT,
+                "metrics",
+                Message(
+                    N_("{name} is not a numeric metric of {lesson}"),
+                    name=repr(name[:40]),
+                    lesson=lesson.id,
+                ),
             )
         value = float(value)
         if not np.isfinite(value):
-            raise AssignmentError("draft", "metrics", f"{name} is not finite in this run")
+            raise AssignmentError(
+                DRAFT, "metrics", Message(N_("{name} is not finite in this run"), name=name)
+            )
         slack = margin * max(abs(value), 1e-9)
         slug = name.lower().replace("_", "-")
         checks.append(
@@ -156,7 +191,7 @@ def draft(
         "reference": reference or lesson.source,
         "answers": {"correct": correct},
     }
-    parse_assignment(data, "draft")
+    parse_assignment(data, DRAFT)
     return data
 
 

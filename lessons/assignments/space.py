@@ -35,6 +35,7 @@ from analyzer_lab.lessons.kit.formula import (
     parse_formula,
     parse_number,
 )
+from analyzer_lab.lessons.kit.message import N_, Message
 
 #: the class a variant is drawn for when none is named
 DEFAULT_CLASS = "class"
@@ -48,6 +49,11 @@ FIXED = frozenset({"format", "version", "id", "lesson", "preset", "unlocked"})
 _PLACE = re.compile(r"\{([^{}]*)\}")
 _FORMAT = re.compile(r"^\.?[0-9]{0,2}[efg]$")
 _NAME = re.compile(r"^[A-Za-z][A-Za-z0-9_]{0,19}$")
+
+
+def _said(exc: BaseException) -> str:
+    """What ``exc`` says: its :class:`Message` when it carries one, else its text."""
+    return exc.args[0] if exc.args and isinstance(exc.args[0], Message) else str(exc)
 
 
 class SpaceError(ValueError):
@@ -69,53 +75,79 @@ class Variable:
 
 def _number(v: Any, fld: str) -> float:
     if isinstance(v, bool) or not isinstance(v, (int, float, str)):
-        raise SpaceError(fld, f"must be a number, got {type(v).__name__}")
+        raise SpaceError(fld, Message(N_("must be a number, got {got}"), got=type(v).__name__))
     try:
         x = parse_number(v) if isinstance(v, str) else float(v)
     except FormulaError as exc:
-        raise SpaceError(fld, str(exc)) from None
+        raise SpaceError(fld, _said(exc)) from None
     if not math.isfinite(x) or abs(x) > 1e12:
-        raise SpaceError(fld, f"must be a finite number of at most 1e12, got {x:g}")
+        raise SpaceError(
+            fld, Message(N_("must be a finite number of at most 1e12, got {x:g}"), x=x)
+        )
     return x
 
 
 def parse_variables(raw: Any) -> tuple[Variable, ...]:
     """The ``variables`` object: each name a range (``from``, ``to``, ``step``) or ``choices``."""
     if not isinstance(raw, dict) or not raw:
-        raise SpaceError("variables", "must be an object of varied quantities")
+        raise SpaceError("variables", Message(N_("must be an object of varied quantities")))
     if len(raw) > MAX_VARIABLES:
-        raise SpaceError("variables", f"has {len(raw)} quantities; the limit is {MAX_VARIABLES}")
+        raise SpaceError(
+            "variables",
+            Message(
+                N_("has {count} quantities; the limit is {limit}"),
+                count=len(raw),
+                limit=MAX_VARIABLES,
+            ),
+        )
     reserved = set(FUNCTIONS) | set(CONSTANTS) | {"t"}
     out: list[Variable] = []
     for name, spec in raw.items():
         fld = f"variables.{str(name)[:20]}"
         if not _NAME.match(name) or keyword.iskeyword(name) or name in reserved:
             raise SpaceError(
-                fld, "must be a name of letters, digits and '_' (not t, pi, e or a function)"
+                fld,
+                Message(
+                    N_("must be a name of letters, digits and '_' (not t, pi, e or a function)")
+                ),
             )
         if not isinstance(spec, dict):
-            raise SpaceError(fld, "must be an object: from/to/step or choices")
+            raise SpaceError(fld, Message(N_("must be an object: from/to/step or choices")))
         if set(spec) == {"choices"}:
             items = spec["choices"]
             if not isinstance(items, list) or not 1 <= len(items) <= MAX_VALUES:
-                raise SpaceError(f"{fld}.choices", f"must be a list of 1 to {MAX_VALUES} numbers")
+                raise SpaceError(
+                    f"{fld}.choices",
+                    Message(N_("must be a list of 1 to {limit} numbers"), limit=MAX_VALUES),
+                )
             values = tuple(_number(x, f"{fld}.choices[{i}]") for i, x in enumerate(items))
             if len(set(values)) != len(values):
-                raise SpaceError(f"{fld}.choices", "names a value twice")
+                raise SpaceError(f"{fld}.choices", Message(N_("names a value twice")))
         elif set(spec) == {"from", "to", "step"}:
             lo = _number(spec["from"], f"{fld}.from")
             hi = _number(spec["to"], f"{fld}.to")
             step = _number(spec["step"], f"{fld}.step")
             if step <= 0:
-                raise SpaceError(f"{fld}.step", f"must be positive, got {step:g}")
+                raise SpaceError(f"{fld}.step", Message(N_("must be positive, got {x:g}"), x=step))
             if hi < lo:
-                raise SpaceError(f"{fld}.to", f"{hi:g} is below 'from' ({lo:g})")
+                raise SpaceError(
+                    f"{fld}.to", Message(N_("{v:g} is below 'from' ({low:g})"), v=hi, low=lo)
+                )
             count = int(math.floor((hi - lo) / step + 1e-9)) + 1
             if count > MAX_VALUES:
-                raise SpaceError(fld, f"has {count} values; the limit is {MAX_VALUES}")
+                raise SpaceError(
+                    fld,
+                    Message(
+                        N_("has {count} values; the limit is {limit}"),
+                        count=count,
+                        limit=MAX_VALUES,
+                    ),
+                )
             values = tuple(float(f"{lo + k * step:.12g}") for k in range(count))
         else:
-            raise SpaceError(fld, "must have exactly 'from', 'to' and 'step', or 'choices'")
+            raise SpaceError(
+                fld, Message(N_("must have exactly 'from', 'to' and 'step', or 'choices'"))
+            )
         out.append(Variable(name, values))
     return tuple(out)
 
@@ -123,19 +155,30 @@ def parse_variables(raw: Any) -> tuple[Variable, ...]:
 def parse_sample(raw: Any, size: int) -> int | None:
     """The ``variants`` object: how many of ``size`` variants to hand out (None: all)."""
     if not isinstance(raw, dict) or set(raw) - {"sample"}:
-        raise SpaceError("variants", "must be an object with 'sample' (how many to hand out)")
+        raise SpaceError(
+            "variants", Message(N_("must be an object with 'sample' (how many to hand out)"))
+        )
     if size > MAX_SPACE:
-        raise SpaceError("variables", f"make {size} variants; the limit is {MAX_SPACE}")
+        raise SpaceError(
+            "variables",
+            Message(N_("make {count} variants; the limit is {limit}"), count=size, limit=MAX_SPACE),
+        )
     if "sample" in raw:
         n = raw["sample"]
         top = min(size, MAX_POOL)
         if isinstance(n, bool) or not isinstance(n, int) or not 1 <= n <= top:
-            raise SpaceError("variants.sample", f"must be a whole number in [1, {top}]")
+            raise SpaceError(
+                "variants.sample", Message(N_("must be a whole number in [1, {top}]"), top=top)
+            )
         return n
     if size > MAX_POOL:
         raise SpaceError(
             "variants.sample",
-            f"is needed: the quantities make {size} variants, more than {MAX_POOL} to check",
+            Message(
+                N_("is needed: the quantities make {count} variants, more than {limit} to check"),
+                count=size,
+                limit=MAX_POOL,
+            ),
         )
     return None
 
@@ -207,11 +250,26 @@ def substitute(obj: Any, values: Mapping[str, float], fld: str) -> Any:
             try:
                 return _render(m.group(1), values)
             except FormulaError as exc:
-                raise SpaceError(fld, f"placeholder {{{m.group(1)[:40]}}}: {exc}") from None
+                raise SpaceError(
+                    fld,
+                    Message(
+                        N_("placeholder {name}: {why}"),
+                        name="{" + m.group(1)[:40] + "}",
+                        why=_said(exc),
+                    ),
+                ) from None
 
         out = _PLACE.sub(one, obj)
         if "{" in out or "}" in out:
-            raise SpaceError(fld, "has a '{' or '}' that is not a placeholder {expr}")
+            raise SpaceError(
+                fld,
+                Message(
+                    N_("has a {open} or {close} that is not a placeholder {example}"),
+                    open="'{'",
+                    close="'}'",
+                    example="{expr}",
+                ),
+            )
         return out
     if isinstance(obj, list):
         return [substitute(x, values, f"{fld}[{i}]") for i, x in enumerate(obj)]

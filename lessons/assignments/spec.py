@@ -8,8 +8,9 @@ An assignment is plain JSON data (see the README section "Assignments"):
 * ``checks``: declared checks over the run (``within``, ``at-most``, ``at-least``,
   ``in-plane``, ``on-circle``, ``reaches``); expressions go through the formula whitelist
   of :mod:`analyzer_lab.lessons.kit.formula` with ``t`` and the lesson's series as variables;
-* ``task``, ``hint``, ``reference`` (text), ``task_ru``, ``hint_ru`` (the task and hint in
-  Russian, shown on a Russian page; English when absent), ``answers`` (``correct``/``wrong`` values);
+* ``task``, ``hint``, ``reference`` (text), ``title_ru``, ``task_ru``, ``hint_ru`` (the
+  title, task and hint in Russian, shown on a Russian page; English when absent),
+  ``answers`` (``correct``/``wrong`` values);
 * each check may carry ``feedback`` (shown when it fails) and ``feedback_pass`` (when it passes),
   and in Russian ``feedback_ru``, ``feedback_pass_ru``;
 * ``variables`` and ``variants``: varied quantities, one variant per student (see
@@ -79,6 +80,7 @@ _TOP = {
     "checks",
     "task",
     "hint",
+    "title_ru",
     "task_ru",
     "hint_ru",
     "reference",
@@ -108,16 +110,39 @@ _FEEDBACK_FIELDS = {
 }
 
 
+#: How a refusal names its file and field (``where: field f: problem``), by which it gives.
+_REFUSALS = {
+    (True, True): N_("{where}: field {field}: {message}"),
+    (True, False): N_("{where}: {message}"),
+    (False, True): N_("field {field}: {message}"),
+    (False, False): "{message}",
+}
+
+
 class AssignmentError(ValueError):
-    """An assignment or answer was refused: ``str(err)`` is one line (file, field, problem)."""
+    """An assignment or answer was refused: ``str(err)`` is one line (file, field, problem).
+
+    Its argument is a :class:`Message` (the same English text), so a page or the command
+    line shows the refusal in its own language; ``message`` is the problem alone."""
 
     def __init__(self, where: str, field_name: str, message: str) -> None:
         loc = f"{where}: " if where else ""
         fld = f"field {field_name}: " if field_name else ""
-        super().__init__(f"{loc}{fld}{message}".replace("\n", " "))
+        english = f"{loc}{fld}{message}".replace("\n", " ")
+        said = message if isinstance(message, Message) else str(message).replace("\n", " ")
+        shown: str = Message(
+            _REFUSALS[bool(where), bool(field_name)], where=where, field=field_name, message=said
+        )
+        super().__init__(shown if shown == english else english)
         self.where = where
         self.field = field_name
         self.message = message
+
+
+def said(exc: BaseException) -> str:
+    """What ``exc`` says: its :class:`Message` when it carries one (shown in a page's
+    language), else its text."""
+    return exc.args[0] if exc.args and isinstance(exc.args[0], Message) else str(exc)
 
 
 @dataclass(frozen=True)
@@ -265,7 +290,8 @@ class Assignment:
     task: str
     hint: str = ""
     reference: str = ""
-    #: the task and hint in Russian (empty: the page shows the English ones)
+    #: the title, task and hint in Russian (empty: the page shows the English ones)
+    title_ru: str = ""
     task_ru: str = ""
     hint_ru: str = ""
     answers: Mapping[str, Mapping[str, Any]] = field(default_factory=dict)
@@ -277,6 +303,10 @@ class Assignment:
     sample: int | None = None
     #: this variant's values of the varied quantities (empty when not varied)
     variant: Mapping[str, float] = field(default_factory=dict)
+
+    def title_in(self, code: str) -> str:
+        """The title in the language ``code`` (``"ru"``), the English one when not given."""
+        return (self.title_ru if code == "ru" else "") or self.title
 
     def task_in(self, code: str) -> str:
         """The task in the language ``code`` (``"ru"``), the English one when not given."""
@@ -302,6 +332,7 @@ class Assignment:
             "checks": [{"id": c.id, "kind": c.kind, "text": c.describe()} for c in self.checks],
             "task": self.task,
             "hint": self.hint,
+            "title_ru": self.title_ru,
             "task_ru": self.task_ru,
             "hint_ru": self.hint_ru,
             "reference": self.reference,
@@ -371,51 +402,80 @@ class _Reader:
         v = obj.get(key)
         if v is None:
             if required:
-                raise self.fail(fld, "is missing")
+                raise self.fail(fld, Message(N_("is missing")))
             return ""
         if not isinstance(v, str):
-            raise self.fail(fld, f"must be text, got {_type(v)}")
+            raise self.fail(fld, Message(N_("must be text, got {got}"), got=_type(v)))
         if len(v) > limit:
-            raise self.fail(fld, f"is {len(v)} characters long; the limit is {limit}")
+            raise self.fail(
+                fld,
+                Message(
+                    N_("is {count} characters long; the limit is {limit}"),
+                    count=len(v),
+                    limit=limit,
+                ),
+            )
         return v
 
     def number(self, v: Any, fld: str, positive: bool = False) -> float:
         if isinstance(v, bool) or v is None:
-            raise self.fail(fld, f"must be a number, got {_type(v)}")
+            raise self.fail(fld, Message(_NOT_NUMBER, got=_type(v)))
         if isinstance(v, (int, float)):
             x = float(v)
         elif isinstance(v, str):
             try:
                 x = _parse_number(v)
             except FormulaError as exc:
-                raise self.fail(fld, str(exc)) from None
+                raise self.fail(fld, said(exc)) from None
         else:
-            raise self.fail(fld, f"must be a number, got {_type(v)}")
+            raise self.fail(fld, Message(_NOT_NUMBER, got=_type(v)))
         if not math.isfinite(x) or abs(x) > 1e12:
-            raise self.fail(fld, f"must be a finite number of at most 1e12, got {x:g}")
+            raise self.fail(
+                fld, Message(N_("must be a finite number of at most 1e12, got {x:g}"), x=x)
+            )
         if positive and x <= 0:
-            raise self.fail(fld, f"must be positive, got {x:g}")
+            raise self.fail(fld, Message(N_("must be positive, got {x:g}"), x=x))
         return x
 
     def numbers(self, v: Any, fld: str, n: int) -> tuple[float, ...]:
         if not isinstance(v, list):
-            raise self.fail(fld, f"must be a list of {n} numbers, got {_type(v)}")
+            raise self.fail(
+                fld,
+                Message(N_("must be a list of {count} numbers, got {got}"), count=n, got=_type(v)),
+            )
         if len(v) != n:
-            raise self.fail(fld, f"must have {n} numbers (one per path coordinate), got {len(v)}")
+            raise self.fail(
+                fld,
+                Message(
+                    N_("must have {count} numbers (one per path coordinate), got {got}"),
+                    count=n,
+                    got=len(v),
+                ),
+            )
         return tuple(self.number(x, f"{fld}[{i}]") for i, x in enumerate(v))
 
 
+_NOT_NUMBER = N_("must be a number, got {got}")
+_NOT_SLUG = N_("must be lowercase letters, digits, '-' or '.' (1-60)")
+_NOT_PARAM = N_("is not a parameter of lesson {lesson}")
+#: A value an answer (or a file's answers) gives for a parameter the student may not set.
+LOCKED = N_("is locked in this assignment")
+#: A refusal of one variant of a varied assignment, naming it.
+VARIANT = N_("variant {index} ({values}): {message}")
+
+
 def _type(v: Any) -> str:
+    """What a JSON value is, in words (a :class:`Message`; the value's own text quoted)."""
     if v is None:
         return "null"
     if isinstance(v, bool):
         return "true/false"
     if isinstance(v, (list, tuple)):
-        return f"a list of {len(v)}"
+        return Message(N_("a list of {count}"), count=len(v))
     if isinstance(v, dict):
-        return "an object"
+        return Message(N_("an object"))
     if isinstance(v, str):
-        return f"text {v[:30]!r}"
+        return Message(N_("text {text}"), text=repr(v[:30]))
     return type(v).__name__
 
 
@@ -436,14 +496,16 @@ def parse_quantity(
     if isinstance(text, (int, float)) and not isinstance(text, bool):
         text = repr(float(text))
     if not isinstance(text, str):
-        raise reader.fail(fld, f"must be a series name or a formula, got {_type(text)}")
+        raise reader.fail(
+            fld, Message(N_("must be a series name or a formula, got {got}"), got=_type(text))
+        )
     series = {s.name for s in lesson.series_for(params)}
     if text.strip() in series:
         return Quantity(text.strip(), series=text.strip())
     try:
         f = parse_formula(text, variables=("t", *expression_names(lesson, params)))
     except FormulaError as exc:
-        raise reader.fail(fld, str(exc)) from None
+        raise reader.fail(fld, said(exc)) from None
     return Quantity(f.text, formula=f)
 
 
@@ -455,10 +517,17 @@ def _path(
     if raw is None:
         raw = [n for n in ("x", "y", "z") if n in series]
     if not isinstance(raw, list) or not 1 <= len(raw) <= 3:
-        raise r.fail(fld, f"must be a list of 1 to 3 series names, got {_type(raw)}")
+        raise r.fail(
+            fld, Message(N_("must be a list of 1 to 3 series names, got {got}"), got=_type(raw))
+        )
     for i, n in enumerate(raw):
         if not isinstance(n, str) or n not in series:
-            raise r.fail(f"{fld}[{i}]", f"{_type(n)} is not a series of lesson {lesson.id}")
+            raise r.fail(
+                f"{fld}[{i}]",
+                Message(
+                    N_("{what} is not a series of lesson {lesson}"), what=_type(n), lesson=lesson.id
+                ),
+            )
     return tuple(raw)
 
 
@@ -468,10 +537,13 @@ def _times(obj: Mapping[str, Any], r: _Reader, fld: str, t_end: float) -> dict[s
         if obj.get(key) is not None:
             v = r.number(obj[key], f"{fld}.{key}")
             if not 0 <= v <= t_end + 1e-9:
-                raise r.fail(f"{fld}.{key}", f"{v:g} is outside the run [0, {t_end:g}]")
+                raise r.fail(
+                    f"{fld}.{key}",
+                    Message(N_("{v:g} is outside the run [0, {end:g}]"), v=v, end=t_end),
+                )
             out[name] = v
     if out.get("t_from", 0.0) > out.get("t_to", t_end):
-        raise r.fail(f"{fld}.from", "is after 'to'")
+        raise r.fail(f"{fld}.from", Message(N_("is after 'to'")))
     return out
 
 
@@ -481,16 +553,28 @@ def parse_check(
     """One check object (validated against the lesson and its series)."""
     fld = f"checks[{index}]"
     if not isinstance(obj, dict):
-        raise r.fail(fld, f"must be an object, got {_type(obj)}")
+        raise r.fail(fld, Message(N_("must be an object, got {got}"), got=_type(obj)))
     cid = r.text(obj, "id", f"{fld}.id", 60, True)
     if not _SLUG.match(cid):
-        raise r.fail(f"{fld}.id", "must be lowercase letters, digits, '-' or '.' (1-60)")
+        raise r.fail(f"{fld}.id", Message(_NOT_SLUG))
     kind = r.text(obj, "kind", f"{fld}.kind", 20, True)
     if kind not in KINDS:
-        raise r.fail(f"{fld}.kind", f"{kind[:20]!r} is not one of {', '.join(KINDS)}")
+        raise r.fail(
+            f"{fld}.kind",
+            Message(
+                N_("{kind} is not one of {kinds}"), kind=repr(kind[:20]), kinds=", ".join(KINDS)
+            ),
+        )
     extra = set(obj) - _CHECK_FIELDS[kind] - _FEEDBACK_FIELDS
     if extra:
-        raise r.fail(f"{fld}", f"unknown field {sorted(extra)[0][:30]!r} for a {kind} check")
+        raise r.fail(
+            f"{fld}",
+            Message(
+                N_("unknown field {name} for a {kind} check"),
+                name=repr(sorted(extra)[0][:30]),
+                kind=kind,
+            ),
+        )
     label = r.text(obj, "label", f"{fld}.label", MAX_SHORT, False)
     kw: dict[str, Any] = {"id": cid, "kind": kind, "label": label}
     kw["feedback"] = r.text(obj, "feedback", f"{fld}.feedback", MAX_FEEDBACK, False)
@@ -504,17 +588,20 @@ def parse_check(
         kw["tolerance"] = r.number(obj.get("tolerance"), f"{fld}.tolerance", positive=True)
     elif kind in ("at-most", "at-least"):
         if ("metric" in obj) == ("quantity" in obj):
-            raise r.fail(fld, "needs exactly one of 'metric' or 'quantity'")
+            raise r.fail(fld, Message(N_("needs exactly one of 'metric' or 'quantity'")))
         if "metric" in obj:
             m = r.text(obj, "metric", f"{fld}.metric", 60, True)
             if not re.match(r"^[A-Za-z_][A-Za-z0-9_]*$", m):
-                raise r.fail(f"{fld}.metric", "must be a metric name")
+                raise r.fail(f"{fld}.metric", Message(N_("must be a metric name")))
             kw["metric"] = m
         else:
             kw["quantity"] = parse_quantity(obj["quantity"], lesson, params, r, f"{fld}.quantity")
             red = obj.get("reduce", "max-abs")
             if red not in REDUCTIONS:
-                raise r.fail(f"{fld}.reduce", f"must be one of {', '.join(REDUCTIONS)}")
+                raise r.fail(
+                    f"{fld}.reduce",
+                    Message(N_("must be one of {names}"), names=", ".join(REDUCTIONS)),
+                )
             kw["reduce"] = red
         kw["bound"] = r.number(obj.get("bound"), f"{fld}.bound")
     else:
@@ -524,37 +611,44 @@ def parse_check(
         if kind == "in-plane":
             n = r.numbers(obj.get("normal"), f"{fld}.normal", len(path))
             if math.hypot(*n) == 0:
-                raise r.fail(f"{fld}.normal", "must not be zero")
+                raise r.fail(f"{fld}.normal", Message(N_("must not be zero")))
             kw["normal"] = n
             kw["offset"] = r.number(obj.get("offset", 0), f"{fld}.offset")
         elif kind == "on-circle":
             if len(path) < 2:
-                raise r.fail(f"{fld}.path", "a circle needs 2 or 3 coordinates")
+                raise r.fail(f"{fld}.path", Message(N_("a circle needs 2 or 3 coordinates")))
             kw["center"] = r.numbers(obj.get("center"), f"{fld}.center", len(path))
             kw["radius"] = r.number(obj.get("radius"), f"{fld}.radius", positive=True)
             if obj.get("normal") is not None:
                 n = r.numbers(obj["normal"], f"{fld}.normal", len(path))
                 if math.hypot(*n) == 0:
-                    raise r.fail(f"{fld}.normal", "must not be zero")
+                    raise r.fail(f"{fld}.normal", Message(N_("must not be zero")))
                 kw["normal"] = n
         else:
             kw["point"] = r.numbers(obj.get("point"), f"{fld}.point", len(path))
             if "by" not in kw:
-                raise r.fail(f"{fld}.by", "is missing")
+                raise r.fail(f"{fld}.by", Message(N_("is missing")))
     return Check(**kw)
 
 
 def _values(v: Any, r: _Reader, fld: str, lesson: Lesson) -> dict[str, Any]:
     if not isinstance(v, dict):
-        raise r.fail(fld, f"must be an object of parameter values, got {_type(v)}")
+        raise r.fail(
+            fld, Message(N_("must be an object of parameter values, got {got}"), got=_type(v))
+        )
     if len(v) > 64:
-        raise r.fail(fld, f"has {len(v)} entries; the limit is 64")
+        raise r.fail(
+            fld, Message(N_("has {count} entries; the limit is {limit}"), count=len(v), limit=64)
+        )
     known = {p.name for p in lesson.params}
     for k, x in v.items():
         if k not in known:
-            raise r.fail(f"{fld}.{k[:40]}", f"is not a parameter of lesson {lesson.id}")
+            raise r.fail(f"{fld}.{k[:40]}", Message(_NOT_PARAM, lesson=lesson.id))
         if not isinstance(x, (str, int, float, bool)) or (isinstance(x, str) and len(x) > 400):
-            raise r.fail(f"{fld}.{k}", f"must be a number, text or true/false, got {_type(x)}")
+            raise r.fail(
+                f"{fld}.{k}",
+                Message(N_("must be a number, text or true/false, got {got}"), got=_type(x)),
+            )
     return dict(v)
 
 
@@ -562,7 +656,7 @@ def parse_assignment(data: Any, where: str = "") -> Assignment:
     """Validate decoded JSON as an assignment; raise :class:`AssignmentError`."""
     r = _Reader(where)
     if not isinstance(data, dict):
-        raise r.fail("", f"an assignment is a JSON object, got {_type(data)}")
+        raise r.fail("", Message(N_("an assignment is a JSON object, got {got}"), got=_type(data)))
     if "variables" in data or "variants" in data:
         return _parse_varied(data, where)
     return parse_concrete(data, where)
@@ -580,7 +674,7 @@ def _parse_varied(data: Mapping[str, Any], where: str) -> Assignment:
         raise AssignmentError(
             where,
             "answers",
-            "a varied assignment needs a 'correct' (reference) and a 'wrong' answer",
+            Message(N_("a varied assignment needs a 'correct' (reference) and a 'wrong' answer")),
         )
     template = Assignment(
         id=str(data.get("id", ""))[:60],
@@ -613,7 +707,14 @@ def variant_assignment(a: Assignment, index: int) -> Assignment:
         one = parse_concrete(concrete_data(a.data, vals), a.source)
     except (SpaceError, AssignmentError) as exc:
         raise AssignmentError(
-            a.source, exc.field, f"variant {index} ({label(vals)}): {exc.message}"
+            a.source,
+            exc.field,
+            Message(
+                VARIANT,
+                index=index,
+                values=label(vals),
+                message=exc.message,
+            ),
         ) from None
     return replace(one, data=a.data, variables=a.variables, sample=a.sample, variant=vals)
 
@@ -624,67 +725,113 @@ def parse_concrete(data: Mapping[str, Any], where: str = "") -> Assignment:
 
     r = _Reader(where)
     if data.get("format") != FORMAT:
-        raise r.fail("format", f"must be {FORMAT!r}")
+        raise r.fail("format", Message(N_("must be {value}"), value=repr(FORMAT)))
     if data.get("version") != VERSION or isinstance(data.get("version"), bool):
-        raise r.fail("version", f"must be {VERSION}, got {_type(data.get('version'))}")
+        raise r.fail(
+            "version",
+            Message(
+                N_("must be {value}, got {got}"), value=VERSION, got=_type(data.get("version"))
+            ),
+        )
     extra = set(data) - _TOP
     if extra:
-        raise r.fail(sorted(extra)[0][:40], "is not a field of an assignment")
+        raise r.fail(sorted(extra)[0][:40], Message(N_("is not a field of an assignment")))
     aid = r.text(data, "id", "id", 60, True)
     if not _SLUG.match(aid):
-        raise r.fail("id", "must be lowercase letters, digits, '-' or '.' (1-60)")
+        raise r.fail("id", Message(_NOT_SLUG))
     title = r.text(data, "title", "title", MAX_SHORT, True)
     lesson_id = r.text(data, "lesson", "lesson", 60, True)
     try:
         lesson = get_lesson(lesson_id)
     except KeyError:
         raise r.fail(
-            "lesson", f"no lesson {lesson_id[:40]!r} (see 'analyzer-lab lessons')"
+            "lesson",
+            Message(
+                N_("no lesson {lesson} (see 'analyzer-lab lessons')"), lesson=repr(lesson_id[:40])
+            ),
         ) from None
     preset = data.get("preset")
     if preset is not None:
         preset = r.text(data, "preset", "preset", 60, True)
         if preset not in {p.name for p in lesson.presets}:
-            raise r.fail("preset", f"lesson {lesson.id} has no preset {preset[:40]!r}")
+            raise r.fail(
+                "preset",
+                Message(
+                    N_("lesson {lesson} has no preset {preset}"),
+                    lesson=lesson.id,
+                    preset=repr(preset[:40]),
+                ),
+            )
     start = _values(data.get("start", {}), r, "start", lesson)
     t_end = lesson.preset_t_end(preset)
     if data.get("t_end") is not None:
         t_end = r.number(data["t_end"], "t_end", positive=True)
         if t_end > MAX_T_END:
-            raise r.fail("t_end", f"{t_end:g} is above the limit {MAX_T_END:g}")
+            raise r.fail(
+                "t_end",
+                Message(N_("{v:g} is above the limit {limit:g}"), v=t_end, limit=MAX_T_END),
+            )
     try:
         params = lesson.resolve(start, preset)
     except (ParamError, ValueError) as exc:
-        raise r.fail("start", str(exc)) from None
+        raise r.fail("start", said(exc)) from None
     unlocked_raw = data.get("unlocked")
     if not isinstance(unlocked_raw, list) or not unlocked_raw:
         raise r.fail(
-            "unlocked", f"must be a non-empty list of parameter names, got {_type(unlocked_raw)}"
+            "unlocked",
+            Message(
+                N_("must be a non-empty list of parameter names, got {got}"),
+                got=_type(unlocked_raw),
+            ),
         )
     if len(unlocked_raw) > MAX_UNLOCKED:
-        raise r.fail("unlocked", f"has {len(unlocked_raw)} names; the limit is {MAX_UNLOCKED}")
+        raise r.fail(
+            "unlocked",
+            Message(
+                N_("has {count} names; the limit is {limit}"),
+                count=len(unlocked_raw),
+                limit=MAX_UNLOCKED,
+            ),
+        )
     known = {p.name for p in lesson.params}
     for i, n in enumerate(unlocked_raw):
         if not isinstance(n, str) or n not in known:
-            raise r.fail(f"unlocked[{i}]", f"{_type(n)} is not a parameter of lesson {lesson.id}")
+            raise r.fail(
+                f"unlocked[{i}]",
+                Message(
+                    N_("{what} is not a parameter of lesson {lesson}"),
+                    what=_type(n),
+                    lesson=lesson.id,
+                ),
+            )
     if len(set(unlocked_raw)) != len(unlocked_raw):
-        raise r.fail("unlocked", "names a parameter twice")
+        raise r.fail("unlocked", Message(N_("names a parameter twice")))
     checks_raw = data.get("checks")
     if not isinstance(checks_raw, list) or not checks_raw:
-        raise r.fail("checks", f"must be a non-empty list of checks, got {_type(checks_raw)}")
+        raise r.fail(
+            "checks",
+            Message(N_("must be a non-empty list of checks, got {got}"), got=_type(checks_raw)),
+        )
     if len(checks_raw) > MAX_CHECKS:
-        raise r.fail("checks", f"has {len(checks_raw)} checks; the limit is {MAX_CHECKS}")
+        raise r.fail(
+            "checks",
+            Message(
+                N_("has {count} checks; the limit is {limit}"),
+                count=len(checks_raw),
+                limit=MAX_CHECKS,
+            ),
+        )
     checks = tuple(parse_check(c, i, lesson, params, t_end, r) for i, c in enumerate(checks_raw))
     if len({c.id for c in checks}) != len(checks):
-        raise r.fail("checks", "two checks have the same id")
+        raise r.fail("checks", Message(N_("two checks have the same id")))
     answers_raw = data.get("answers", {})
     if not isinstance(answers_raw, dict) or set(answers_raw) - {"correct", "wrong"}:
-        raise r.fail("answers", "must be an object with 'correct' and/or 'wrong'")
+        raise r.fail("answers", Message(N_("must be an object with 'correct' and/or 'wrong'")))
     answers = {k: _values(v, r, f"answers.{k}", lesson) for k, v in answers_raw.items()}
     for k, v in answers.items():
         locked = [n for n in v if n not in unlocked_raw]
         if locked:
-            raise r.fail(f"answers.{k}.{locked[0]}", "is locked in this assignment")
+            raise r.fail(f"answers.{k}.{locked[0]}", Message(LOCKED))
     return Assignment(
         id=aid,
         title=title,
@@ -696,6 +843,7 @@ def parse_concrete(data: Mapping[str, Any], where: str = "") -> Assignment:
         checks=checks,
         task=r.text(data, "task", "task", MAX_TEXT, True),
         hint=r.text(data, "hint", "hint", MAX_TEXT, False),
+        title_ru=r.text(data, "title_ru", "title_ru", MAX_SHORT, False),
         task_ru=r.text(data, "task_ru", "task_ru", MAX_TEXT, False),
         hint_ru=r.text(data, "hint_ru", "hint_ru", MAX_TEXT, False),
         reference=r.text(data, "reference", "reference", MAX_SHORT, False),
@@ -723,23 +871,35 @@ def decode_json(text: str | bytes, where: str, limit: int) -> Any:
     """JSON text -> data, refusing oversize or malformed input (and whole numbers of more
     than :data:`MAX_INT_DIGITS` digits) in one line."""
     if len(text) > limit:
-        raise AssignmentError(where, "", f"is {len(text)} bytes; the limit is {limit}")
+        raise AssignmentError(
+            where,
+            "",
+            Message(N_("is {count} bytes; the limit is {limit}"), count=len(text), limit=limit),
+        )
     try:
         return json.loads(text, parse_int=_whole_number)
     except _LongNumber as exc:
         raise AssignmentError(
             where,
             "",
-            f"holds a whole number of {exc.args[0]} digits; the limit is {MAX_INT_DIGITS}",
+            Message(
+                N_("holds a whole number of {count} digits; the limit is {limit}"),
+                count=exc.args[0],
+                limit=MAX_INT_DIGITS,
+            ),
         ) from None
     except (json.JSONDecodeError, UnicodeDecodeError, RecursionError) as exc:
         msg = exc.msg if isinstance(exc, json.JSONDecodeError) else type(exc).__name__
-        pos = (
-            f" at line {exc.lineno}, column {exc.colno}"
-            if isinstance(exc, json.JSONDecodeError)
-            else ""
-        )
-        raise AssignmentError(where, "", f"is not valid JSON ({msg}{pos})") from None
+        if isinstance(exc, json.JSONDecodeError):
+            why = Message(
+                N_("is not valid JSON ({why} at line {line}, column {column})"),
+                why=msg,
+                line=exc.lineno,
+                column=exc.colno,
+            )
+        else:
+            why = Message(N_("is not valid JSON ({why})"), why=msg)
+        raise AssignmentError(where, "", why) from None
 
 
 def load_assignment(path: str | Path) -> Assignment:
@@ -748,5 +908,7 @@ def load_assignment(path: str | Path) -> Assignment:
     try:
         raw = p.read_bytes()[: MAX_FILE_BYTES + 1]
     except OSError as exc:
-        raise AssignmentError(str(p), "", f"cannot be read ({exc.strerror})") from None
+        raise AssignmentError(
+            str(p), "", Message(N_("cannot be read ({why})"), why=str(exc.strerror))
+        ) from None
     return parse_assignment(decode_json(raw, str(p), MAX_FILE_BYTES), str(p))

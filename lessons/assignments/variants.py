@@ -19,11 +19,14 @@ from typing import Any
 from analyzer_lab.lessons.assignments.grading import Grade, grade
 from analyzer_lab.lessons.assignments.space import DEFAULT_CLASS, label, seed, values_at
 from analyzer_lab.lessons.assignments.spec import (
+    VARIANT,
     Assignment,
     AssignmentError,
     pool,
+    said,
     variant_assignment,
 )
+from analyzer_lab.lessons.kit.message import N_, Message
 
 
 @dataclass(frozen=True)
@@ -87,7 +90,9 @@ def _verdicts(v: Variant, where: str) -> tuple[Grade | None, Grade | None]:
             out.append(grade(a, values, f"answers.{key}"))
         except AssignmentError as exc:
             raise AssignmentError(
-                where, f"answers.{key}", f"variant {v.index} ({v.label}): {exc}"
+                where,
+                f"answers.{key}",
+                Message(VARIANT, index=v.index, values=v.label, message=said(exc)),
             ) from None
     return out[0], out[1]
 
@@ -108,14 +113,27 @@ def release(a: Assignment) -> Release:
             raise AssignmentError(
                 a.source,
                 "answers.correct",
-                f"variant {v.index} ({v.label}): the reference answer fails check {c.id}"
-                f" ({c.message})",
+                Message(
+                    VARIANT,
+                    index=v.index,
+                    values=v.label,
+                    message=Message(
+                        N_("the reference answer fails check {check} ({why})"),
+                        check=c.id,
+                        why=c.message,
+                    ),
+                ),
             )
         if wrong is not None and wrong.passed:
             raise AssignmentError(
                 a.source,
                 "answers.wrong",
-                f"variant {v.index} ({v.label}): the wrong answer passes every check",
+                Message(
+                    VARIANT,
+                    index=v.index,
+                    values=v.label,
+                    message=Message(N_("the wrong answer passes every check")),
+                ),
             )
     return Release(a, tuple(variants), runs, time.perf_counter() - start)
 

@@ -27,7 +27,8 @@ def _plain(value: float) -> str:
 
 
 class Number:
-    """A number placed in a template: ``format(n, spec)`` with the decimal sign given."""
+    """A number placed in a template: ``format(n, spec)`` with the decimal sign given (and
+    thousands, ``{n:,}``, grouped with a space where the decimal sign is a comma)."""
 
     __slots__ = ("decimal", "value")
 
@@ -37,7 +38,11 @@ class Number:
 
     def __format__(self, spec: str) -> str:
         text = format(self.value, spec) if spec else _plain(self.value)
-        return text.replace(".", self.decimal) if self.decimal != "." else text
+        if self.decimal == ".":
+            return text
+        if "," in spec:  # thousands: a language with a decimal comma groups with a space
+            text = text.replace(",", "\u00a0")
+        return text.replace(".", self.decimal)
 
 
 class Unit(str):
