@@ -160,7 +160,7 @@ class Page:
     def shot(self, name: str) -> bytes:
         """A screenshot without the browser's software-rendering notice (a machine
         without a GPU shows it; a student's laptop does not)."""
-        wait_until(lambda: self.page.evaluate(DISMISS_JS) == 0, 10, "the notices closed")
+        wait_until(lambda: self.page.evaluate(DISMISS_JS) == 0, 30, "the notices closed")
         return self.page.screenshot(path=str(ARTIFACTS / f"{name}.png"))
 
     def saved_state(self) -> dict[str, Any] | None:

@@ -276,4 +276,4 @@ def choose(tab: Page, lesson_id: str, preset: str) -> None:
 
 def dismissed(tab: Page) -> None:
     """Close the page's notices (a screenshot without them)."""
-    wait_until(lambda: tab.page.evaluate(DISMISS_JS) == 0, 10, "the notices closed")
+    wait_until(lambda: tab.page.evaluate(DISMISS_JS) == 0, 30, "the notices closed")
