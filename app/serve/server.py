@@ -457,8 +457,7 @@ class LabServer:
     def _slow_loop(self) -> None:
         """Derivations and deferred scenes, computed outside the session locks."""
         while not self._stop.wait(0.15):
-            for client in self.page_opens.due():
-                self._page_pool.submit(self._guarded, self._on_connect, client)
+            self._open_due_pages()
             views = self.open_views()
             now = time.monotonic()
             for owner in [k for k, v in self._deriving.items() if v[0].closed]:
@@ -482,6 +481,13 @@ class LabServer:
             self.heap.poll(building or self.page_opens.waiting() > 0)
         self.derivations.stop()
         self._deriving.clear()
+
+    def _open_due_pages(self) -> None:
+        """Build the pages whose turn to open has come (in a call of its own: the slow
+        loop keeps no reference to the last of them, which would keep its session alive
+        after it left)."""
+        for client in self.page_opens.due():
+            self._page_pool.submit(self._guarded, self._on_connect, client)
 
     def _slow_work(self, view: SessionView, now: float) -> None:
 
