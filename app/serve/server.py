@@ -69,7 +69,7 @@ from analyzer_lab.viser_boundary import (
     event_loop,
     guard_gui_updates,
     make_viser_server,
-    send_lag,
+    send_progress,
 )
 
 log = logging.getLogger(__name__)
@@ -383,12 +383,8 @@ class LabServer:
             done += 1
             session = view.session
             now = time.monotonic()
-            turn = self.back_pressure.turn(
-                view.client.client_id,
-                send_lag(self.server, view.client.client_id),
-                now,
-                session.playing,
-            )
+            lag, taken = send_progress(self.server, view.client.client_id)
+            turn = self.back_pressure.turn(view.client.client_id, lag, now, session.playing, taken)
             if turn is not Turn.DRAW:
                 view.last_tick = now  # type: ignore[attr-defined]  # its clock waits too
                 if turn is Turn.PAUSE and session.lock.acquire(blocking=False):
