@@ -360,6 +360,7 @@ class LabServer:
         with self._views_lock:
             pages = [(self._addresses.get(cid, ""), v) for cid, v in self.views.items()]
         ordered = fair_order(pages, self._rr)
+        address_of = {id(v): a for a, v in pages}
         # pages that play first: a tick cut short by its budget leaves out paused pages
         # (whose turn only redraws what changed), not the frames of a playing one
         views = [v for v in ordered if v.session.playing]
@@ -375,12 +376,20 @@ class LabServer:
         # round-robin with a time budget: under overload every session still gets
         # its turn and viser's sending keeps its share of the interpreter
         budget = start + self.duty * period
+        # each address's pages get at most an equal share of the tick's time: pages that
+        # are dear to step (a family of curves at 8x) from one address do not make the
+        # ticks of every other address's pages late
+        share = self.duty * period / max(1, len(set(address_of.values())))
+        spent: dict[str, float] = {}
         n = len(views)
         done = 0
         for k, view in enumerate(views):
             if k and time.monotonic() > budget:
                 break
             done += 1
+            address = address_of.get(id(view), "")
+            if spent.get(address, 0.0) >= share:
+                continue  # this address's share of the tick is used: its next pages wait
             session = view.session
             now = time.monotonic()
             lag, taken = send_progress(self.server, view.client.client_id)
@@ -416,6 +425,7 @@ class LabServer:
                 )
             finally:
                 session.lock.release()
+                spent[address] = spent.get(address, 0.0) + time.monotonic() - now
         self._rr = self._rr + done if n else 0
         batch.release()
         view = session = None  # type: ignore[assignment]  # classroom hook: no stale reference once every tab left
