@@ -299,6 +299,40 @@ async def _huge_speed(url: str, seconds: float) -> dict[str, Any]:
     return {"moved": moved}
 
 
+#: Pages that stop reading: how many, and the small receive buffer each has (the server's
+#: send buffer for it fills within seconds).
+STALLED_PAGES = 100
+STALLED_RCVBUF = 4096
+
+
+async def _stalled_page(url: str) -> Any:
+    """A page from another address, set up to play a family of 24 curves at 8x."""
+    c = await ProtoClient(url, source=ATTACKER, rcvbuf=STALLED_RCVBUF).start()
+    await c.wait_for("Run", 120)
+    await c.set("Preset", "example-1.1", 0.3)
+    await c.set("pause at t_end", False, 0.1)
+    await c.set("curves in the family", 24, 0.2)
+    await c.set("Speed", "8x", 0.1)
+    c.skim = True  # from now on it decodes nothing (its CPU stays off the server's cores)
+    return c
+
+
+async def _stalled(url: str, seconds: float, pages: list[Any]) -> dict[str, Any]:
+    """The pages press Play, then never read their websocket again; after ``seconds`` they
+    leave (their connections reset, as when a machine drops off the network)."""
+    end = time.monotonic() + seconds
+    for c in pages:
+        await c.set("Run", "Play", 0.0)
+    await asyncio.sleep(1.0)  # they play (and read) a moment
+    for c in pages:
+        c.stop_reading()
+    await asyncio.sleep(max(0.0, end - time.monotonic()))
+    for c in pages:
+        c.ws.transport.abort()
+    await asyncio.gather(*(c.close() for c in pages), return_exceptions=True)
+    return {"pages": len(pages)}
+
+
 ATTACKS: dict[str, Callable[[str, float], Awaitable[dict[str, Any]]]] = {
     "huge-speed": _huge_speed,
     "grading": _graders,
@@ -321,6 +355,10 @@ def _child(name: str, url: str, seconds: float, out: Any, ready_ev: Any, go_ev: 
     async def main() -> dict[str, Any]:
         if name == "export":
             return await _exporter(url, seconds, gate)
+        if name == "stalled":  # the pages are open and set up before the baseline
+            pages = list(await asyncio.gather(*(_stalled_page(url) for _ in range(STALLED_PAGES))))
+            await gate()
+            return await _stalled(url, seconds, pages)
         await gate()
         return await ATTACKS[name](url, seconds)
 
@@ -358,15 +396,21 @@ class Attack:
 # ---------------------------------------------------------------- the measuring side
 
 
-def attacked_server(
-    serve: Callable[..., ServeProcess], *options: str
-) -> Iterator[tuple[str, subprocess.Popen]]:
-    """The body of each attack module's server fixture: ``serve sphere`` (with
-    ``options``) with every lesson warmed up and a class's pages served; the measured
-    rows printed at the end."""
+def warmed_server(serve: Callable[..., ServeProcess], *options: str) -> ServeProcess:
+    """``serve sphere`` (with ``options``) with every lesson warmed up and a class's
+    pages served."""
     live = serve("sphere", "--instructor-code", CODE, *options)
     live.wait_warm()
     asyncio.run(_warm(live.url))
+    return live
+
+
+def attacked_server(
+    serve: Callable[..., ServeProcess], *options: str
+) -> Iterator[tuple[str, subprocess.Popen]]:
+    """The body of each attack module's server fixture: :func:`warmed_server`; the
+    measured rows printed at the end."""
+    live = warmed_server(serve, *options)
     yield live.url, live.proc
     for row in ROWS:
         print(row)
@@ -473,15 +517,18 @@ async def _measured(
     before: Callable[[Any], Awaitable[None]] | None = None,
     during_floor: float = 0.9,
     settle: float = 3.0,
+    settled: Callable[[], Awaitable[None]] | None = None,
+    ready_timeout: float = 60.0,
 ) -> tuple[Any, dict[str, Any], dict[str, float]]:
-    """Baseline, attack, after (``settle`` seconds after the attackers left); asserts the
-    ratios (``during_floor`` of the baseline during the attack) and memory; returns the
-    page, the attackers' figures and the page's."""
+    """Baseline, attack, after (``settle`` seconds after the attackers left, or once
+    ``settled`` returns); asserts the ratios (``during_floor`` of the baseline during the
+    attack) and memory; returns the page, the attackers' figures and the page's (with the
+    memory)."""
     url, proc = server
     kind = name.split(":")[0]
     normal = await _normal(url)
     attack = Attack(kind, url, seconds)
-    await attack.wait_ready()
+    await attack.wait_ready(ready_timeout)
     if before is not None:
         await before(normal)
     await asyncio.sleep(1.0)  # settled before the baseline
@@ -495,7 +542,10 @@ async def _measured(
         during_rate = await _rate(normal, seconds - 2.0)
     peak = _rss(proc)
     figures = await attack.result()
-    await asyncio.sleep(settle)  # settled after the attackers left
+    if settled is not None:
+        await settled()
+    else:
+        await asyncio.sleep(settle)  # settled after the attackers left
     after = await _rate(normal, 5.0)
     mem1 = _rss(proc)
     row = (
@@ -509,7 +559,8 @@ async def _measured(
     assert during_rate >= during_floor * base, row
     assert after >= 0.9 * base, row
     assert mem1 <= 1.1 * mem0, row
-    return normal, figures, {"base": base, "during": during_rate, "after": after}
+    rates = {"base": base, "during": during_rate, "after": after}
+    return normal, figures, rates | {"memory": mem0, "memory_after": mem1, "peak": peak}
 
 
 def test_form_dirty_flags_are_dropped_and_never_broadcast(server: Any) -> None:

@@ -9,7 +9,13 @@ from collections.abc import Callable
 from typing import Any
 
 import pytest
-from analyzer_lab.serve.back_pressure import LAG_SKIP, PAUSED_NOTICE, BackPressure, Turn
+from analyzer_lab.serve.back_pressure import (
+    LAG_SKIP,
+    PAUSED_NOTICE,
+    STALL_LAG,
+    BackPressure,
+    Turn,
+)
 from analyzer_lab.viser_boundary import send_lag
 
 from tests.support.client import ProtoClient, play
@@ -28,6 +34,29 @@ def test_a_page_behind_is_skipped_then_paused_and_forgiven_when_it_reads() -> No
     assert bp.turn(2, 0, 9.0, True) is Turn.DRAW  # another page is not concerned
     bp.forget(1)
     assert bp.behind_since == {}
+
+
+def test_a_page_whose_sender_takes_nothing_is_behind_long_before_the_lag_limit() -> None:
+    bp = BackPressure(skip_lag=2000, stall_lag=100, stall_after=1.0, pause_after=5.0)
+    # a reading page: its sender takes messages, whatever is waiting
+    for k in range(20):
+        assert bp.turn(1, 500, 0.1 * k, True, taken=10 * k) is Turn.DRAW
+    # it stops reading: messages wait and the sender takes none
+    assert bp.turn(1, 150, 2.0, True, taken=190) is Turn.DRAW
+    assert bp.turn(1, 300, 2.9, True, taken=190) is Turn.DRAW
+    assert bp.turn(1, 320, 3.0, True, taken=190) is Turn.SKIP
+    assert bp.turn(1, 320, 7.9, True, taken=190) is Turn.SKIP
+    assert bp.turn(1, 320, 8.0, True, taken=190) is Turn.PAUSE
+    # it reads again: drawn at once
+    assert bp.turn(1, 320, 8.1, False, taken=200) is Turn.DRAW
+    # an idle page (nothing waits) is never behind, and a burst after a long idle time
+    # starts the stall clock afresh
+    assert bp.turn(2, 0, 0.0, True, taken=5) is Turn.DRAW
+    assert bp.turn(2, 99, 50.0, True, taken=5) is Turn.DRAW
+    assert bp.turn(2, 400, 50.1, True, taken=5) is Turn.DRAW
+    assert bp.turn(2, 400, 51.1, True, taken=5) is Turn.SKIP
+    bp.forget(2)
+    assert 2 not in bp.taken
 
 
 @pytest.fixture(scope="module")
@@ -60,7 +89,7 @@ def test_a_page_that_stops_reading_is_held_back_and_paused_others_play_on(
         await until(lambda: not view.session.playing, 90.0, "the stalled page to be paused")
         # held back: nothing more is queued for it
         lag = send_lag(lab.server, stalled_id)
-        assert LAG_SKIP <= lag <= LAG_SKIP + 100, lag
+        assert STALL_LAG <= lag <= LAG_SKIP + 100, lag
         t_sim = view.session.stepper.t
         normal.measuring = True
         before = normal.point_updates

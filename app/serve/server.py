@@ -69,7 +69,7 @@ from analyzer_lab.viser_boundary import (
     event_loop,
     guard_gui_updates,
     make_viser_server,
-    send_lag,
+    send_progress,
 )
 
 log = logging.getLogger(__name__)
@@ -360,6 +360,7 @@ class LabServer:
         with self._views_lock:
             pages = [(self._addresses.get(cid, ""), v) for cid, v in self.views.items()]
         ordered = fair_order(pages, self._rr)
+        address_of = {id(v): a for a, v in pages}
         # pages that play first: a tick cut short by its budget leaves out paused pages
         # (whose turn only redraws what changed), not the frames of a playing one
         views = [v for v in ordered if v.session.playing]
@@ -375,20 +376,24 @@ class LabServer:
         # round-robin with a time budget: under overload every session still gets
         # its turn and viser's sending keeps its share of the interpreter
         budget = start + self.duty * period
+        # each address's pages get at most an equal share of the tick's time: pages that
+        # are dear to step (a family of curves at 8x) from one address do not make the
+        # ticks of every other address's pages late
+        share = self.duty * period / max(1, len(set(address_of.values())))
+        spent: dict[str, float] = {}
         n = len(views)
         done = 0
         for k, view in enumerate(views):
             if k and time.monotonic() > budget:
                 break
             done += 1
+            address = address_of.get(id(view), "")
+            if spent.get(address, 0.0) >= share:
+                continue  # this address's share of the tick is used: its next pages wait
             session = view.session
             now = time.monotonic()
-            turn = self.back_pressure.turn(
-                view.client.client_id,
-                send_lag(self.server, view.client.client_id),
-                now,
-                session.playing,
-            )
+            lag, taken = send_progress(self.server, view.client.client_id)
+            turn = self.back_pressure.turn(view.client.client_id, lag, now, session.playing, taken)
             if turn is not Turn.DRAW:
                 view.last_tick = now  # type: ignore[attr-defined]  # its clock waits too
                 if turn is Turn.PAUSE and session.lock.acquire(blocking=False):
@@ -420,6 +425,7 @@ class LabServer:
                 )
             finally:
                 session.lock.release()
+                spent[address] = spent.get(address, 0.0) + time.monotonic() - now
         self._rr = self._rr + done if n else 0
         batch.release()
         view = session = None  # type: ignore[assignment]  # classroom hook: no stale reference once every tab left
@@ -457,8 +463,7 @@ class LabServer:
     def _slow_loop(self) -> None:
         """Derivations and deferred scenes, computed outside the session locks."""
         while not self._stop.wait(0.15):
-            for client in self.page_opens.due():
-                self._page_pool.submit(self._guarded, self._on_connect, client)
+            self._open_due_pages()
             views = self.open_views()
             now = time.monotonic()
             for owner in [k for k, v in self._deriving.items() if v[0].closed]:
@@ -482,6 +487,13 @@ class LabServer:
             self.heap.poll(building or self.page_opens.waiting() > 0)
         self.derivations.stop()
         self._deriving.clear()
+
+    def _open_due_pages(self) -> None:
+        """Build the pages whose turn to open has come (in a call of its own: the slow
+        loop keeps no reference to the last of them, which would keep its session alive
+        after it left)."""
+        for client in self.page_opens.due():
+            self._page_pool.submit(self._guarded, self._on_connect, client)
 
     def _slow_work(self, view: SessionView, now: float) -> None:
 

@@ -16,7 +16,8 @@ viser whose internals were not checked:
   callback reads the value its page sent (:func:`sent_value`), not the widget's value when
   it runs;
 * :func:`client_address`: the network address a page connected from;
-* :func:`send_lag`: how many messages a page's sender is behind (a page that does not read);
+* :func:`send_lag`, :func:`send_progress`: how many messages a page's sender is behind (a
+  page that does not read), and whether its sender is taking any;
 * :class:`WakeBatch`: the messages of one frame-loop tick wake viser's loop once;
 * :func:`fast_set`: one property of a handle set on the hot path;
 * :func:`recording_scene`: a scene API whose messages are only recorded (HTML replay);
@@ -31,6 +32,7 @@ lab imports only the names below.
 """
 
 from analyzer_lab.viser_boundary._backlog import send_lag as send_lag
+from analyzer_lab.viser_boundary._backlog import send_progress as send_progress
 from analyzer_lab.viser_boundary._callbacks import CONNECTION as CONNECTION
 from analyzer_lab.viser_boundary._callbacks import OrderedExecutor as OrderedExecutor
 from analyzer_lab.viser_boundary._callbacks import order_callbacks as order_callbacks
