@@ -43,6 +43,7 @@ LIVE_FILES = {
     "test_server.py",
     "test_attacks_transport.py",
     "test_attacks_pages.py",
+    "test_attacks_grading.py",
     "test_loadtest.py",
     "test_course_record_live.py",
 }

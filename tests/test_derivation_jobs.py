@@ -26,20 +26,21 @@ def _wait(jobs: dj.DerivationJobs, owners: list[str], limit: float) -> dict[str,
 
 
 def test_a_slow_derivation_is_ended_and_does_not_delay_a_quick_one() -> None:
-    jobs = dj.DerivationJobs(seconds=3.0)
+    jobs = dj.DerivationJobs(seconds=6.0)
     jobs.warm()
     try:
         jobs.start("slow", "sphere", {"u1": SLOW, "u2": SLOW, "u3": SLOW})
         time.sleep(0.3)  # the slow one has run 0.3 s when the quick one starts
         jobs.start("quick", "sphere", {"u1": "5*sin(t)"})
         assert jobs.busy("slow") and jobs.busy("quick")
-        done = _wait(jobs, ["slow", "quick"], 30.0)
+        done = _wait(jobs, ["slow", "quick"], 60.0)
         took_quick, quick = done["quick"]
         took_slow, slow = done["slow"]
-        assert 'class="al-derivation"' in quick and took_quick < 2.5
-        assert (
-            "too large to show: it takes longer than 3 s" in slow and 2.6 < took_slow < 6.0
-        )  # from 0.3 s after its start
+        # the quick one is shown while the slow one still runs (it runs beside it, not
+        # after it): wall times compared with each other, so a busy machine slows both
+        assert 'class="al-derivation"' in quick and took_quick < took_slow
+        # the slow one is ended at its limit (measured from 0.3 s after its start)
+        assert "too large to show: it takes longer than 6 s" in slow and took_slow > 5.6
         assert not jobs.jobs  # both ended and collected
     finally:
         jobs.stop()
