@@ -262,3 +262,14 @@ def test_the_lesson_head_writes_names_as_the_textbook_does() -> None:
     head = lesson_head_html(get_lesson("planar-3axis"), ENGLISH)
     assert "turns by φ" in head and "x<sub>A</sub>, y<sub>A</sub>, φ" in head, head
     assert "phi" not in head and "x_A" not in head
+
+
+def test_a_word_as_a_subscript_is_in_the_pages_language() -> None:
+    from analyzer_lab.i18n import ENGLISH, language_of
+    from analyzer_lab.lessons.catalog import get_lesson
+    from analyzer_lab.view.page import lesson_head_html
+
+    lesson = get_lesson("linear-positioner")
+    assert "R<sub>sopr</sub>" in lesson_head_html(lesson, ENGLISH)
+    ru = lesson_head_html(lesson, language_of("ru"))
+    assert "R<sub>сопр</sub>" in ru and "F<sub>dv</sub>" in ru and "sopr" not in ru, ru

@@ -204,12 +204,19 @@ def prose_text(text: str) -> str:
     return _GREEK_WORD.sub(lambda m: GREEK_WORDS[m.group(1)], out)
 
 
-def prose_html(text: str) -> str:
+def prose_html(text: str, words: Callable[[str], str] | None = None) -> str:
     """Prose as HTML, escaped, with names written as in the textbook: ``phi`` is φ,
     ``varpi`` is ϖ, ``x_A`` is x with subscript A, ``A_phiy`` is A with subscript φy,
-    ``varpi^2`` is ϖ with the power 2 raised."""
-    out = html.escape(prose_text(text))
-    out = _SUBSCRIPT.sub(r"\1<sub>\2</sub>", out)
+    ``varpi^2`` is ϖ with the power 2 raised; a word as a subscript (``R_sopr``) in the
+    page's language through ``words`` (:meth:`~analyzer_lab.i18n.Language.quantity`)."""
+
+    def sub(m: re.Match[str]) -> str:
+        index = m.group(2)
+        if words is not None and len(index) >= 3 and index.isascii() and index.isalpha():
+            index = html.escape(words(index))
+        return f"{m.group(1)}<sub>{index}</sub>"
+
+    out = _SUBSCRIPT.sub(sub, html.escape(prose_text(text)))
     return _POWER.sub(r"<sup>\1</sup>", out)
 
 

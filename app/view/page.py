@@ -88,11 +88,12 @@ def lesson_head_html(lesson: Lesson, language: Language) -> str:
     """The lesson's head: problem, title, source and summary in ``language``, escaped,
     with names written as the textbook writes them (φ, x with subscript A)."""
     text = language.lesson_text
-    problem, title = html.escape(text(lesson.problem)), prose_html(text(lesson.title))
+    words = language.quantity
+    problem, title = html.escape(text(lesson.problem)), prose_html(text(lesson.title), words)
     return (
         f'<div class="al-lesson-head" style="font-size:0.95em"><b>{problem} · {title}</b><br>'
         f'<span style="color:#555">{html.escape(text(lesson.source))}</span><br>'
-        f"{prose_html(text(lesson.summary))}</div>"
+        f"{prose_html(text(lesson.summary), words)}</div>"
     )
 
 
