@@ -132,6 +132,8 @@ class CPU:
         self.procs.append(psutil.Process())  # the clients (this process)
         self.clients = 0.0
         self.machine = psutil.cpu_percent
+        #: each worker's resident memory (MB) when last read
+        self.memory: list[float] = []
 
     def start(self) -> None:
         for p in self.procs:
@@ -151,6 +153,7 @@ class CPU:
     def read(self) -> tuple[float, list[float], float]:
         values = [p.cpu_percent(None) for p in self.procs]
         self.clients = values[-1]
+        self.memory = [p.memory_info().rss / 1e6 for p in self.procs[1:-1]]
         return values[0], values[1:-1], self.machine(None)
 
 
@@ -175,6 +178,7 @@ async def pages_scenario(port: int, n: int, seconds: float, cpu: CPU) -> str:
     return (
         f"pages: {n} pages (per worker port: {dict(spread)}): updates/s per page mean "
         f"{statistics.mean(u):.1f}, min {min(u):.1f}; {_cpu_text(door, workers, machine, cpu.clients)}; "
+        f"memory per worker {', '.join(f'{m:.0f} MB' for m in cpu.memory)}; "
         f"errors {len(errors)}" + (f" ({errors[0]})" if errors else "")
     )
 

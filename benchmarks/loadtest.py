@@ -124,7 +124,7 @@ def main(argv: list[str] | None = None) -> int:
     )
     print(
         f"{'sessions':>8} {'updates/s':>10} {'min':>9} {'MB/s/client':>12} {'max MB/s':>11} "
-        f"{'server CPU':>10} {'clients':>10} {'machine':>9}  errors"
+        f"{'server CPU':>10} {'clients':>10} {'machine':>9}  errors  server RSS"
     )
     print(
         f"{'':>8} {'(mean)':>10} {'':>9} {'(mean)':>12} {'':>11} {'(1 core=100%)':>10} {'CPU':>10} {'(all cores)':>9}"

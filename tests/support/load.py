@@ -173,6 +173,8 @@ class RunFigures:
     plan: PagePlan | None = None
     #: the live nodes the pages saw updated while measuring
     nodes: set[str] = field(default_factory=set)
+    #: the server's resident memory at the end of the window (MB)
+    server_mb: float = 0.0
 
     def row(self) -> str:
         u = self.updates_per_s or [0.0]
@@ -180,6 +182,7 @@ class RunFigures:
         return (
             f"{self.sessions:8d} {statistics.mean(u):10.1f} {min(u):9.1f} {statistics.mean(b):12.4f} {max(b):11.4f}"
             f" {self.cpu_percent:9.0f}% {self.client_cpu:9.0f}% {self.machine_cpu:8.0f}%  {len(self.errors)}"
+            f"  {self.server_mb:.0f} MB"
         )
 
     def markdown_row(self) -> str:
@@ -253,10 +256,15 @@ async def measure(
             p.cpu_percent(None)
         psutil.cpu_percent(None)
 
-    def read_cpu() -> tuple[float, float, float]:
-        return procs[0].cpu_percent(None), procs[1].cpu_percent(None), psutil.cpu_percent(None)
+    def read_cpu() -> tuple[float, float, float, float]:
+        return (
+            procs[0].cpu_percent(None),
+            procs[1].cpu_percent(None),
+            psutil.cpu_percent(None),
+            procs[0].memory_info().rss / 1e6,
+        )
 
-    dt, (cpu, client_cpu, machine) = await count_window(
+    dt, (cpu, client_cpu, machine, server_mb) = await count_window(
         clients, seconds, settle, start_cpu, read_cpu
     )
     ok = [c for c in clients if not c.stats.error]
@@ -270,4 +278,5 @@ async def measure(
         errors=[c.stats.error for c in clients if c.stats.error],
         plan=plan,
         nodes=set().union(*(c.stats.nodes for c in ok)),
+        server_mb=server_mb,
     )
