@@ -24,12 +24,14 @@ import asyncio
 import os
 import subprocess
 import sys
+import tempfile
 import time
 from collections.abc import Sequence
+from pathlib import Path
 from typing import Any
 
 from tests.support.load import MARKDOWN_HEAD, measure, page_plan
-from tests.support.servers import free_port, start_server, stop_process
+from tests.support.servers import ServeProcess, free_port, start_server, stop_process
 
 
 def all_lessons_table(
@@ -93,8 +95,8 @@ def main(argv: list[str] | None = None) -> int:
     )
     ap.add_argument("--server-pid", type=int, default=0)
     args = ap.parse_args(argv)
-    log = open(args.server_log, "w") if args.server_log else subprocess.DEVNULL
     if args.all_lessons:
+        log = open(args.server_log, "w") if args.server_log else subprocess.DEVNULL
         all_lessons_table(args.sessions, args.seconds, args.settle, args.fps, log)
         return 0
     plan = page_plan(args.lesson, args.preset)
@@ -113,10 +115,13 @@ def main(argv: list[str] | None = None) -> int:
             print(fig.row(), flush=True)
             print(sorted(round(u, 1) for u in fig.updates_per_s))
         return 0
-    port = free_port()
-    proc = start_server(
-        port, args.lesson, log, extra_args=("--fps", str(args.fps)) if args.fps else ()
+    log_path = Path(args.server_log or tempfile.mkstemp(prefix="analyzer-lab-load-")[1])
+    server = ServeProcess.start(
+        args.lesson, ("--fps", str(args.fps)) if args.fps else (), log_path
     )
+    # measured once every lesson is warmed up: the warm-up's CPU is not the pages'
+    server.wait_warm()
+    proc, port = server.proc, server.port
     url = f"ws://127.0.0.1:{port}/"
     print(
         f"server pid {proc.pid} on port {port}; lesson {plan.lesson}, preset {plan.preset}; "
