@@ -116,9 +116,7 @@ def main(argv: list[str] | None = None) -> int:
             print(sorted(round(u, 1) for u in fig.updates_per_s))
         return 0
     log_path = Path(args.server_log or tempfile.mkstemp(prefix="analyzer-lab-load-")[1])
-    server = ServeProcess.start(
-        args.lesson, ("--fps", str(args.fps)) if args.fps else (), log_path
-    )
+    server = ServeProcess.start(args.lesson, ("--fps", str(args.fps)) if args.fps else (), log_path)
     # measured once every lesson is warmed up: the warm-up's CPU is not the pages'
     server.wait_warm()
     proc, port = server.proc, server.port
